@@ -1,0 +1,291 @@
+#include <nclink/mqtt_transport.hpp>
+
+#include "transport/outbox.hpp"
+#include "transport/tcp_nodelay.hpp"
+
+#include <mqtt/async_client.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <thread>
+
+namespace nclink {
+namespace {
+
+using std::chrono::milliseconds;
+
+class MqttTransport final : public Transport, private mqtt::iaction_listener {
+public:
+    MqttTransport(MqttOptions options, Logger logger, std::string host, int port)
+        : options_(std::move(options)),
+          logger_(std::move(logger)),
+          host_(std::move(host)),
+          port_(port),
+          client_(options_.broker_url, options_.client_id,
+                  mqtt::create_options(options_.mqtt_version,
+                                       static_cast<int>(options_.outbox.max_in_flight) + 16),
+                  nullptr),
+          outbox_(options_.outbox,
+                  [this](const Message& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
+
+    ~MqttTransport() override { stop(milliseconds(0)); }
+
+    void set_message_handler(MessageHandler handler) override { on_message_ = std::move(handler); }
+    void set_state_handler(LinkStateHandler handler) override { on_state_ = std::move(handler); }
+
+    Result<void> start() override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (started_) return make_error(ErrorCode::unavailable, "transport already started");
+        started_ = true;
+        client_.set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
+        client_.set_connected_handler([this](const std::string&) { on_connected(); });
+        client_.set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
+        supervisor_ = std::thread([this] { supervise(); });
+        return ok_result();
+    }
+
+    void stop(milliseconds flush_timeout) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!started_ || stopping_) return;
+        }
+        if (state_ == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+        }
+        wake_.notify_all();
+        if (supervisor_.joinable()) supervisor_.join();
+        outbox_.stop();
+        try {
+            if (client_.is_connected()) client_.disconnect(milliseconds(500).count())->wait_for(milliseconds(2000));
+        } catch (const mqtt::exception& e) {
+            logger_.debug("mqtt: disconnect: {}", e.what());
+        }
+        client_.disable_callbacks();
+        set_state(LinkState::disconnected, "stopped");
+    }
+
+    Result<void> publish(Message message) override { return outbox_.push(std::move(message)); }
+
+    // paho is never called with mutex_ held: its callback thread may be
+    // waiting for mutex_ in on_connected() while holding paho's own lock.
+    Result<void> subscribe(std::vector<std::string> filters, int qos) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& f : filters) subscriptions_[f] = qos;
+        }
+        // If the link comes up meanwhile, on_connected() subscribes too: harmless.
+        if (state_ == LinkState::connected) subscribe_now(filters, qos);
+        return ok_result();
+    }
+
+    Result<void> unsubscribe(std::vector<std::string> filters) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& f : filters) subscriptions_.erase(f);
+        }
+        if (state_ == LinkState::connected) {
+            try {
+                client_.unsubscribe(mqtt::string_collection::create(filters));
+            } catch (const mqtt::exception& e) {
+                logger_.debug("mqtt: unsubscribe: {}", e.what());
+            }
+        }
+        return ok_result();
+    }
+
+    LinkState state() const override { return state_; }
+
+    TransportStats stats() const override {
+        TransportStats s;
+        outbox_.fill_stats(s);
+        s.received = received_;
+        s.connects = connects_;
+        s.tcp_nodelay_sockets = nodelay_sockets_;
+        return s;
+    }
+
+    bool flush(milliseconds timeout) override { return outbox_.wait_drained(timeout); }
+
+private:
+    // Thread: outbox sender. paho's publish only queues; the outcome comes
+    // back through on_success/on_failure on paho's thread.
+    bool send(const Message& m, std::uint64_t attempt) {
+        try {
+            auto msg = mqtt::make_message(m.topic, m.payload.data(), m.payload.size(), m.qos, m.retained);
+            client_.publish(msg, reinterpret_cast<void*>(static_cast<std::uintptr_t>(attempt)), *this);
+            return true;
+        } catch (const mqtt::exception& e) {
+            logger_.debug("mqtt: publish to {} refused: {}", m.topic, e.what());
+            return false;
+        }
+    }
+
+    void on_success(const mqtt::token& tok) override {
+        outbox_.delivered(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
+    }
+    void on_failure(const mqtt::token& tok) override {
+        outbox_.failed(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
+    }
+
+    // Thread: paho callback thread.
+    void deliver(const mqtt::const_message_ptr& msg) {
+        if (!msg) return;
+        ++received_;
+        if (!on_message_) return;
+        Message m{msg->get_topic(), msg->to_string(), msg->get_qos(), msg->is_retained()};
+        on_message_(m);
+    }
+
+    // Thread: paho callback thread.
+    void on_connected() {
+        if (options_.tcp_nodelay) {
+            nodelay_sockets_ = detail::apply_tcp_nodelay_to_peer(host_, port_);
+            if (nodelay_sockets_ == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
+        }
+        std::map<int, std::vector<std::string>> by_qos;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
+        }
+        for (const auto& [qos, filters] : by_qos) subscribe_now(filters, qos);
+        ++connects_;
+        set_state(LinkState::connected, options_.broker_url);
+        outbox_.link_up();
+    }
+
+    // Thread: paho callback thread.
+    void on_lost(const std::string& cause) {
+        outbox_.link_down();
+        set_state(LinkState::disconnected, cause.empty() ? "connection lost" : cause);
+        { std::lock_guard<std::mutex> lock(mutex_); }  // the supervisor checks state_ under mutex_: no lost wake-up
+        wake_.notify_all();
+    }
+
+    void subscribe_now(const std::vector<std::string>& filters, int qos) {
+        try {
+            client_.subscribe(mqtt::string_collection::create(filters), std::vector<int>(filters.size(), qos));
+        } catch (const mqtt::exception& e) {
+            logger_.warn("mqtt: subscribe failed (retried on reconnect): {}", e.what());
+        }
+    }
+
+    void set_state(LinkState next, std::string_view detail) {
+        std::lock_guard<std::mutex> lock(state_mutex_);
+        if (state_ == next) return;
+        state_ = next;
+        logger_.info("mqtt: {} ({})", to_string(next), detail);
+        if (on_state_) on_state_(next, detail);
+    }
+
+    mqtt::connect_options connect_options() const {
+        mqtt::connect_options_builder builder;
+        builder.mqtt_version(options_.mqtt_version >= 5 ? MQTTVERSION_5 : MQTTVERSION_3_1_1);
+        builder.keep_alive_interval(options_.keep_alive)
+            .connect_timeout(options_.connect_timeout)
+            .automatic_reconnect(false)  // we reconnect ourselves, with our backoff
+            // paho holds QoS>0 messages back beyond its own window while QoS 0
+            // ones pass: keep its window at least ours so order is preserved.
+            .max_inflight(static_cast<int>(options_.outbox.max_in_flight));
+        if (options_.mqtt_version >= 5)
+            builder.clean_start(options_.clean_session);
+        else
+            builder.clean_session(options_.clean_session);
+        if (!options_.username.empty()) builder.user_name(options_.username).password(options_.password);
+        if (options_.last_will) {
+            const auto& w = *options_.last_will;
+            builder.will(mqtt::message(w.topic, w.payload, w.qos, w.retained));
+        }
+        if (options_.tls) {
+            const auto& t = *options_.tls;
+            mqtt::ssl_options_builder ssl;
+            if (!t.ca_file.empty()) ssl.trust_store(t.ca_file);
+            if (!t.cert_file.empty()) ssl.key_store(t.cert_file);
+            if (!t.key_file.empty()) ssl.private_key(t.key_file);
+            if (!t.key_password.empty()) ssl.private_keypassword(t.key_password);
+            ssl.enable_server_cert_auth(t.verify_server).verify(t.verify_server);
+            builder.ssl(ssl.finalize());
+        }
+        return builder.finalize();
+    }
+
+    // Thread: supervisor. Connects, and reconnects with exponential backoff
+    // whenever the link is lost, until stop().
+    void supervise() {
+        milliseconds delay = options_.reconnect_min;
+        const auto opts = connect_options();
+        std::unique_lock<std::mutex> lock(mutex_);
+        while (!stopping_) {
+            if (state_ == LinkState::disconnected) {
+                lock.unlock();
+                set_state(LinkState::connecting, options_.broker_url);
+                bool ok = false;
+                try {
+                    ok = client_.connect(opts)->wait_for(options_.connect_timeout + milliseconds(500));
+                    if (!ok) logger_.warn("mqtt: connect to {} timed out (retry in {} ms)", options_.broker_url, delay.count());
+                } catch (const mqtt::exception& e) {
+                    logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, e.what(),
+                                 delay.count());
+                }
+                ok = ok && client_.is_connected();  // paho call: before taking mutex_
+                lock.lock();
+                if (!ok) {
+                    if (state_ != LinkState::connected) {
+                        lock.unlock();
+                        set_state(LinkState::disconnected, "connect failed");
+                        lock.lock();
+                    }
+                    wake_.wait_for(lock, delay, [this] { return stopping_; });
+                    delay = std::min(delay * 2, options_.reconnect_max);
+                    continue;
+                }
+                delay = options_.reconnect_min;
+            }
+            wake_.wait(lock, [this] { return stopping_ || state_ == LinkState::disconnected; });
+        }
+    }
+
+    const MqttOptions options_;
+    const Logger logger_;
+    const std::string host_;
+    const int port_;
+    mqtt::async_client client_;
+    detail::Outbox outbox_;
+    MessageHandler on_message_;
+    LinkStateHandler on_state_;
+
+    std::mutex mutex_;  // subscriptions_, started_, stopping_, supervisor wake-ups
+    std::condition_variable wake_;
+    std::map<std::string, int> subscriptions_;
+    bool started_ = false;
+    bool stopping_ = false;
+    std::thread supervisor_;
+
+    std::mutex state_mutex_;  // serializes state transitions and the state handler
+    std::atomic<LinkState> state_{LinkState::disconnected};
+    std::atomic<std::uint64_t> received_{0};
+    std::atomic<std::uint64_t> connects_{0};
+    std::atomic<int> nodelay_sockets_{0};
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger) {
+    if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
+    std::string host, scheme;
+    int port = 0;
+    if (!detail::parse_broker_url(options.broker_url, host, port, scheme))
+        return make_error(ErrorCode::value_type, fmt::format("unusable broker URL '{}'", options.broker_url));
+    if ((scheme == "ssl" || scheme == "mqtts" || scheme == "wss") && !options.tls) options.tls = MqttTlsOptions{};
+    if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
+    try {
+        return std::unique_ptr<Transport>(new MqttTransport(std::move(options), std::move(logger), host, port));
+    } catch (const mqtt::exception& e) {
+        return make_error(ErrorCode::value_type, fmt::format("MQTT client: {}", e.what()));
+    }
+}
+
+}  // namespace nclink

@@ -1,0 +1,148 @@
+#include "transport/outbox.hpp"
+
+#include <algorithm>
+
+namespace nclink::detail {
+
+Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger)
+    : limits_(limits), send_(std::move(send)), logger_(std::move(logger)) {
+    thread_ = std::thread([this] { run(); });
+}
+
+Outbox::~Outbox() { stop(); }
+
+void Outbox::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopping_ && !thread_.joinable()) return;
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    drained_.notify_all();
+    if (thread_.joinable()) thread_.join();
+}
+
+Result<void> Outbox::push(Message message) {
+    const std::size_t size = cost(message);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopping_) return make_error(ErrorCode::unavailable, "transport stopped");
+        if (size > limits_.max_bytes)
+            return make_error(ErrorCode::memory_configured,
+                              fmt::format("message of {} bytes exceeds the {}-byte buffer", size, limits_.max_bytes));
+        while (bytes_ + size > limits_.max_bytes && entries_.size() > in_flight_) drop_oldest_waiting_locked();
+        entries_.push_back(Entry{std::move(message), 0});
+        bytes_ += size;
+    }
+    wake_.notify_one();
+    return ok_result();
+}
+
+void Outbox::drop_oldest_waiting_locked() {
+    auto it = std::find_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.attempt == 0; });
+    if (it == entries_.end()) return;
+    const std::size_t size = cost(it->message);
+    bytes_ -= size;
+    ++dropped_;
+    dropped_bytes_ += size;
+    if (drop_burst_++ == 0)
+        logger_.warn("offline buffer full ({} bytes): dropping oldest messages, first on {}", limits_.max_bytes,
+                     it->message.topic);
+    entries_.erase(it);
+}
+
+void Outbox::link_up() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        link_up_ = true;
+        paused_until_ = {};
+        if (drop_burst_ > 1) logger_.warn("offline buffer dropped {} messages in total so far", dropped_);
+        drop_burst_ = 0;
+    }
+    wake_.notify_all();
+}
+
+void Outbox::link_down() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    link_up_ = false;
+    for (auto& entry : entries_) entry.attempt = 0;
+    in_flight_ = 0;
+}
+
+void Outbox::delivered(std::uint64_t attempt) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = std::find_if(entries_.begin(), entries_.end(),
+                               [attempt](const Entry& e) { return e.attempt == attempt; });
+        if (it == entries_.end()) return;  // a late answer for an attempt already put back
+        bytes_ -= cost(it->message);
+        --in_flight_;
+        ++published_;
+        entries_.erase(it);
+        if (entries_.empty()) drained_.notify_all();
+    }
+    wake_.notify_one();
+}
+
+void Outbox::failed(std::uint64_t attempt) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        put_back_locked(attempt);
+    }
+    wake_.notify_one();
+}
+
+bool Outbox::wait_drained(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return drained_.wait_for(lock, timeout, [this] { return entries_.empty() || stopping_; }) && entries_.empty();
+}
+
+void Outbox::run() {
+    using clock = std::chrono::steady_clock;
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+        const bool paused = clock::now() < paused_until_;
+        if (link_up_ && !paused && in_flight_ < limits_.max_in_flight) {
+            // Always the first waiting entry: publish order is kept even after
+            // messages were put back by link_down() or failed().
+            auto next = std::find_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.attempt == 0; });
+            if (next != entries_.end()) {
+                const std::uint64_t attempt = next_attempt_++;
+                next->attempt = attempt;
+                ++in_flight_;
+                Message message = next->message;  // the entry may be erased while we send
+                lock.unlock();
+                const bool accepted = send_(message, attempt);
+                lock.lock();
+                if (!accepted) put_back_locked(attempt);
+                continue;
+            }
+        }
+        if (link_up_ && paused)
+            wake_.wait_until(lock, paused_until_);
+        else
+            wake_.wait(lock);
+    }
+}
+
+void Outbox::put_back_locked(std::uint64_t attempt) {
+    auto it = std::find_if(entries_.begin(), entries_.end(), [attempt](const Entry& e) { return e.attempt == attempt; });
+    if (it == entries_.end()) return;
+    it->attempt = 0;
+    --in_flight_;
+    // The link refused or lost it: retry shortly rather than spin on a link
+    // that is going down (link_down()/link_up() will follow if it is).
+    paused_until_ = std::chrono::steady_clock::now() + kRetryPause;
+}
+
+void Outbox::fill_stats(TransportStats& stats) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats.published = published_;
+    stats.dropped = dropped_;
+    stats.dropped_bytes = dropped_bytes_;
+    stats.buffered = entries_.size() - in_flight_;
+    stats.buffered_bytes = bytes_;
+    stats.in_flight = in_flight_;
+}
+
+}  // namespace nclink::detail

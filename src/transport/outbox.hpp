@@ -1,0 +1,85 @@
+// Ordered, bounded buffer of outgoing messages with an in-flight window.
+// Shared by every transport so offline buffering behaves the same on MQTT
+// and on the loopback: one sender thread hands messages to the link in
+// publish order, never more than max_in_flight unacknowledged at once (paho
+// refuses bursts beyond its own buffer, error -12), keeps QoS>=1 messages until
+// acknowledged, and puts unacknowledged ones back when the link drops.
+#pragma once
+
+#include <nclink/log.hpp>
+#include <nclink/transport.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+namespace nclink::detail {
+
+class Outbox {
+public:
+    /// Hands one message to the link. `attempt` identifies this send; the link
+    /// reports the outcome with delivered(attempt) / failed(attempt), from any
+    /// thread, possibly before send() returns. Returns false when the link
+    /// refused it outright (the message stays queued; sending pauses until
+    /// link_up()). Called on the outbox thread only, without locks held.
+    using SendFn = std::function<bool(const Message&, std::uint64_t attempt)>;
+
+    Outbox(OutboxLimits limits, SendFn send, Logger logger);
+    ~Outbox();
+    Outbox(const Outbox&) = delete;
+    Outbox& operator=(const Outbox&) = delete;
+
+    /// Thread-safe. Drops the oldest waiting messages when over budget.
+    Result<void> push(Message message);
+
+    void link_up();
+    /// Unacknowledged messages go back to waiting, in their original order.
+    void link_down();
+
+    void delivered(std::uint64_t attempt);
+    void failed(std::uint64_t attempt);
+
+    bool wait_drained(std::chrono::milliseconds timeout);
+    void stop();
+
+    void fill_stats(TransportStats& stats) const;
+
+private:
+    struct Entry {
+        Message message;
+        std::uint64_t attempt = 0;  // 0 = waiting, else in flight under this attempt id
+    };
+
+    void run();
+    std::size_t cost(const Message& m) const { return m.topic.size() + m.payload.size(); }
+    void drop_oldest_waiting_locked();
+    void put_back_locked(std::uint64_t attempt);
+
+    static constexpr std::chrono::milliseconds kRetryPause{100};
+
+    const OutboxLimits limits_;
+    const SendFn send_;
+    const Logger logger_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::condition_variable drained_;
+    std::deque<Entry> entries_;
+    std::size_t bytes_ = 0;
+    std::size_t in_flight_ = 0;
+    std::uint64_t next_attempt_ = 1;
+    bool link_up_ = false;
+    std::chrono::steady_clock::time_point paused_until_{};
+    bool stopping_ = false;
+    std::uint64_t published_ = 0;
+    std::uint64_t dropped_ = 0;
+    std::uint64_t dropped_bytes_ = 0;
+    std::uint64_t drop_burst_ = 0;  // drops since the last log line
+    std::thread thread_;
+};
+
+}  // namespace nclink::detail

@@ -1,0 +1,44 @@
+// A real mosquitto for integration tests: started on a free 127.0.0.1 port
+// with TCP_NODELAY, no persistence; stopped (SIGTERM, then SIGKILL) on
+// destruction. restart() keeps the port so clients can reconnect.
+#pragma once
+
+#include <string>
+#include <sys/types.h>
+
+namespace nclink::test {
+
+struct MosquittoOptions {
+    /// Keep sessions and queued QoS 1 messages across restart() (saved on
+    /// SIGTERM into the broker's scratch directory).
+    bool persistent = false;
+    int port = 0;         ///< 0 = pick a free one
+    bool start = true;    ///< false: construct stopped, call start() later
+};
+
+class MosquittoBroker {
+public:
+    explicit MosquittoBroker(MosquittoOptions options = {});  // throws std::runtime_error when it cannot start
+    ~MosquittoBroker();
+    MosquittoBroker(const MosquittoBroker&) = delete;
+    MosquittoBroker& operator=(const MosquittoBroker&) = delete;
+
+    void stop();
+    void start();
+    void restart() { stop(); start(); }
+    bool running() const { return pid_ > 0; }
+
+    int port() const { return port_; }
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+
+private:
+    int port_ = 0;
+    pid_t pid_ = -1;
+    std::string dir_;
+    std::string config_;
+};
+
+/// A free TCP port on 127.0.0.1 (bound and released; tiny race accepted).
+int free_loopback_port();
+
+}  // namespace nclink::test
