@@ -5,6 +5,7 @@
 #pragma once
 
 #include <nclink/result.hpp>
+#include <nclink/topic_filter.hpp>
 
 #include <chrono>
 #include <cstddef>
@@ -90,10 +91,6 @@ public:
     /// acknowledged, or the timeout passes. Returns true when drained.
     virtual bool flush(std::chrono::milliseconds timeout) = 0;
 };
-
-/// MQTT topic-filter matching with `+` and `#` (MQTT 3.1.1 section 4.7).
-/// Topics starting with `$` do not match filters starting with a wildcard.
-bool topic_matches(std::string_view filter, std::string_view topic) noexcept;
 
 /// Sizes of the buffer that holds messages while the link is down or busy.
 struct OutboxLimits {

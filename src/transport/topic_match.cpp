@@ -1,15 +1,6 @@
-#include <nclink/transport.hpp>
+#include <nclink/topic_filter.hpp>
 
 namespace nclink {
-
-std::string_view to_string(LinkState state) noexcept {
-    switch (state) {
-        case LinkState::disconnected: return "disconnected";
-        case LinkState::connecting: return "connecting";
-        case LinkState::connected: return "connected";
-    }
-    return "?";
-}
 
 bool topic_matches(std::string_view filter, std::string_view topic) noexcept {
     if (filter.empty() || topic.empty()) return false;
