@@ -1,0 +1,146 @@
+#include "driver/driver_runner.hpp"
+
+namespace nclink::detail {
+namespace {
+
+// The state one waiting caller shares with its task. The task may finish
+// after the caller gave up; the shared_ptr keeps the state alive for it.
+template <class T>
+struct Pending {
+    std::mutex mutex;
+    std::condition_variable done_cv;
+    bool done = false;
+    T value;
+};
+
+}  // namespace
+
+DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger)
+    : driver_(std::move(driver)), options_(options), logger_(std::move(logger)), name_(driver_->info().name) {
+    const std::size_t count = driver_->info().concurrent ? std::max<std::size_t>(1, options_.concurrent_workers) : 1;
+    queue_->running_workers = count;
+    for (std::size_t i = 0; i < count; ++i) workers_.emplace_back([queue = queue_] { work(queue); });
+}
+
+DriverRunner::~DriverRunner() { stop(); }
+
+void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
+    std::unique_lock<std::mutex> lock(queue->mutex);
+    for (;;) {
+        queue->wake.wait(lock, [&] { return queue->stopping || !queue->tasks.empty(); });
+        if (queue->tasks.empty() && queue->stopping) break;
+        auto task = std::move(queue->tasks.front());
+        queue->tasks.pop_front();
+        lock.unlock();
+        task();
+        lock.lock();
+    }
+    --queue->running_workers;
+    queue->exited.notify_all();
+}
+
+void DriverRunner::count_timeout() {
+    std::lock_guard<std::mutex> lock(queue_->mutex);
+    ++queue_->timeouts;
+}
+
+bool DriverRunner::post(std::function<void(Driver&)> task) {
+    {
+        std::lock_guard<std::mutex> lock(queue_->mutex);
+        if (queue_->stopping) return false;
+        queue_->tasks.emplace_back([driver = driver_, task = std::move(task)] { task(*driver); });
+    }
+    queue_->wake.notify_one();
+    return true;
+}
+
+std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points) {
+    return read(points, options_.call_timeout);
+}
+
+std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout) {
+    using Results = std::vector<Result<Json>>;
+    auto pending = std::make_shared<Pending<Results>>();
+    const bool queued = post([pending, points](Driver& driver) {
+        Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+        try {
+            driver.read(points, results);
+        } catch (const std::exception& e) {
+            // A throwing driver must not take the adapter down.
+            for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
+        }
+        std::lock_guard<std::mutex> lock(pending->mutex);
+        pending->value = std::move(results);
+        pending->done = true;
+        pending->done_cv.notify_all();
+    });
+    if (!queued) return Results(points.size(), Result<Json>(make_error(ErrorCode::unavailable, "driver stopped")));
+    std::unique_lock<std::mutex> lock(pending->mutex);
+    if (!pending->done_cv.wait_for(lock, timeout, [&] { return pending->done; })) {
+        count_timeout();
+        logger_.warn("driver '{}': read of {} point(s) did not finish within {} ms", name_, points.size(), timeout.count());
+        return Results(points.size(), Result<Json>(make_error(ErrorCode::timeout,
+                                                               fmt::format("driver did not answer within {} ms", timeout.count()))));
+    }
+    return std::move(pending->value);
+}
+
+Result<void> DriverRunner::write(const WriteRequest& request) {
+    struct Outcome {
+        Result<void> result = make_error(ErrorCode::unavailable);
+    };
+    auto pending = std::make_shared<Pending<Outcome>>();
+    const bool queued = post([pending, request](Driver& driver) {
+        Outcome outcome;
+        try {
+            outcome.result = driver.write(request);
+        } catch (const std::exception& e) {
+            outcome.result = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
+        }
+        std::lock_guard<std::mutex> lock(pending->mutex);
+        pending->value = std::move(outcome);
+        pending->done = true;
+        pending->done_cv.notify_all();
+    });
+    if (!queued) return make_error(ErrorCode::unavailable, "driver stopped");
+    std::unique_lock<std::mutex> lock(pending->mutex);
+    if (!pending->done_cv.wait_for(lock, options_.call_timeout, [&] { return pending->done; })) {
+        count_timeout();
+        logger_.warn("driver '{}': write of {} did not finish within {} ms", name_, request.id, options_.call_timeout.count());
+        return make_error(ErrorCode::timeout, fmt::format("driver did not answer within {} ms", options_.call_timeout.count()));
+    }
+    return std::move(pending->value.result);
+}
+
+void DriverRunner::stop(std::chrono::milliseconds grace) {
+    std::unique_lock<std::mutex> lock(queue_->mutex);
+    if (queue_->stopping && workers_.empty()) return;
+    queue_->stopping = true;
+    queue_->wake.notify_all();
+    const bool all_exited = queue_->exited.wait_for(lock, grace, [this] { return queue_->running_workers == 0; });
+    lock.unlock();
+    for (auto& worker : workers_) {
+        if (all_exited)
+            worker.join();
+        else
+            worker.detach();  // stuck in the driver: cannot be joined
+    }
+    workers_.clear();
+    if (!all_exited) {
+        logger_.error("driver '{}' did not return within {} ms of shutdown; its worker thread is abandoned", name_,
+                      grace.count());
+        return;
+    }
+    try {
+        driver_->close();
+    } catch (const std::exception& e) {
+        logger_.error("driver '{}': close() threw: {}", name_, e.what());
+    }
+}
+
+std::uint64_t DriverRunner::timeouts() const {
+    std::lock_guard<std::mutex> lock(queue_->mutex);
+    return queue_->timeouts;
+}
+
+}  // namespace nclink::detail

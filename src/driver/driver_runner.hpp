@@ -1,0 +1,74 @@
+// Runs calls into one Driver on worker threads the SDK owns, with deadlines.
+// One worker (calls serialized) unless the driver declares itself concurrent.
+// A caller waits at most the deadline; a call still running then answers
+// Timeout (203) and its late result is discarded. A slow driver therefore
+// never blocks MQTT keep-alive, other devices, or the caller beyond the
+// deadline.
+#pragma once
+
+#include <nclink/driver.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace nclink::detail {
+
+class DriverRunner {
+public:
+    struct Options {
+        std::chrono::milliseconds call_timeout{1000};
+        std::size_t concurrent_workers = 2;  ///< used only when the driver is concurrent
+    };
+
+    DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger);
+    ~DriverRunner();
+    DriverRunner(const DriverRunner&) = delete;
+    DriverRunner& operator=(const DriverRunner&) = delete;
+
+    /// Thread-safe. One result per point, in order.
+    std::vector<Result<Json>> read(const std::vector<PointRef>& points);
+    std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout);
+    /// Thread-safe.
+    Result<void> write(const WriteRequest& request);
+    /// Queues `task` on a worker without waiting (long-running work such as
+    /// methods). Thread-safe. False after stop().
+    bool post(std::function<void(Driver&)> task);
+
+    /// Stops taking calls, waits up to `grace` for running calls, closes the
+    /// driver. A worker stuck in the driver past `grace` is abandoned (and
+    /// logged); the driver is then not closed.
+    void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(2000));
+
+    const Driver& driver() const { return *driver_; }
+    std::uint64_t timeouts() const;
+
+private:
+    // Owned jointly by the runner and its workers, so a worker abandoned in a
+    // stuck driver call never touches a destroyed runner.
+    struct Queue {
+        std::mutex mutex;
+        std::condition_variable wake;
+        std::condition_variable exited;
+        std::deque<std::function<void()>> tasks;
+        bool stopping = false;
+        std::size_t running_workers = 0;
+        std::uint64_t timeouts = 0;
+    };
+    static void work(const std::shared_ptr<Queue>& queue);
+    void count_timeout();
+
+    std::shared_ptr<Driver> driver_;
+    const Options options_;
+    const Logger logger_;
+    const std::string name_;
+    std::shared_ptr<Queue> queue_ = std::make_shared<Queue>();
+    std::vector<std::thread> workers_;
+};
+
+}  // namespace nclink::detail

@@ -1,0 +1,148 @@
+#include "driver/driver_runner.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+using namespace nclink;
+using detail::DriverRunner;
+
+namespace {
+
+// A read blocks until the test opens the gate; counts overlapping calls.
+class GatedDriver : public Driver {
+public:
+    explicit GatedDriver(bool concurrent) : concurrent_(concurrent) {}
+    DriverInfo info() const override { return {"gated", "1", concurrent_}; }
+
+    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
+        const int now = ++inside;
+        int seen = max_inside.load();
+        while (now > seen && !max_inside.compare_exchange_weak(seen, now)) {}
+        {
+            std::unique_lock<std::mutex> lock(mutex);
+            gate_cv.wait(lock, [&] { return open; });
+        }
+        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(points[i].id);
+        --inside;
+        ++reads;
+    }
+    void close() override { closed = true; }
+
+    void release() {
+        std::lock_guard<std::mutex> lock(mutex);
+        open = true;
+        gate_cv.notify_all();
+    }
+
+    std::atomic<int> inside{0}, max_inside{0}, reads{0};
+    std::atomic<bool> closed{false};
+
+private:
+    bool concurrent_;
+    std::mutex mutex;
+    std::condition_variable gate_cv;
+    bool open = false;
+};
+
+class ThrowingDriver : public SimpleDriver {
+public:
+    Result<Json> read_one(const PointRef&) override { throw std::runtime_error("bus error"); }
+    Result<void> write(const WriteRequest&) override { throw std::runtime_error("bus error"); }
+};
+
+std::vector<PointRef> points(std::initializer_list<const char*> ids) {
+    std::vector<PointRef> out;
+    for (const char* id : ids) out.push_back({id, DataKind::single});
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("a read that overruns its deadline answers Timeout (203) for each item") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    DriverRunner::Options o;
+    o.call_timeout = std::chrono::milliseconds(30);
+    DriverRunner runner(driver, o, Logger());
+    const auto results = runner.read(points({"a", "b"}));
+    REQUIRE(results.size() == 2);
+    for (const auto& r : results) {
+        REQUIRE_FALSE(r.ok());
+        CHECK(r.error().code == ErrorCode::timeout);
+    }
+    CHECK(runner.timeouts() == 1);
+    driver->release();
+    // The driver is free again: the next read answers.
+    const auto later = runner.read(points({"c"}), std::chrono::seconds(10));
+    REQUIRE(later[0].ok());
+    CHECK(later[0].value() == "c");
+}
+
+TEST_CASE("calls into a serialized driver never overlap; a concurrent driver's do") {
+    for (bool concurrent : {false, true}) {
+        auto driver = std::make_shared<GatedDriver>(concurrent);
+        DriverRunner runner(driver, {}, Logger());
+        std::vector<std::thread> callers;
+        std::atomic<int> ok{0};
+        for (int i = 0; i < 4; ++i)
+            callers.emplace_back([&] {
+                auto r = runner.read(points({"x"}), std::chrono::seconds(20));
+                if (r[0].ok()) ++ok;
+            });
+        if (concurrent) {
+            // Two workers: two calls get inside before the gate opens.
+            while (driver->inside.load() < 2) std::this_thread::yield();
+        } else {
+            while (driver->inside.load() < 1) std::this_thread::yield();
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a second call would be inside by now
+        }
+        driver->release();
+        for (auto& t : callers) t.join();
+        CHECK(ok == 4);
+        CHECK(driver->max_inside == (concurrent ? 2 : 1));
+    }
+}
+
+TEST_CASE("a driver that throws answers Unavailable and the runner keeps serving") {
+    DriverRunner runner(std::make_shared<ThrowingDriver>(), {}, Logger());
+    auto r = runner.read(points({"a"}));
+    REQUIRE_FALSE(r[0].ok());
+    CHECK(r[0].error().code == ErrorCode::unavailable);
+    CHECK_THAT(r[0].error().message, Catch::Contains("bus error"));
+    WriteRequest w;
+    w.id = "a";
+    auto wr = runner.write(w);
+    REQUIRE_FALSE(wr.ok());
+    CHECK(wr.error().code == ErrorCode::unavailable);
+    auto again = runner.read(points({"b"}));
+    CHECK_FALSE(again[0].ok());
+}
+
+TEST_CASE("stop closes the driver; calls after stop are refused") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    driver->release();
+    DriverRunner runner(driver, {}, Logger());
+    CHECK(runner.read(points({"a"}))[0].ok());
+    runner.stop();
+    CHECK(driver->closed);
+    auto r = runner.read(points({"a"}));
+    REQUIRE_FALSE(r[0].ok());
+    CHECK(r[0].error().code == ErrorCode::unavailable);
+}
+
+TEST_CASE("a driver stuck at shutdown is abandoned, not waited for forever") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    {
+        DriverRunner::Options o;
+        o.call_timeout = std::chrono::milliseconds(10);
+        DriverRunner runner(driver, o, Logger());
+        (void)runner.read(points({"a"}));  // times out; the worker stays inside the driver
+        runner.stop(std::chrono::milliseconds(20));
+        CHECK_FALSE(driver->closed);
+    }
+    driver->release();  // the abandoned worker finishes and exits on its own
+    while (driver->reads.load() < 1) std::this_thread::yield();
+}
