@@ -1,0 +1,58 @@
+// `nclink`: the command-line companion of the SDK. main() only dispatches;
+// every subcommand is a file of its own (validate.cpp, ...).
+#include "commands.hpp"
+
+#include <nclink/version.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <string_view>
+
+namespace {
+
+using nclink::cli::Command;
+
+const Command kCommands[] = {
+    {"validate", "check model (probe) files against GB/T 41970-2022 chapters 6 and 7",
+     &nclink::cli::run_validate, nclink::cli::validate_usage},
+};
+
+void print_usage(std::FILE* out) {
+    std::fprintf(out, "usage: nclink <command> [options]\n\ncommands:\n");
+    for (const auto& c : kCommands) std::fprintf(out, "  %-10s %s\n", c.name, c.summary);
+    std::fprintf(out, "\n`nclink <command> --help` describes a command.\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        print_usage(stderr);
+        return 2;
+    }
+    const std::string_view name = argv[1];
+    if (name == "--help" || name == "-h" || name == "help") {
+        print_usage(stdout);
+        return 0;
+    }
+    if (name == "--version") {
+        std::printf("nclink %s\n", nclink::library_version());
+        return 0;
+    }
+    for (const auto& c : kCommands) {
+        if (name != c.name) continue;
+        const nclink::cli::Args args(argv + 2, argv + argc);
+        try {
+            return c.run(args);
+        } catch (const nclink::cli::UsageError& e) {
+            std::fprintf(stderr, "nclink %s: %s\n%s", c.name, e.message.c_str(), c.usage);
+            return 2;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "nclink %s: %s\n", c.name, e.what());
+            return 1;
+        }
+    }
+    std::fprintf(stderr, "nclink: unknown command \"%s\"\n", argv[1]);
+    print_usage(stderr);
+    return 2;
+}
