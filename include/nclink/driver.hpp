@@ -98,12 +98,14 @@ public:
     /// `results` arrives sized to points.size(), every entry 202.
     virtual void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) = 0;
 
-    /// Whether this driver serves `id` (default: every id). Items it does not
-    /// serve that have a fixed model value or are config objects are served by
-    /// the SDK from its value store.
-    virtual bool serves(std::string_view id) const {
+    /// Items whose value the SDK holds itself — data objects with a fixed
+    /// `value` in the model and configuration objects — are answered from the
+    /// SDK's value store (settable ones are stored and persisted by the SDK)
+    /// unless the driver claims them here. Every other data item is read from
+    /// the driver. Default: claims none.
+    virtual bool claims(std::string_view id) const {
         (void)id;
-        return true;
+        return false;
     }
 
     /// Writes one item. Default: Permission Denied (301), a read-only driver.
