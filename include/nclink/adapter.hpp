@@ -1,0 +1,86 @@
+// The adapter: a machine on NC-Link. Give it a configuration and a driver;
+// it loads and validates the model, connects to the broker, announces itself
+// (retained online state with an offline last will, Register/Request,
+// Probe/Version) and answers Probe/Query, Probe/Set, Query and Set.
+//
+//   nclink::AdapterConfig config = nclink::load_adapter_config("adapter.json").value();
+//   nclink::Adapter adapter(config, std::make_shared<MyDriver>(), logger);
+//   if (auto started = adapter.start(); !started) { ...started.error()... }
+//   ... adapter.stop();
+//
+// Threading: start() and stop() are called by the owner (not concurrently,
+// not from a driver callback). Every other public call is thread-safe.
+// Requests are handled on the adapter's request workers, never on the MQTT
+// callback thread; drivers are called on their own workers (driver.hpp).
+#pragma once
+
+#include <nclink/adapter_config.hpp>
+#include <nclink/adapter_state.hpp>
+#include <nclink/clock.hpp>
+#include <nclink/driver.hpp>
+#include <nclink/log.hpp>
+#include <nclink/model.hpp>
+#include <nclink/transport.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nclink {
+
+struct AdapterStats {
+    std::uint64_t requests = 0;             ///< request DTUs handled
+    std::uint64_t ignored_retained = 0;     ///< requests ignored for their retain flag
+    std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
+    std::uint64_t rejected = 0;             ///< requests answered NG as a whole (malformed)
+    std::uint64_t driver_timeouts = 0;
+    bool registered = false;                ///< an agent accepted Register/Request
+    AdapterState state = AdapterState::initial;
+    TransportStats transport;
+};
+
+/// Called after a Probe/Set replaced the model (on a request worker). Later
+/// modules (sampling, events) restart what runs from the model here.
+using ModelListener = std::function<void(std::shared_ptr<const Model>)>;
+
+class Adapter {
+public:
+    /// `driver` may be null when `config.driver_plugin` names a plugin.
+    Adapter(AdapterConfig config, std::shared_ptr<Driver> driver, Logger logger = {});
+    ~Adapter();
+    Adapter(const Adapter&) = delete;
+    Adapter& operator=(const Adapter&) = delete;
+
+    /// For tests and special links: use this transport instead of MQTT (set
+    /// before start()). The adapter owns it from then on.
+    void use_transport(std::unique_ptr<Transport> transport);
+    /// For tests: the clock for dedup windows and registration retries.
+    void use_clock(std::shared_ptr<const Clock> clock);
+
+    /// Loads and validates the model (refusing fatal problems, and
+    /// conformance problems when strict, listing every one), opens the
+    /// driver, connects and starts serving. Returns when serving has begun;
+    /// the broker may still be unreachable (the adapter keeps trying).
+    Result<void> start();
+    /// Publishes the offline state, flushes what is buffered (up to
+    /// `flush_timeout`), disconnects, stops the driver. Idempotent.
+    void stop(std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
+
+    /// The terminal id (dev_uuid) this adapter answers for.
+    std::string dev_uuid() const;
+    std::shared_ptr<const Model> model() const;
+    /// Problems found in the current model (conformance and warnings).
+    std::vector<Problem> model_problems() const;
+    AdapterState state() const;
+    AdapterStats stats() const;
+
+    void add_model_listener(ModelListener listener);
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nclink

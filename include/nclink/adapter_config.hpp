@@ -1,0 +1,65 @@
+// Adapter configuration: every key, its default and unit. Loadable from a
+// JSON file (docs/configuration.md shows a complete one) and overridable from
+// code; load first, then assign the fields you want to force.
+#pragma once
+
+#include <nclink/json.hpp>
+#include <nclink/log.hpp>
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/result.hpp>
+
+#include <chrono>
+#include <cstddef>
+#include <optional>
+#include <string>
+
+namespace nclink {
+
+struct AdapterConfig {
+    // --- broker (JSON: "broker": {...}) ---
+    std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
+    std::string client_id;               ///< "client_id"; default "nclink-adapter-<dev_uuid>"
+    std::string username;                ///< "username"
+    std::string password;                ///< "password"
+    std::optional<MqttTlsOptions> tls;   ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
+    int mqtt_version = 4;                ///< "mqtt_version": 4 (3.1.1) or 5
+    std::chrono::seconds keep_alive{20}; ///< "keep_alive_s"
+    bool clean_session = true;           ///< "clean_session"
+
+    // --- model ---
+    std::string model_path;              ///< "model": path of the probe file (required)
+    std::string device_id;               ///< "device": which device of the model this adapter is ("" = the first)
+    std::string dev_uuid;                ///< "dev_uuid": terminal id override ("" = device guid, else device id)
+    bool strict = false;                 ///< "strict": refuse models with conformance problems too
+    std::string persistence_dir;         ///< "persistence_dir": where Probe/Set models and settable config values are kept ("" = not persisted)
+
+    // --- wire ---
+    bool standard_typo_topics = true;    ///< "standard_typo_topics": also publish Reigster/Unreigster response topics
+    std::size_t offline_buffer_bytes = 8u << 20;  ///< "offline_buffer_bytes": kept while the broker is unreachable
+    std::size_t max_in_flight = 64;      ///< "max_in_flight": unacknowledged messages on the link
+    std::chrono::milliseconds dedup_window{10000};  ///< "dedup_window_ms": a repeated @id within it is ignored
+    std::size_t dedup_capacity = 4096;   ///< "dedup_capacity": @ids remembered at most
+
+    // --- behaviour ---
+    std::size_t request_threads = 2;     ///< "request_threads": workers handling requests
+    std::chrono::milliseconds driver_timeout{1000};   ///< "driver_timeout_ms": deadline of one driver call (then 203)
+    std::chrono::milliseconds register_timeout{3000}; ///< "register_timeout_ms": wait for Register/Response before retrying
+    std::chrono::milliseconds register_retry_max{60000}; ///< "register_retry_max_ms": retry interval cap
+
+    // --- driver (JSON: "driver": {"plugin": path, "config": {...}}) ---
+    std::string driver_plugin;           ///< plugin path ("" = the program links its driver)
+    Json driver_config;                  ///< handed to the driver's open()
+
+    LogLevel log_level = LogLevel::info; ///< "log_level": trace/debug/info/warn/error/off
+};
+
+/// Reads a configuration object. Unknown keys are errors (typos must not pass
+/// silently): 413 with the key's name; wrong types 405.
+Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig base = {});
+/// Reads a configuration file; relative paths in it (model, persistence_dir,
+/// plugin, TLS files) are taken relative to the file's directory.
+Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base = {});
+
+std::optional<LogLevel> log_level_from_string(std::string_view text);
+
+}  // namespace nclink

@@ -1,0 +1,439 @@
+#include <nclink/adapter.hpp>
+#include <nclink/driver_plugin_loader.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/topics.hpp>
+
+#include "adapter/dedup_window.hpp"
+#include "adapter/model_host.hpp"
+#include "adapter/request_handlers.hpp"
+#include "core/executor.hpp"
+#include "driver/driver_runner.hpp"
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <random>
+#include <thread>
+
+namespace nclink {
+
+using detail::DriverRunner;
+using detail::ModelState;
+
+struct Adapter::Impl {
+    Impl(AdapterConfig c, std::shared_ptr<Driver> d, Logger l)
+        : config(std::move(c)), logger(std::move(l)), driver(std::move(d)), host(config.persistence_dir, logger) {}
+
+    // ---- configuration and collaborators
+    AdapterConfig config;
+    Logger logger;
+    std::shared_ptr<Driver> driver;
+    std::unique_ptr<Transport> transport;
+    std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
+    detail::ModelHost host;
+    std::unique_ptr<DriverRunner> runner;
+    std::unique_ptr<detail::Executor> executor;
+    std::unique_ptr<detail::DedupWindow> dedup;
+    std::string dev;
+    std::string msg_id_prefix;
+
+    // ---- state (mutex)
+    mutable std::mutex mutex;
+    AdapterState state = AdapterState::initial;
+    std::vector<ModelListener> listeners;
+    bool started = false;
+    bool stopped = false;
+
+    // ---- registration (housekeeping thread)
+    std::mutex reg_mutex;
+    std::condition_variable reg_wake;
+    std::thread housekeeping;
+    bool reg_stopping = false;
+    bool reg_pending = false;       // a Register/Request is out, unanswered
+    std::string reg_msg_id;
+    Clock::Steady reg_deadline{};
+    std::chrono::milliseconds reg_backoff{0};
+    std::atomic<bool> registered{false};
+
+    std::atomic<std::uint64_t> requests{0}, ignored_retained{0}, ignored_duplicates{0}, rejected{0}, msg_counter{0};
+
+    // ------------------------------------------------------------- lifecycle
+
+    Result<void> start() {
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (started) return make_error(ErrorCode::unavailable, "adapter already started");
+            started = true;
+        }
+        auto loaded = load_model();
+        if (!loaded) return std::move(loaded).error();
+
+        if (!driver && !config.driver_plugin.empty()) {
+            auto plugin = load_driver_plugin(config.driver_plugin, config.driver_config, logger);
+            if (!plugin) return std::move(plugin).error();
+            driver = std::move(plugin).value();
+            logger.info("driver plugin {} {} loaded from {}", driver->info().name, driver->info().version,
+                        config.driver_plugin);
+        }
+        if (!driver)
+            return make_error(ErrorCode::parameter_missing, "no driver: link one or set driver.plugin in the configuration");
+        if (auto opened = driver->open(DriverContext{config.driver_config, logger}); !opened)
+            return make_error(opened.error().code, "driver failed to open: " + opened.error().message);
+
+        auto built = host.build(loaded.value(), config.device_id, *driver);
+        if (!built) return std::move(built).error();
+        host.install(built.value());
+        dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
+        msg_id_prefix = fmt::format("{}-{:x}-", dev, std::random_device{}());
+        logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s))", dev,
+                    built.value()->device->id, built.value()->device->version, built.value()->store->size());
+
+        DriverRunner::Options runner_options;
+        runner_options.call_timeout = config.driver_timeout;
+        runner = std::make_unique<DriverRunner>(driver, runner_options, logger);
+        executor = std::make_unique<detail::Executor>(config.request_threads);
+        dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);
+
+        if (!transport) {
+            auto made = make_mqtt_transport(mqtt_options(), logger);
+            if (!made) return std::move(made).error();
+            transport = std::move(made).value();
+        }
+        transport->set_message_handler([this](const Message& m) { on_message(m); });
+        transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
+        if (auto subscribed = transport->subscribe(topics::adapter_subscriptions(dev), 1); !subscribed)
+            return subscribed;
+        fire(AdapterEvent::initialized);
+        fire(AdapterEvent::link_lost);  // not connected yet: requests' answers wait for the link
+        housekeeping = std::thread([this] { housekeep(); });
+        return transport->start();
+    }
+
+    Result<LoadResult> load_model() {
+        std::string path = host.persisted_model_path();
+        if (!path.empty())
+            logger.info("using the model of the last Probe/Set, {}", path);
+        else
+            path = config.model_path;
+        if (path.empty()) return make_error(ErrorCode::parameter_missing, "no model file configured");
+        LoadResult loaded = load_model_file(path);
+        for (const auto& p : loaded.problems) {
+            const auto level = p.severity == Severity::warning ? LogLevel::debug : LogLevel::warn;
+            logger.log(level, "{}:{}: {}: {}", path, p.pointer.empty() ? "/" : p.pointer, to_string(p.severity), p.message);
+        }
+        const std::string refused = detail::refusal_reasons(loaded, config.strict);
+        if (!refused.empty() || !loaded.model)
+            return make_error(ErrorCode::syntax_error,
+                              fmt::format("model {} refused{}: {}", path, config.strict ? " (strict)" : "", refused));
+        return loaded;
+    }
+
+    MqttOptions mqtt_options() const {
+        MqttOptions o;
+        o.broker_url = config.broker_url;
+        o.client_id = config.client_id.empty() ? "nclink-adapter-" + dev : config.client_id;
+        o.username = config.username;
+        o.password = config.password;
+        o.tls = config.tls;
+        o.mqtt_version = config.mqtt_version;
+        o.keep_alive = config.keep_alive;
+        o.clean_session = config.clean_session;
+        o.outbox.max_bytes = config.offline_buffer_bytes;
+        o.outbox.max_in_flight = config.max_in_flight;
+        o.last_will = state_message("offline");
+        return o;
+    }
+
+    Message state_message(const char* state_text) const {
+        NotifyState notify;
+        notify.tid = dev;
+        notify.state = state_text;
+        return Message{topics::notify_state(dev), encode(notify), 1, true};
+    }
+
+    void stop(std::chrono::milliseconds flush_timeout) {
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!started || stopped) return;
+            stopped = true;
+        }
+        {
+            std::lock_guard<std::mutex> lock(reg_mutex);
+            reg_stopping = true;
+        }
+        reg_wake.notify_all();
+        if (housekeeping.joinable()) housekeeping.join();
+        if (executor) executor->stop();  // answers what is queued
+        if (transport) {
+            (void)transport->publish(state_message("offline"));  // a clean stop sends no last will
+            transport->stop(flush_timeout);
+        }
+        if (runner) runner->stop();
+        logger.info("adapter {} stopped", dev);
+    }
+
+    // ----------------------------------------------------------- the link
+
+    // Thread: transport callback/supervisor thread. Never blocks.
+    void on_link(LinkState link, std::string_view) {
+        if (link == LinkState::connected) {
+            (void)transport->publish(state_message("online"));
+            send_registration();
+            publish_version();
+            fire(AdapterEvent::link_restored);
+        } else if (link == LinkState::disconnected) {
+            fire(AdapterEvent::link_lost);
+        }
+    }
+
+    void fire(AdapterEvent event) {
+        std::lock_guard<std::mutex> lock(mutex);
+        const auto t = adapter_transition(state, event);
+        if (t.next != state) logger.info("adapter state: {} -> {} ({})", to_string(state), to_string(t.next), to_string(event));
+        state = t.next;
+    }
+
+    std::string next_msg_id() { return msg_id_prefix + std::to_string(++msg_counter); }
+
+    void send_registration() {
+        RegisterRequest request;
+        request.msg_id = Json(next_msg_id());
+        request.cli_uuid = dev;
+        {
+            std::lock_guard<std::mutex> lock(reg_mutex);
+            reg_pending = true;
+            reg_msg_id = request.msg_id->get<std::string>();
+            reg_deadline = clock->now() + config.register_timeout;
+        }
+        (void)transport->publish(Message{topics::register_request(), encode(request), 1, false});
+        reg_wake.notify_all();
+    }
+
+    void publish_version() {
+        const auto current = host.current();
+        ProbeVersionRequest version;
+        version.msg_id = Json(next_msg_id());
+        version.guid = dev;
+        version.version = current->device->version;
+        (void)transport->publish(Message{topics::probe_version(dev), encode(version), 1, false});
+    }
+
+    // Thread: housekeeping. Registers again when no agent answered in time,
+    // with a growing interval; the adapter serves all along (WIRE.md: proceed
+    // if no agent answers). Polls the injected clock every 50 ms, so tests
+    // drive it with a ManualClock.
+    void housekeep() {
+        std::unique_lock<std::mutex> lock(reg_mutex);
+        bool retry_armed = false;
+        Clock::Steady retry_at{};
+        while (!reg_stopping) {
+            const auto now = clock->now();
+            if (reg_pending && now >= reg_deadline) {
+                reg_backoff = std::min(config.register_retry_max,
+                                       reg_backoff.count() == 0 ? config.register_timeout : reg_backoff * 2);
+                logger.info("no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
+                            config.register_timeout.count(), reg_backoff.count());
+                reg_pending = false;
+                retry_armed = true;
+                retry_at = now + reg_backoff;
+            }
+            if (retry_armed && (registered || reg_pending)) retry_armed = false;  // answered, or a reconnect re-sent it
+            if (retry_armed && now >= retry_at) {
+                retry_armed = false;
+                lock.unlock();
+                if (transport->state() == LinkState::connected) send_registration();
+                lock.lock();
+                continue;
+            }
+            reg_wake.wait_for(lock, std::chrono::milliseconds(50));
+        }
+    }
+
+    void on_register_response(const std::string& payload) {
+        auto response = decode<RegisterResponse>(payload);
+        if (!response || response->cli_uuid != dev) return;
+        {
+            std::lock_guard<std::mutex> lock(reg_mutex);
+            const bool ours = response->msg_id && response->msg_id->is_string() && response->msg_id->get<std::string>() == reg_msg_id;
+            if (!ours && response->msg_id) return;  // an answer to an older request
+            reg_pending = false;
+            reg_backoff = std::chrono::milliseconds(0);
+        }
+        if (response->status.ok) {
+            registered = true;
+            logger.info("registered with the agent as {}", dev);
+        } else {
+            registered = false;
+            logger.error("the agent refused registration of {}: {} {}", dev, response->status.error.value_or(0),
+                         response->status.reason.value_or("(no reason)"));
+        }
+        reg_wake.notify_all();
+    }
+
+    // ------------------------------------------------------------- requests
+
+    // Thread: transport callback. Filters, then hands the work to a request
+    // worker; never blocks on the driver.
+    void on_message(const Message& message) {
+        const auto parsed = parse_topic(message.topic);
+        if (!parsed) return;
+        if (parsed->kind == TopicKind::register_response) {
+            on_register_response(message.payload);
+            return;
+        }
+        if (!response_kind(parsed->kind) || parsed->kind == TopicKind::probe_version ||
+            parsed->kind == TopicKind::register_request || parsed->kind == TopicKind::discovery_request)
+            return;  // not a request to an adapter (version-check answers and the like)
+        if (parsed->dev != dev) return;
+        if (message.retained) {
+            // A retained request is replayed by the broker to every new
+            // subscription: acting on it would repeat a stale Set.
+            ++ignored_retained;
+            logger.warn("ignoring retained request on {}", message.topic);
+            return;
+        }
+        const MessageId msg_id = peek_message_id(message.payload);
+        if (msg_id) {
+            const std::string key = fmt::format("{}|{}|{}", to_string(parsed->kind), parsed->ex.value_or(""), msg_id->dump());
+            if (!dedup->first_sighting(key)) {
+                ++ignored_duplicates;
+                logger.debug("ignoring repeated request {} on {}", msg_id->dump(), message.topic);
+                return;
+            }
+        }
+        executor->post([this, topic = *parsed, payload = message.payload] { handle(topic, payload); });
+    }
+
+    // Thread: request worker.
+    void handle(const ParsedTopic& topic, const std::string& payload) {
+        ++requests;
+        const auto current = host.current();
+        detail::HandlerContext context{*current, *runner, host, dev, logger};
+        std::optional<Json> reply;
+        switch (topic.kind) {
+            case TopicKind::query_request:
+                reply = answer<QueryRequest>(topic, payload, [&](const QueryRequest& r) { return to_json(detail::handle_query(r, context)); });
+                break;
+            case TopicKind::set_request:
+                reply = answer<SetRequest>(topic, payload, [&](const SetRequest& r) { return to_json(detail::handle_set(r, context)); });
+                break;
+            case TopicKind::probe_query_request:
+                reply = answer<ProbeQueryRequest>(topic, payload, [&](const ProbeQueryRequest& r) {
+                    return to_json(detail::handle_probe_query(r, context));
+                });
+                break;
+            case TopicKind::probe_set_request:
+                reply = answer<ProbeSetRequest>(topic, payload, [&](const ProbeSetRequest& r) { return to_json(probe_set(r)); });
+                break;
+            default:
+                // Requests of features this adapter does not run (yet): never
+                // silence, always an answer (WIRE.md).
+                ++rejected;
+                reply = make_error_reply(topic.kind, peek_message_id(payload), dev,
+                                         make_error(ErrorCode::unavailable, "not supported by this adapter"));
+                break;
+        }
+        if (reply) respond(topic, *reply);
+    }
+
+    template <class Request, class Handler>
+    std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler) {
+        auto request = decode<Request>(payload);
+        if (!request) {
+            ++rejected;
+            logger.info("malformed {} answered NG: {}", to_string(topic.kind), request.error().describe());
+            return make_error_reply(topic.kind, peek_message_id(payload), dev, request.error());
+        }
+        return handler(request.value());
+    }
+
+    void respond(const ParsedTopic& request_topic, const Json& reply) {
+        const std::string payload = reply.dump(-1, ' ', false, Json::error_handler_t::replace);
+        bool ok = true;
+        for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
+            ok = transport->publish(Message{topic, payload, 1, false}).ok() && ok;
+        fire(ok ? AdapterEvent::request_answered : AdapterEvent::request_answer_failed);
+    }
+
+    ProbeSetResponse probe_set(const ProbeSetRequest& request) {
+        auto response = make_reply<ProbeSetResponse>(request, dev);
+        const std::string text = request.probe.is_string() ? request.probe.get<std::string>()
+                                                           : request.probe.dump(-1, ' ', false, Json::error_handler_t::replace);
+        LoadResult loaded = parse_model(text);
+        const std::string refused = detail::refusal_reasons(loaded, config.strict);
+        if (!refused.empty()) {
+            // Every problem in `reason` (WIRE.md/issue: the sender fixes all in one round).
+            response.status = ResponseStatus::failure(refused, to_int(ErrorCode::syntax_error));
+            return response;
+        }
+        auto built = host.build(loaded, config.device_id, *driver);
+        if (!built) {
+            response.status = ResponseStatus(built.error());
+            return response;
+        }
+        const std::string new_dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
+        if (new_dev != dev)
+            logger.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev);
+        if (auto persisted = host.persist_model(serialize_model(*built.value()->model)); !persisted) {
+            response.status = ResponseStatus(persisted.error());
+            return response;
+        }
+        host.install(built.value());
+        logger.info("model replaced by Probe/Set: version {}", built.value()->device->version);
+        std::vector<ModelListener> to_call;
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            to_call = listeners;
+        }
+        for (auto& listener : to_call) listener(built.value()->model);
+        publish_version();
+        return response;
+    }
+};
+
+Adapter::Adapter(AdapterConfig config, std::shared_ptr<Driver> driver, Logger logger)
+    : impl_(std::make_unique<Impl>(std::move(config), std::move(driver), std::move(logger))) {}
+
+Adapter::~Adapter() { stop(std::chrono::milliseconds(500)); }
+
+void Adapter::use_transport(std::unique_ptr<Transport> transport) { impl_->transport = std::move(transport); }
+void Adapter::use_clock(std::shared_ptr<const Clock> clock) { impl_->clock = std::move(clock); }
+Result<void> Adapter::start() { return impl_->start(); }
+void Adapter::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
+std::string Adapter::dev_uuid() const { return impl_->dev; }
+
+std::shared_ptr<const Model> Adapter::model() const {
+    auto current = impl_->host.current();
+    return current ? current->model : nullptr;
+}
+
+std::vector<Problem> Adapter::model_problems() const {
+    auto current = impl_->host.current();
+    return current ? current->problems : std::vector<Problem>{};
+}
+
+AdapterState Adapter::state() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->state;
+}
+
+AdapterStats Adapter::stats() const {
+    AdapterStats s;
+    s.requests = impl_->requests;
+    s.ignored_retained = impl_->ignored_retained;
+    s.ignored_duplicates = impl_->ignored_duplicates;
+    s.rejected = impl_->rejected;
+    s.driver_timeouts = impl_->runner ? impl_->runner->timeouts() : 0;
+    s.registered = impl_->registered;
+    s.state = state();
+    if (impl_->transport) s.transport = impl_->transport->stats();
+    return s;
+}
+
+void Adapter::add_model_listener(ModelListener listener) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->listeners.push_back(std::move(listener));
+}
+
+}  // namespace nclink

@@ -1,0 +1,130 @@
+#include "adapter/model_host.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace nclink::detail {
+
+const DataObject* ModelState::item(const std::string& id) const {
+    const DataObject* object = model ? model->data_object(id) : nullptr;
+    if (!object) return nullptr;
+    // Items of another device of the same model file are not ours to serve.
+    if (!object->device_id.empty() && device && object->device_id != device->id) return nullptr;
+    return object;
+}
+
+ModelHost::ModelHost(std::string persistence_dir, Logger logger)
+    : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
+
+Result<std::shared_ptr<const ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
+                                                           const Driver& driver) const {
+    if (!loaded.model) return make_error(ErrorCode::syntax_error, "the model has fatal problems");
+    auto state = std::make_shared<ModelState>();
+    state->model = loaded.model;
+    for (const auto& p : loaded.problems)
+        if (p.severity != Severity::fatal) state->problems.push_back(p);
+    const auto& devices = state->model->devices();
+    if (devices.empty()) return make_error(ErrorCode::node_not_exists, "the model has no device");
+    state->device = device_id.empty() ? &devices.front() : state->model->device(device_id);
+    if (!state->device) return make_error(ErrorCode::node_not_exists, fmt::format("the model has no device '{}'", device_id));
+
+    state->store = std::make_shared<ValueStore>();
+    for (const auto& object : state->model->data_objects()) {
+        if (!object.device_id.empty() && object.device_id != state->device->id) continue;
+        const bool sdk_item = object.value.has_value() || object.config;
+        if (!sdk_item || driver.claims(object.id)) continue;
+        Json initial = object.value.value_or(Json(nullptr));
+        auto added = state->store->add(object.id, object.kind, object.setable, std::move(initial));
+        if (!added) {
+            // A fixed value that does not fit its datatype (e.g. a string for a
+            // list): serve it unknown rather than refuse the whole model.
+            logger_.warn("model item {}: fixed value does not fit its datatype ({}); served as unknown", object.id,
+                         added.error().message);
+            (void)state->store->add(object.id, object.kind, object.setable, Json(nullptr));
+        }
+    }
+    if (!dir_.empty()) {
+        std::ifstream in(std::filesystem::path(dir_) / "values.json");
+        if (in) {
+            std::stringstream text;
+            text << in.rdbuf();
+            const Json snapshot = Json::parse(text.str(), nullptr, false);
+            if (auto restored = state->store->load(snapshot); restored)
+                logger_.info("restored {} persisted value(s) from {}/values.json", restored.value(), dir_);
+            else
+                logger_.warn("ignoring {}/values.json: {}", dir_, restored.error().describe());
+        }
+    }
+
+    Json probe = model_to_json(*state->model);
+    state->probe_text = std::make_shared<const std::string>(probe.dump(-1, ' ', false, Json::error_handler_t::replace));
+    state->probe_json = std::make_shared<const Json>(std::move(probe));
+    return std::shared_ptr<const ModelState>(std::move(state));
+}
+
+std::shared_ptr<const ModelState> ModelHost::current() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return current_;
+}
+
+void ModelHost::install(std::shared_ptr<const ModelState> state) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    current_ = std::move(state);
+}
+
+std::string ModelHost::persisted_model_path() const {
+    if (dir_.empty()) return {};
+    const auto path = std::filesystem::path(dir_) / "model.json";
+    return std::filesystem::exists(path) ? path.string() : std::string();
+}
+
+Result<void> ModelHost::persist_model(const std::string& text) const {
+    if (dir_.empty()) return ok_result();
+    return write_file_atomically((std::filesystem::path(dir_) / "model.json").string(), text);
+}
+
+Result<void> ModelHost::persist_values(const ValueStore& store) const {
+    if (dir_.empty()) return ok_result();
+    const auto state = current();
+    Json settable = Json::object();
+    const Json all = store.snapshot();
+    for (auto it = all.begin(); it != all.end(); ++it) {
+        const DataObject* object = state ? state->model->data_object(it.key()) : nullptr;
+        if (object && object->setable) settable[it.key()] = it.value();
+    }
+    return write_file_atomically((std::filesystem::path(dir_) / "values.json").string(),
+                                 settable.dump(2, ' ', false, Json::error_handler_t::replace));
+}
+
+Result<void> write_file_atomically(const std::string& path, const std::string& text) {
+    std::error_code ec;
+    const auto parent = std::filesystem::path(path).parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    const std::string temp = path + ".tmp";
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return make_error(ErrorCode::unavailable, fmt::format("cannot write {}", temp));
+    std::size_t written = 0;
+    while (written < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+        if (n <= 0) {
+            ::close(fd);
+            std::remove(temp.c_str());
+            return make_error(ErrorCode::unavailable, fmt::format("cannot write {}", temp));
+        }
+        written += static_cast<std::size_t>(n);
+    }
+    const bool synced = ::fsync(fd) == 0;
+    ::close(fd);
+    if (!synced || std::rename(temp.c_str(), path.c_str()) != 0) {
+        std::remove(temp.c_str());
+        return make_error(ErrorCode::unavailable, fmt::format("cannot replace {}", path));
+    }
+    return ok_result();
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,37 @@
+// The request handlers of the adapter: each turns one decoded request into
+// its response DTU against one model snapshot. They run on request workers
+// and call the driver through its runner (deadlines, serialization).
+#pragma once
+
+#include "adapter/model_host.hpp"
+#include "driver/driver_runner.hpp"
+
+#include <nclink/dtu.hpp>
+
+namespace nclink::detail {
+
+struct HandlerContext {
+    const ModelState& state;
+    DriverRunner& driver;
+    const ModelHost& host;
+    const std::string& dev;
+    const Logger& logger;
+};
+
+/// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are
+/// answered from the store, the rest read from the driver in one batch.
+QueryResponse handle_query(const QueryRequest& request, const HandlerContext& context);
+
+/// 8.2.13/8.2.14: one result per item, in order. `setable` is enforced (301);
+/// SDK-held items change in the store (and are persisted); driver items are
+/// validated against the current value and written through the driver.
+SetResponse handle_set(const SetRequest& request, const HandlerContext& context);
+
+/// 8.2.7/8.2.8.
+ProbeQueryResponse handle_probe_query(const ProbeQueryRequest& request, const HandlerContext& context);
+
+/// Text of every problem that makes a Probe/Set model unacceptable (fatal, and
+/// conformance when strict), "" when acceptable.
+std::string refusal_reasons(const LoadResult& loaded, bool strict);
+
+}  // namespace nclink::detail

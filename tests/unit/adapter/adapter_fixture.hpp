@@ -1,0 +1,162 @@
+// An adapter on the in-process loopback with a fake driver, and an
+// application-side transport to talk to it through the wire (DTUs on topics).
+#pragma once
+
+#include <nclink/adapter.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/loopback_transport.hpp>
+#include <nclink/topics.hpp>
+
+#include "support/wait.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink::test {
+
+/// Machine values in a map; optionally slow; counts writes.
+class FakeDriver : public Driver {
+public:
+    FakeDriver() {
+        values["pos"] = 12.5;
+        values["status"] = "running";
+        values["ovr"] = 100;
+        values["tools"] = Json::array({Json{{"id", "T1"}, {"length", 50.0}}, Json{{"id", "T2"}, {"length", 75.5}},
+                                       Json{{"id", "T3"}, {"length", 20.0}}});
+        values["params"] = Json{{"p1", 1}, {"p2", 2.5}, {"name", "fast"}};
+    }
+    DriverInfo info() const override { return {"fake", "1", false}; }
+    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
+        if (delay.count() > 0) std::this_thread::sleep_for(delay);
+        std::lock_guard<std::mutex> lock(mutex);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            auto it = values.find(points[i].id);
+            if (it == values.end())
+                results[i] = make_error(ErrorCode::unavailable, "not wired");
+            else
+                results[i] = it->second;
+        }
+    }
+    Result<void> write(const WriteRequest& request) override {
+        std::lock_guard<std::mutex> lock(mutex);
+        ++writes;
+        if (request.new_value.is_null()) return make_error(ErrorCode::unavailable, "no new value");
+        values[request.id] = request.new_value;
+        return ok_result();
+    }
+    Json value(const std::string& id) {
+        std::lock_guard<std::mutex> lock(mutex);
+        return values[id];
+    }
+
+    std::mutex mutex;
+    std::map<std::string, Json> values;
+    std::chrono::milliseconds delay{0};
+    int writes = 0;
+};
+
+inline std::string test_model_path() { return std::string(NCLINK_TEST_DATA_DIR) + "/adapter-test-model.json"; }
+
+inline std::string scratch_dir(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("nclink-" + name + "-" + std::to_string(std::random_device{}()));
+    std::filesystem::create_directories(dir);
+    return dir.string();
+}
+
+/// Collects every message the application side receives.
+class AppSide {
+public:
+    explicit AppSide(LoopbackBroker& broker, const std::string& id = "app") {
+        LoopbackOptions o;
+        o.client_id = id;
+        transport = make_loopback_transport(broker, o);
+        transport->set_message_handler([this](const Message& m) {
+            std::lock_guard<std::mutex> lock(mutex);
+            inbox.push_back(m);
+        });
+        REQUIRE(transport->start().ok());
+        REQUIRE(eventually([&] { return transport->state() == LinkState::connected; }));
+    }
+    void subscribe(const std::string& filter) { REQUIRE(transport->subscribe({filter}, 1).ok()); }
+    void send(const std::string& topic, const std::string& payload, bool retained = false) {
+        REQUIRE(transport->publish(Message{topic, payload, 1, retained}).ok());
+    }
+    std::vector<Message> on(const std::string& topic) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::vector<Message> out;
+        for (const auto& m : inbox)
+            if (m.topic == topic) out.push_back(m);
+        return out;
+    }
+    /// Waits for the n-th message on `topic` and returns its payload as JSON.
+    Json wait(const std::string& topic, std::size_t n = 1) {
+        REQUIRE(eventually([&] { return on(topic).size() >= n; }));
+        return Json::parse(on(topic)[n - 1].payload);
+    }
+    /// Sends and waits for the next message on `reply_topic`.
+    Json request(const std::string& topic, const std::string& reply_topic, const Json& payload) {
+        const std::size_t before = on(reply_topic).size();
+        send(topic, payload.dump());
+        return wait(reply_topic, before + 1);
+    }
+
+    std::unique_ptr<Transport> transport;
+    std::mutex mutex;
+    std::vector<Message> inbox;
+};
+
+struct AdapterFixture {
+    explicit AdapterFixture(AdapterConfig extra = {}, bool start_now = true) : config(std::move(extra)) {
+        if (config.model_path.empty()) config.model_path = test_model_path();
+        if (config.persistence_dir.empty()) config.persistence_dir = scratch_dir("adapter");
+        config.register_timeout = std::chrono::milliseconds(200);
+        driver = std::make_shared<FakeDriver>();
+        app = std::make_unique<AppSide>(broker);
+        app->subscribe("#");
+        if (start_now) start();
+    }
+    ~AdapterFixture() {
+        if (adapter) adapter->stop();
+        std::error_code ec;
+        std::filesystem::remove_all(config.persistence_dir, ec);
+    }
+    void start() {
+        adapter = std::make_unique<Adapter>(config, driver);
+        LoopbackOptions o;
+        o.client_id = "adapter";
+        o.last_will = Message{"Notify/State/test-dev", R"({"tid":"test-dev","state":"offline"})", 1, true};
+        adapter->use_transport(make_loopback_transport(broker, o));
+        adapter->use_clock(clock);
+        auto started = adapter->start();
+        INFO((started.ok() ? std::string() : started.error().describe()));
+        REQUIRE(started.ok());
+        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+    }
+    Json query(const Json& ids, const std::string& ex = "app") {
+        return app->request(topics::query_request("test-dev", ex), topics::query_response("test-dev", ex),
+                            Json{{"@id", "q" + std::to_string(++counter)}, {"guid", "test-dev"}, {"ids", ids}});
+    }
+    Json set(const Json& values, const std::string& ex = "app") {
+        return app->request(topics::set_request("test-dev", ex), topics::set_response("test-dev", ex),
+                            Json{{"@id", "s" + std::to_string(++counter)}, {"guid", "test-dev"}, {"values", values}});
+    }
+
+    AdapterConfig config;
+    LoopbackBroker broker;
+    std::shared_ptr<ManualClock> clock = std::make_shared<ManualClock>();
+    std::shared_ptr<FakeDriver> driver;
+    std::unique_ptr<AppSide> app;
+    std::unique_ptr<Adapter> adapter;
+    int counter = 0;
+};
+
+}  // namespace nclink::test

@@ -1,0 +1,82 @@
+#include <nclink/adapter_config.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace nclink;
+
+TEST_CASE("a configuration file sets every key and resolves paths relative to itself") {
+    const auto dir = std::filesystem::temp_directory_path() / "nclink-config-test";
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "adapter.json";
+    std::ofstream(file) << R"({
+      "broker": {"url": "ssl://broker.plant:8883", "client_id": "mill-7", "username": "u", "password": "p",
+                 "mqtt_version": 5, "keep_alive_s": 30, "clean_session": false,
+                 "tls": {"ca_file": "ca.pem", "verify": false}},
+      "model": "models/mill.json", "device": "dev-1", "dev_uuid": "line3-mill7", "strict": true,
+      "persistence_dir": "state", "standard_typo_topics": false, "offline_buffer_bytes": 1000,
+      "max_in_flight": 8, "dedup_window_ms": 500, "dedup_capacity": 10, "request_threads": 3,
+      "driver_timeout_ms": 250, "register_timeout_ms": 100, "register_retry_max_ms": 900,
+      "log_level": "debug",
+      "driver": {"plugin": "drivers/sim.so", "config": {"seed": 4}}
+    })";
+    auto loaded = load_adapter_config(file.string());
+    INFO((loaded.ok() ? "" : loaded.error().describe()));
+    REQUIRE(loaded.ok());
+    const AdapterConfig& c = loaded.value();
+    CHECK(c.broker_url == "ssl://broker.plant:8883");
+    CHECK(c.client_id == "mill-7");
+    CHECK(c.mqtt_version == 5);
+    CHECK(c.keep_alive == std::chrono::seconds(30));
+    CHECK_FALSE(c.clean_session);
+    REQUIRE(c.tls.has_value());
+    CHECK(c.tls->ca_file == (dir / "ca.pem").string());
+    CHECK_FALSE(c.tls->verify_server);
+    CHECK(c.model_path == (dir / "models/mill.json").string());
+    CHECK(c.persistence_dir == (dir / "state").string());
+    CHECK(c.driver_plugin == (dir / "drivers/sim.so").string());
+    CHECK(c.driver_config == Json{{"seed", 4}});
+    CHECK(c.device_id == "dev-1");
+    CHECK(c.dev_uuid == "line3-mill7");
+    CHECK(c.strict);
+    CHECK_FALSE(c.standard_typo_topics);
+    CHECK(c.offline_buffer_bytes == 1000);
+    CHECK(c.max_in_flight == 8);
+    CHECK(c.dedup_window == std::chrono::milliseconds(500));
+    CHECK(c.request_threads == 3);
+    CHECK(c.driver_timeout == std::chrono::milliseconds(250));
+    CHECK(c.register_retry_max == std::chrono::milliseconds(900));
+    CHECK(c.log_level == LogLevel::debug);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("configuration mistakes are reported, not ignored") {
+    auto unknown = adapter_config_from_json(Json{{"modle", "x.json"}});
+    REQUIRE_FALSE(unknown.ok());
+    CHECK(unknown.error().code == ErrorCode::keys_of_arguments);
+    CHECK_THAT(unknown.error().message, Catch::Contains("modle"));
+    auto nested = adapter_config_from_json(Json{{"broker", {{"uri", "tcp://x"}}}});
+    REQUIRE_FALSE(nested.ok());
+    CHECK_THAT(nested.error().message, Catch::Contains("broker.uri"));
+    auto type = adapter_config_from_json(Json{{"strict", "yes"}});
+    REQUIRE_FALSE(type.ok());
+    CHECK(type.error().code == ErrorCode::value_type);
+    CHECK_FALSE(adapter_config_from_json(Json{{"log_level", "loud"}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 3}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json::array()).ok());
+    CHECK_FALSE(load_adapter_config("/nonexistent/adapter.json").ok());
+}
+
+TEST_CASE("code overrides a loaded configuration; defaults are documented values") {
+    AdapterConfig base;
+    CHECK(base.broker_url == "tcp://127.0.0.1:1883");
+    CHECK(base.standard_typo_topics);
+    CHECK(base.driver_timeout == std::chrono::milliseconds(1000));
+    base.strict = true;
+    auto c = adapter_config_from_json(Json{{"model", "m.json"}}, base);
+    REQUIRE(c.ok());
+    CHECK(c->strict);
+    CHECK(c->model_path == "m.json");
+}

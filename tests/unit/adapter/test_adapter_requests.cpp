@@ -1,0 +1,175 @@
+// The adapter through the wire (loopback): Query, Set, Probe, error answers,
+// the WIRE.md rules (mirror topics, @id echo, retained and repeated requests).
+#include "adapter_fixture.hpp"
+
+using namespace nclink;
+using namespace nclink::test;
+
+TEST_CASE("startup announces the adapter: online state, registration, version") {
+    AdapterFixture f;
+    const Json online = f.app->wait("Notify/State/test-dev");
+    CHECK(online == Json{{"tid", "test-dev"}, {"state", "online"}});
+    REQUIRE(f.broker.retained("Notify/State/test-dev").has_value());
+    const Json reg = f.app->wait("Register/Request");
+    CHECK(reg["cli_uuid"] == "test-dev");
+    CHECK(reg.contains("@id"));
+    const Json version = f.app->wait("Probe/Version/test-dev");
+    CHECK(version["guid"] == "test-dev");
+    CHECK(version["version"] == "1.0.0");
+}
+
+TEST_CASE("query answers one result per item, in order, from the driver and the SDK") {
+    AdapterFixture f;
+    const Json r = f.query(Json::array({
+        Json{{"id", "pos"}},
+        Json{{"id", "maker"}},
+        Json{{"id", "nope"}},
+        Json{{"id", "tools"}, {"params", {{"operation", "get_length"}}}},
+        Json{{"id", "tools"}, {"params", {{"operation", "get_value"}, {"indexes", {"0", "1-2"}}}}},
+        Json{{"id", "params"}, {"params", {{"operation", "get_keys"}}}},
+        Json{{"id", "pos"}, {"params", {{"operation", "get_length"}}}},
+        Json{{"id", "feed_ovr_cfg"}},
+    }));
+    CHECK(r["@id"] == "q1");
+    CHECK(r["guid"] == "test-dev");
+    const Json& v = r["values"];
+    REQUIRE(v.size() == 8);
+    CHECK(v[0] == Json{{"id", "pos"}, {"code", "OK"}, {"values", {12.5}}});
+    CHECK(v[1]["values"] == Json::array({"ACME"}));  // fixed model value, served by the SDK
+    CHECK(v[2]["code"] == "NG");
+    CHECK(v[2]["error"] == 401);
+    CHECK(v[2]["reason"] == "Node not exists");
+    CHECK(v[3]["values"] == Json::array({3}));
+    CHECK(v[3]["params"] == Json{{"operation", "get_length"}});  // params echoed
+    CHECK(v[4]["values"].size() == 3);
+    CHECK(v[4]["values"][1]["id"] == "T2");
+    CHECK(v[5]["values"] == Json::array({"name", "p1", "p2"}));
+    CHECK(v[6]["error"] == 406);
+    CHECK(v[7]["values"] == Json::array({100}));
+}
+
+TEST_CASE("set enforces setable, writes through the driver or the SDK store, one result per item") {
+    AdapterFixture f;
+    const Json r = f.set(Json::array({
+        Json{{"id", "ovr"}, {"params", {{"value", 80}}}},
+        Json{{"id", "status"}, {"params", {{"value", "free"}}}},
+        Json{{"id", "tools"}, {"params", {{"operation", "set_value"}, {"index", 1}, {"value", Json{{"id", "T9"}}}}}},
+        Json{{"id", "tools"}, {"params", {{"index", 7}, {"value", Json::object()}}}},
+        Json{{"id", "params"}, {"params", {{"operation", "add"}, {"key", "p3"}, {"value", 3}}}},
+        Json{{"id", "feed_ovr_cfg"}, {"params", {{"value", 55}}}},
+        Json{{"id", "maker"}, {"params", {{"value", "EVIL"}}}},
+        Json{{"id", "ghost"}, {"params", {{"value", 1}}}},
+    }));
+    const Json& res = r["results"];
+    REQUIRE(res.size() == 8);
+    CHECK(res[0] == Json{{"id", "ovr"}, {"code", "OK"}});
+    CHECK(res[1]["error"] == 301);
+    CHECK(res[1]["reason"] == "Permission Denied");
+    CHECK(res[2]["code"] == "OK");
+    CHECK(res[3]["error"] == 101);  // checked against the machine's current list
+    CHECK(res[4]["code"] == "OK");
+    CHECK(res[5]["code"] == "OK");
+    CHECK(res[6]["error"] == 301);  // a fixed model value is not setable
+    CHECK(res[7]["error"] == 401);
+
+    CHECK(f.driver->value("ovr") == 80);
+    CHECK(f.driver->value("tools")[1] == Json{{"id", "T9"}});
+    CHECK(f.driver->value("params")["p3"] == 3);
+    const Json q = f.query(Json::array({Json{{"id", "feed_ovr_cfg"}}, Json{{"id", "maker"}}}));
+    CHECK(q["values"][0]["values"] == Json::array({55}));
+    CHECK(q["values"][1]["values"] == Json::array({"ACME"}));
+}
+
+TEST_CASE("responses mirror the request topic, with and without ex") {
+    AdapterFixture f;
+    f.app->send("Query/Request/test-dev", R"({"@id":"plain","guid":"test-dev","ids":[{"id":"pos"}]})");
+    CHECK(f.app->wait("Query/Response/test-dev")["@id"] == "plain");
+    f.app->send("Query/Request/test-dev/mes-7", R"({"@id":"with-ex","guid":"test-dev","ids":[{"id":"pos"}]})");
+    CHECK(f.app->wait("Query/Response/test-dev/mes-7")["@id"] == "with-ex");
+    // A numeric @id comes back verbatim, as a number.
+    f.app->send("Query/Request/test-dev/mes-7", R"({"@id":42,"ids":[{"id":"pos"}]})");
+    CHECK(f.app->wait("Query/Response/test-dev/mes-7", 2)["@id"] == 42);
+}
+
+TEST_CASE("malformed requests get NG answers with the right code; the adapter keeps serving") {
+    AdapterFixture f;
+    const std::string reply = "Query/Response/test-dev/app";
+    f.app->send("Query/Request/test-dev/app", "{this is not json");
+    Json r = f.app->wait(reply, 1);
+    CHECK(r["code"] == "NG");
+    CHECK(r["error"] == 412);
+    CHECK_FALSE(r.contains("@id"));
+    f.app->send("Query/Request/test-dev/app", R"({"@id":"w","guid":"test-dev","values":[{"id":"pos"}]})");
+    r = f.app->wait(reply, 2);
+    CHECK(r["@id"] == "w");
+    CHECK(r["error"] == 413);  // Set's key in a Query
+    f.app->send("Query/Request/test-dev/app", R"({"@id":"m","guid":"test-dev"})");
+    CHECK(f.app->wait(reply, 3)["error"] == 102);
+    f.app->send("Query/Request/test-dev/app", R"({"@id":"t","ids":"pos"})");
+    CHECK(f.app->wait(reply, 4)["error"] == 405);
+    f.app->send("Set/Request/test-dev/app", R"([1,2,3])");
+    CHECK(f.app->wait("Set/Response/test-dev/app")["error"] == 412);
+    // A request without @id is still answered, without @id.
+    f.app->send("Query/Request/test-dev/app", R"({"ids":[{"id":"pos"}]})");
+    r = f.app->wait(reply, 5);
+    CHECK_FALSE(r.contains("@id"));
+    CHECK(r["values"][0]["code"] == "OK");
+    CHECK(f.adapter->stats().rejected == 5);
+    // Still serving.
+    CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
+}
+
+TEST_CASE("a retained request is ignored; a repeated @id is answered once") {
+    AdapterFixture f({}, false);
+    // A client published a Set retained before the adapter (re)subscribed: the
+    // broker replays it, flagged, on subscription. Acting on it would move the
+    // machine again.
+    f.app->send("Set/Request/test-dev/app", R"({"@id":"stale","values":[{"id":"ovr","params":{"value":1}}]})", true);
+    REQUIRE(eventually([&] { return f.broker.retained("Set/Request/test-dev/app").has_value(); }));
+    f.start();
+    f.app->send("Set/Request/test-dev/app", R"({"@id":"once","values":[{"id":"ovr","params":{"value":70}}]})");
+    f.app->send("Set/Request/test-dev/app", R"({"@id":"once","values":[{"id":"ovr","params":{"value":70}}]})");
+    CHECK(f.app->wait("Set/Response/test-dev/app")["@id"] == "once");
+    // Another request after them proves the duplicates were processed (and dropped).
+    f.query(Json::array({Json{{"id", "pos"}}}));
+    CHECK(f.app->on("Set/Response/test-dev/app").size() == 1);
+    CHECK(f.driver->value("ovr") == 70);
+    CHECK(f.adapter->stats().ignored_retained == 1);
+    CHECK(f.adapter->stats().ignored_duplicates == 1);
+    // The same @id from another application is a different request.
+    f.app->send("Set/Request/test-dev/other", R"({"@id":"once","values":[{"id":"ovr","params":{"value":71}}]})");
+    CHECK(f.app->wait("Set/Response/test-dev/other")["@id"] == "once");
+}
+
+TEST_CASE("a repeated @id is handled again once the dedup window has passed") {
+    AdapterFixture f;
+    const Json body = Json{{"@id", "again"}, {"ids", Json::array({Json{{"id", "pos"}}})}};
+    f.app->send("Query/Request/test-dev/app", body.dump());
+    f.app->wait("Query/Response/test-dev/app", 1);
+    f.clock->advance(f.config.dedup_window + std::chrono::milliseconds(1));
+    f.app->send("Query/Request/test-dev/app", body.dump());
+    f.app->wait("Query/Response/test-dev/app", 2);
+}
+
+TEST_CASE("a slow driver answers Timeout (203) per item, and SDK items still answer") {
+    AdapterConfig c;
+    c.driver_timeout = std::chrono::milliseconds(20);
+    AdapterFixture f(c);
+    f.driver->delay = std::chrono::milliseconds(300);
+    const Json r = f.query(Json::array({Json{{"id", "pos"}}, Json{{"id", "maker"}}, Json{{"id", "status"}}}));
+    CHECK(r["values"][0]["error"] == 203);
+    CHECK(r["values"][0]["reason"] == "Timeout");
+    CHECK(r["values"][1]["code"] == "OK");
+    CHECK(r["values"][2]["error"] == 203);
+    CHECK(f.adapter->stats().driver_timeouts >= 1);
+    f.driver->delay = std::chrono::milliseconds(0);
+}
+
+TEST_CASE("requests of features the adapter does not run are answered NG 202, never silence") {
+    AdapterFixture f;
+    f.app->send("Method/Call/test-dev/app", R"({"@id":"mc","guid":"test-dev","id":"m_start"})");
+    const Json r = f.app->wait("Method/Result/test-dev/app");
+    CHECK(r["@id"] == "mc");
+    CHECK(r["code"] == "NG");
+    CHECK(r["error"] == 202);
+}
