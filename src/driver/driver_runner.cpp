@@ -1,5 +1,7 @@
 #include "driver/driver_runner.hpp"
 
+#include <atomic>
+
 namespace nclink::detail {
 namespace {
 
@@ -9,8 +11,29 @@ template <class T>
 struct Pending {
     std::mutex mutex;
     std::condition_variable done_cv;
-    bool done = false;
+    std::atomic<bool> done{false};
     T value;
+
+    void finish(T result) {
+        std::lock_guard<std::mutex> lock(mutex);
+        value = std::move(result);
+        done.store(true, std::memory_order_release);
+        done_cv.notify_all();
+    }
+
+    /// Most driver calls take microseconds: spin that long before sleeping,
+    /// which saves a thread wake-up (~25 us on the reference VM) per call.
+    /// Bounded, so a slow driver costs at most kSpin of CPU.
+    bool wait(std::chrono::milliseconds timeout) {
+        static constexpr auto kSpin = std::chrono::microseconds(50);
+        const auto spin_end = std::chrono::steady_clock::now() + kSpin;
+        while (std::chrono::steady_clock::now() < spin_end) {
+            if (done.load(std::memory_order_acquire)) return true;
+            std::this_thread::yield();
+        }
+        std::unique_lock<std::mutex> lock(mutex);
+        return done_cv.wait_for(lock, timeout, [&] { return done.load(std::memory_order_acquire); });
+    }
 };
 
 }  // namespace
@@ -69,19 +92,16 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
             // A throwing driver must not take the adapter down.
             for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
         }
-        std::lock_guard<std::mutex> lock(pending->mutex);
-        pending->value = std::move(results);
-        pending->done = true;
-        pending->done_cv.notify_all();
+        pending->finish(std::move(results));
     });
     if (!queued) return Results(points.size(), Result<Json>(make_error(ErrorCode::unavailable, "driver stopped")));
-    std::unique_lock<std::mutex> lock(pending->mutex);
-    if (!pending->done_cv.wait_for(lock, timeout, [&] { return pending->done; })) {
+    if (!pending->wait(timeout)) {
         count_timeout();
         logger_.warn("driver '{}': read of {} point(s) did not finish within {} ms", name_, points.size(), timeout.count());
         return Results(points.size(), Result<Json>(make_error(ErrorCode::timeout,
                                                                fmt::format("driver did not answer within {} ms", timeout.count()))));
     }
+    std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(pending->value);
 }
 
@@ -97,18 +117,15 @@ Result<void> DriverRunner::write(const WriteRequest& request) {
         } catch (const std::exception& e) {
             outcome.result = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
         }
-        std::lock_guard<std::mutex> lock(pending->mutex);
-        pending->value = std::move(outcome);
-        pending->done = true;
-        pending->done_cv.notify_all();
+        pending->finish(std::move(outcome));
     });
     if (!queued) return make_error(ErrorCode::unavailable, "driver stopped");
-    std::unique_lock<std::mutex> lock(pending->mutex);
-    if (!pending->done_cv.wait_for(lock, options_.call_timeout, [&] { return pending->done; })) {
+    if (!pending->wait(options_.call_timeout)) {
         count_timeout();
         logger_.warn("driver '{}': write of {} did not finish within {} ms", name_, request.id, options_.call_timeout.count());
         return make_error(ErrorCode::timeout, fmt::format("driver did not answer within {} ms", options_.call_timeout.count()));
     }
+    std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(pending->value.result);
 }
 

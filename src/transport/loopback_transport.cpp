@@ -156,25 +156,30 @@ struct LoopbackBroker::Impl {
         for (const auto& f : filters) it->second.subscriptions.erase(f);
     }
 
+    // Lock order everywhere: dispatch before mutex (a handler running under
+    // dispatch may call subscribe()/publish(), which take mutex).
     void run() {
-        std::unique_lock<std::mutex> lock(mutex);
         for (;;) {
-            wake.wait(lock, [this] { return stopping || !events.empty(); });
-            if (stopping) return;
-            Event e = std::move(events.front());
-            events.pop_front();
+            Event e;
+            {
+                std::unique_lock<std::mutex> lock(mutex);
+                wake.wait(lock, [this] { return stopping || !events.empty(); });
+                if (stopping) return;
+                e = std::move(events.front());
+                events.pop_front();
+            }
             std::lock_guard<std::mutex> running(dispatch);
             LoopbackClient* target = nullptr;
-            const std::string& id = std::visit([](auto& ev) -> const std::string& { return ev.client; }, e);
-            if (auto it = sessions.find(id); !id.empty() && it != sessions.end()) target = it->second.client;
-            lock.unlock();
-            if (target) {
-                if (auto* d = std::get_if<Deliver>(&e))
-                    target->on_message(d->message);
-                else if (auto* l = std::get_if<Link>(&e))
-                    target->on_link(l->state, l->detail);
+            {
+                std::lock_guard<std::mutex> lock(mutex);
+                const std::string& id = std::visit([](auto& ev) -> const std::string& { return ev.client; }, e);
+                if (auto it = sessions.find(id); !id.empty() && it != sessions.end()) target = it->second.client;
             }
-            lock.lock();
+            if (!target) continue;
+            if (auto* d = std::get_if<Deliver>(&e))
+                target->on_message(d->message);
+            else if (auto* l = std::get_if<Link>(&e))
+                target->on_link(l->state, l->detail);
         }
     }
 };

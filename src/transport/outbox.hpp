@@ -1,7 +1,8 @@
 // Ordered, bounded buffer of outgoing messages with an in-flight window.
 // Shared by every transport so offline buffering behaves the same on MQTT
-// and on the loopback: one sender thread hands messages to the link in
-// publish order, never more than max_in_flight unacknowledged at once (paho
+// and on the loopback: messages are handed to the link in publish order (by
+// the publishing thread itself when nothing is waiting, else by the sender
+// thread), never more than max_in_flight unacknowledged at once (paho
 // refuses bursts beyond its own buffer, error -12), keeps QoS>=1 messages until
 // acknowledged, and puts unacknowledged ones back when the link drops.
 #pragma once
@@ -24,8 +25,9 @@ public:
     /// Hands one message to the link. `attempt` identifies this send; the link
     /// reports the outcome with delivered(attempt) / failed(attempt), from any
     /// thread, possibly before send() returns. Returns false when the link
-    /// refused it outright (the message stays queued; sending pauses until
-    /// link_up()). Called on the outbox thread only, without locks held.
+    /// refused it outright (the message stays queued and is retried shortly).
+    /// Called on the sender thread or a publishing thread, one call at a time,
+    /// without the outbox's state lock held.
     using SendFn = std::function<bool(const Message&, std::uint64_t attempt)>;
 
     Outbox(OutboxLimits limits, SendFn send, Logger logger);
@@ -58,6 +60,9 @@ private:
     std::size_t cost(const Message& m) const { return m.topic.size() + m.payload.size(); }
     void drop_oldest_waiting_locked();
     void put_back_locked(std::uint64_t attempt);
+    bool can_send_locked() const;
+    /// Hands the first waiting message to the link; caller holds send_mutex_.
+    bool send_first_waiting();
 
     static constexpr std::chrono::milliseconds kRetryPause{100};
 
@@ -65,6 +70,7 @@ private:
     const SendFn send_;
     const Logger logger_;
 
+    std::mutex send_mutex_;  // serializes hand-overs to the link (outbox thread or fast path)
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     std::condition_variable drained_;
