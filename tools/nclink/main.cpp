@@ -1,5 +1,6 @@
 // `nclink`: the command-line companion of the SDK. main() only dispatches;
 // every subcommand is a file of its own (validate.cpp, ...).
+#include "cli_device.hpp"
 #include "commands.hpp"
 
 #include <nclink/version.hpp>
@@ -15,6 +16,11 @@ using nclink::cli::Command;
 const Command kCommands[] = {
     {"validate", "check model (probe) files against GB/T 41970-2022 chapters 6 and 7",
      &nclink::cli::run_validate, nclink::cli::validate_usage},
+    {"probe", "print a device's model (Probe/Query) as a tree", &nclink::cli::run_probe, nclink::cli::probe_usage},
+    {"query", "query data items: ID[:PARAMS]...", &nclink::cli::run_query, nclink::cli::query_usage},
+    {"set", "set data items: ID=VALUE... or ID:PARAMS...", &nclink::cli::run_set, nclink::cli::set_usage},
+    {"watch", "print a device's samples as a rolling table", &nclink::cli::run_watch, nclink::cli::watch_usage},
+    {"state", "print a device's online/offline state", &nclink::cli::run_state, nclink::cli::state_usage},
 };
 
 void print_usage(std::FILE* out) {

@@ -1,0 +1,57 @@
+// What the device subcommands (probe, query, set, watch, state) share:
+// connecting a Client from the command-line options, Ctrl-C, walking a
+// probe (model) JSON, and time formatting.
+#pragma once
+
+#include "cli_options.hpp"
+
+#include <nclink/client.hpp>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nclink::cli {
+
+int run_probe(const Args& args);
+int run_query(const Args& args);
+int run_set(const Args& args);
+int run_watch(const Args& args);
+int run_state(const Args& args);
+extern const char* const probe_usage;
+extern const char* const query_usage;
+extern const char* const set_usage;
+extern const char* const watch_usage;
+extern const char* const state_usage;
+
+/// Parses the options, prints `usage` for --help (returns true = done), and
+/// checks --device / --client-id. Fills in the default client id.
+bool parse_device_command(const Args& args, const OptionSpec& spec, const char* usage, CliOptions& out);
+
+/// A started, connected client; registration is sent but not waited for
+/// (without an agent nobody answers). Throws std::runtime_error when the
+/// broker cannot be reached within the timeout (exit 1).
+std::unique_ptr<Client> connect_client(const CliOptions& options);
+
+/// Set by SIGINT/SIGTERM once install_interrupt_handler() ran.
+bool interrupted();
+void install_interrupt_handler();
+
+/// "2026-11-21T10:00:00.123Z" for ms since the epoch.
+std::string format_time_ms(std::int64_t ms);
+
+/// Sample channels of a probe: id, intervals, point ids (in channel order).
+struct ChannelInfo {
+    std::string id;
+    std::string name;
+    double sample_interval = 0;
+    double upload_interval = 0;
+    std::vector<std::string> points;
+};
+std::vector<ChannelInfo> find_channels(const Json& model);
+
+/// A string member, also under alias spellings.
+std::string string_member(const Json& object, std::initializer_list<const char*> keys);
+
+}  // namespace nclink::cli
