@@ -14,7 +14,9 @@ install(TARGETS ${_nclink_targets}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY include/nclink DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# sim_driver.hpp belongs to the example simulator (drivers/sim), which is
+# not part of the installed SDK.
+install(DIRECTORY include/nclink DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} PATTERN "sim_driver.hpp" EXCLUDE)
 install(EXPORT nclinkTargets NAMESPACE nclink:: DESTINATION ${NCLINK_CMAKE_DIR})
 
 configure_package_config_file(cmake/nclinkConfig.cmake.in

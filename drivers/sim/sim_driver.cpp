@@ -1,0 +1,495 @@
+// SimDriver: the generic per-type simulation for every data object, with the
+// mill profile layered on top when the model is sim-mill.json. Time advances
+// lazily to clock->now() on each call, under one mutex.
+#include <nclink/sim_driver.hpp>
+
+#include "mill_kinematics.hpp"
+#include "mill_profile.hpp"
+#include "sim_random.hpp"
+#include "value_generators.hpp"
+
+#include <nclink/values.hpp>
+#include <nclink/version.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+
+namespace nclink {
+
+namespace {
+
+using sim::MillMethod;
+using sim::MillRole;
+
+struct Item {
+    const DataObject* object = nullptr;
+    sim::ItemTraits traits;
+    sim::Generator generator;
+    std::optional<MillRole> role;
+    /// The value lives in `stored` (lists, dicts, fixed values): Sets change it.
+    bool use_stored = false;
+    Json stored;
+    /// A Set on a computed single value holds it here (mill: until reset).
+    std::optional<Json> pinned;
+    /// WARNING items show the alarm state.
+    bool alarm = false;
+};
+
+std::string parent_type(const Model& model, const std::string& id) {
+    const ObjectInfo* info = model.find(id);
+    if (!info) return {};
+    if (const Component* c = model.component(info->parent_id)) return sim::canonical_type(c->type);
+    if (const Device* d = model.device(info->parent_id)) return sim::canonical_type(d->type);
+    return {};
+}
+
+/// True when an ancestor component is an AXIS numbered A, B or C (table 9:
+/// rotary axes, A1..Cn included).
+bool under_rotary_axis(const Model& model, const std::string& id) {
+    const ObjectInfo* info = model.find(id);
+    for (int depth = 0; info && depth < 64; ++depth) {
+        if (const Component* c = model.component(info->parent_id)) {
+            if (sim::canonical_type(c->type) == "AXIS" && !c->number.empty()) {
+                const char axis = static_cast<char>(std::toupper(static_cast<unsigned char>(c->number[0])));
+                return axis == 'A' || axis == 'B' || axis == 'C';
+            }
+        }
+        info = model.find(info->parent_id);
+    }
+    return false;
+}
+
+std::optional<std::int64_t> as_count(const Json& v) {
+    if (v.is_number_integer() && v.get<std::int64_t>() >= 0) return v.get<std::int64_t>();
+    if (v.is_number_unsigned()) return static_cast<std::int64_t>(v.get<std::uint64_t>());
+    if (v.is_string()) {
+        const auto& s = v.get_ref<const std::string&>();
+        if (s.empty() || s.size() > 18 || s.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+        return std::stoll(s);
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+struct SimDriver::Impl {
+    std::shared_ptr<const Model> model;
+    SimOptions options;
+    std::optional<Error> broken;
+    const Device* device = nullptr;
+    std::vector<Item> items;
+    std::unordered_map<std::string, std::size_t> index;
+    std::optional<sim::MillProfile> profile;
+    std::unique_ptr<sim::MillMachine> mill;
+    std::uint64_t stream = 0;
+
+    Clock::Steady start{};
+    Clock::Steady last{};
+    double t = 0;  // simulated seconds since construction
+    std::int64_t wall_ms = 0;
+
+    std::vector<Json> alarms;  // raised explicitly (API, Set), oldest first
+    std::int64_t suppressed_slot = std::numeric_limits<std::int64_t>::min();
+    bool emergency = false;
+
+    mutable std::mutex mutex;
+
+    void build();
+    void advance();
+    Json value_of(const Item& item) const;
+    Json alarm_value(const Item& item) const;
+    Result<void> commit(Item& item, Json value);
+    Result<void> commit_mill(Item& item, MillRole role, Json value);
+    Result<void> commit_alarms(const Item& item, const Json& value);
+    void add_alarm(const std::string& number, const std::string& text);
+    void suppress_spontaneous();
+    void release_mill_pins();
+};
+
+void SimDriver::Impl::build() {
+    if (!options.clock) options.clock = std::make_shared<SystemClock>();
+    if (!model) {
+        broken = make_error(ErrorCode::unavailable, "simulator has no model");
+        return;
+    }
+    if (model->devices().empty()) {
+        broken = make_error(ErrorCode::unavailable, "model has no device");
+        return;
+    }
+    device = options.device.empty() ? &model->devices().front() : model->device(options.device);
+    if (!device) {
+        broken = make_error(ErrorCode::node_not_exists, "model has no device '" + options.device + "'");
+        return;
+    }
+    start = last = options.clock->now();
+    wall_ms = options.clock->wall_ms();
+    stream = sim::mix64(options.seed ^ 0x6d696c6cULL);
+    profile = sim::recognise_mill(*model, *device);
+    if (profile) {
+        auto program = sim::parse_program(sim::builtin_program());
+        if (!program.ok()) {  // the built-in program is ours: a failure is a bug, keep it visible
+            broken = program.error();
+            return;
+        }
+        mill = std::make_unique<sim::MillMachine>(std::move(program).value(), profile->config, options.autostart);
+    }
+    for (const DataObject& object : model->data_objects()) {
+        if (object.device_id != device->id) continue;
+        Item item;
+        item.object = &object;
+        item.traits.id = object.id;
+        item.traits.name = object.name;
+        item.traits.canonical = sim::canonical_type(object.type);
+        item.traits.parent_type = parent_type(*model, object.id);
+        item.traits.kind = object.kind;
+        item.traits.rotary = under_rotary_axis(*model, object.id);
+        item.generator = sim::make_generator(item.traits, options.seed, options.list_size);
+        if (profile) {
+            auto role = profile->items.find(object.id);
+            if (role != profile->items.end()) item.role = role->second;
+        }
+        if (object.value) {
+            item.use_stored = true;
+            item.stored = *object.value;
+        } else if (item.traits.canonical == "WARNING") {
+            item.alarm = true;
+        } else if (object.kind != DataKind::single && !item.role) {
+            item.use_stored = true;
+            item.stored = sim::make_collection(item.traits, options.seed, options.list_size);
+        }
+        index.emplace(object.id, items.size());
+        items.push_back(std::move(item));
+    }
+}
+
+void SimDriver::Impl::advance() {
+    const auto now = options.clock->now();
+    if (now > last) {
+        const double dt = std::chrono::duration<double>(now - last).count();
+        if (mill) mill->advance(dt);
+        last = now;
+        t = std::chrono::duration<double>(now - start).count();
+    }
+    wall_ms = options.clock->wall_ms();
+}
+
+Json SimDriver::Impl::alarm_value(const Item& item) const {
+    std::vector<Json> active = alarms;
+    if (active.empty() && !mill) {
+        // Generic models show an alarm now and then, unless it was cleared.
+        Json spontaneous = sim::generate(item.generator, t, wall_ms);
+        const auto slot = static_cast<std::int64_t>(std::floor(t / item.generator.period));
+        if (!spontaneous.empty() && slot != suppressed_slot) active.push_back(std::move(spontaneous));
+    }
+    if (item.object->kind == DataKind::list) return Json(active);
+    if (item.object->kind == DataKind::dict) {
+        Json out = Json::object();
+        for (const Json& a : active) out[a.value("number", std::string("0"))] = a;
+        return out;
+    }
+    return active.empty() ? Json::object() : active.back();
+}
+
+Json SimDriver::Impl::value_of(const Item& item) const {
+    if (item.pinned) return *item.pinned;
+    if (item.use_stored) return item.stored;
+    if (item.alarm) return alarm_value(item);
+    if (item.role) {
+        if (*item.role == MillRole::emergency_stop) return emergency;
+        return sim::mill_reading(*item.role, *mill, t, stream);
+    }
+    return sim::generate(item.generator, t, wall_ms);
+}
+
+void SimDriver::Impl::add_alarm(const std::string& number, const std::string& text) {
+    alarms.erase(std::remove_if(alarms.begin(), alarms.end(),
+                                [&](const Json& a) { return a.value("number", std::string()) == number; }),
+                 alarms.end());
+    alarms.push_back(sim::warning_object(number, text, wall_ms));
+    if (mill) mill->feed_hold();  // an alarm stops the feed, as on a real control
+}
+
+void SimDriver::Impl::suppress_spontaneous() {
+    // The generic alarm of the current slot stays cleared (every WARNING item
+    // shares the slot length).
+    for (const Item& item : items)
+        if (item.alarm) suppressed_slot = static_cast<std::int64_t>(std::floor(t / item.generator.period));
+}
+
+void SimDriver::Impl::release_mill_pins() {
+    for (Item& item : items)
+        if (item.role) item.pinned.reset();
+}
+
+Result<void> SimDriver::Impl::commit_alarms(const Item& item, const Json& value) {
+    std::vector<Json> next;
+    auto take = [&](const Json& a) -> Result<void> {
+        if (a.is_null() || (a.is_object() && a.empty())) return ok_result();
+        if (!a.is_object()) return make_error(ErrorCode::value_type, "a WARNING is an object {number, text, emerge_time}");
+        Json w = a;
+        if (!w.contains("number")) w["number"] = "0";
+        if (!w.contains("text")) w["text"] = "";
+        if (!w.contains("emerge_time")) w["emerge_time"] = wall_ms;
+        next.push_back(std::move(w));
+        return ok_result();
+    };
+    if (item.object->kind == DataKind::single) {
+        auto r = take(value);
+        if (!r.ok()) return r;
+    } else {
+        for (const auto& a : value) {
+            auto r = take(a);
+            if (!r.ok()) return r;
+        }
+    }
+    const bool raised = next.size() > alarms.size();
+    alarms = std::move(next);
+    suppress_spontaneous();
+    if (raised && mill) mill->feed_hold();
+    return ok_result();
+}
+
+Result<void> SimDriver::Impl::commit_mill(Item& item, MillRole role, Json value) {
+    switch (role) {
+        case MillRole::feed_override:
+            if (!value.is_number()) return make_error(ErrorCode::value_type, "feed override is a number (percent)");
+            return mill->set_feed_override(value.get<double>());
+        case MillRole::spindle_override:
+            if (!value.is_number()) return make_error(ErrorCode::value_type, "spindle override is a number (percent)");
+            return mill->set_spindle_override(value.get<double>());
+        case MillRole::status: {
+            const std::string s = value.is_string() ? value.get<std::string>() : std::string();
+            if (s == "running") {
+                if (emergency) return make_error(ErrorCode::permission_denied, "emergency stop is active");
+                return mill->cycle_start();
+            }
+            if (s == "holding") {
+                mill->feed_hold();
+                return ok_result();
+            }
+            if (s == "free") {
+                mill->reset();
+                return ok_result();
+            }
+            return make_error(ErrorCode::out_of_range, "status must be running, free or holding");
+        }
+        case MillRole::work_mode: {
+            const std::string s = value.is_string() ? value.get<std::string>() : std::string();
+            if (s != "manual" && s != "auto") return make_error(ErrorCode::out_of_range, "work mode must be manual or auto");
+            mill->set_manual(s == "manual");
+            return ok_result();
+        }
+        case MillRole::part_count: {
+            auto n = as_count(value);
+            if (!n) return make_error(ErrorCode::value_type, "part count is a non-negative integer string");
+            mill->set_part_count(*n);
+            return ok_result();
+        }
+        case MillRole::program:
+            if (!value.is_string()) return make_error(ErrorCode::value_type, "program name is a string");
+            mill->set_program_name(value.get<std::string>());
+            return ok_result();
+        case MillRole::emergency_stop:
+            if (!value.is_boolean()) return make_error(ErrorCode::value_type, "emergency stop is a boolean");
+            emergency = value.get<bool>();
+            if (emergency) {
+                mill->reset();
+                add_alarm("9000", "emergency stop");
+            }
+            return ok_result();
+        case MillRole::warning: return commit_alarms(item, value);
+        default:
+            // Computed outputs (positions, loads, ...): held at the written
+            // value until the reset method.
+            item.pinned = std::move(value);
+            return ok_result();
+    }
+}
+
+Result<void> SimDriver::Impl::commit(Item& item, Json value) {
+    if (item.use_stored) {
+        item.stored = std::move(value);
+        return ok_result();
+    }
+    if (item.role) return commit_mill(item, *item.role, std::move(value));
+    if (item.alarm) return commit_alarms(item, value);
+    if (item.generator.shape == sim::Shape::counter) {
+        auto n = as_count(value);
+        if (!n) return make_error(ErrorCode::value_type, "a counter is a non-negative integer string");
+        item.generator.base = static_cast<double>(*n);
+        item.generator.origin = t;
+        return ok_result();
+    }
+    if (item.generator.shape == sim::Shape::ramp && value.is_number()) {
+        item.generator.base = value.get<double>();
+        item.generator.origin = t;
+        return ok_result();
+    }
+    item.pinned = std::move(value);
+    return ok_result();
+}
+
+// ------------------------------------------------------------------ API --
+
+SimDriver::SimDriver(std::shared_ptr<const Model> model, SimOptions options) : impl_(std::make_unique<Impl>()) {
+    impl_->model = std::move(model);
+    impl_->options = std::move(options);
+    impl_->build();
+}
+
+SimDriver::~SimDriver() = default;
+
+Result<std::unique_ptr<SimDriver>> SimDriver::create(std::shared_ptr<const Model> model, SimOptions options) {
+    auto driver = std::make_unique<SimDriver>(std::move(model), std::move(options));
+    if (driver->impl_->broken) return *driver->impl_->broken;
+    return driver;
+}
+
+DriverInfo SimDriver::info() const {
+    DriverInfo i;
+    i.name = "nclink-sim";
+    i.version = std::to_string(NCLINK_VERSION_MAJOR) + "." + std::to_string(NCLINK_VERSION_MINOR) + "." +
+                std::to_string(NCLINK_VERSION_PATCH);
+    i.concurrent = false;
+    return i;
+}
+
+Result<void> SimDriver::open(const DriverContext& context) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return *impl_->broken;
+    context.logger.info("nclink-sim: simulating device '{}' ({}) with {} data objects, seed {}", impl_->device->id,
+                        impl_->mill ? "mill" : "generic", impl_->items.size(), impl_->options.seed);
+    return ok_result();
+}
+
+void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    results.resize(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    if (impl_->broken) {
+        for (auto& r : results) r = *impl_->broken;
+        return;
+    }
+    impl_->advance();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        auto it = impl_->index.find(points[i].id);
+        if (it == impl_->index.end()) {
+            results[i] = make_error(ErrorCode::node_not_exists, "no simulated data object '" + points[i].id + "'");
+            continue;
+        }
+        results[i] = impl_->value_of(impl_->items[it->second]);
+    }
+}
+
+Result<void> SimDriver::write(const WriteRequest& request) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return *impl_->broken;
+    impl_->advance();
+    auto it = impl_->index.find(request.id);
+    if (it == impl_->index.end())
+        return make_error(ErrorCode::node_not_exists, "no simulated data object '" + request.id + "'");
+    Item& item = impl_->items[it->second];
+    // A driver-level caller may give only the whole new value.
+    Json params = request.params;
+    if ((params.is_null() || (params.is_object() && params.empty())) && !request.new_value.is_null())
+        params = Json{{"value", request.new_value}};
+    auto parsed = parse_set(params, item.object->kind);
+    if (!parsed.ok()) return std::move(parsed).error();
+    Json value = impl_->value_of(item);
+    auto applied = apply(parsed.value(), value, item.object->kind, true);
+    if (!applied.ok()) return applied;
+    return impl_->commit(item, std::move(value));
+}
+
+Result<Json> SimDriver::call_method(const std::string& method_id, const Json& args, MethodControl& control) {
+    (void)args;
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return *impl_->broken;
+    if (!impl_->model->method(method_id))
+        return make_error(ErrorCode::node_not_exists, "model has no method '" + method_id + "'");
+    std::optional<MillMethod> method;
+    if (impl_->profile) {
+        auto m = impl_->profile->methods.find(method_id);
+        if (m != impl_->profile->methods.end()) method = m->second;
+    }
+    if (!method) return make_error(ErrorCode::unavailable, "the simulator does not implement method '" + method_id + "'");
+    impl_->advance();
+    sim::MillMachine& mill = *impl_->mill;
+    switch (*method) {
+        case MillMethod::cycle_start: {
+            if (impl_->emergency) return make_error(ErrorCode::permission_denied, "emergency stop is active");
+            auto r = mill.cycle_start();
+            if (!r.ok()) return std::move(r).error();
+            break;
+        }
+        case MillMethod::feed_hold: mill.feed_hold(); break;
+        case MillMethod::reset:
+            mill.reset();
+            impl_->alarms.clear();
+            impl_->release_mill_pins();
+            break;
+        case MillMethod::program_transfer:
+            return make_error(ErrorCode::unavailable, "program_transfer is not simulated yet");
+    }
+    control.progress(100);
+    return Json{{"status", sim::to_string(mill.status())}};
+}
+
+// The simulated machine has the configuration it simulates (tool table,
+// parameters, coordinate systems...): it claims config objects that the model
+// gives no fixed value, so the SDK does not answer them as unknown. Fixed
+// values stay the SDK's.
+bool SimDriver::claims(std::string_view id) const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (!impl_->model) return false;
+    const DataObject* object = impl_->model->data_object(id);
+    return object && object->config && !object->value.has_value() && impl_->index.count(std::string(id)) != 0;
+}
+
+MachineLink SimDriver::link() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->broken ? MachineLink::disconnected : MachineLink::connected;
+}
+
+bool SimDriver::is_mill() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    return impl_->mill != nullptr;
+}
+
+std::vector<std::string> SimDriver::item_ids() const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    std::vector<std::string> ids;
+    ids.reserve(impl_->items.size());
+    for (const Item& item : impl_->items) ids.push_back(item.object->id);
+    return ids;
+}
+
+void SimDriver::raise_alarm(const std::string& number, const std::string& text) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return;
+    impl_->advance();
+    impl_->add_alarm(number, text);
+}
+
+void SimDriver::clear_alarm(std::string_view number) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return;
+    impl_->advance();
+    if (number.empty()) {
+        impl_->alarms.clear();
+    } else {
+        auto& alarms = impl_->alarms;
+        alarms.erase(std::remove_if(alarms.begin(), alarms.end(),
+                                    [&](const Json& a) { return a.value("number", std::string()) == number; }),
+                     alarms.end());
+    }
+    impl_->suppress_spontaneous();
+}
+
+}  // namespace nclink

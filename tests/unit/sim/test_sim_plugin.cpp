@@ -1,0 +1,71 @@
+// nclink-sim.so loads through the plugin ABI and serves the model it is given.
+#include <nclink/driver_plugin_loader.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <string>
+
+using namespace nclink;
+
+namespace {
+
+std::string plugin_path() { return std::string(NCLINK_BINARY_DIR) + "/lib/nclink-sim.so"; }
+std::string model_path(const char* file) { return std::string(NCLINK_MODELS_DIR) + "/" + file; }
+
+struct Control final : MethodControl {
+    double last = 0;
+    void progress(double p) override { last = p; }
+    bool cancelled() const override { return false; }
+    bool checkpoint() override { return true; }
+};
+
+}  // namespace
+
+TEST_CASE("the plugin simulates the mill from its configuration") {
+    auto loaded = load_driver_plugin(plugin_path(), Json{{"model", model_path("sim-mill.json")}, {"seed", 3}});
+    REQUIRE(loaded.ok());
+    auto driver = loaded.value();
+    CHECK(driver->info().name == "nclink-sim");
+
+    std::vector<PointRef> points{{"x_position", DataKind::single}, {"status", DataKind::single},
+                                 {"tools", DataKind::list}, {"parameters", DataKind::dict}, {"nope", DataKind::single}};
+    std::vector<Result<Json>> results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    driver->read(points, results);
+    REQUIRE(results[0].ok());
+    CHECK(results[0].value().is_number());
+    CHECK(results[1].value() == "running");
+    CHECK(results[2].value().size() == 64);
+    CHECK(results[3].value().is_object());
+    REQUIRE_FALSE(results[4].ok());
+    CHECK(results[4].error().code == ErrorCode::node_not_exists);
+
+    WriteRequest w;
+    w.id = "feed_override";
+    w.params = Json{{"value", 50}};
+    CHECK(driver->write(w).ok());
+    Control control;
+    auto held = driver->call_method("feed_hold", Json::object(), control);
+    REQUIRE(held.ok());
+    CHECK(held.value()["status"] == "holding");
+    CHECK(control.last == 100);
+}
+
+TEST_CASE("the plugin simulates a deviating model") {
+    auto loaded = load_driver_plugin(plugin_path(), Json{{"model", model_path("appendix-b.json")}, {"list_size", 4}});
+    REQUIRE(loaded.ok());
+    std::vector<PointRef> points{{"0103080402", DataKind::single}, {"01031207", DataKind::list}};
+    std::vector<Result<Json>> results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    loaded.value()->read(points, results);
+    CHECK(results[0].value().is_number());
+    CHECK(results[1].value().size() == 4);
+}
+
+TEST_CASE("the plugin refuses a missing or broken model") {
+    auto no_model = load_driver_plugin(plugin_path(), Json::object());
+    REQUIRE_FALSE(no_model.ok());
+    auto missing = load_driver_plugin(plugin_path(), Json{{"model", model_path("does-not-exist.json")}});
+    REQUIRE_FALSE(missing.ok());
+    CHECK(missing.error().message.find("does-not-exist.json") != std::string::npos);
+    auto bad_seed = load_driver_plugin(plugin_path(), Json{{"model", model_path("sim-mill.json")}, {"seed", "x"}});
+    REQUIRE_FALSE(bad_seed.ok());
+}
