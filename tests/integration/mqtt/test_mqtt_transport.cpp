@@ -157,7 +157,7 @@ TEST_CASE("messages published while the broker restarts are delivered after it, 
     CHECK(pub->stats().connects >= 2);
 }
 
-TEST_CASE("an abrupt disconnect publishes the last will; the transport reconnects") {
+TEST_CASE("an abrupt disconnect publishes the last will, the transport reconnects") {
     MosquittoBroker broker;
     auto adapter_options = options_for(broker, "nclink-test-adapter");
     adapter_options.last_will = Message{"Notify/State/dev1", R"({"tid":"dev1","state":"offline"})", 1, true};

@@ -69,7 +69,7 @@ TEST_CASE("configuration mistakes are reported, not ignored") {
     CHECK_FALSE(load_adapter_config("/nonexistent/adapter.json").ok());
 }
 
-TEST_CASE("code overrides a loaded configuration; defaults are documented values") {
+TEST_CASE("code overrides a loaded configuration, defaults are documented values") {
     AdapterConfig base;
     CHECK(base.broker_url == "tcp://127.0.0.1:1883");
     CHECK(base.standard_typo_topics);

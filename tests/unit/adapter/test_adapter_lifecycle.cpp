@@ -22,7 +22,7 @@ TEST_CASE("a model with fatal problems is refused with every problem listed") {
     CHECK_THAT(r.error().message, Catch::Contains("duplicate"));
 }
 
-TEST_CASE("strict mode refuses conformance problems; the default runs the file") {
+TEST_CASE("strict mode refuses conformance problems, the default runs the file") {
     AdapterConfig c;
     c.model_path = std::string(NCLINK_MODELS_DIR) + "/appendix-b.json";
     c.strict = true;
@@ -53,7 +53,7 @@ TEST_CASE("the dev_uuid override from the configuration wins") {
     CHECK(f.adapter->dev_uuid() == "line3-mill7");
 }
 
-TEST_CASE("Probe/Query returns the model as a JSON object; an empty payload works") {
+TEST_CASE("Probe/Query returns the model as a JSON object, an empty payload works") {
     AdapterFixture f;
     const Json r = f.app->request("Probe/Query/Request/test-dev/app", "Probe/Query/Response/test-dev/app",
                                   Json{{"@id", "p1"}, {"guid", "test-dev"}});
@@ -124,7 +124,7 @@ TEST_CASE("settable SDK-held values survive a restart") {
     CHECK(f.query(Json::array({Json{{"id", "feed_ovr_cfg"}}}))["values"][0]["values"] == Json::array({42}));
 }
 
-TEST_CASE("registration: an agent's OK is recorded; without an agent the adapter serves and retries") {
+TEST_CASE("registration: an agent's OK is recorded, without an agent the adapter serves and retries") {
     AdapterFixture f;
     const Json first = f.app->wait("Register/Request", 1);
     CHECK_FALSE(f.adapter->stats().registered);
@@ -145,7 +145,7 @@ TEST_CASE("registration: an agent's OK is recorded; without an agent the adapter
     REQUIRE(eventually([&] { return f.adapter->stats().registered; }));
 }
 
-TEST_CASE("the state machine follows the link; requests during an outage are answered after it") {
+TEST_CASE("the state machine follows the link, requests during an outage are answered after it") {
     AdapterFixture f;
     CHECK(f.adapter->state() == AdapterState::normal);
     f.broker.set_online(false);
@@ -163,7 +163,7 @@ TEST_CASE("the state machine follows the link; requests during an outage are ans
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
 }
 
-TEST_CASE("an abrupt drop publishes the offline will; a clean stop publishes offline itself") {
+TEST_CASE("an abrupt drop publishes the offline will, a clean stop publishes offline itself") {
     AdapterFixture f;
     f.app->wait("Notify/State/test-dev", 1);
     REQUIRE(f.broker.drop_client("adapter"));

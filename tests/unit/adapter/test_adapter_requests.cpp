@@ -91,7 +91,7 @@ TEST_CASE("responses mirror the request topic, with and without ex") {
     CHECK(f.app->wait("Query/Response/test-dev/mes-7", 2)["@id"] == 42);
 }
 
-TEST_CASE("malformed requests get NG answers with the right code; the adapter keeps serving") {
+TEST_CASE("malformed requests get NG answers with the right code, the adapter keeps serving") {
     AdapterFixture f;
     const std::string reply = "Query/Response/test-dev/app";
     f.app->send("Query/Request/test-dev/app", "{this is not json");
@@ -119,7 +119,7 @@ TEST_CASE("malformed requests get NG answers with the right code; the adapter ke
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
 }
 
-TEST_CASE("a retained request is ignored; a repeated @id is answered once") {
+TEST_CASE("a retained request is ignored, a repeated @id is answered once") {
     AdapterFixture f({}, false);
     // A client published a Set retained before the adapter (re)subscribed: the
     // broker replays it, flagged, on subscription. Acting on it would move the

@@ -81,7 +81,7 @@ TEST_CASE("a read that overruns its deadline answers Timeout (203) for each item
     CHECK(later[0].value() == "c");
 }
 
-TEST_CASE("calls into a serialized driver never overlap; a concurrent driver's do") {
+TEST_CASE("calls into a serialized driver never overlap, a concurrent driver's do") {
     for (bool concurrent : {false, true}) {
         auto driver = std::make_shared<GatedDriver>(concurrent);
         DriverRunner runner(driver, {}, Logger());
@@ -121,7 +121,7 @@ TEST_CASE("a driver that throws answers Unavailable and the runner keeps serving
     CHECK_FALSE(again[0].ok());
 }
 
-TEST_CASE("stop closes the driver; calls after stop are refused") {
+TEST_CASE("stop closes the driver, calls after stop are refused") {
     auto driver = std::make_shared<GatedDriver>(false);
     driver->release();
     DriverRunner runner(driver, {}, Logger());

@@ -152,7 +152,7 @@ TEST_CASE("hostile input never throws") {
     CHECK(load_model_file("/nonexistent/model.json").count(Severity::fatal) == 1);
 }
 
-TEST_CASE("dict value must be an object; components may carry appendix-A guid") {
+TEST_CASE("dict value must be an object, components may carry appendix-A guid") {
     const LoadResult r = parse_model(with_item(
         R"({"id":"p","type":"PARAMETER","datatype":"dict","value":[1]},
            {"id":"q","type":"PARAMETER","datatype":"dict","value":{"P1":1}})"));

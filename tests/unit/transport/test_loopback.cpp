@@ -150,7 +150,7 @@ TEST_CASE("retained messages reach late subscribers with the retained flag") {
     CHECK(inbox.messages[0].payload == R"({"state":"online"})");
 }
 
-TEST_CASE("a dropped client's last will is published; a clean stop publishes none") {
+TEST_CASE("a dropped client's last will is published, a clean stop publishes none") {
     LoopbackBroker broker;
     LoopbackOptions o;
     o.client_id = "adapter";

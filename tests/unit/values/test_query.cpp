@@ -12,7 +12,7 @@ Json q(const char* params, const Json& current, DataKind kind) {
 }
 }  // namespace
 
-TEST_CASE("whole-item query answers [value] for every kind") {
+TEST_CASE("whole-item query answers (value) for every kind") {
     // Example 8.2.12-1: a single item holding an array.
     const Json single = Json::parse(R"([2, "str1", [1, 2, 3], 100.23])");
     CHECK(q("null", single, DataKind::single) == Json::array({single}));
