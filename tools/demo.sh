@@ -1,15 +1,102 @@
 #!/usr/bin/env bash
-# The main job: builds nclink and shows it working on the models it ships.
-# (The simulated machine talking to a local broker joins this script with the
-# adapter runtime; until then it validates every shipped model file and prints
-# the problems a vendor would see.)
+# The main job: a simulated 3-axis mill on NC-Link, talking to a local broker.
+#   tools/demo.sh            # build, start mosquitto + nclink-sim, show NC-Link data, stop
+#   tools/demo.sh --follow   # ... then keep printing the machine every second until Ctrl-C
+# Installs what it needs (tools/install-deps.sh), builds into build/, and starts
+# its own mosquitto on a free 127.0.0.1 port (TCP_NODELAY on), so it never
+# touches a broker already running on this machine.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
+follow=0
+[[ "${1:-}" == "--follow" ]] && follow=1
+
+say() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
+
 tools/install-deps.sh
+say "building nclink-sim and the nclink command-line tool"
 cmake --preset default >/dev/null
-cmake --build --preset default -j "$(nproc)" --target nclink_cli
-for model in models/*.json; do
-  echo "== nclink validate $model"
-  build/bin/nclink validate "$model" || true
+cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli >/dev/null
+
+# A free loopback port: nothing answers on it.
+port=${NCLINK_DEMO_PORT:-}
+if [[ -z "$port" ]]; then
+  for candidate in $(seq 18830 18930); do
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$candidate") 2>/dev/null; then port=$candidate; break; fi
+  done
+fi
+broker="tcp://127.0.0.1:$port"
+device=nclink-sim-mill-01
+nclink() { build/bin/nclink "$1" --broker "$broker" --device "$device" "${@:2}"; }
+
+work=$(mktemp -d)
+pids=()
+cleanup() {
+  # Reverse start order: the simulator publishes its offline state while the
+  # broker is still there.
+  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
+    kill "${pids[i]}" 2>/dev/null || true
+    wait "${pids[i]}" 2>/dev/null || true
+  done
+  rm -rf "$work"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+mosquitto_bin=$(command -v mosquitto || echo /usr/sbin/mosquitto)
+cat > "$work/mosquitto.conf" <<CONF
+listener $port 127.0.0.1
+allow_anonymous true
+set_tcp_nodelay true
+persistence false
+CONF
+say "starting mosquitto on $broker"
+"$mosquitto_bin" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null && break; sleep 0.1; done
+
+say "starting the simulated mill (its log lines are marked [sim])"
+# Process substitution, not a pipe: $! must be the simulator itself.
+build/bin/nclink-sim --broker "$broker" --persistence "$work/state" > >(sed -u 's/^/  [sim] /') 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do
+  nclink state --timeout 500 2>/dev/null | grep -q online && break
+  sleep 0.2
 done
+
+say "nclink state: the adapter's retained Notify/State"
+nclink state
+
+say "nclink probe: the machine's model (Probe/Query)"
+nclink probe | head -n 45
+echo "  ..."
+
+say "nclink query: status, program and axis positions, three times a second apart"
+for _ in 1 2 3; do
+  nclink query status work_mode program line_number part_count x_position y_position z_position spindle_speed
+  echo
+  sleep 1
+done
+
+say "nclink set: feed override to 50 %, then read it back"
+nclink set feed_override=50
+nclink query feed_override feed_speed
+
+say "lists and dicts: tool table length, tool 3, two parameters, coordinate system G54"
+nclink query 'tools:{"operation":"get_length"}' 'tools:{"indexes":["3"]}' \
+  'parameters:{"operation":"get_keys"}' 'coordinates:{"indexes":["0"]}' || true
+
+say "errors are answered, never silent: unknown item, read-only item, bad index"
+nclink query no_such_item || true
+nclink set status='"free"' || true
+nclink query 'tools:{"indexes":["999"]}' || true
+
+if ((follow)); then
+  say "following the machine every second (Ctrl-C to stop)"
+  while true; do
+    nclink query status line_number x_position y_position z_position | tr '\n' ' '
+    echo
+    sleep 1
+  done
+fi
+say "stopping (the simulator publishes its offline state)"

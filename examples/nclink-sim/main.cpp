@@ -27,7 +27,7 @@ const char* kUsage = R"(usage: nclink-sim [options]
   --persistence DIR   keep Probe/Set models and settable values here
   --seed N            seed of the simulation (default 1)
   --strict            refuse models with conformance problems
-  --log-level LEVEL   trace, debug, info (default), warn, error
+  --log-level LEVEL   trace, debug, info (default), warn, error, off
   --help)";
 
 struct Options {

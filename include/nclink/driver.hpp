@@ -4,17 +4,25 @@
 // sampling, events, MQTT.
 //
 // Threading contract
-// - The SDK never calls a driver from an MQTT callback thread. Calls come from
-//   the driver's own worker thread(s), owned by the SDK.
-// - By default calls into one driver are serialized (one worker): a driver
-//   needs no locking of its own. A driver whose info().concurrent is true gets
-//   several workers and may be called from them at the same time.
-// - open() is called once before any other call, close() once after the last.
-// - Every call has a deadline (configurable, default 1000 ms). A read that
-//   overruns it answers Timeout (203) for its items; the SDK does not wait for
-//   the driver to return, but it does not start a second call while one is
-//   running on a serialized driver either, so later calls queue (and time out)
-//   behind a stuck one.
+// - The SDK never calls a driver from an MQTT callback thread.
+// - read(), write() and call_method() come from the driver's own worker
+//   thread(s), owned by the SDK. By default they are serialized (one worker):
+//   the driver needs no locking of its own for them. A driver whose
+//   info().concurrent is true gets two workers and may be called from both at
+//   once.
+// - open() runs on the thread calling Adapter::start(), before any other call;
+//   close() on the thread calling Adapter::stop(), after the last one (not
+//   called when start() fails after open(), nor when a stuck worker had to be
+//   abandoned at shutdown).
+// - info() and claims() may be called from any SDK thread at any time, also
+//   while read() runs: answer them from constant data.
+// - read() and write() have a deadline (AdapterConfig::driver_timeout, default
+//   1000 ms). A call that overruns it answers Timeout (203) for its items; the
+//   SDK does not wait for the driver to return, but it does not start a second
+//   call while one is running on a serialized driver either, so later calls
+//   queue (and time out) behind a stuck one.
+// - Methods (call_method) are served once the methods module lands; until then
+//   the adapter answers Method/Call with NG 202.
 #pragma once
 
 #include <nclink/data_kind.hpp>

@@ -87,6 +87,12 @@ typedef struct nclink_driver_descriptor {
      * `result`; returns 0 or a table-19 code with a detail in `result`. */
     int (*call_method)(void* instance, const char* method_id, const char* args_json,
                        const nclink_method_control* control, const nclink_text_output* result);
+
+    /* Optional (NULL = claims nothing). Nonzero when the driver serves `id`
+     * although the model gives it a fixed value or makes it a config object
+     * (see nclink::Driver::claims). Called from any SDK thread; answer from
+     * constant data. */
+    int (*claims)(void* instance, const char* id);
 } nclink_driver_descriptor;
 
 typedef const nclink_driver_descriptor* (*nclink_driver_entry_fn)(void);

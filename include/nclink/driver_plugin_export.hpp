@@ -4,8 +4,9 @@
 //
 // in one .cpp of the plugin's shared library. MyDriver must be default
 // constructible; its open() receives the configuration given to the loader.
-// Header-only on purpose: a plugin need not link libnclink (only fmt and
-// nlohmann-json headers), so the host and the plugin never carry two copies.
+// Header-only on purpose: a plugin need not link libnclink (nlohmann-json
+// headers and libfmt, which Logger formats with), so the host and the plugin
+// never carry two copies.
 #pragma once
 
 #include <nclink/driver.hpp>
@@ -128,6 +129,10 @@ const nclink_driver_descriptor* descriptor(std::uint32_t flags) {
             }
             put_text(result, r.value().dump(-1, ' ', false, Json::error_handler_t::replace));
             return 0;
+        },
+        // claims
+        [](void* instance, const char* id) -> int {
+            return static_cast<DriverType*>(instance)->claims(id ? id : "") ? 1 : 0;
         },
     };
     return &d;

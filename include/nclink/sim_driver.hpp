@@ -64,7 +64,8 @@ public:
     /// Unavailable (not implemented yet). Other models: Unavailable for
     /// methods of the model, Node not exists for unknown ids.
     Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override;
-    /// False: the SDK serves fixed values and configuration objects itself.
+    /// True for configuration objects without a fixed value in the model (the
+    /// simulator has them: tool table, parameters...); fixed values stay the SDK's.
     bool claims(std::string_view id) const override;
     MachineLink link() const override;
 

@@ -232,8 +232,10 @@ struct Adapter::Impl {
             if (reg_pending && now >= reg_deadline) {
                 reg_backoff = std::min(config.register_retry_max,
                                        reg_backoff.count() == 0 ? config.register_timeout : reg_backoff * 2);
-                logger.info("no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
-                            config.register_timeout.count(), reg_backoff.count());
+                // Said once at info; the retries that follow are routine.
+                logger.log(reg_backoff == config.register_timeout ? LogLevel::info : LogLevel::debug,
+                           "no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
+                           config.register_timeout.count(), reg_backoff.count());
                 reg_pending = false;
                 retry_armed = true;
                 retry_at = now + reg_backoff;

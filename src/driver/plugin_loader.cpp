@@ -12,7 +12,7 @@ int kind_to_c(DataKind kind) {
 }
 
 ErrorCode code_from_plugin(int code) {
-    if (auto known = error_code_from_int(code)) return *known;
+    if (auto known = error_code_from_int(code); known && *known != ErrorCode::success) return *known;
     return ErrorCode::unavailable;  // user-defined (negative) or unknown codes
 }
 
@@ -77,6 +77,10 @@ public:
         const int code = d_->write(instance_, request.id.c_str(), kind_to_c(request.kind), params.c_str(), value.c_str(), &out);
         if (code == 0) return ok_result();
         return make_error(code_from_plugin(code), detail);
+    }
+
+    bool claims(std::string_view id) const override {
+        return d_->claims && d_->claims(instance_, std::string(id).c_str()) != 0;
     }
 
     Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override {

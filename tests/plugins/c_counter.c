@@ -58,8 +58,13 @@ static int call_method(void* self, const char* method_id, const char* args_json,
     return 0;
 }
 
+static int claims(void* self, const char* id) {
+    (void)self;
+    return strcmp(id, "tool_table") == 0;
+}
+
 static const nclink_driver_descriptor descriptor = {
     NCLINK_DRIVER_ABI_VERSION, "c-counter", "1.2.3", 0,
-    create, destroy, read_points, write_point, call_method};
+    create, destroy, read_points, write_point, call_method, claims};
 
 __attribute__((visibility("default"))) const nclink_driver_descriptor* nclink_driver_entry(void) { return &descriptor; }

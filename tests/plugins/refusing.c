@@ -9,5 +9,5 @@ static void* create(const char* c, const nclink_host* h, const nclink_text_outpu
 }
 static void destroy(void* s) { (void)s; }
 static void read_points(void* s, const char* const* i, const int* k, size_t n, const nclink_read_output* o) { (void)s; (void)i; (void)k; (void)n; (void)o; }
-static const nclink_driver_descriptor descriptor = {NCLINK_DRIVER_ABI_VERSION, "refusing", "1", 0, create, destroy, read_points, NULL, NULL};
+static const nclink_driver_descriptor descriptor = {NCLINK_DRIVER_ABI_VERSION, "refusing", "1", 0, create, destroy, read_points, NULL, NULL, NULL};
 __attribute__((visibility("default"))) const nclink_driver_descriptor* nclink_driver_entry(void) { return &descriptor; }

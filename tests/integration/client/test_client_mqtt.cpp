@@ -80,7 +80,8 @@ private:
                              {"devices", {{{"id", "m"}, {"type", "MACHINE"}, {"guid", dev_},
                                            {"configs", {{{"id", "ch1"}, {"type", "SAMPLE_CHANNEL"}, {"sampleInterval", 10},
                                                          {"uploadInterval", 100}, {"ids", {{{"id", "pos"}}, {{"id", "mode"}}}}}}},
-                                           {"dataItems", {{{"id", "pos"}, {"type", "POSITION"}, {"setable", true}}}}}}}};
+                                           {"dataItems", {{{"id", "pos"}, {"type", "POSITION"}, {"setable", true}},
+                                                           {{"id", "mode"}, {"type", "WORK_MODE"}}}}}}}};
         } else {
             return;
         }
@@ -192,7 +193,8 @@ TEST_CASE("the nclink device commands: output and exit codes") {
     auto p = run_cli("probe " + common);
     CHECK(p.status == 0);
     CHECK(p.out.find("channel ch1  sample every 10 ms, upload every 100 ms  [pos, mode]") != std::string::npos);
-    CHECK(p.out.find("item pos  POSITION  datatype=-  setable") != std::string::npos);
+    CHECK(p.out.find("item pos  POSITION  setable") != std::string::npos);
+    CHECK(p.out.find("item mode  WORK_MODE") != std::string::npos);
     auto st = run_cli("state " + common);
     CHECK(st.status == 0);
     CHECK(st.out == "dev1: online\n");

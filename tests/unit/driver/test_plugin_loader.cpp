@@ -61,6 +61,9 @@ TEST_CASE("a plain C plugin loads and serves reads, writes and methods") {
     CHECK(refused.error().code == ErrorCode::permission_denied);
     CHECK(refused.error().message == "ro is wired read-only");
 
+    CHECK(driver->claims("tool_table"));
+    CHECK_FALSE(driver->claims("x"));
+
     NoopControl control;
     auto ret = driver->call_method("count", Json::object(), control);
     REQUIRE(ret.ok());
@@ -77,6 +80,7 @@ TEST_CASE("a C++ driver exported with NCLINK_EXPORT_DRIVER loads through the sam
     auto driver = loaded.value();
     CHECK(driver->info().name == "cpp-echo");
     CHECK(driver->info().concurrent);
+    CHECK_FALSE(driver->claims("p1"));  // passed through the ABI: EchoDriver claims nothing
     std::vector<PointRef> points{{"p1", DataKind::single}, {"tools", DataKind::list}};
     std::vector<Result<Json>> results(2, Result<Json>(make_error(ErrorCode::unavailable)));
     driver->read(points, results);
