@@ -295,7 +295,12 @@ Json to_json(const SetResponse& dtu) {
     return out;
 }
 
-Json to_json(const SampleRegisterResponse& dtu) {
+namespace {
+
+// The answers of dynamic sampling, events and method control share one shape:
+// header (@id, guid), the channel/event/method id when the DTU has one, status.
+template <class Dtu>
+Json header_id_status_json(const Dtu& dtu) {
     Json out = Json::object();
     put_header(out, dtu.msg_id, dtu.guid);
     put_id(out, dtu.id, dtu.status);
@@ -304,7 +309,8 @@ Json to_json(const SampleRegisterResponse& dtu) {
     return out;
 }
 
-Json to_json(const SampleUnregisterResponse& dtu) {
+template <class Dtu>
+Json header_status_json(const Dtu& dtu) {
     Json out = Json::object();
     put_header(out, dtu.msg_id, dtu.guid);
     put_status(out, dtu.status);
@@ -312,31 +318,17 @@ Json to_json(const SampleUnregisterResponse& dtu) {
     return out;
 }
 
-Json to_json(const MethodControlResponse& dtu) {
-    Json out = Json::object();
-    put_header(out, dtu.msg_id, dtu.guid);
-    put_id(out, dtu.id, dtu.status);
-    put_status(out, dtu.status);
-    put_if(out, "privateInfo", dtu.private_info);
-    return out;
-}
+}  // namespace
 
-Json to_json(const EventRegisterResponse& dtu) {
-    Json out = Json::object();
-    put_header(out, dtu.msg_id, dtu.guid);
-    put_id(out, dtu.id, dtu.status);
-    put_status(out, dtu.status);
-    put_if(out, "privateInfo", dtu.private_info);
-    return out;
-}
+Json to_json(const SampleRegisterResponse& dtu) { return header_id_status_json(dtu); }
 
-Json to_json(const EventUnregisterResponse& dtu) {
-    Json out = Json::object();
-    put_header(out, dtu.msg_id, dtu.guid);
-    put_status(out, dtu.status);
-    put_if(out, "privateInfo", dtu.private_info);
-    return out;
-}
+Json to_json(const SampleUnregisterResponse& dtu) { return header_status_json(dtu); }
+
+Json to_json(const MethodControlResponse& dtu) { return header_id_status_json(dtu); }
+
+Json to_json(const EventRegisterResponse& dtu) { return header_id_status_json(dtu); }
+
+Json to_json(const EventUnregisterResponse& dtu) { return header_status_json(dtu); }
 
 Json to_json(const DevUnreachable& dtu) {
     Json out = Json::object();
