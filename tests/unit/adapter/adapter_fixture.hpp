@@ -1,5 +1,8 @@
-// An adapter on the in-process loopback with a fake driver, and an
-// application-side transport to talk to it through the wire (DTUs on topics).
+// An adapter with a fake driver, and an application-side transport to talk to
+// it through the wire (DTUs on topics). On the in-process loopback by default;
+// with NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO defined, through a real mosquitto
+// on a free loopback port (MQTT transports on both sides), so the same tests
+// run as integration tests (tests/integration/adapter/).
 #pragma once
 
 #include <nclink/adapter.hpp>
@@ -8,6 +11,11 @@
 #include <nclink/topics.hpp>
 
 #include "support/wait.hpp"
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+#include <nclink/mqtt_transport.hpp>
+
+#include "support/mosquitto_broker.hpp"
+#endif
 
 #include <catch2/catch.hpp>
 
@@ -75,10 +83,7 @@ inline std::string scratch_dir(const std::string& name) {
 /// Collects every message the application side receives.
 class AppSide {
 public:
-    explicit AppSide(LoopbackBroker& broker, const std::string& id = "app") {
-        LoopbackOptions o;
-        o.client_id = id;
-        transport = make_loopback_transport(broker, o);
+    explicit AppSide(std::unique_ptr<Transport> link) : transport(std::move(link)) {
         transport->set_message_handler([this](const Message& m) {
             std::lock_guard<std::mutex> lock(mutex);
             inbox.push_back(m);
@@ -86,7 +91,16 @@ public:
         REQUIRE(transport->start().ok());
         REQUIRE(eventually([&] { return transport->state() == LinkState::connected; }));
     }
-    void subscribe(const std::string& filter) { REQUIRE(transport->subscribe({filter}, 1).ok()); }
+    void subscribe(const std::string& filter) {
+        REQUIRE(transport->subscribe({filter}, 1).ok());
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+        // The SUBACK comes asynchronously: wait until a probe message arrives.
+        REQUIRE(eventually([&] {
+            send("fixture/probe", "p");
+            return eventually([&] { return !on("fixture/probe").empty(); }, std::chrono::milliseconds(100));
+        }));
+#endif
+    }
     void send(const std::string& topic, const std::string& payload, bool retained = false) {
         REQUIRE(transport->publish(Message{topic, payload, 1, retained}).ok());
     }
@@ -120,7 +134,7 @@ struct AdapterFixture {
         if (config.persistence_dir.empty()) config.persistence_dir = scratch_dir("adapter");
         config.register_timeout = std::chrono::milliseconds(200);
         driver = std::make_shared<FakeDriver>();
-        app = std::make_unique<AppSide>(broker);
+        app = std::make_unique<AppSide>(app_transport());
         app->subscribe("#");
         if (start_now) start();
     }
@@ -129,6 +143,23 @@ struct AdapterFixture {
         std::error_code ec;
         std::filesystem::remove_all(config.persistence_dir, ec);
     }
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+    std::unique_ptr<Transport> app_transport() {
+        MqttOptions o;
+        o.broker_url = mosquitto.url();
+        o.client_id = "app";
+        return make_mqtt_transport(o).value();
+    }
+    void start() {
+        config.broker_url = mosquitto.url();  // the adapter's own MQTT transport, will and all
+        adapter = std::make_unique<Adapter>(config, driver);
+        adapter->use_clock(clock);
+#else
+    std::unique_ptr<Transport> app_transport() {
+        LoopbackOptions o;
+        o.client_id = "app";
+        return make_loopback_transport(broker, o);
+    }
     void start() {
         adapter = std::make_unique<Adapter>(config, driver);
         LoopbackOptions o;
@@ -136,6 +167,7 @@ struct AdapterFixture {
         o.last_will = Message{"Notify/State/test-dev", R"({"tid":"test-dev","state":"offline"})", 1, true};
         adapter->use_transport(make_loopback_transport(broker, o));
         adapter->use_clock(clock);
+#endif
         auto started = adapter->start();
         INFO((started.ok() ? std::string() : started.error().describe()));
         REQUIRE(started.ok());
@@ -151,6 +183,9 @@ struct AdapterFixture {
     }
 
     AdapterConfig config;
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+    MosquittoBroker mosquitto;
+#endif
     LoopbackBroker broker;
     std::shared_ptr<ManualClock> clock = std::make_shared<ManualClock>();
     std::shared_ptr<FakeDriver> driver;

@@ -9,7 +9,9 @@ TEST_CASE("startup announces the adapter: online state, registration, version") 
     AdapterFixture f;
     const Json online = f.app->wait("Notify/State/test-dev");
     CHECK(online == Json{{"tid", "test-dev"}, {"state", "online"}});
-    REQUIRE(f.broker.retained("Notify/State/test-dev").has_value());
+#ifndef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+    REQUIRE(f.broker.retained("Notify/State/test-dev").has_value());  // mosquitto: see itest_client's state test
+#endif
     const Json reg = f.app->wait("Register/Request");
     CHECK(reg["cli_uuid"] == "test-dev");
     CHECK(reg.contains("@id"));
@@ -125,7 +127,7 @@ TEST_CASE("a retained request is ignored, a repeated @id is answered once") {
     // broker replays it, flagged, on subscription. Acting on it would move the
     // machine again.
     f.app->send("Set/Request/test-dev/app", R"({"@id":"stale","values":[{"id":"ovr","params":{"value":1}}]})", true);
-    REQUIRE(eventually([&] { return f.broker.retained("Set/Request/test-dev/app").has_value(); }));
+    REQUIRE(f.app->transport->flush(std::chrono::seconds(5)));  // at the broker, retained
     f.start();
     f.app->send("Set/Request/test-dev/app", R"({"@id":"once","values":[{"id":"ovr","params":{"value":70}}]})");
     f.app->send("Set/Request/test-dev/app", R"({"@id":"once","values":[{"id":"ovr","params":{"value":70}}]})");
