@@ -36,9 +36,12 @@ public:
     void set_state_handler(LinkStateHandler handler) override { on_state_ = std::move(handler); }
 
     Result<void> start() override {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (started_) return make_error(ErrorCode::unavailable, "transport already started");
-        started_ = true;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (started_) return make_error(ErrorCode::unavailable, "transport already started");
+            started_ = true;
+        }
+        // paho is never called with mutex_ held (see subscribe()).
         client_.set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
         client_.set_connected_handler([this](const std::string&) { on_connected(); });
         client_.set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });

@@ -1,6 +1,7 @@
 #include "support/mosquitto_broker.hpp"
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
@@ -87,8 +88,14 @@ void MosquittoBroker::start() {
     std::string arg_c = "-c";
     char* argv[] = {const_cast<char*>(binary.c_str()), arg_c.data(), config_.data(), nullptr};
     pid_t pid = -1;
-    if (::posix_spawn(&pid, binary.c_str(), nullptr, nullptr, argv, environ) != 0)
-        throw std::runtime_error("cannot start mosquitto");
+    // stdio to /dev/null: a broker left behind by a crashed test must not hold
+    // ctest's output pipe open (ctest would wait for it until the timeout).
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    for (int fd : {0, 1, 2}) posix_spawn_file_actions_addopen(&actions, fd, "/dev/null", O_RDWR, 0);
+    const int spawned = ::posix_spawn(&pid, binary.c_str(), &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) throw std::runtime_error("cannot start mosquitto");
     pid_ = pid;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (!port_accepts(port_)) {
