@@ -61,7 +61,7 @@ public:
     /// on non-setable items, and tests may drive any item directly.
     Result<void> write(const WriteRequest& request) override;
     /// Mill: cycle_start, feed_hold, reset; program_transfer answers
-    /// Unavailable (not implemented yet). Other models: Unavailable for
+    /// Unavailable until the methods issue (5) adds file transfer. Other models: Unavailable for
     /// methods of the model, Node not exists for unknown ids.
     Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override;
     /// True for configuration objects without a fixed value in the model (the
