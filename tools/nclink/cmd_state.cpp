@@ -25,8 +25,10 @@ int run_state(const Args& args) {
         count = parse_count("--count", it->second);
 
     install_interrupt_handler();
-    auto client = connect_client(options);
+    // Before the client: its dispatch thread pushes into the inbox until the
+    // client is destroyed, so the inbox must outlive it.
     Inbox<NotifyState> inbox;
+    auto client = connect_client(options);
     if (auto sub = client->subscribe_state(options.device, [&](const NotifyState& s) { inbox.push(s); }); !sub) {
         std::fprintf(stderr, "nclink state: %s\n", sub.error().describe().c_str());
         return 1;

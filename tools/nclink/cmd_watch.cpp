@@ -85,8 +85,10 @@ int run_watch(const Args& args) {
     }
 
     install_interrupt_handler();
-    auto client = connect_client(options);
+    // Before the client: its dispatch thread pushes into the inbox until the
+    // client is destroyed, so the inbox must outlive it.
     Inbox<SampleDtu> inbox;
+    auto client = connect_client(options);
     auto sub = client->subscribe_samples(options.device, [&](const SampleDtu& s) { inbox.push(s); }, channel);
     if (!sub) {
         std::fprintf(stderr, "nclink watch: %s\n", sub.error().describe().c_str());

@@ -159,9 +159,11 @@ TEST_CASE("a response produced while the broker restarts is delivered after it")
 TEST_CASE("adapter restart: applications see offline, then online again") {
     Rig rig;
     rig.start_adapter();
-    auto app = rig.client("mes-state");
+    // Declared before the client: its dispatch thread may call the handler
+    // until the client is destroyed, so these must outlive it.
     std::mutex mutex;
     std::vector<std::string> states;
+    auto app = rig.client("mes-state");
     REQUIRE(app->subscribe_state(kDev, [&](const NotifyState& n) {
         std::lock_guard<std::mutex> lock(mutex);
         states.push_back(n.state);
@@ -178,8 +180,10 @@ TEST_CASE("adapter restart: applications see offline, then online again") {
     rig.adapter.reset();
     rig.start_adapter();
     REQUIRE(seen(3));
-    std::lock_guard<std::mutex> lock(mutex);
-    CHECK(states == std::vector<std::string>{"online", "offline", "online"});
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        CHECK(states == std::vector<std::string>{"online", "offline", "online"});
+    }
     rig.adapter->stop();
 }
 

@@ -25,7 +25,16 @@ namespace {
 struct Inbox {
     std::mutex mutex;
     std::vector<Message> messages;
+    // The transport's handler writes into this inbox: stop the transport (it
+    // waits for a running callback) before the inbox goes, whatever the
+    // declaration order in the test. stop() is idempotent.
+    ~Inbox() {
+        if (attached) attached->stop(std::chrono::milliseconds(0));
+    }
+    Transport* attached = nullptr;
+
     void attach(Transport& t) {
+        attached = &t;
         t.set_message_handler([this](const Message& m) {
             std::lock_guard<std::mutex> lock(mutex);
             messages.push_back(m);

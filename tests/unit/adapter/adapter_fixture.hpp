@@ -19,6 +19,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <atomic>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -43,7 +44,7 @@ public:
     }
     DriverInfo info() const override { return {"fake", "1", false}; }
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
-        if (delay.count() > 0) std::this_thread::sleep_for(delay);
+        if (const auto d = delay.load(); d.count() > 0) std::this_thread::sleep_for(d);
         std::lock_guard<std::mutex> lock(mutex);
         for (std::size_t i = 0; i < points.size(); ++i) {
             auto it = values.find(points[i].id);
@@ -67,7 +68,7 @@ public:
 
     std::mutex mutex;
     std::map<std::string, Json> values;
-    std::chrono::milliseconds delay{0};
+    std::atomic<std::chrono::milliseconds> delay{std::chrono::milliseconds(0)};  // set by tests while reads run
     int writes = 0;
 };
 
@@ -91,6 +92,12 @@ public:
         REQUIRE(transport->start().ok());
         REQUIRE(eventually([&] { return transport->state() == LinkState::connected; }));
     }
+    // The transport's handler pushes into `inbox`: stop it (which waits for a
+    // running callback) before the members below it are destroyed.
+    ~AppSide() { transport->stop(std::chrono::milliseconds(0)); }
+    AppSide(const AppSide&) = delete;
+    AppSide& operator=(const AppSide&) = delete;
+
     void subscribe(const std::string& filter) {
         REQUIRE(transport->subscribe({filter}, 1).ok());
 #ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO

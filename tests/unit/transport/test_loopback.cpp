@@ -20,7 +20,16 @@ struct Inbox {
     std::vector<Message> messages;
     std::vector<LinkState> states;
 
+    // The transport's handler writes into this inbox: stop the transport (it
+    // waits for a running callback) before the inbox goes, whatever the
+    // declaration order in the test. stop() is idempotent.
+    ~Inbox() {
+        if (attached) attached->stop(std::chrono::milliseconds(0));
+    }
+    Transport* attached = nullptr;
+
     void attach(Transport& t) {
+        attached = &t;
         t.set_message_handler([this](const Message& m) {
             std::lock_guard<std::mutex> lock(mutex);
             messages.push_back(m);
