@@ -2,6 +2,7 @@
 #include <nclink/mqtt_transport.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/inbox.hpp"
 #include "support/wait.hpp"
 #include "transport/tcp_nodelay.hpp"
 
@@ -17,40 +18,11 @@
 
 using namespace nclink;
 using nclink::test::eventually;
+using nclink::test::Inbox;
 using nclink::test::MosquittoBroker;
 using nclink::test::MosquittoOptions;
 
 namespace {
-
-struct Inbox {
-    std::mutex mutex;
-    std::vector<Message> messages;
-    // The transport's handler writes into this inbox: stop the transport (it
-    // waits for a running callback) before the inbox goes, whatever the
-    // declaration order in the test. stop() is idempotent.
-    ~Inbox() {
-        if (attached) attached->stop(std::chrono::milliseconds(0));
-    }
-    Transport* attached = nullptr;
-
-    void attach(Transport& t) {
-        attached = &t;
-        t.set_message_handler([this](const Message& m) {
-            std::lock_guard<std::mutex> lock(mutex);
-            messages.push_back(m);
-        });
-    }
-    std::size_t count() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return messages.size();
-    }
-    std::vector<std::string> payloads() {
-        std::lock_guard<std::mutex> lock(mutex);
-        std::vector<std::string> out;
-        for (const auto& m : messages) out.push_back(m.payload);
-        return out;
-    }
-};
 
 Logger o_logger;  // set NCLINK_TEST_LOG=1 to see the transports' logs
 

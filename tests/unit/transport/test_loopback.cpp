@@ -2,6 +2,7 @@
 // through the in-process loopback, which shares the outbox with MQTT.
 #include <nclink/loopback_transport.hpp>
 
+#include "support/inbox.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -12,44 +13,9 @@
 
 using namespace nclink;
 using nclink::test::eventually;
+using nclink::test::Inbox;
 
 namespace {
-
-struct Inbox {
-    std::mutex mutex;
-    std::vector<Message> messages;
-    std::vector<LinkState> states;
-
-    // The transport's handler writes into this inbox: stop the transport (it
-    // waits for a running callback) before the inbox goes, whatever the
-    // declaration order in the test. stop() is idempotent.
-    ~Inbox() {
-        if (attached) attached->stop(std::chrono::milliseconds(0));
-    }
-    Transport* attached = nullptr;
-
-    void attach(Transport& t) {
-        attached = &t;
-        t.set_message_handler([this](const Message& m) {
-            std::lock_guard<std::mutex> lock(mutex);
-            messages.push_back(m);
-        });
-        t.set_state_handler([this](LinkState s, std::string_view) {
-            std::lock_guard<std::mutex> lock(mutex);
-            states.push_back(s);
-        });
-    }
-    std::size_t count() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return messages.size();
-    }
-    std::vector<std::string> payloads() {
-        std::lock_guard<std::mutex> lock(mutex);
-        std::vector<std::string> out;
-        for (const auto& m : messages) out.push_back(m.payload);
-        return out;
-    }
-};
 
 std::unique_ptr<Transport> client(LoopbackBroker& broker, const std::string& id, OutboxLimits limits = {}) {
     LoopbackOptions o;
