@@ -38,6 +38,9 @@ struct AdapterStats {
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;
+    /// Counters of the features (sampling, events, methods), one object each,
+    /// keyed by feature name.
+    Json features = Json::object();
 };
 
 /// Called after a Probe/Set replaced the model (on a request worker). Later

@@ -15,6 +15,24 @@
 
 namespace nclink {
 
+/// Sample channels (issue 4). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
+struct SamplingConfig {
+    bool enabled = true;                       ///< "enabled": run the model's sample channels
+    std::size_t max_dynamic_channels = 16;     ///< "max_dynamic_channels": more answers 415
+};
+
+/// Events (issue 5). JSON: "events": {...}. Keys: src/events/events_config.cpp.
+struct EventsConfig {
+    std::size_t max_events = 64;                   ///< "max_events": more answers 416
+    std::chrono::milliseconds poll_interval{100};  ///< "poll_interval_ms": watch rate of items not sampled
+};
+
+/// Methods (issue 5). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
+struct MethodsConfig {
+    std::size_t max_running = 4;                   ///< "max_running": more answers 417
+    std::chrono::milliseconds status_period{500};  ///< "status_period_ms": Method/Status while running
+};
+
 struct AdapterConfig {
     // --- broker (JSON: "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
@@ -45,6 +63,15 @@ struct AdapterConfig {
     std::chrono::milliseconds driver_timeout{1000};   ///< "driver_timeout_ms": deadline of one driver call (then 203)
     std::chrono::milliseconds register_timeout{3000}; ///< "register_timeout_ms": wait for Register/Response before retrying
     std::chrono::milliseconds register_retry_max{60000}; ///< "register_retry_max_ms": retry interval cap
+    /// "application_lease_ms": an application from which no DTU came for this
+    /// long is gone (8.2.18.3): its dynamic channels and events are released.
+    /// Its Notify/State offline releases them at once. 0 = only on offline.
+    std::chrono::milliseconds application_lease{300000};
+
+    // --- features (JSON objects of the same names) ---
+    SamplingConfig sampling;
+    EventsConfig events;
+    MethodsConfig methods;
 
     // --- driver (JSON: "driver": {"plugin": path, "config": {...}}) ---
     std::string driver_plugin;           ///< plugin path ("" = the program links its driver)
@@ -59,6 +86,13 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig b
 /// Reads a configuration file; relative paths in it (model, persistence_dir,
 /// plugin, TLS files) are taken relative to the file's directory.
 Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base = {});
+
+namespace detail {
+// Each feature reads its own section (unknown keys refused like everywhere).
+Result<void> read_sampling_config(const Json& section, SamplingConfig& out);
+Result<void> read_events_config(const Json& section, EventsConfig& out);
+Result<void> read_methods_config(const Json& section, MethodsConfig& out);
+}  // namespace detail
 
 std::optional<LogLevel> log_level_from_string(std::string_view text);
 

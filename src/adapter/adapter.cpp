@@ -4,6 +4,8 @@
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/topics.hpp>
 
+#include "adapter/adapter_service.hpp"
+#include "adapter/application_tracker.hpp"
 #include "adapter/dedup_window.hpp"
 #include "adapter/model_host.hpp"
 #include "adapter/request_handlers.hpp"
@@ -37,6 +39,12 @@ struct Adapter::Impl {
     std::unique_ptr<detail::DedupWindow> dedup;
     std::string dev;
     std::string msg_id_prefix;
+
+    // ---- features (sampling, events, methods): see adapter_service.hpp
+    detail::SampleTap sample_tap;
+    std::unique_ptr<detail::ServiceHost> service_host;
+    std::vector<std::unique_ptr<detail::AdapterService>> services;
+    std::unique_ptr<detail::ApplicationTracker> applications;
 
     // ---- state (mutex)
     mutable std::mutex mutex;
@@ -94,6 +102,7 @@ struct Adapter::Impl {
         runner = std::make_unique<DriverRunner>(driver, runner_options, logger);
         executor = std::make_unique<detail::Executor>(config.request_threads);
         dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);
+        applications = std::make_unique<detail::ApplicationTracker>(config.application_lease);
 
         if (!transport) {
             auto made = make_mqtt_transport(mqtt_options(), logger);
@@ -102,8 +111,10 @@ struct Adapter::Impl {
         }
         transport->set_message_handler([this](const Message& m) { on_message(m); });
         transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
-        if (auto subscribed = transport->subscribe(topics::adapter_subscriptions(dev), 1); !subscribed)
-            return subscribed;
+        auto subscriptions = topics::adapter_subscriptions(dev);
+        subscriptions.push_back(topics::notify_state("+"));  // applications going offline (8.2.18.3)
+        if (auto subscribed = transport->subscribe(subscriptions, 1); !subscribed) return subscribed;
+        if (auto made = make_services(); !made) return made;
         fire(AdapterEvent::initialized);
         fire(AdapterEvent::link_lost);  // not connected yet: requests' answers wait for the link
         housekeeping = std::thread([this] { housekeep(); });
@@ -152,6 +163,24 @@ struct Adapter::Impl {
         return Message{topics::notify_state(dev), encode(notify), 1, true};
     }
 
+    // The features beside Query/Set/Probe. Each module adds its factory here.
+    Result<void> make_services() {
+        service_host = std::make_unique<detail::ServiceHost>(detail::ServiceHost{
+            config, dev, logger, clock, *transport, *runner, host, sample_tap,
+            [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
+            [this] { return next_msg_id(); }});
+        // (factories: services.push_back(detail::make_..._service(*service_host));)
+        for (std::size_t i = 0; i < services.size(); ++i) {
+            if (auto begun = services[i]->start(); !begun) {
+                for (std::size_t j = i; j-- > 0;) services[j]->stop();
+                services.clear();
+                return make_error(begun.error().code,
+                                  fmt::format("{} failed to start: {}", services[i]->name(), begun.error().message));
+            }
+        }
+        return ok_result();
+    }
+
     void stop(std::chrono::milliseconds flush_timeout) {
         {
             std::lock_guard<std::mutex> lock(mutex);
@@ -165,6 +194,7 @@ struct Adapter::Impl {
         reg_wake.notify_all();
         if (housekeeping.joinable()) housekeeping.join();
         if (executor) executor->stop();  // answers what is queued
+        for (auto it = services.rbegin(); it != services.rend(); ++it) (*it)->stop();
         if (transport) {
             (void)transport->publish(state_message("offline"));  // a clean stop sends no last will
             transport->stop(flush_timeout);
@@ -185,6 +215,7 @@ struct Adapter::Impl {
         } else if (link == LinkState::disconnected) {
             fire(AdapterEvent::link_lost);
         }
+        for (auto& service : services) service->on_link(link);
     }
 
     void fire(AdapterEvent event) {
@@ -241,6 +272,12 @@ struct Adapter::Impl {
                 retry_at = now + reg_backoff;
             }
             if (retry_armed && (registered || reg_pending)) retry_armed = false;  // answered, or a reconnect re-sent it
+            if (auto expired = applications->expire(now); !expired.empty()) {
+                lock.unlock();
+                for (const auto& ex : expired) application_gone(ex, "silent for the application lease");
+                lock.lock();
+                continue;
+            }
             if (retry_armed && now >= retry_at) {
                 retry_armed = false;
                 lock.unlock();
@@ -273,6 +310,18 @@ struct Adapter::Impl {
         reg_wake.notify_all();
     }
 
+    void application_gone(const std::string& ex, std::string_view why) {
+        logger.info("application {} is gone ({}): releasing its channels and events", ex, why);
+        for (auto& service : services) service->on_application_gone(ex);
+    }
+
+    void on_notify_state(const ParsedTopic& topic, const std::string& payload) {
+        if (topic.dev == dev) return;
+        auto notify = decode<NotifyState>(payload);
+        if (!notify || notify->state != "offline") return;
+        if (applications->gone(topic.dev)) application_gone(topic.dev, "Notify/State offline");
+    }
+
     // ------------------------------------------------------------- requests
 
     // Thread: transport callback. Filters, then hands the work to a request
@@ -284,10 +333,15 @@ struct Adapter::Impl {
             on_register_response(message.payload);
             return;
         }
+        if (parsed->kind == TopicKind::notify_state) {
+            on_notify_state(*parsed, message.payload);
+            return;
+        }
         if (!response_kind(parsed->kind) || parsed->kind == TopicKind::probe_version ||
             parsed->kind == TopicKind::register_request || parsed->kind == TopicKind::discovery_request)
             return;  // not a request to an adapter (version-check answers and the like)
         if (parsed->dev != dev) return;
+        if (parsed->ex) applications->seen(*parsed->ex, clock->now());
         if (message.retained) {
             // A retained request is replayed by the broker to every new
             // subscription: acting on it would repeat a stale Set.
@@ -329,7 +383,13 @@ struct Adapter::Impl {
                 reply = answer<ProbeSetRequest>(topic, payload, [&](const ProbeSetRequest& r) { return to_json(probe_set(r)); });
                 break;
             default:
-                // Requests of features this adapter does not run (yet): never
+                for (auto& service : services) {
+                    if (service->handles(topic.kind)) {
+                        service->handle(topic, payload);
+                        return;
+                    }
+                }
+                // Requests of features this adapter does not run: never
                 // silence, always an answer (WIRE.md).
                 ++rejected;
                 reply = make_error_reply(topic.kind, peek_message_id(payload), dev,
@@ -388,6 +448,7 @@ struct Adapter::Impl {
             std::lock_guard<std::mutex> lock(mutex);
             to_call = listeners;
         }
+        for (auto& service : services) service->on_model(built.value());
         for (auto& listener : to_call) listener(built.value()->model);
         publish_version();
         return response;
@@ -430,6 +491,7 @@ AdapterStats Adapter::stats() const {
     s.registered = impl_->registered;
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
+    for (const auto& service : impl_->services) s.features[std::string(service->name())] = service->stats();
     return s;
 }
 

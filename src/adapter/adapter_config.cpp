@@ -1,72 +1,14 @@
 #include <nclink/adapter_config.hpp>
 
+#include "core/config_reader.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 namespace nclink {
-namespace {
-
-// Reads typed keys from one JSON object and remembers which were seen, so
-// unknown keys (typos) can be reported.
-class Reader {
-public:
-    Reader(const Json& object, std::string where) : object_(object), where_(std::move(where)) {}
-
-    template <class T, class Check>
-    Result<void> read(const char* key, T& out, Check check, const char* type_name) {
-        seen_.insert(key);
-        auto it = object_.find(key);
-        if (it == object_.end() || it->is_null()) return ok_result();
-        if (!check(*it))
-            return make_error(ErrorCode::value_type, fmt::format("configuration: {}{} must be {}", where_, key, type_name));
-        out = it->template get<T>();
-        return ok_result();
-    }
-    Result<void> str(const char* key, std::string& out) {
-        return read(key, out, [](const Json& j) { return j.is_string(); }, "a string");
-    }
-    Result<void> boolean(const char* key, bool& out) {
-        return read(key, out, [](const Json& j) { return j.is_boolean(); }, "true or false");
-    }
-    template <class T>
-    Result<void> count(const char* key, T& out) {
-        return read(key, out, [](const Json& j) { return j.is_number_unsigned() || (j.is_number_integer() && j.get<long long>() >= 0); },
-                    "a non-negative integer");
-    }
-    template <class Duration>
-    Result<void> duration(const char* key, Duration& out) {
-        long long value = 0;
-        bool given = object_.contains(key) && !object_[key].is_null();
-        if (auto r = count(key, value); !r) return r;
-        if (given) out = Duration(value);
-        return ok_result();
-    }
-    const Json* object(const char* key) {
-        seen_.insert(key);
-        auto it = object_.find(key);
-        return it == object_.end() || it->is_null() ? nullptr : &*it;
-    }
-    Result<void> no_unknown_keys() const {
-        for (auto it = object_.begin(); it != object_.end(); ++it)
-            if (!seen_.count(it.key()))
-                return make_error(ErrorCode::keys_of_arguments, fmt::format("configuration: unknown key {}{}", where_, it.key()));
-        return ok_result();
-    }
-
-private:
-    const Json& object_;
-    std::string where_;
-    std::set<std::string> seen_;
-};
-
-#define NCLINK_TRY(expr)                   \
-    do {                                   \
-        if (auto r_ = (expr); !r_) return std::move(r_).error(); \
-    } while (0)
-
-}  // namespace
+using detail::ConfigReader;
 
 std::optional<LogLevel> log_level_from_string(std::string_view text) {
     for (LogLevel level : {LogLevel::trace, LogLevel::debug, LogLevel::info, LogLevel::warn, LogLevel::error, LogLevel::off})
@@ -77,11 +19,11 @@ std::optional<LogLevel> log_level_from_string(std::string_view text) {
 
 Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c) {
     if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");
-    Reader top(json, "");
+    ConfigReader top(json, "");
 
     if (const Json* broker = top.object("broker")) {
         if (!broker->is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
-        Reader b(*broker, "broker.");
+        ConfigReader b(*broker, "broker.");
         NCLINK_TRY(b.str("url", c.broker_url));
         NCLINK_TRY(b.str("client_id", c.client_id));
         NCLINK_TRY(b.str("username", c.username));
@@ -91,7 +33,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
         NCLINK_TRY(b.boolean("clean_session", c.clean_session));
         if (const Json* tls = b.object("tls")) {
             if (!tls->is_object()) return make_error(ErrorCode::value_type, "configuration: broker.tls must be an object");
-            Reader t(*tls, "broker.tls.");
+            ConfigReader t(*tls, "broker.tls.");
             MqttTlsOptions o = c.tls.value_or(MqttTlsOptions{});
             NCLINK_TRY(t.str("ca_file", o.ca_file));
             NCLINK_TRY(t.str("cert_file", o.cert_file));
@@ -120,6 +62,10 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(top.duration("driver_timeout_ms", c.driver_timeout));
     NCLINK_TRY(top.duration("register_timeout_ms", c.register_timeout));
     NCLINK_TRY(top.duration("register_retry_max_ms", c.register_retry_max));
+    NCLINK_TRY(top.duration("application_lease_ms", c.application_lease));
+    if (const Json* section = top.object("sampling")) NCLINK_TRY(detail::read_sampling_config(*section, c.sampling));
+    if (const Json* section = top.object("events")) NCLINK_TRY(detail::read_events_config(*section, c.events));
+    if (const Json* section = top.object("methods")) NCLINK_TRY(detail::read_methods_config(*section, c.methods));
 
     std::string level;
     NCLINK_TRY(top.str("log_level", level));
@@ -133,7 +79,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
 
     if (const Json* driver = top.object("driver")) {
         if (!driver->is_object()) return make_error(ErrorCode::value_type, "configuration: driver must be an object");
-        Reader d(*driver, "driver.");
+        ConfigReader d(*driver, "driver.");
         NCLINK_TRY(d.str("plugin", c.driver_plugin));
         if (const Json* config = d.object("config")) c.driver_config = *config;
         NCLINK_TRY(d.no_unknown_keys());

@@ -1,0 +1,75 @@
+// A feature the adapter runs beside Query/Set/Probe: sampling, events,
+// methods. Each is one AdapterService; the adapter owns them, routes the
+// requests they answer to them, and tells them about the link, the model and
+// applications that have gone. They publish through the ServiceHost only.
+//
+// Threads (who calls what):
+// - start()/stop(): the adapter's owner thread, in Adapter::start()/stop()
+//   (stop in reverse order of start). stop() joins every thread it started.
+// - handle(): a request worker (several may run at once: be thread-safe).
+// - on_model(): the request worker that installed a Probe/Set model.
+// - on_link(): the transport's callback thread: never block there.
+// - on_application_gone(): the adapter's housekeeping thread, or the transport
+//   callback thread for a Notify/State offline: do not block long.
+// - stats(): any thread.
+#pragma once
+
+#include "adapter/model_host.hpp"
+#include "adapter/sample_tap.hpp"
+#include "driver/driver_runner.hpp"
+
+#include <nclink/adapter_config.hpp>
+#include <nclink/clock.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/log.hpp>
+#include <nclink/topics.hpp>
+#include <nclink/transport.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace nclink::detail {
+
+/// What the adapter lends its services. Every member outlives the services.
+struct ServiceHost {
+    const AdapterConfig& config;
+    const std::string& dev;               ///< this adapter's terminal id
+    const Logger& logger;
+    std::shared_ptr<const Clock> clock;   ///< injected in tests (ManualClock)
+    Transport& transport;                 ///< publish() is thread-safe; buffered while offline
+    DriverRunner& driver;                 ///< deadlines, serialization
+    const ModelHost& model;               ///< model.current(): the snapshot to serve
+    SampleTap& sample_tap;                ///< sampled rows, for events watching the sample stream
+    /// Publishes a reply on the response topic(s) mirroring `request`
+    /// (both spellings where WIRE.md says so) and updates the adapter state.
+    std::function<void(const ParsedTopic& request, const Json& reply)> respond;
+    /// A fresh @id for DTUs the adapter originates.
+    std::function<std::string()> next_msg_id;
+};
+
+class AdapterService {
+public:
+    virtual ~AdapterService() = default;
+    virtual std::string_view name() const = 0;
+    /// True for the request kinds this service answers.
+    virtual bool handles(TopicKind kind) const = 0;
+    /// One request (already filtered: not retained, not a repeated @id, for
+    /// this device). Must answer through host.respond (or the DTU the standard
+    /// names, e.g. Method/Result for a rejected call), never stay silent.
+    virtual void handle(const ParsedTopic& topic, const std::string& payload) = 0;
+
+    virtual Result<void> start() { return ok_result(); }
+    virtual void stop() {}
+    /// A Probe/Set installed a new model: restart what runs from the model.
+    virtual void on_model(std::shared_ptr<const ModelState> /*state*/) {}
+    virtual void on_link(LinkState /*link*/) {}
+    /// Application `ex_cid` is gone (Notify/State offline, or silent for the
+    /// lease): release what it registered (8.2.18.3).
+    virtual void on_application_gone(const std::string& /*ex_cid*/) {}
+    /// Counters for AdapterStats/`nclink stats` (a JSON object).
+    virtual Json stats() const { return Json::object(); }
+};
+
+}  // namespace nclink::detail

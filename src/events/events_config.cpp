@@ -1,0 +1,15 @@
+#include <nclink/adapter_config.hpp>
+
+#include "core/config_reader.hpp"
+
+namespace nclink::detail {
+
+Result<void> read_events_config(const Json& section, EventsConfig& out) {
+    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: events must be an object");
+    ConfigReader r(section, "events.");
+    NCLINK_TRY(r.count("max_events", out.max_events));
+    NCLINK_TRY(r.duration("poll_interval_ms", out.poll_interval));
+    return r.no_unknown_keys();
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,15 @@
+#include <nclink/adapter_config.hpp>
+
+#include "core/config_reader.hpp"
+
+namespace nclink::detail {
+
+Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
+    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: methods must be an object");
+    ConfigReader r(section, "methods.");
+    NCLINK_TRY(r.count("max_running", out.max_running));
+    NCLINK_TRY(r.duration("status_period_ms", out.status_period));
+    return r.no_unknown_keys();
+}
+
+}  // namespace nclink::detail
