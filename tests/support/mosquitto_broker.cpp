@@ -62,7 +62,9 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
     port_ = options.port ? options.port : free_loopback_port();
     std::ofstream conf(config_);
     conf << "listener " << port_ << " 127.0.0.1\n"
-         << "allow_anonymous true\n";
+         << "allow_anonymous " << (options.password_file.empty() ? "true" : "false") << "\n";
+    if (!options.acl_file.empty()) conf << "acl_file " << options.acl_file << "\n";
+    if (!options.password_file.empty()) conf << "password_file " << options.password_file << "\n";
     if (options.persistent)
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
     else

@@ -14,6 +14,11 @@ struct MosquittoOptions {
     bool persistent = false;
     int port = 0;         ///< 0 = pick a free one
     bool start = true;    ///< false: construct stopped, call start() later
+    /// mosquitto acl_file to enforce ("" = none). Without a password_file
+    /// clients may still connect anonymously or with any user name.
+    std::string acl_file;
+    /// mosquitto password_file ("" = none); when set, anonymous clients are refused.
+    std::string password_file;
 };
 
 class MosquittoBroker {

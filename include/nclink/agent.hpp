@@ -1,0 +1,170 @@
+// The agent of GB/T 41970-2022 (5.2.2, 8.2.1-8.2.6, 8.2.16, 8.3): runs beside
+// any MQTT broker and adds what the standard asks of an agent on top of the
+// broker's routing -- registration (Register/Request), discovery
+// (Discovery/Request), state notification (Notify/State), the model-version
+// cache (Probe/Version, cached Probe/Query for offline adapters), the
+// connection-error answers DEV_UNREACHABLE and Timeout (8.3.4/8.3.5), and
+// access control (301). docs/agent.md describes behaviour and configuration.
+//
+//   nclink::AgentConfig config = nclink::load_agent_config("agent.json").value();
+//   nclink::Agent agent(config, logger);
+//   if (auto started = agent.start(); !started) { ...started.error()... }
+//   ... agent.stop();
+//
+// Threading: start() and stop() are called by the owner (once each, not
+// concurrently). stats(), terminals() and cached_model() are thread-safe.
+// DTUs are handled on the transport's callback thread (quick, no I/O); one
+// housekeeping thread runs timeouts, liveness and persistence.
+#pragma once
+
+#include <nclink/clock.hpp>
+#include <nclink/json.hpp>
+#include <nclink/log.hpp>
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/result.hpp>
+#include <nclink/transport.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nclink {
+
+/// What an application may do on an adapter (a bit set).
+enum AccessRight : unsigned {
+    access_none = 0,
+    access_read = 1u << 0,    ///< Probe/Query, Query, dynamic sampling, events (and model Sample topics in the ACL)
+    access_set = 1u << 1,     ///< Set, Probe/Set
+    access_method = 1u << 2,  ///< Method/Call, Method/Control
+    access_all = access_read | access_set | access_method,
+};
+
+/// Which application may do what on which adapter. Precedence: the
+/// application's entry for the adapter, else its "*" entry, else (listed
+/// applications) nothing; applications not listed get `default_rights`.
+struct AccessPolicy {
+    unsigned default_rights = access_all;                               ///< "default"
+    std::map<std::string, std::map<std::string, unsigned>> applications;  ///< "applications": ex -> (dev | "*") -> rights
+};
+
+/// A terminal named in the registration allowlist.
+struct TerminalEntry {
+    std::string kind;      ///< "adapter", "application" or "" (learned from traffic)
+    std::string password;  ///< "" = no credential; else Register/Request privateInfo.password must equal it
+};
+
+struct RegistrationPolicy {
+    bool open = true;                             ///< "open": false = only listed terminals may register (else 301)
+    std::map<std::string, TerminalEntry> terminals;  ///< "terminals"
+    std::size_t max_id_length = 128;             ///< "max_id_length": longer ids get 414
+    std::string id_pattern;                      ///< "id_pattern": ECMAScript regex the whole id must match ("" = any)
+};
+
+struct AgentConfig {
+    // --- broker (JSON "broker": {...}) ---
+    std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
+    std::string client_id;               ///< "client_id"; default "<agent_id>-<random>" (unique per instance)
+    std::string username;                ///< "username"
+    std::string password;                ///< "password"
+    std::optional<MqttTlsOptions> tls;   ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
+    int mqtt_version = 5;                ///< "mqtt_version": 5, or 4 (3.1.1; mosquitto 2 still honours $share)
+    std::chrono::seconds keep_alive{20}; ///< "keep_alive_s"
+
+    // --- identity and instances ---
+    std::string agent_id = "nclink-agent";   ///< "agent_id": the agent's terminal id (ex of its own Probe/Query)
+    std::string share_group = "nclink-agent";  ///< "share_group": $share group of answering subscriptions ("" = plain)
+
+    // --- behaviour ---
+    std::string state_dir;               ///< "state_dir": registrations and cached models ("" = not persisted)
+    std::chrono::milliseconds request_timeout{1500};   ///< "request_timeout_ms": then the agent answers 203
+    /// "adapter_liveness_ms": an adapter from which no DTU came for this long is
+    /// offline (3.22). 0 = trust its retained state and last will only.
+    std::chrono::milliseconds adapter_liveness{0};
+    /// "application_liveness_ms": the same for applications (which have no last
+    /// will); 0 = never.
+    std::chrono::milliseconds application_liveness{300000};
+    bool observe_samples = true;         ///< "observe_samples": count Sample DTUs as signs of life
+    std::chrono::milliseconds tick{20};  ///< "tick_ms": housekeeping period (timeouts, liveness)
+
+    RegistrationPolicy registration;     ///< "registration": {...}
+    AccessPolicy access;                 ///< "access": {...}
+    std::string acl_agent_user = "nclink-agent";  ///< "acl": {"agent_user"}: broker user of the agents in the ACL file
+
+    LogLevel log_level = LogLevel::info; ///< "log_level"
+};
+
+/// Reads a configuration object; unknown keys 413, wrong types 405, a bad
+/// id_pattern or right name 405.
+Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig base = {});
+/// Reads a configuration file; a relative state_dir / TLS path is taken
+/// relative to the file's directory.
+Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base = {});
+
+/// A mosquitto acl_file that makes the broker enforce `config.access`
+/// (docs/agent.md, "Broker ACL"). Broker user names must equal terminal ids.
+std::string mosquitto_acl(const AgentConfig& config);
+
+/// Counters only grow.
+struct AgentStats {
+    std::uint64_t registrations = 0;         ///< Register/Request accepted
+    std::uint64_t registrations_refused = 0; ///< answered NG (414, 301, malformed)
+    std::uint64_t discoveries = 0;           ///< Discovery/Request answered
+    std::uint64_t versions = 0;              ///< Probe/Version answered
+    std::uint64_t models_fetched = 0;        ///< models stored after a version change
+    std::uint64_t cached_probes = 0;         ///< Probe/Query answered from the cache (adapter offline)
+    std::uint64_t unreachable = 0;           ///< requests answered DEV_UNREACHABLE
+    std::uint64_t timeouts = 0;              ///< requests answered 203
+    std::uint64_t denied = 0;                ///< requests answered 301 (access control)
+    std::uint64_t state_notifications = 0;   ///< Notify/State published by the agent
+    std::uint64_t malformed = 0;             ///< undecodable DTUs (answered NG where there is a topic to answer on)
+    std::uint64_t ignored_retained = 0;      ///< requests ignored for their retain flag
+    std::size_t pending = 0;                 ///< requests waiting for the adapter's answer now
+    TransportStats transport;
+};
+
+/// What the agent knows of one terminal.
+struct TerminalInfo {
+    std::string id;
+    std::string kind;               ///< "adapter", "application" or "" (not known yet)
+    bool registered = false;
+    std::string status;             ///< "online", "offline" or "unknown"
+    std::int64_t last_alive_s = 0;  ///< wall seconds of the last DTU seen from it (0 = never)
+    std::string version;            ///< adapters: the model version announced last
+};
+
+class Agent {
+public:
+    explicit Agent(AgentConfig config, Logger logger = {});
+    ~Agent();  ///< stop()s
+    Agent(const Agent&) = delete;
+    Agent& operator=(const Agent&) = delete;
+
+    /// For tests and special links: use this transport instead of MQTT (set
+    /// before start()). The agent owns it from then on.
+    void use_transport(std::unique_ptr<Transport> transport);
+    /// For tests: the clock of timeouts, liveness and timestamps.
+    void use_clock(std::shared_ptr<const Clock> clock);
+
+    /// Loads the persisted state, subscribes and connects (in the background).
+    /// Fails on an unusable configuration or an unreadable state file.
+    Result<void> start();
+    /// Persists the state, flushes what is buffered, disconnects, joins.
+    /// Idempotent.
+    void stop(std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(1000));
+
+    AgentStats stats() const;
+    std::vector<TerminalInfo> terminals() const;
+    /// The cached model of an adapter, if any.
+    std::optional<Json> cached_model(const std::string& dev) const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nclink

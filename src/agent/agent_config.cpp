@@ -1,0 +1,165 @@
+// Reads the agent's configuration file (docs/agent.md has the reference).
+#include <nclink/adapter_config.hpp>  // log_level_from_string
+#include <nclink/agent.hpp>
+
+#include "agent/access.hpp"
+#include "agent/terminal_id.hpp"
+#include "core/config_reader.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace nclink {
+using detail::ConfigReader;
+
+namespace {
+
+Result<void> read_broker(const Json& broker, AgentConfig& c) {
+    if (!broker.is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
+    ConfigReader b(broker, "broker.");
+    NCLINK_TRY(b.str("url", c.broker_url));
+    NCLINK_TRY(b.str("client_id", c.client_id));
+    NCLINK_TRY(b.str("username", c.username));
+    NCLINK_TRY(b.str("password", c.password));
+    NCLINK_TRY(b.count("mqtt_version", c.mqtt_version));
+    NCLINK_TRY(b.duration("keep_alive_s", c.keep_alive));
+    if (const Json* tls = b.object("tls")) {
+        if (!tls->is_object()) return make_error(ErrorCode::value_type, "configuration: broker.tls must be an object");
+        ConfigReader t(*tls, "broker.tls.");
+        MqttTlsOptions o = c.tls.value_or(MqttTlsOptions{});
+        NCLINK_TRY(t.str("ca_file", o.ca_file));
+        NCLINK_TRY(t.str("cert_file", o.cert_file));
+        NCLINK_TRY(t.str("key_file", o.key_file));
+        NCLINK_TRY(t.str("key_password", o.key_password));
+        NCLINK_TRY(t.boolean("verify", o.verify_server));
+        NCLINK_TRY(t.no_unknown_keys());
+        c.tls = o;
+    }
+    NCLINK_TRY(b.no_unknown_keys());
+    if (c.mqtt_version != 4 && c.mqtt_version != 5)
+        return make_error(ErrorCode::value_type, "configuration: broker.mqtt_version must be 4 (MQTT 3.1.1) or 5");
+    return ok_result();
+}
+
+Result<void> read_registration(const Json& section, RegistrationPolicy& p) {
+    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: registration must be an object");
+    ConfigReader r(section, "registration.");
+    NCLINK_TRY(r.boolean("open", p.open));
+    NCLINK_TRY(r.count("max_id_length", p.max_id_length));
+    NCLINK_TRY(r.str("id_pattern", p.id_pattern));
+    if (const Json* terminals = r.object("terminals")) {
+        if (!terminals->is_object())
+            return make_error(ErrorCode::value_type, "configuration: registration.terminals must be an object");
+        for (auto it = terminals->begin(); it != terminals->end(); ++it) {
+            const std::string where = "registration.terminals." + it.key() + ".";
+            if (!it->is_object()) return make_error(ErrorCode::value_type, "configuration: " + where + " must be an object");
+            ConfigReader t(*it, where);
+            TerminalEntry entry;
+            NCLINK_TRY(t.str("kind", entry.kind));
+            NCLINK_TRY(t.str("password", entry.password));
+            NCLINK_TRY(t.no_unknown_keys());
+            if (!entry.kind.empty() && entry.kind != "adapter" && entry.kind != "application")
+                return make_error(ErrorCode::value_type,
+                                  "configuration: " + where + "kind must be \"adapter\" or \"application\"");
+            p.terminals[it.key()] = entry;
+        }
+    }
+    NCLINK_TRY(r.no_unknown_keys());
+    if (auto rule = agent_detail::TerminalIdRule::make(p); !rule) return std::move(rule).error();
+    return ok_result();
+}
+
+Result<void> read_access(const Json& section, AccessPolicy& p) {
+    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: access must be an object");
+    ConfigReader a(section, "access.");
+    if (const Json* rights = a.object("default")) {
+        auto bits = agent_detail::parse_rights(*rights, "access.default");
+        if (!bits) return std::move(bits).error();
+        p.default_rights = *bits;
+    }
+    if (const Json* apps = a.object("applications")) {
+        if (!apps->is_object())
+            return make_error(ErrorCode::value_type, "configuration: access.applications must be an object");
+        for (auto app = apps->begin(); app != apps->end(); ++app) {
+            if (!app->is_object())
+                return make_error(ErrorCode::value_type,
+                                  "configuration: access.applications." + app.key() + " must be an object");
+            auto& entry = p.applications[app.key()];
+            for (auto dev = app->begin(); dev != app->end(); ++dev) {
+                auto bits = agent_detail::parse_rights(*dev, "access.applications." + app.key() + "." + dev.key());
+                if (!bits) return std::move(bits).error();
+                entry[dev.key()] = *bits;
+            }
+        }
+    }
+    return a.no_unknown_keys();
+}
+
+}  // namespace
+
+Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
+    if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");
+    ConfigReader top(json, "");
+    if (const Json* broker = top.object("broker")) NCLINK_TRY(read_broker(*broker, c));
+    NCLINK_TRY(top.str("agent_id", c.agent_id));
+    NCLINK_TRY(top.str("share_group", c.share_group));
+    NCLINK_TRY(top.str("state_dir", c.state_dir));
+    NCLINK_TRY(top.duration("request_timeout_ms", c.request_timeout));
+    NCLINK_TRY(top.duration("adapter_liveness_ms", c.adapter_liveness));
+    NCLINK_TRY(top.duration("application_liveness_ms", c.application_liveness));
+    NCLINK_TRY(top.boolean("observe_samples", c.observe_samples));
+    NCLINK_TRY(top.duration("tick_ms", c.tick));
+    if (const Json* section = top.object("registration")) NCLINK_TRY(read_registration(*section, c.registration));
+    if (const Json* section = top.object("access")) NCLINK_TRY(read_access(*section, c.access));
+    if (const Json* acl = top.object("acl")) {
+        if (!acl->is_object()) return make_error(ErrorCode::value_type, "configuration: acl must be an object");
+        ConfigReader a(*acl, "acl.");
+        NCLINK_TRY(a.str("agent_user", c.acl_agent_user));
+        NCLINK_TRY(a.no_unknown_keys());
+    }
+    std::string level;
+    NCLINK_TRY(top.str("log_level", level));
+    if (!level.empty()) {
+        auto parsed = log_level_from_string(level);
+        if (!parsed)
+            return make_error(ErrorCode::value_type,
+                              fmt::format("configuration: log_level '{}' is not trace/debug/info/warn/error/off", level));
+        c.log_level = *parsed;
+    }
+    NCLINK_TRY(top.no_unknown_keys());
+    if (c.request_timeout.count() <= 0)
+        return make_error(ErrorCode::out_of_range, "configuration: request_timeout_ms must be positive");
+    if (c.tick.count() <= 0) c.tick = std::chrono::milliseconds(1);
+    if (c.agent_id.empty() || c.agent_id.find_first_of("/+#") != std::string::npos)
+        return make_error(ErrorCode::value_type, "configuration: agent_id must be one topic level");
+    if (c.share_group.find_first_of("/+#") != std::string::npos)
+        return make_error(ErrorCode::value_type, "configuration: share_group must not contain '/', '+' or '#'");
+    return c;
+}
+
+Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base) {
+    std::ifstream in(path);
+    if (!in) return make_error(ErrorCode::unavailable, fmt::format("cannot read configuration file {}", path));
+    std::stringstream text;
+    text << in.rdbuf();
+    const Json json = Json::parse(text.str(), nullptr, false);
+    if (json.is_discarded())
+        return make_error(ErrorCode::syntax_error, fmt::format("configuration file {} is not valid JSON", path));
+    auto config = agent_config_from_json(json, std::move(base));
+    if (!config) return make_error(config.error().code, fmt::format("{}: {}", path, config.error().message));
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    auto resolve = [&](std::string& p) {
+        if (!p.empty() && std::filesystem::path(p).is_relative()) p = (dir / p).lexically_normal().string();
+    };
+    AgentConfig& c = config.value();
+    if (json.contains("state_dir")) resolve(c.state_dir);
+    if (c.tls && json.contains("broker")) {
+        resolve(c.tls->ca_file);
+        resolve(c.tls->cert_file);
+        resolve(c.tls->key_file);
+    }
+    return config;
+}
+
+}  // namespace nclink

@@ -1,0 +1,110 @@
+#include "agent/presence.hpp"
+
+namespace nclink::agent_detail {
+
+const char* to_wire(Status status) noexcept {
+    switch (status) {
+        case Status::online: return "online";
+        case Status::offline: return "offline";
+        case Status::unknown: break;
+    }
+    return "unknown";
+}
+
+const char* to_string(Kind kind) noexcept {
+    switch (kind) {
+        case Kind::adapter: return "adapter";
+        case Kind::application: return "application";
+        case Kind::unknown: break;
+    }
+    return "";
+}
+
+Kind kind_from_string(const std::string& text) noexcept {
+    if (text == "adapter") return Kind::adapter;
+    if (text == "application") return Kind::application;
+    return Kind::unknown;
+}
+
+bool Presence::saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t wall_s) {
+    Entry& e = entries_[tid];
+    e.last_dtu = now;
+    e.last_alive_s = wall_s;
+    if (e.status == Status::online) return false;
+    e.status = Status::online;
+    ++e.online_periods;
+    return true;
+}
+
+bool Presence::set_state(const std::string& tid, Status status, Clock::Steady now, std::int64_t wall_s) {
+    Entry& e = entries_[tid];
+    if (status == Status::online) {
+        // Coming online is a sign of life; the liveness clock starts here.
+        e.last_dtu = now;
+        e.last_alive_s = wall_s;
+    }
+    if (e.status == status) return false;
+    e.status = status;
+    if (status == Status::online) ++e.online_periods;
+    return true;
+}
+
+std::chrono::milliseconds Presence::liveness_of(const Entry& e) const {
+    // A terminal of unknown kind is treated as an application: only adapters
+    // have a last will, so only for them may liveness be switched off.
+    return e.kind == Kind::adapter ? adapter_liveness_ : application_liveness_;
+}
+
+std::vector<std::string> Presence::expire(Clock::Steady now) {
+    std::vector<std::string> gone;
+    for (auto& [tid, e] : entries_) {
+        const auto limit = liveness_of(e);
+        if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu) continue;
+        if (now - *e.last_dtu >= limit) {
+            e.status = Status::offline;
+            gone.push_back(tid);
+        }
+    }
+    return gone;
+}
+
+void Presence::set_kind(const std::string& tid, Kind kind) {
+    if (kind == Kind::unknown) return;
+    Entry& e = entries_[tid];
+    if (e.kind == Kind::adapter) return;  // a terminal that answered requests is an adapter, whatever else it does
+    e.kind = kind;
+}
+
+void Presence::remember(const std::string& tid, Kind kind, std::int64_t last_alive_s) {
+    Entry& e = entries_[tid];
+    if (e.kind == Kind::unknown) e.kind = kind;
+    if (e.last_alive_s == 0) e.last_alive_s = last_alive_s;
+}
+
+Status Presence::status(const std::string& tid) const {
+    const auto it = entries_.find(tid);
+    return it == entries_.end() ? Status::unknown : it->second.status;
+}
+
+Kind Presence::kind(const std::string& tid) const {
+    const auto it = entries_.find(tid);
+    return it == entries_.end() ? Kind::unknown : it->second.kind;
+}
+
+std::uint64_t Presence::online_periods(const std::string& tid) const {
+    const auto it = entries_.find(tid);
+    return it == entries_.end() ? 0 : it->second.online_periods;
+}
+
+std::int64_t Presence::last_alive_s(const std::string& tid) const {
+    const auto it = entries_.find(tid);
+    return it == entries_.end() ? 0 : it->second.last_alive_s;
+}
+
+std::vector<std::string> Presence::known() const {
+    std::vector<std::string> out;
+    for (const auto& [tid, e] : entries_) out.push_back(tid);
+    return out;
+}
+
+}  // namespace nclink::agent_detail

@@ -1,0 +1,68 @@
+// Who is online (3.21-3.23, 8.2.16): every terminal's state as the agent
+// sees it, from Notify/State (the terminals' own retained state and last
+// wills) and from the DTUs it publishes (liveness: no DTU for a configured
+// time = offline). Pure bookkeeping: the caller passes the time, holds the
+// lock and publishes what changed.
+#pragma once
+
+#include <nclink/clock.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace nclink::agent_detail {
+
+enum class Status { unknown, online, offline };
+const char* to_wire(Status status) noexcept;  ///< "unknown" | "online" | "offline"
+
+enum class Kind { unknown, adapter, application };
+const char* to_string(Kind kind) noexcept;  ///< "" | "adapter" | "application"
+Kind kind_from_string(const std::string& text) noexcept;
+
+class Presence {
+public:
+    Presence(std::chrono::milliseconds adapter_liveness, std::chrono::milliseconds application_liveness)
+        : adapter_liveness_(adapter_liveness), application_liveness_(application_liveness) {}
+
+    /// A DTU published by `tid` (anything but Notify/State). Returns true when
+    /// this brought it online from offline/unknown (the agent announces it).
+    bool saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t wall_s);
+    /// A Notify/State for `tid`. Returns true when the status changed.
+    bool set_state(const std::string& tid, Status status, Clock::Steady now, std::int64_t wall_s);
+    /// Terminals whose liveness ran out at `now`; they are offline from now on.
+    std::vector<std::string> expire(Clock::Steady now);
+
+    /// Adapter/application, once the traffic (or the allowlist) said so. An
+    /// adapter stays an adapter.
+    void set_kind(const std::string& tid, Kind kind);
+    /// Known from the persisted state (status unknown until something arrives).
+    void remember(const std::string& tid, Kind kind, std::int64_t last_alive_s);
+
+    Status status(const std::string& tid) const;
+    Kind kind(const std::string& tid) const;
+    /// How many times `tid` came online: a registration belongs to one such
+    /// period (a new connection starts a new one).
+    std::uint64_t online_periods(const std::string& tid) const;
+    std::int64_t last_alive_s(const std::string& tid) const;
+    std::vector<std::string> known() const;
+
+private:
+    struct Entry {
+        Kind kind = Kind::unknown;
+        Status status = Status::unknown;
+        std::optional<Clock::Steady> last_dtu;  ///< liveness runs from here
+        std::int64_t last_alive_s = 0;
+        std::uint64_t online_periods = 0;
+    };
+    std::chrono::milliseconds liveness_of(const Entry& e) const;
+
+    std::chrono::milliseconds adapter_liveness_;
+    std::chrono::milliseconds application_liveness_;
+    std::map<std::string, Entry> entries_;
+};
+
+}  // namespace nclink::agent_detail

@@ -1,0 +1,261 @@
+// The agent against a real mosquitto: a real adapter (fake driver) and the
+// client library around it; several agent instances on shared subscriptions;
+// the generated ACL file enforced by the broker.
+#include <nclink/adapter.hpp>
+#include <nclink/agent.hpp>
+#include <nclink/client.hpp>
+#include <nclink/mqtt_transport.hpp>
+
+#include "support/inbox.hpp"
+#include "support/mosquitto_broker.hpp"
+#include "support/wait.hpp"
+#include "unit/adapter/adapter_fixture.hpp"  // FakeDriver, scratch_dir, test_model_path
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+using namespace nclink;
+using namespace nclink::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+AgentConfig agent_config(const MosquittoBroker& broker, const std::string& name = "agent-a") {
+    AgentConfig c;
+    c.broker_url = broker.url();
+    c.client_id = name;
+    c.request_timeout = 400ms;
+    return c;
+}
+
+std::unique_ptr<Agent> start_agent(AgentConfig c) {
+    auto agent = std::make_unique<Agent>(std::move(c));
+    REQUIRE(agent->start().ok());
+    REQUIRE(eventually([&] { return agent->stats().transport.connects >= 1; }));
+    std::this_thread::sleep_for(200ms);  // SUBACKs come asynchronously
+    return agent;
+}
+
+std::unique_ptr<Adapter> start_adapter(const MosquittoBroker& broker, std::shared_ptr<FakeDriver> driver,
+                                       const std::string& username = "") {
+    AdapterConfig c;
+    c.model_path = test_model_path();
+    c.broker_url = broker.url();
+    c.username = username;
+    c.register_timeout = 300ms;
+    auto adapter = std::make_unique<Adapter>(c, std::move(driver));
+    REQUIRE(adapter->start().ok());
+    REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+    return adapter;
+}
+
+std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::string& ex,
+                                     const std::string& username = "") {
+    MqttOptions m;
+    m.broker_url = broker.url();
+    m.username = username;
+    ClientOptions o;
+    o.ex_cid = ex;
+    o.default_timeout = 2000ms;
+    auto client = Client::create(m, o);
+    REQUIRE(client.ok());
+    auto c = std::move(client).value();
+    REQUIRE(c->start().ok());
+    REQUIRE(c->wait_connected(5s));
+    std::this_thread::sleep_for(100ms);
+    return c;
+}
+
+/// A raw MQTT peer collecting what arrives on its subscriptions.
+struct Peer {
+    Peer(const MosquittoBroker& broker, const std::string& id, std::vector<std::string> filters,
+         const std::string& username = "", int version = 4) {
+        MqttOptions m;
+        m.broker_url = broker.url();
+        m.client_id = id;
+        m.username = username;
+        m.mqtt_version = version;
+        transport = make_mqtt_transport(m).value();
+        inbox.attach(*transport);
+        REQUIRE(transport->subscribe(filters, 1).ok());
+        REQUIRE(transport->start().ok());
+        REQUIRE(eventually([&] { return transport->state() == LinkState::connected; }));
+        std::this_thread::sleep_for(150ms);
+    }
+    void send(const std::string& topic, const Json& payload) {
+        REQUIRE(transport->publish(Message{topic, payload.dump(), 1, false}).ok());
+    }
+    std::vector<Json> on(const std::string& topic) {
+        std::lock_guard<std::mutex> lock(inbox.mutex);
+        std::vector<Json> out;
+        for (const auto& m : inbox.messages)
+            if (m.topic == topic) out.push_back(Json::parse(m.payload));
+        return out;
+    }
+    std::unique_ptr<Transport> transport;
+    Inbox inbox;  // destroyed first: it stops the transport, which then goes
+};
+
+}  // namespace
+
+TEST_CASE("agent with adapter and client: register and discover and cached probe and DEV_UNREACHABLE") {
+    MosquittoBroker broker;
+    AgentConfig c = agent_config(broker);
+    c.state_dir = scratch_dir("itest-agent");
+    auto agent = start_agent(c);
+    auto driver = std::make_shared<FakeDriver>();
+    auto adapter = start_adapter(broker, driver);
+    REQUIRE(eventually([&] { return adapter->stats().registered; }));
+    REQUIRE(eventually([&] { return agent->cached_model("test-dev").has_value(); }));
+
+    auto client = start_client(broker, "mes-1");
+    auto registered = client->register_terminal();
+    REQUIRE(registered.ok());
+    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
+    auto list = client->discover();
+    REQUIRE(list.ok());
+    REQUIRE(list->size() == 1);
+    CHECK((*list)[0].guid == "test-dev");
+    CHECK((*list)[0].status == "online");
+
+    // live: the adapter answers, the agent only watches
+    auto values = client->query("test-dev", {QueryItem{"pos", std::nullopt}});
+    REQUIRE(values.ok());
+    CHECK((*values)[0].status.ok);
+    CHECK(agent->stats().timeouts == 0);
+
+    adapter->stop();
+    REQUIRE(eventually([&] {
+        for (const auto& t : agent->terminals())
+            if (t.id == "test-dev") return t.status == "offline";
+        return false;
+    }));
+    auto model = client->probe("test-dev");
+    REQUIRE(model.ok());
+    CHECK((*model)["devices"][0]["guid"] == "test-dev");
+    auto unreachable = client->query("test-dev", {QueryItem{"pos", std::nullopt}});
+    REQUIRE_FALSE(unreachable.ok());
+    CHECK(unreachable.error().code == ErrorCode::unavailable);
+    CHECK(unreachable.error().message.find("DEV_UNREACHABLE") != std::string::npos);
+    CHECK(client->stats().unreachable == 1);
+
+    // a restarted agent still knows the adapter and its model
+    agent->stop();
+    agent = start_agent(c);
+    list = client->discover();
+    REQUIRE(list.ok());
+    REQUIRE(list->size() == 1);
+    CHECK((*list)[0].status == "offline");
+    REQUIRE(client->probe("test-dev").ok());
+    client->stop();
+    agent->stop();
+    std::filesystem::remove_all(c.state_dir);
+}
+
+TEST_CASE("agent: a request the adapter does not answer in time gets 203") {
+    MosquittoBroker broker;
+    auto agent = start_agent(agent_config(broker));
+    auto driver = std::make_shared<FakeDriver>();
+    auto adapter = start_adapter(broker, driver);
+    auto client = start_client(broker, "mes-1");
+    driver->delay = 900ms;  // the adapter's driver deadline is 1000 ms; the agent's 400 ms
+    auto slow = client->query("test-dev", {QueryItem{"pos", std::nullopt}});
+    REQUIRE_FALSE(slow.ok());
+    CHECK(slow.error().code == ErrorCode::timeout);
+    CHECK(agent->stats().timeouts == 1);
+    driver->delay = 0ms;
+    REQUIRE(eventually([&] { return client->stats().unmatched_responses >= 1; }));  // the adapter answered after the agent
+}
+
+TEST_CASE("two agents on shared subscriptions answer once") {
+    for (int version : {5, 4}) {
+        DYNAMIC_SECTION("MQTT version " << version) {
+            MosquittoBroker broker;
+            AgentConfig a = agent_config(broker, "agent-a");
+            AgentConfig b = agent_config(broker, "agent-b");
+            a.mqtt_version = b.mqtt_version = version;
+            auto first = start_agent(a);
+            auto second = start_agent(b);
+            Peer app(broker, "app", {"Register/Response/+", "Discovery/Response/+", "Query/Response/+/+",
+                                     "Probe/Version/Response/+"});
+            for (int i = 0; i < 6; ++i) {
+                app.send("Register/Request", Json{{"@id", "r" + std::to_string(i)}, {"cli_uuid", "t" + std::to_string(i)}});
+                app.send("Discovery/Request/app", Json{{"@id", "d" + std::to_string(i)}, {"guid", "app"}});
+                app.send("Query/Request/silent/app", Json{{"@id", "q" + std::to_string(i)}, {"ids", {"pos"}}});
+            }
+            REQUIRE(eventually([&] { return app.on("Query/Response/silent/app").size() >= 6; }));
+            std::this_thread::sleep_for(600ms);  // room for a second answer to show up
+            std::size_t registers = 0;
+            for (int i = 0; i < 6; ++i) registers += app.on("Register/Response/t" + std::to_string(i)).size();
+            CHECK(registers == 6);
+            CHECK(app.on("Discovery/Response/app").size() == 6);
+            CHECK(app.on("Query/Response/silent/app").size() == 6);
+            CHECK(first->stats().registrations + second->stats().registrations == 6);
+            CHECK(first->stats().timeouts + second->stats().timeouts == 6);
+            // both learned every registration (from each other's answers)
+            REQUIRE(eventually([&] {
+                std::size_t known = 0;
+                for (const auto& t : second->terminals()) known += t.registered ? 1 : 0;
+                for (const auto& t : first->terminals()) known += t.registered ? 1 : 0;
+                return known == 12;
+            }));
+        }
+    }
+}
+
+TEST_CASE("broker ACL from the agent's configuration keeps denied requests from the adapter") {
+    AgentConfig c;
+    c.access.applications["viewer"]["*"] = access_read;
+    const std::string dir = scratch_dir("itest-acl");
+    const std::string acl = dir + "/acl";
+    {
+        std::ofstream out(acl);
+        out << mosquitto_acl(c);
+    }
+    MosquittoOptions bo;
+    bo.acl_file = acl;
+    MosquittoBroker broker(bo);
+    AgentConfig ac = agent_config(broker);
+    ac.access = c.access;
+    ac.username = "nclink-agent";
+    auto agent = start_agent(ac);
+    auto driver = std::make_shared<FakeDriver>();
+    auto adapter = start_adapter(broker, driver, "test-dev");
+    REQUIRE(eventually([&] { return adapter->stats().registered; }));  // the ACL lets registration through
+
+    auto viewer = start_client(broker, "viewer", "viewer");
+    auto mes = start_client(broker, "mes", "mes");
+    const auto adapter_requests = adapter->stats().requests;
+
+    // denied: the agent answers 301 and the adapter never sees the request
+    auto denied = viewer->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}}});
+    REQUIRE_FALSE(denied.ok());
+    CHECK(denied.error().code == ErrorCode::permission_denied);
+    std::this_thread::sleep_for(300ms);
+    CHECK(adapter->stats().requests == adapter_requests);
+    CHECK(driver->writes == 0);
+    CHECK(agent->stats().denied == 1);
+
+    // allowed reading reaches the adapter
+    auto read = viewer->query("test-dev", {QueryItem{"pos", std::nullopt}});
+    REQUIRE(read.ok());
+    CHECK((*read)[0].status.ok);
+
+    // another application may set
+    auto set = mes->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}}});
+    REQUIRE(set.ok());
+    CHECK((*set)[0].status.ok);
+    CHECK(driver->writes == 1);
+
+    // posing as another application is stopped by the broker
+    Peer spoof(broker, "viewer-2", {"Set/Response/+/+"}, "viewer");
+    spoof.send("Set/Request/test-dev/mes", Json{{"@id", "x"}, {"values", {{{"id", "ovr"}, {"params", {{"value", 1}}}}}}});
+    std::this_thread::sleep_for(400ms);
+    CHECK(driver->writes == 1);
+    viewer->stop();
+    mes->stop();
+    std::filesystem::remove_all(dir);
+}

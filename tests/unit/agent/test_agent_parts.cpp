@@ -1,0 +1,261 @@
+// The agent's pure pieces: terminal ids, presence, registration decisions,
+// access rights, configuration, and the generated mosquitto ACL.
+#include <nclink/agent.hpp>
+
+#include "agent/access.hpp"
+#include "agent/model_cache.hpp"
+#include "agent/pending_forwards.hpp"
+#include "agent/presence.hpp"
+#include "agent/registrar.hpp"
+#include "agent/terminal_id.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace nclink;
+using namespace nclink::agent_detail;
+using namespace std::chrono_literals;
+
+namespace {
+
+TerminalIdRule rule(RegistrationPolicy p = {}) { return TerminalIdRule::make(p).value(); }
+
+RegisterRequest reg(const std::string& cli, const std::string& id, Json private_info = nullptr) {
+    RegisterRequest r;
+    r.msg_id = Json(id);
+    r.cli_uuid = cli;
+    if (!private_info.is_null()) r.private_info = private_info;
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("terminal ids: one topic level of printable UTF-8 is accepted") {
+    const auto r = rule();
+    CHECK(r.check("mill-7").ok());
+    CHECK(r.check("机床_01").ok());
+    CHECK(r.check("a.b:c@d").ok());
+}
+
+TEST_CASE("terminal ids: separators wildcards spaces control characters and $ get 414") {
+    const auto r = rule();
+    for (const char* bad : {"", "a/b", "a+b", "a#", "has space", "tab\there", "$SYS", "\xff\xfe"}) {
+        INFO(bad);
+        const auto checked = r.check(bad);
+        REQUIRE_FALSE(checked.ok());
+        CHECK(checked.error().code == ErrorCode::unsupported_terminal_id);
+    }
+    CHECK_FALSE(r.check(std::string(129, 'x')).ok());
+}
+
+TEST_CASE("terminal ids: id_pattern narrows what is accepted and must be a regex") {
+    RegistrationPolicy p;
+    p.id_pattern = "line[0-9]+-.*";
+    const auto r = rule(p);
+    CHECK(r.check("line3-mill").ok());
+    CHECK_FALSE(r.check("mill").ok());
+    p.id_pattern = "([";
+    CHECK(TerminalIdRule::make(p).error().code == ErrorCode::value_type);
+}
+
+TEST_CASE("presence: liveness runs out after the configured time and a DTU brings the terminal back") {
+    Presence presence(1000ms, 0ms);
+    ManualClock clock;
+    presence.set_kind("dev", Kind::adapter);
+    CHECK(presence.saw_dtu("dev", clock.now(), 1));
+    CHECK(presence.status("dev") == Status::online);
+    clock.advance(999ms);
+    CHECK(presence.expire(clock.now()).empty());
+    clock.advance(1ms);
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"dev"});
+    CHECK(presence.status("dev") == Status::offline);
+    CHECK(presence.expire(clock.now()).empty());  // said once
+    CHECK(presence.saw_dtu("dev", clock.now(), 2));
+    CHECK(presence.online_periods("dev") == 2);
+}
+
+TEST_CASE("presence: 0 switches liveness off and applications use their own time") {
+    Presence presence(0ms, 500ms);
+    ManualClock clock;
+    presence.set_kind("dev", Kind::adapter);
+    presence.set_kind("app", Kind::application);
+    presence.saw_dtu("dev", clock.now(), 1);
+    presence.saw_dtu("app", clock.now(), 1);
+    clock.advance(1h);
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"app"});
+    CHECK(presence.status("dev") == Status::online);
+}
+
+TEST_CASE("presence: an adapter stays an adapter") {
+    Presence presence(0ms, 0ms);
+    presence.set_kind("x", Kind::adapter);
+    presence.set_kind("x", Kind::application);
+    CHECK(presence.kind("x") == Kind::adapter);
+}
+
+TEST_CASE("registrar: a second registration of a live adapter is refused 301 and a resend is not") {
+    Presence presence(0ms, 0ms);
+    ManualClock clock;
+    Registrar registrar(rule(), {});
+    presence.set_kind("dev", Kind::adapter);
+    presence.set_state("dev", Status::online, clock.now(), 1);
+    CHECK(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);
+    CHECK(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);  // the same request again
+    const auto second = registrar.decide(reg("dev", "r2"), presence, 2);
+    CHECK_FALSE(second.status.ok);
+    CHECK(second.status.error == 301);
+    // offline, then a new connection: a new registration is fine
+    presence.set_state("dev", Status::offline, clock.now(), 3);
+    presence.set_state("dev", Status::online, clock.now(), 3);
+    CHECK(registrar.decide(reg("dev", "r3"), presence, 3).status.ok);
+}
+
+TEST_CASE("registrar: an application registering again replaces its registration") {
+    Presence presence(0ms, 0ms);
+    ManualClock clock;
+    Registrar registrar(rule(), {});
+    presence.set_kind("app", Kind::application);
+    presence.saw_dtu("app", clock.now(), 1);
+    CHECK(registrar.decide(reg("app", "a"), presence, 1).status.ok);
+    CHECK(registrar.decide(reg("app", "b"), presence, 1).status.ok);
+}
+
+TEST_CASE("registrar: closed allowlist and credentials") {
+    RegistrationPolicy p;
+    p.open = false;
+    p.terminals["mes"] = TerminalEntry{"application", "s3cret"};
+    p.terminals["mill"] = TerminalEntry{"adapter", ""};
+    Presence presence(0ms, 0ms);
+    Registrar registrar(rule(p), p);
+    CHECK(registrar.decide(reg("mill", "1"), presence, 1).status.ok);
+    CHECK(registrar.decide(reg("stranger", "2"), presence, 1).status.error == 301);
+    CHECK(registrar.decide(reg("mes", "3"), presence, 1).status.error == 301);
+    CHECK(registrar.decide(reg("mes", "4", Json{{"password", "wrong"}}), presence, 1).status.error == 301);
+    CHECK(registrar.decide(reg("mes", "5", Json{{"password", "s3cret"}}), presence, 1).status.ok);
+    CHECK(registrar.decide(reg("bad/id", "6"), presence, 1).status.error == 414);
+}
+
+TEST_CASE("access: the application entry for the adapter wins over its star entry and the default") {
+    AccessPolicy p;
+    p.default_rights = access_read;
+    p.applications["mes"]["*"] = access_read | access_set;
+    p.applications["mes"]["mill-1"] = access_all;
+    p.applications["viewer"]["mill-2"] = access_read;
+    CHECK(rights_of(p, "stranger", "mill-1") == access_read);
+    CHECK(rights_of(p, "mes", "mill-1") == access_all);
+    CHECK(rights_of(p, "mes", "mill-9") == (access_read | access_set));
+    CHECK(rights_of(p, "viewer", "mill-2") == access_read);
+    CHECK(rights_of(p, "viewer", "mill-1") == access_none);  // listed: only what is listed
+    CHECK(required_right(TopicKind::set_request) == access_set);
+    CHECK(required_right(TopicKind::event_register_request) == access_read);
+    CHECK(required_right(TopicKind::method_control_request) == access_method);
+    CHECK_FALSE(required_right(TopicKind::query_response));
+}
+
+TEST_CASE("model cache: a new version needs a fetch and one fetch at a time") {
+    ModelCache cache;
+    ManualClock clock;
+    CHECK(cache.announce("d", "1.0", clock.now()));
+    cache.fetching("d", "f1", clock.now() + 1s);
+    CHECK_FALSE(cache.announce("d", "1.0", clock.now()));  // under way
+    CHECK(cache.is_fetch("d", "f1"));
+    CHECK(cache.store("d", Json{{"id", "m"}}, 10));
+    CHECK_FALSE(cache.announce("d", "1.0", clock.now()));  // have it
+    CHECK(cache.announce("d", "1.1", clock.now()));
+    CHECK(cache.find("d")->model_version == "1.0");
+    cache.fetching("d", "f2", clock.now() + 1s);
+    clock.advance(2s);
+    cache.expire_fetches(clock.now());
+    CHECK(cache.announce("d", "1.1", clock.now()));  // the overdue fetch is forgotten
+}
+
+TEST_CASE("pending forwards: answered by @id and kind or overdue or failed per adapter") {
+    PendingForwards pending;
+    ManualClock clock;
+    Forwarded q;
+    q.kind = TopicKind::query_request;
+    q.dev = "d";
+    q.ex = "app";
+    q.msg_id = Json("q1");
+    q.deadline = clock.now() + 1s;
+    pending.add(q);
+    Forwarded m = q;
+    m.kind = TopicKind::method_call;
+    m.msg_id = Json("m1");
+    pending.add(m);
+    Forwarded no_id = q;
+    no_id.msg_id.reset();
+    pending.add(no_id);  // not trackable
+    CHECK(pending.size() == 2);
+    CHECK_FALSE(pending.answered(TopicKind::set_response, "d", std::string("app"), "q1"));
+    CHECK(pending.answered(TopicKind::method_status, "d", std::string("app"), "m1"));
+    CHECK(pending.size() == 1);
+    clock.advance(1s);
+    CHECK(pending.take_expired(clock.now()).size() == 1);
+    pending.add(q);
+    CHECK(pending.take_for("other").empty());
+    CHECK(pending.take_for("d").size() == 1);
+}
+
+TEST_CASE("agent configuration: keys are read and typos refused") {
+    const Json json = Json::parse(R"({
+      "broker": {"url": "tcp://broker:1883", "mqtt_version": 4, "username": "nclink-agent"},
+      "agent_id": "agent-a", "share_group": "plant", "state_dir": "/var/lib/nclink-agent",
+      "request_timeout_ms": 900, "adapter_liveness_ms": 60000, "application_liveness_ms": 0,
+      "registration": {"open": false, "max_id_length": 64, "id_pattern": "[a-z0-9-]+",
+                       "terminals": {"mill-1": {"kind": "adapter"}, "mes": {"kind": "application", "password": "pw"}}},
+      "access": {"default": ["read"], "applications": {"mes": {"*": "all"}, "viewer": {"mill-1": ["read"]}}},
+      "acl": {"agent_user": "agents"}, "log_level": "debug"
+    })");
+    auto c = agent_config_from_json(json);
+    INFO((c.ok() ? std::string() : c.error().describe()));
+    REQUIRE(c.ok());
+    CHECK(c->broker_url == "tcp://broker:1883");
+    CHECK(c->mqtt_version == 4);
+    CHECK(c->share_group == "plant");
+    CHECK(c->request_timeout == 900ms);
+    CHECK(c->adapter_liveness == 60000ms);
+    CHECK_FALSE(c->registration.open);
+    CHECK(c->registration.terminals.at("mes").password == "pw");
+    CHECK(c->access.default_rights == access_read);
+    CHECK(c->access.applications.at("mes").at("*") == access_all);
+    CHECK(c->acl_agent_user == "agents");
+    CHECK(c->log_level == LogLevel::debug);
+
+    CHECK(agent_config_from_json(Json{{"request_timout_ms", 1}}).error().code == ErrorCode::keys_of_arguments);
+    CHECK(agent_config_from_json(Json{{"access", {{"default", {"write"}}}}}).error().code == ErrorCode::value_type);
+    CHECK(agent_config_from_json(Json{{"registration", {{"id_pattern", "(["}}}}).error().code == ErrorCode::value_type);
+    CHECK(agent_config_from_json(Json{{"share_group", "a/b"}}).error().code == ErrorCode::value_type);
+    CHECK_FALSE(load_agent_config("/nonexistent/agent.json").ok());
+}
+
+TEST_CASE("mosquitto ACL: agents get everything and adapters only the requests they may receive") {
+    AgentConfig c;
+    c.access.default_rights = access_read;
+    c.access.applications["mes"]["*"] = access_all;
+    c.access.applications["viewer"]["mill-1"] = access_read;
+    const std::string acl = mosquitto_acl(c);
+    auto has = [&](const std::string& line) {
+        INFO(line);
+        CHECK(acl.find("\n" + line + "\n") != std::string::npos);
+    };
+    has("user nclink-agent\ntopic readwrite #");
+    // mill-1 is named: explicit lines per listed application, the default for the rest
+    has("user mill-1");
+    has("topic read Set/Request/mill-1/mes");
+    has("topic deny Set/Request/mill-1/viewer");
+    has("topic read Query/Request/mill-1/viewer");
+    has("topic read Query/Request/mill-1/+");
+    // adapters not named: the default plus each application's "*" entry
+    has("pattern read Query/Request/%u/+");
+    has("pattern read Set/Request/%u/mes");
+    has("pattern read Method/Call/%u/mes");
+    has("pattern deny Query/Request/%u/viewer");
+    // applications write requests under their own id only
+    has("pattern write Set/Request/+/%u");
+    has("pattern read Set/Response/+/%u");
+    has("pattern write Register/Request");
+    has("pattern read Register/Response/%u");
+    // both spellings of the event/sampling registrations
+    has("pattern write Reigster/Event/Request/+/%u");
+    CHECK(acl.find("pattern read Set/Request/%u/+") == std::string::npos);
+}
