@@ -1,0 +1,90 @@
+// Internals of run_conformance(): the state shared by the item functions
+// (runner.cpp: connection, state, model, query; runner_features.cpp:
+// sampling, events, dynamic sampling, set, model set, methods).
+#pragma once
+
+#include "conform/checks.hpp"
+#include "conform/runner.hpp"
+
+#include <nclink/model.hpp>
+#include <nclink/topics.hpp>
+
+#include <map>
+#include <set>
+#include <memory>
+
+namespace nclink::conform::detail {
+
+/// One request and what came back.
+struct Exchange {
+    std::string topic;     ///< where the request went
+    Json request;
+    Json sent_id;          ///< the request's "@id"
+    std::optional<Captured> reply;  ///< the answer with our "@id"
+    std::optional<Json> dtu;        ///< reply parsed as a JSON object
+    std::string unparsable;         ///< why the reply is not a JSON object
+    bool mirrored = true;           ///< the reply came on the mirrored topic (WIRE.md)
+    std::vector<Captured> strays;   ///< other messages on the response topics (wrong "@id")
+};
+
+class Runner {
+public:
+    Runner(Wire& wire, const RunOptions& options);
+    TestRecord run();
+
+    // ---- plumbing ----
+    /// Publishes `payload` (with a fresh "@id" added) to `topic` and waits for
+    /// the answer with that "@id" on one of `reply_topics`; answers on
+    /// `unmirrored_topics` are taken too but flagged.
+    Exchange request(const std::string& topic, Json payload, const std::vector<std::string>& reply_topics,
+                     const std::vector<std::string>& unmirrored_topics = {});
+    /// Standard request on `X/Request/{dev}/{ex}` answered on `X/Response/{dev}/{ex}`.
+    Exchange request_kind(TopicKind kind, Json payload);
+    /// For an exchange without a usable answer: records fail or not-supported
+    /// (silence on an optional feature, or an NG 202/"not supported") in
+    /// `item` and returns true. Also returns true (and fails the item) for
+    /// answers that are not JSON objects or come on the wrong topic.
+    bool settle_unusable(ItemResult& item, const Exchange& ex, bool optional_feature);
+    void fail_with(ItemResult& item, const std::string& note, const Exchange& ex);
+    void fail_with(ItemResult& item, const std::string& note, const Captured& c);
+    ItemResult& item(std::string_view key);
+    std::chrono::milliseconds ms_since(std::chrono::steady_clock::time_point t) const;
+
+    // ---- items (in run order) ----
+    void connection();
+    void state_notification();
+    void probe();
+    void model_file();
+    void query();
+    void sampling();
+    void events();
+    void dynamic_sampling();
+    void set();
+    void model_set();
+    void methods();
+
+    // ---- helpers for features ----
+    /// An item seen changing (sample columns, or two queries apart), else a fallback.
+    std::string changing_item(bool* seen_changing);
+    std::vector<ChannelSpec> channel_specs() const;
+    /// Whole-item Query of one id: its value, or why not.
+    std::optional<Json> query_value(const std::string& id, const Json& params, std::string* why);
+
+    Wire& wire;
+    const RunOptions& opts;
+    const std::string dev;
+    const std::string ex;
+    TestRecord record;
+    bool connection_failed = false;
+    Json raw_model;                          ///< the probe as received
+    std::shared_ptr<const Model> model;      ///< parsed (null when unusable)
+    const Device* device = nullptr;
+    std::map<std::string, Json> whole_values;  ///< whole values answered by the Query item
+    std::uint64_t start_mark = 0;            ///< first message of the run
+    std::set<std::string> sent_ids;          ///< "@id"s of our requests (late answers are not strays)
+};
+
+/// "<topic>" + payload of a captured message, for evidence.
+Evidence evidence_of(const Captured& c, std::string note);
+
+}  // namespace nclink::conform::detail
