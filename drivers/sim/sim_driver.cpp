@@ -5,6 +5,7 @@
 
 #include "mill_kinematics.hpp"
 #include "mill_profile.hpp"
+#include "program_transfer.hpp"
 #include "sim_random.hpp"
 #include "value_generators.hpp"
 
@@ -364,6 +365,18 @@ DriverInfo SimDriver::info() const {
 Result<void> SimDriver::open(const DriverContext& context) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
+    if (context.config.is_object()) {
+        const Json& c = context.config;
+        if (auto dir = c.find("program_dir"); dir != c.end() && !dir->is_null()) {
+            if (!dir->is_string()) return make_error(ErrorCode::value_type, "nclink-sim: program_dir must be a string");
+            impl_->options.program_dir = dir->get<std::string>();
+        }
+        if (auto rate = c.find("transfer_rate"); rate != c.end() && !rate->is_null()) {
+            if (!rate->is_number_unsigned() && !(rate->is_number_integer() && rate->get<std::int64_t>() >= 0))
+                return make_error(ErrorCode::value_type, "nclink-sim: transfer_rate must be a non-negative integer");
+            impl_->options.transfer_rate = rate->get<std::uint64_t>();
+        }
+    }
     context.logger.info("nclink-sim: simulating device '{}' ({}) with {} data objects, seed {}", impl_->device->id,
                         impl_->mill ? "mill" : "generic", impl_->items.size(), impl_->options.seed);
     return ok_result();
@@ -408,8 +421,7 @@ Result<void> SimDriver::write(const WriteRequest& request) {
 }
 
 Result<Json> SimDriver::call_method(const std::string& method_id, const Json& args, MethodControl& control) {
-    (void)args;
-    std::lock_guard<std::mutex> lock(impl_->mutex);
+    std::unique_lock<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
     if (!impl_->model->method(method_id))
         return make_error(ErrorCode::node_not_exists, "model has no method '" + method_id + "'");
@@ -434,8 +446,15 @@ Result<Json> SimDriver::call_method(const std::string& method_id, const Json& ar
             impl_->alarms.clear();
             impl_->release_mill_pins();
             break;
-        case MillMethod::program_transfer:
-            return make_error(ErrorCode::unavailable, "program_transfer is not simulated yet");
+        case MillMethod::program_transfer: {
+            // Copies without the mutex: reads and sampling go on meanwhile.
+            sim::TransferSettings settings;
+            settings.program_dir = impl_->options.program_dir;
+            settings.bytes_per_second = impl_->options.transfer_rate;
+            settings.clock = impl_->options.clock;
+            lock.unlock();
+            return sim::transfer_program(settings, args, control);
+        }
     }
     control.progress(100);
     return Json{{"status", sim::to_string(mill.status())}};

@@ -1,7 +1,8 @@
 // nclink-sim.so: the simulator as a driver plugin. A plugin driver is default
 // constructed, so the model and options come from its open() configuration:
 //   {"model": "models/sim-mill.json", "seed": 1, "list_size": 64,
-//    "device": "mill", "autostart": true}
+//    "device": "mill", "autostart": true, "program_dir": "/var/nc/prog",
+//    "transfer_rate": 32768}   (the last two read by SimDriver::open)
 #include <nclink/driver_plugin_export.hpp>
 #include <nclink/sim_driver.hpp>
 

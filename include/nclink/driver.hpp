@@ -5,11 +5,19 @@
 //
 // Threading contract
 // - The SDK never calls a driver from an MQTT callback thread.
-// - read(), write() and call_method() come from the driver's own worker
-//   thread(s), owned by the SDK. By default they are serialized (one worker):
-//   the driver needs no locking of its own for them. A driver whose
-//   info().concurrent is true gets two workers and may be called from both at
-//   once.
+// - read() and write() come from the driver's own worker thread(s), owned by
+//   the SDK. By default they are serialized (one worker): the driver needs no
+//   locking of its own for them. A driver whose info().concurrent is true gets
+//   two workers and may be called from both at once.
+// - call_method() runs on a method thread of its own, one per accepted
+//   Method/Call (at most AdapterConfig::methods.max_running at once). It
+//   overlaps read() and write() — a program transfer or a cycle must not stop
+//   Query, Set and sampling — and other call_method() calls, whatever
+//   info().concurrent says. The driver synchronizes what its methods share
+//   with reads and writes itself (e.g. one mutex held for each short step,
+//   never across a long wait). There is no deadline: a method runs until it
+//   returns; it should call control.checkpoint() between steps so "stop",
+//   "resume" and "cancel" take effect (docs/methods.md).
 // - open() runs on the thread calling Adapter::start(), before any other call;
 //   close() on the thread calling Adapter::stop(), after the last one (not
 //   called when start() fails after open(), nor when a stuck worker had to be
@@ -21,8 +29,14 @@
 //   SDK does not wait for the driver to return, but it does not start a second
 //   call while one is running on a serialized driver either, so later calls
 //   queue (and time out) behind a stuck one.
-// - Methods (call_method) are served once the methods module lands; until then
-//   the adapter answers Method/Call with NG 202.
+// - At Adapter::stop() running methods are cancelled and waited for
+//   (methods.stop_grace, default 2 s) before close(); one still running then
+//   is abandoned, like a stuck worker.
+// - Events (docs/events.md) read watched items that no sample channel reads
+//   with read() every events.poll_interval (default 100 ms), all of them in
+//   one call. A driver that learns of changes itself may also push them:
+//   Adapter::notify_value(id, whole_value) from any thread, at any time after
+//   start() (it only queues the value; it never calls back into the driver).
 #pragma once
 
 #include <nclink/data_kind.hpp>
@@ -73,17 +87,21 @@ struct WriteRequest {
     Json new_value;
 };
 
-/// Given to a running method (Method/Call). Thread: the method runs on a
-/// driver worker; these calls may be made from it at any rate.
+/// Given to a running method (Method/Call). Thread-safe: meant for the method
+/// thread, which may call it at any rate (each call is a short lock).
 class MethodControl {
 public:
     virtual ~MethodControl() = default;
-    /// 0..100; the SDK publishes Method/Status at its own period.
+    /// 0..100 (clamped; NaN ignored); the SDK publishes the latest value in
+    /// Method/Status at its own period.
     virtual void progress(double percent) = 0;
-    /// True once Method/Control "cancel" arrived: return soon (any result).
+    /// True once Method/Control "cancel" arrived (or the adapter is
+    /// stopping): undo what must not stay half done and return soon. The
+    /// result is then reported "canceled", whatever is returned.
     virtual bool cancelled() const = 0;
-    /// Blocks while the method is paused (Method/Control "stop") until
-    /// "resume"; returns false if cancelled. Call it between steps.
+    /// Blocks while the method is paused (Method/Control "stop"; Method/Status
+    /// says "stopped" meanwhile) until "resume"; returns false if cancelled.
+    /// Call it between steps: a method that never does cannot be paused.
     virtual bool checkpoint() = 0;
 };
 
@@ -121,12 +139,16 @@ public:
         return make_error(ErrorCode::permission_denied, "driver '" + info().name + "' is read-only, cannot set " + request.id);
     }
 
-    /// Runs a METHOD of the model. Returns the method's `return` value.
-    /// Default: Node not exists (401).
+    /// Runs a METHOD of the model (method thread: see the threading contract
+    /// above). `args` is the call's args object, checked against the METHOD
+    /// object's declared args (defaults filled in). Returns the method's
+    /// `return` value (null = none), or a table-19 error: the Method/Result is
+    /// then "error" with that code, the message going to its privateInfo.
+    /// Default: Unavailable (202), a driver without methods.
     virtual Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) {
         (void)args;
         (void)control;
-        return make_error(ErrorCode::node_not_exists, "driver '" + info().name + "' has no method " + method_id);
+        return make_error(ErrorCode::unavailable, "driver '" + info().name + "' does not implement method " + method_id);
     }
 
     virtual MachineLink link() const { return MachineLink::unknown; }

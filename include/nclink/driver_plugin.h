@@ -8,8 +8,12 @@
  * host-provided callback that copies it, so no memory is ever freed across
  * the boundary. Error codes are table-19 numbers (0 = success).
  *
- * Threading: as for nclink::Driver (driver.hpp): calls are serialized unless
- * flags has NCLINK_DRIVER_CONCURRENT; never made from an MQTT thread.
+ * Threading: as for nclink::Driver (driver.hpp): read/write are serialized
+ * unless flags has NCLINK_DRIVER_CONCURRENT; call_method runs on a method
+ * thread of its own, concurrently with read/write and other call_method
+ * calls (the plugin synchronizes what they share); the nclink_method_control
+ * functions may be called from that thread at any rate until call_method
+ * returns. Never made from an MQTT thread.
  * C++ drivers can be exported with NCLINK_EXPORT_DRIVER (driver_plugin_export.hpp).
  */
 #ifndef NCLINK_DRIVER_PLUGIN_H
@@ -83,8 +87,11 @@ typedef struct nclink_driver_descriptor {
     int (*write)(void* instance, const char* id, int kind, const char* params_json,
                  const char* new_value_json, const nclink_text_output* detail);
 
-    /* Optional (NULL = no methods). Puts the return value (JSON) into
-     * `result`; returns 0 or a table-19 code with a detail in `result`. */
+    /* Optional (NULL = no methods: calls answer 202). Puts the return value
+     * (JSON; nothing = null) into `result`; returns 0 or a table-19 code
+     * (negative user codes become 202) with a detail in `result`. `control`
+     * is valid until it returns: progress 0..100, cancelled() nonzero after a
+     * "cancel", checkpoint() blocks while paused and returns 0 if cancelled. */
     int (*call_method)(void* instance, const char* method_id, const char* args_json,
                        const nclink_method_control* control, const nclink_text_output* result);
 

@@ -9,7 +9,10 @@
 // answer the same values.
 //
 // Threading: all calls lock one mutex, so the driver is safe to call from any
-// thread; info().concurrent is false all the same (the SDK serializes calls).
+// thread; info().concurrent is false all the same (the SDK serializes reads
+// and writes). Methods run on the SDK's method threads beside reads: the
+// short ones hold the mutex for their step; program_transfer copies without
+// it, so reads and sampling go on during a transfer.
 #pragma once
 
 #include <nclink/clock.hpp>
@@ -38,6 +41,13 @@ struct SimOptions {
     /// Mill only: the program is running (auto mode) from the start. When
     /// false the mill starts free and waits for cycle_start.
     bool autostart = true;
+    /// Mill only: the controller's program directory, where program_transfer
+    /// pushes to and pulls from ("" = transfers answer 202). The driver
+    /// configuration key "program_dir" (given to open()) overrides it.
+    std::string program_dir;
+    /// Mill only: simulated speed of program_transfer, bytes per second of
+    /// `clock` (0 = as fast as the disk). Configuration key "transfer_rate".
+    std::uint64_t transfer_rate = 32 * 1024;
 };
 
 class SimDriver final : public Driver {
@@ -60,9 +70,11 @@ public:
     /// errors). `setable` is not checked again: the SDK already refused Sets
     /// on non-setable items, and tests may drive any item directly.
     Result<void> write(const WriteRequest& request) override;
-    /// Mill: cycle_start, feed_hold, reset; program_transfer answers
-    /// Unavailable until the methods issue (5) adds file transfer. Other models: Unavailable for
-    /// methods of the model, Node not exists for unknown ids.
+    /// Mill: cycle_start, feed_hold, reset (return {"status": ...}) and
+    /// program_transfer (a G-code file between program_dir and a local path,
+    /// progress per KiB, pause/cancel between chunks, never a partial file;
+    /// docs/simulator.md). Other models: Unavailable for methods of the
+    /// model, Node not exists for unknown ids.
     Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override;
     /// True for configuration objects without a fixed value in the model (the
     /// simulator has them: tool table, parameters...); fixed values stay the SDK's.

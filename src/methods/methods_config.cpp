@@ -9,7 +9,12 @@ Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
     ConfigReader r(section, "methods.");
     NCLINK_TRY(r.count("max_running", out.max_running));
     NCLINK_TRY(r.duration("status_period_ms", out.status_period));
-    return r.no_unknown_keys();
+    NCLINK_TRY(r.duration("stop_grace_ms", out.stop_grace));
+    NCLINK_TRY(r.no_unknown_keys());
+    // A zero period would publish Method/Status in a busy loop.
+    if (out.status_period.count() <= 0)
+        return make_error(ErrorCode::out_of_range, "configuration: methods.status_period_ms must be positive");
+    return ok_result();
 }
 
 }  // namespace nclink::detail

@@ -74,6 +74,31 @@ TEST_CASE("a plain C plugin loads and serves reads, writes and methods") {
     CHECK(unknown.error().code == ErrorCode::node_not_exists);
 }
 
+TEST_CASE("method control crosses the C ABI: a cancelled checkpoint ends the method early") {
+    auto loaded = load_driver_plugin(plugin("c_counter"));
+    REQUIRE(loaded.ok());
+    struct CancelAt50 final : MethodControl {
+        std::vector<double> seen;
+        void progress(double p) override { seen.push_back(p); }
+        bool cancelled() const override { return !seen.empty() && seen.back() >= 50; }
+        bool checkpoint() override { return !cancelled(); }
+    } control;
+    auto ret = loaded.value()->call_method("count", Json::object(), control);
+    REQUIRE(ret.ok());
+    CHECK(ret.value().is_null());  // cancelled before it put a return value
+    CHECK(control.seen == std::vector<double>{0, 50});
+}
+
+TEST_CASE("a driver without methods answers 202 to call_method") {
+    struct Bare final : Driver {
+        void read(const std::vector<PointRef>&, std::vector<Result<Json>>&) override {}
+    } bare;
+    NoopControl control;
+    auto r = bare.call_method("any", nullptr, control);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::unavailable);
+}
+
 TEST_CASE("a C++ driver exported with NCLINK_EXPORT_DRIVER loads through the same ABI") {
     auto loaded = load_driver_plugin(plugin("cpp_exported"), Json{{"prefix", "x="}});
     REQUIRE(loaded.ok());

@@ -166,7 +166,7 @@ TEST_CASE("the mill can start free") {
     CHECK(distance(position(rig), p) > 0);
 }
 
-TEST_CASE("program_transfer is not simulated yet, unknown methods do not exist") {
+TEST_CASE("program_transfer without a program directory is unavailable and unknown methods do not exist") {
     Rig rig("sim-mill.json");
     auto r = rig.call("program_transfer");
     REQUIRE_FALSE(r.ok());
