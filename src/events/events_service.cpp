@@ -1,0 +1,343 @@
+#include "events/events_service.hpp"
+
+#include "events/event_engine.hpp"
+#include "events/value_inbox.hpp"
+
+#include <nclink/dtu.hpp>
+#include <nclink/topics.hpp>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <random>
+#include <thread>
+
+namespace nclink::detail {
+namespace {
+
+// While only the manual test clock moves, the events thread must look at it
+// again now and then: this bounds how long it sleeps while polling is due.
+constexpr std::chrono::milliseconds kMaxSleep{20};
+
+class EventsServiceImpl final : public AdapterService {
+public:
+    explicit EventsServiceImpl(ServiceHost& host)
+        : host_(host),
+          config_(host.config.events),
+          engine_(config_.max_events, fmt::format("{:x}", std::random_device{}() & 0xffffffu)) {}
+
+    ~EventsServiceImpl() override { stop(); }
+
+    std::string_view name() const override { return "events"; }
+
+    bool handles(TopicKind kind) const override {
+        return kind == TopicKind::event_register_request || kind == TopicKind::event_unregister_request;
+    }
+
+    void handle(const ParsedTopic& topic, const std::string& payload) override {
+        if (topic.kind == TopicKind::event_register_request)
+            register_event(topic, payload);
+        else
+            unregister_event(topic, payload);
+    }
+
+    Result<void> start() override {
+        thread_ = std::thread([this] { run(); });
+        return ok_result();
+    }
+
+    void stop() override {
+        inbox_->close();
+        if (thread_.joinable()) thread_.join();
+        std::lock_guard<std::mutex> lock(engine_mutex_);
+        set_tap(false);
+    }
+
+    void on_model(std::shared_ptr<const ModelState> state) override {
+        std::vector<std::string> released;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            released = engine_.retain_items([&](const EventSpec& spec) {
+                const DataObject* item = state->item(spec.item);
+                return item != nullptr && item->kind == spec.kind;
+            });
+            watched_changed();
+        }
+        for (const auto& id : released)
+            host_.logger.info("event {} released: its item is gone from the new model (or changed datatype)", id);
+    }
+
+    void on_application_gone(const std::string& ex) override {
+        std::vector<std::string> released;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            released = engine_.remove_owner(ex);
+            watched_changed();
+        }
+        if (!released.empty())
+            host_.logger.info("released {} event(s) of application {}", released.size(), ex);
+    }
+
+    void on_value(const std::string& id, const Json& value) override {
+        inbox_->push_value(id, value, host_.clock->wall_ms());
+    }
+
+    Json stats() const override {
+        std::lock_guard<std::mutex> lock(engine_mutex_);
+        return Json{{"registered", engine_.size()},
+                    {"fired", engine_.fired()},
+                    {"released", engine_.released()},
+                    {"polls", polls_.load()},
+                    {"dropped_values", inbox_->dropped()}};
+    }
+
+private:
+    // ------------------------------------------------------- requests
+
+    // Thread: request worker.
+    void register_event(const ParsedTopic& topic, const std::string& payload) {
+        auto request = decode<EventRegisterRequest>(payload);
+        if (!request) {
+            host_.logger.info("malformed Register/Event answered NG: {}", request.error().describe());
+            if (auto reply = make_error_reply(topic.kind, peek_message_id(payload), host_.dev, request.error()))
+                host_.respond(topic, *reply);
+            return;
+        }
+        auto response = make_reply<EventRegisterResponse>(*request, host_.dev);
+        const auto state = host_.model.current();
+        auto spec = validate_registration(*request, state->item(request->id));
+        if (!spec) {
+            refuse(topic, response, spec.error());
+            return;
+        }
+        std::string event_id;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            auto added = engine_.add(topic.ex, *spec);
+            if (!added) {
+                refuse(topic, response, added.error());
+                return;
+            }
+            event_id = std::move(added).value();
+            watched_changed();
+        }
+        // The current value, so the registration can fire at once when it
+        // already matches; a key/index it does not have is refused now.
+        const std::int64_t read_at = host_.clock->wall_ms();
+        const auto registered_at = host_.clock->now();
+        std::optional<Json> current = read_current(*state, *spec);
+        if (current) {
+            if (auto element = extract_element(*spec, *current);
+                !element && element.error().code != ErrorCode::unavailable) {
+                {
+                    std::lock_guard<std::mutex> lock(engine_mutex_);
+                    (void)engine_.remove(event_id, topic.ex);
+                    watched_changed();
+                }
+                refuse(topic, response, element.error());
+                return;
+            }
+        }
+        response.id = event_id;
+        host_.logger.debug("event {} registered by {} on {}", event_id, topic.ex.value_or("(no terminal id)"),
+                           spec->item);
+        host_.respond(topic, to_json(response));
+        inbox_->push_activation(event_id, std::move(current), read_at, registered_at);
+    }
+
+    // Thread: request worker.
+    void unregister_event(const ParsedTopic& topic, const std::string& payload) {
+        auto request = decode<EventUnregisterRequest>(payload);
+        if (!request) {
+            host_.logger.info("malformed Unregister/Event answered NG: {}", request.error().describe());
+            if (auto reply = make_error_reply(topic.kind, peek_message_id(payload), host_.dev, request.error()))
+                host_.respond(topic, *reply);
+            return;
+        }
+        auto response = make_reply<EventUnregisterResponse>(*request, host_.dev);
+        Result<void> removed = ok_result();
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            removed = engine_.remove(request->id, topic.ex);
+            watched_changed();
+        }
+        if (!removed) {
+            host_.logger.info("Unregister/Event {} refused: {}", request->id, removed.error().describe());
+            response.status = ResponseStatus(removed.error());
+        }
+        host_.respond(topic, to_json(response));
+    }
+
+    template <class Response>
+    void refuse(const ParsedTopic& topic, Response& response, const Error& error) {
+        host_.logger.info("Register/Event refused: {}", error.describe());
+        response.status = ResponseStatus(error);
+        host_.respond(topic, to_json(response));
+    }
+
+    // The whole value now: the store for SDK-held items, else the driver.
+    std::optional<Json> read_current(const ModelState& state, const EventSpec& spec) {
+        if (state.sdk_held(spec.item)) {
+            auto value = state.store->get(spec.item);
+            if (value) return std::move(value).value();
+            return std::nullopt;
+        }
+        auto read = host_.driver.read({PointRef{spec.item, spec.kind}});
+        if (!read.empty() && read.front().ok()) return std::move(read.front()).value();
+        return std::nullopt;
+    }
+
+    // ------------------------------------------------------- events thread
+
+    // Polls run on a grid of poll_interval that starts one interval after
+    // the registration that ended an idle spell (not after the moment this
+    // thread noticed it), so a test's manual clock and a real one agree.
+    // While no event exists the thread sleeps until something is queued.
+    void run() {
+        const bool poll_enabled = config_.poll_interval.count() > 0;
+        // (A flag beside the time rather than std::optional: g++ 12 -O2 warns
+        // maybe-uninitialized on optional<time_point> here.)
+        bool polling = false;  // false while idle
+        Clock::Steady next_poll{};
+        while (true) {
+            auto work = inbox_->wait(polling ? std::optional<std::chrono::milliseconds>(sleep_until(next_poll))
+                                             : std::nullopt);
+            if (work.closed) return;
+            for (auto& item : work.items) {
+                process(item);
+                if (item.activation && poll_enabled && !polling) {
+                    polling = true;
+                    next_poll = item.at + config_.poll_interval;
+                }
+            }
+            if (!polling) continue;
+            if (!has_active()) {
+                polling = false;
+                continue;
+            }
+            const auto now = host_.clock->now();
+            if (now >= next_poll) {
+                poll();
+                next_poll += config_.poll_interval;
+                if (next_poll <= now) next_poll = now + config_.poll_interval;  // fell behind: skip, do not burst
+            }
+        }
+    }
+
+    std::chrono::milliseconds sleep_until(Clock::Steady deadline) const {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - host_.clock->now());
+        if (left.count() <= 0) return std::chrono::milliseconds(0);
+        return std::min(left, kMaxSleep);
+    }
+
+    bool has_active() const {
+        std::lock_guard<std::mutex> lock(engine_mutex_);
+        return engine_.size() > 0;
+    }
+
+    void process(ValueInbox::Item& item) {
+        std::vector<FiredEvent> fired;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            const auto before = engine_.size();
+            if (item.activation)
+                fired = engine_.activate(item.id, item.value, item.time_ms);
+            else if (item.value)
+                fired = engine_.observe(item.id, *item.value, item.time_ms);
+            if (engine_.size() != before) watched_changed();  // a once trigger released its event
+        }
+        publish(fired);
+    }
+
+    // One poll round: every watched item that the sample stream does not bring.
+    void poll() {
+        std::map<std::string, DataKind> items;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            items = engine_.active_items();
+        }
+        const auto state = host_.model.current();
+        std::vector<PointRef> points;
+        std::vector<std::pair<std::string, Json>> values;
+        const std::int64_t now_ms = host_.clock->wall_ms();
+        for (const auto& [id, kind] : items) {
+            if (host_.sample_tap.sampled(id)) continue;
+            if (state->sdk_held(id)) {
+                if (auto value = state->store->get(id)) values.emplace_back(id, std::move(value).value());
+                continue;
+            }
+            points.push_back(PointRef{id, kind});
+        }
+        if (!points.empty()) {
+            auto read = host_.driver.read(points, host_.config.driver_timeout);
+            for (std::size_t i = 0; i < points.size() && i < read.size(); ++i)
+                if (read[i].ok()) values.emplace_back(points[i].id, std::move(read[i]).value());
+        }
+        if (points.empty() && values.empty()) return;
+        std::vector<FiredEvent> fired;
+        {
+            std::lock_guard<std::mutex> lock(engine_mutex_);
+            const auto before = engine_.size();
+            for (const auto& [id, value] : values) {
+                auto more = engine_.observe(id, value, now_ms);
+                fired.insert(fired.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
+            }
+            if (engine_.size() != before) watched_changed();
+        }
+        publish(fired);
+        ++polls_;  // after publishing: a test that saw the count also sees the round's events sent
+    }
+
+    void publish(std::vector<FiredEvent>& fired) {
+        for (auto& event : fired) {
+            event.dtu.msg_id = Json(host_.next_msg_id());
+            event.dtu.guid = host_.dev;
+            const auto topic = topics::event(host_.dev, event.owner ? std::optional<std::string_view>(*event.owner)
+                                                                     : std::nullopt);
+            if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), 1, false}); !sent)
+                host_.logger.warn("event {} not published: {}", event.dtu.id, sent.error().describe());
+        }
+    }
+
+    // ------------------------------------------------------- the sample stream
+
+    // Caller holds engine_mutex_. The inbox learns which items to pick from
+    // the stream; the tap is only watched while some event exists, so an
+    // adapter without events costs the sampling path nothing.
+    void watched_changed() {
+        auto items = engine_.watched_items();
+        set_tap(!items.empty());
+        inbox_->set_watched(std::move(items));
+    }
+
+    void set_tap(bool on) {
+        if (on && !tap_handle_) {
+            // The observer holds the inbox, not the service: a row delivered
+            // while the tap is being left finds a live (closed) inbox.
+            tap_handle_ = host_.sample_tap.add(
+                [inbox = inbox_](const std::vector<std::string>& ids, const SampleValue* values, std::int64_t time_ms) {
+                    inbox->push_row(ids, values, time_ms);
+                });
+        } else if (!on && tap_handle_) {
+            host_.sample_tap.remove(*tap_handle_);
+            tap_handle_.reset();
+        }
+    }
+
+    ServiceHost& host_;
+    const EventsConfig config_;
+    std::shared_ptr<ValueInbox> inbox_ = std::make_shared<ValueInbox>(config_.max_queued_values);
+    mutable std::mutex engine_mutex_;
+    EventEngine engine_;                      // engine_mutex_
+    std::optional<std::uint64_t> tap_handle_;  // engine_mutex_
+    std::atomic<std::uint64_t> polls_{0};
+    std::thread thread_;
+};
+
+}  // namespace
+
+std::unique_ptr<AdapterService> make_events_service(ServiceHost& host) {
+    return std::make_unique<EventsServiceImpl>(host);
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,32 @@
+// The events feature of the adapter (8.2.27-8.2.31): answers Register/Event
+// and Unregister/Event, watches the registered items and publishes Event
+// DTUs on Event/{dev}/{ex} (QoS 1, not retained).
+//
+// How values are watched (docs/events.md):
+// - an item some running sample channel reads: from the sample stream
+//   (SampleTap), every sampled row, at the channel's sample interval;
+// - otherwise by polling: every EventsConfig::poll_interval one read of all
+//   such items (driver items in one driver call with the driver deadline,
+//   SDK-held items from the value store); poll_interval 0 turns polling off;
+// - and whenever the driver pushes a value (Adapter::notify_value).
+// At registration the current value is read once (from the driver or the
+// store) and evaluated right after the response is published.
+//
+// Threads: requests on the adapter's request workers; ONE events thread
+// evaluates every value and publishes every Event DTU (so a registration's
+// events go out in order, after its response); the sample stream and
+// notify_value only queue values for it. Time comes from the host's clock.
+#pragma once
+
+#include "adapter/adapter_service.hpp"
+
+#include <memory>
+
+namespace nclink::detail {
+
+class EventsService;
+
+/// The service; `host` outlives it.
+std::unique_ptr<AdapterService> make_events_service(ServiceHost& host);
+
+}  // namespace nclink::detail

@@ -1,0 +1,74 @@
+// Values on their way to the events thread: rows of the sample stream (from
+// the sampling uploader), driver pushes (Adapter::notify_value, any thread)
+// and registrations to start (request workers). Producers never block on the
+// evaluation; only values of watched items are kept, at most `capacity` of
+// them (beyond it new values are dropped and counted: a stalled events thread
+// must not grow memory without bound). Starting a registration is never dropped.
+// Thread-safe.
+#pragma once
+
+#include <nclink/json.hpp>
+#include <nclink/sample_value.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace nclink::detail {
+
+/// A sample value as JSON: text as a string, serialized JSON parsed.
+/// std::nullopt for a missed read (a null slot of the row), NaN/infinity and
+/// JSON text that does not parse: no value was read, so there is nothing to
+/// compare (a miss between two equal values is no change).
+std::optional<Json> sample_value_to_json(const SampleValue& value);
+
+class ValueInbox {
+public:
+    struct Item {
+        std::string id;             ///< item id, or event id for an activation
+        std::optional<Json> value;  ///< whole value (absent: activation without a known value)
+        std::int64_t time_ms = 0;
+        bool activation = false;
+        std::chrono::steady_clock::time_point at{};  ///< activation: when the registration was made
+    };
+    struct Work {
+        std::vector<Item> items;
+        bool closed = false;
+    };
+
+    explicit ValueInbox(std::size_t capacity = 65536) : capacity_(capacity) {}
+
+    void set_watched(std::set<std::string> items);
+    void push_value(const std::string& id, const Json& value, std::int64_t time_ms);
+    void push_row(const std::vector<std::string>& ids, const SampleValue* values, std::int64_t time_ms);
+    void push_activation(const std::string& event_id, std::optional<Json> whole, std::int64_t time_ms,
+                         std::chrono::steady_clock::time_point at);
+
+    /// Everything queued; waits for something (or close) when empty, at most
+    /// `timeout` when given. Called by the one consumer.
+    Work wait(std::optional<std::chrono::milliseconds> timeout);
+    /// Wakes the consumer for good; later pushes are ignored.
+    void close();
+
+    std::uint64_t dropped() const;
+
+private:
+    bool accept_locked();
+
+    const std::size_t capacity_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::set<std::string> watched_;
+    std::deque<Item> items_;
+    std::size_t values_ = 0;  // queued non-activation items
+    std::uint64_t dropped_ = 0;
+    bool closed_ = false;
+};
+
+}  // namespace nclink::detail

@@ -1,0 +1,360 @@
+// Events end to end: the simulated mill behind an Adapter, a real mosquitto,
+// and applications using the client library and the `nclink events` CLI.
+#include <nclink/adapter.hpp>
+#include <nclink/client.hpp>
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/sim_driver.hpp>
+#include <nclink/topics.hpp>
+
+#include "support/mosquitto_broker.hpp"
+#include "support/wait.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <mutex>
+#include <thread>
+
+using namespace nclink;
+using nclink::test::eventually;
+using nclink::test::MosquittoBroker;
+
+namespace {
+
+const std::string kDev = "nclink-sim-mill-01";
+
+std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+
+/// Event DTUs a callback received, for the test thread.
+struct Seen {
+    std::mutex mutex;
+    std::vector<EventData> events;
+    Client::EventHandler handler() {
+        return [this](const EventData& e) {
+            std::lock_guard<std::mutex> lock(mutex);
+            events.push_back(e);
+        };
+    }
+    std::size_t size() {
+        std::lock_guard<std::mutex> lock(mutex);
+        return events.size();
+    }
+    EventData at(std::size_t i) {
+        std::lock_guard<std::mutex> lock(mutex);
+        return events.at(i);
+    }
+};
+
+struct Rig {
+    explicit Rig(std::size_t max_events = 8, std::chrono::milliseconds lease = std::chrono::minutes(5)) {
+        AdapterConfig c;
+        c.model_path = mill_path();
+        c.broker_url = broker.url();
+        c.register_timeout = std::chrono::milliseconds(500);
+        c.events.max_events = max_events;
+        c.events.poll_interval = std::chrono::milliseconds(50);
+        c.application_lease = lease;
+        auto sim = SimDriver::create(load_model_file(mill_path()).model);
+        REQUIRE(sim.ok());
+        adapter = std::make_unique<Adapter>(c, std::shared_ptr<Driver>(std::move(sim).value()));
+        REQUIRE(adapter->start().ok());
+        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+        client = make_client("app");
+    }
+    std::unique_ptr<Client> make_client(const std::string& ex) {
+        MqttOptions m;
+        m.broker_url = broker.url();
+        m.client_id = "nclink-itest-" + ex;
+        ClientOptions o;
+        o.ex_cid = ex;
+        o.default_timeout = std::chrono::seconds(5);
+        auto made = Client::create(m, o);
+        REQUIRE(made.ok());
+        auto c = std::move(made).value();
+        REQUIRE(c->start().ok());
+        REQUIRE(c->wait_connected(std::chrono::seconds(10)));
+        return c;
+    }
+    void set(const std::string& id, Json params) {
+        auto results = client->set(kDev, {SetItem{id, std::move(params)}});
+        REQUIRE(results.ok());
+        INFO(id);
+        REQUIRE(results->at(0).status.ok);
+    }
+    Json query(const std::string& id, Json params = nullptr) {
+        QueryItem item{id, params.is_null() ? std::nullopt : std::optional<Json>(params)};
+        auto results = client->query(kDev, {item});
+        REQUIRE(results.ok());
+        REQUIRE(results->at(0).status.ok);
+        return (*results->at(0).values)[0];
+    }
+    Json stats() { return adapter->stats().features["events"]; }
+
+    MosquittoBroker broker;
+    std::unique_ptr<Adapter> adapter;
+    std::unique_ptr<Client> client;  // after the adapter: stopped first
+};
+
+Client::EventRegistration on(const std::string& id, std::vector<Json> filters = {}, std::string trigger = "always") {
+    Client::EventRegistration r;
+    r.id = id;
+    r.filters = std::move(filters);
+    r.trigger = std::move(trigger);
+    return r;
+}
+
+ErrorCode refused(Rig& rig, Client::EventRegistration r) {
+    Seen seen;
+    auto id = rig.client->register_event(kDev, std::move(r), seen.handler());
+    REQUIRE_FALSE(id.ok());
+    return id.error().code;
+}
+
+struct Run {
+    int status = -1;
+    std::string out;
+};
+
+bool cli_built() { return ::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) == 0; }
+
+Run run_cli(const std::string& args) {
+    Run run;
+    std::FILE* pipe = ::popen((std::string(NCLINK_BINARY_DIR) + "/bin/nclink " + args + " 2>/dev/null").c_str(), "r");
+    REQUIRE(pipe != nullptr);
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
+    const int status = ::pclose(pipe);
+    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("events on the sim: a greater filter fires when a Set moves the value") {
+    Rig rig;
+    rig.set("feed_override", {{"value", 100}});
+    Seen seen;
+    auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "greater"}, {"value", 110}}}),
+                                         seen.handler());
+    REQUIRE(id.ok());
+    rig.set("feed_override", {{"value", 120}});
+    REQUIRE(eventually([&] { return seen.size() == 1; }));
+    const EventData e = seen.at(0);
+    CHECK(e.id == *id);
+    CHECK(e.guid == kDev);
+    CHECK(e.event.id == "feed_override");
+    CHECK(e.event.value == 120);
+    REQUIRE(e.event.old_value);
+    CHECK(*e.event.old_value == 100);
+    CHECK(rig.client->stats().events == 1);
+    REQUIRE(rig.client->unregister_event(kDev, *id).ok());
+    CHECK(rig.stats()["registered"] == 0);
+}
+
+TEST_CASE("events on the sim: each trigger type") {
+    Rig rig;
+    rig.set("spindle_override", {{"value", 100}});
+    const Json below{{"type", "less"}, {"value", 90}};
+    Seen always, normal, once;
+    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "always"), always.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "normal"), normal.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "once"), once.handler()).ok());
+    CHECK(rig.client->event_registrations() == 3);
+    for (int v : {80, 70, 95, 60}) {
+        rig.set("spindle_override", {{"value", v}});
+        // Each value stays long enough for a poll (50 ms) to see it.
+        REQUIRE(eventually([&] { return rig.query("spindle_override") == v; }));
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    REQUIRE(eventually([&] { return always.size() == 3; }));
+    CHECK(always.at(0).event.value == 80);
+    CHECK(always.at(1).event.value == 70);
+    CHECK(always.at(2).event.value == 60);
+    REQUIRE(eventually([&] { return normal.size() == 2; }));
+    CHECK(normal.at(0).event.value == 80);
+    CHECK(normal.at(1).event.value == 60);
+    CHECK(once.size() == 1);
+    CHECK(once.at(0).event.value == 80);
+    CHECK(rig.client->event_registrations() == 2);  // the once callback went with its event
+    CHECK(rig.stats()["registered"] == 2);
+}
+
+TEST_CASE("events on the sim: a sampled item is watched from the sample stream") {
+    Rig rig;
+    // x_position is in the model's ch_fast channel and moves while the
+    // simulated program runs.
+    Seen seen;
+    auto id = rig.client->register_event(kDev, on("x_position", {{{"type", "change"}, {"variance", 0.5}}}),
+                                         seen.handler());
+    REQUIRE(id.ok());
+    REQUIRE(eventually([&] { return seen.size() >= 3; }));
+    REQUIRE(rig.client->unregister_event(kDev, *id).ok());
+    CHECK(rig.stats()["polls"] == 0);  // nothing was polled: the rows brought every value
+    for (std::size_t i = 1; i < 3; ++i) {
+        const EventData e = seen.at(i);
+        INFO(encode(e));
+        REQUIRE(e.event.old_value);
+        CHECK(e.event.value.is_number());
+        CHECK(std::abs(e.event.value.get<double>() - seen.at(i - 1).event.value.get<double>()) >= 0.5);
+    }
+}
+
+TEST_CASE("events on the sim: an event that matches at registration fires at once") {
+    Rig rig;
+    rig.set("feed_override", {{"value", 100}});
+    Seen seen;
+    auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "equal"}, {"value", 100}}}),
+                                         seen.handler());
+    REQUIRE(id.ok());
+    REQUIRE(eventually([&] { return seen.size() == 1; }));
+    CHECK(seen.at(0).event.value == 100);
+    CHECK_FALSE(seen.at(0).event.old_value);
+}
+
+TEST_CASE("events on the sim: dict and list elements") {
+    Rig rig;
+    const Json p1 = rig.query("parameters", {{"keys", {"P0001"}}});
+    Seen dict, list;
+    auto reg_dict = on("parameters", {{{"type", "change"}, {"variance", 10}}});
+    reg_dict.key = "P0001";
+    REQUIRE(rig.client->register_event(kDev, reg_dict, dict.handler()).ok());
+    auto reg_list = on("tools");
+    reg_list.index = 0;
+    REQUIRE(rig.client->register_event(kDev, reg_list, list.handler()).ok());
+
+    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 1}});  // below the variance? first event: no check
+    REQUIRE(eventually([&] { return dict.size() == 1; }));
+    CHECK(dict.at(0).event.key == std::optional<std::string>("P0001"));
+    CHECK(dict.at(0).event.value == p1.get<double>() + 1);
+    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 5}});  // 4 from the last event
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 20}});  // 19: fires
+    REQUIRE(eventually([&] { return dict.size() == 2; }));
+    CHECK(dict.at(1).event.value == p1.get<double>() + 20);
+    CHECK(*dict.at(1).event.old_value == p1.get<double>() + 5);
+
+    Json tool = rig.query("tools", {{"indexes", {"0"}}});
+    const Json before = tool;
+    tool["length"] = 123.25;
+    rig.set("tools", {{"index", 0}, {"value", tool}});
+    REQUIRE(eventually([&] { return list.size() == 1; }));
+    CHECK(list.at(0).event.index == std::optional<std::int64_t>(0));
+    CHECK(list.at(0).event.value == tool);
+    CHECK(*list.at(0).event.old_value == before);
+}
+
+TEST_CASE("events on the sim: every refusal reaches the client as its table-19 code") {
+    Rig rig(2);
+    CHECK(refused(rig, on("no_such_item")) == ErrorCode::node_not_exists);
+    CHECK(refused(rig, on("tools")) == ErrorCode::no_index);
+    CHECK(refused(rig, on("parameters")) == ErrorCode::no_key);
+    CHECK(refused(rig, on("feed_override", {{{"type", "between"}}})) == ErrorCode::filter_type);
+    CHECK(refused(rig, on("feed_override", {}, "sometimes")) == ErrorCode::trigger_type);
+    CHECK(refused(rig, on("feed_override", {{{"type", "change"}, {"from", 1}}})) == ErrorCode::filter_arguments_mismatch);
+    auto missing_key = on("parameters");
+    missing_key.key = "NOPE";
+    CHECK(refused(rig, missing_key) == ErrorCode::key_error);
+    // Resource exhaustion, then a release frees a slot.
+    Seen seen;
+    auto a = rig.client->register_event(kDev, on("feed_override"), seen.handler());
+    REQUIRE(a.ok());
+    REQUIRE(rig.client->register_event(kDev, on("spindle_override"), seen.handler()).ok());
+    CHECK(refused(rig, on("status")) == ErrorCode::insufficient_event);
+    // Unregister: unknown, another application's, then the owner's.
+    auto other = rig.make_client("other");
+    auto stranger = other->unregister_event(kDev, *a);
+    REQUIRE_FALSE(stranger.ok());
+    CHECK(stranger.error().code == ErrorCode::permission_denied);
+    CHECK(rig.client->unregister_event(kDev, "event_nope").error().code == ErrorCode::node_not_exists);
+    REQUIRE(rig.client->unregister_event(kDev, *a).ok());
+    CHECK(rig.client->register_event(kDev, on("status"), seen.handler()).ok());
+    other->stop();
+}
+
+TEST_CASE("events on the sim: events of an application that goes offline are released") {
+    Rig rig;
+    auto leaving = rig.make_client("leaving");
+    Seen seen;
+    REQUIRE(leaving->register_event(kDev, on("feed_override"), seen.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, on("feed_override"), seen.handler()).ok());
+    CHECK(rig.stats()["registered"] == 2);
+    // What an agent (or the application's last will) publishes when it leaves.
+    MqttOptions m;
+    m.broker_url = rig.broker.url();
+    m.client_id = "nclink-itest-notifier";
+    auto notifier = make_mqtt_transport(m).value();
+    REQUIRE(notifier->start().ok());
+    REQUIRE(eventually([&] { return notifier->state() == LinkState::connected; }));
+    REQUIRE(notifier->publish(Message{topics::notify_state("leaving"), R"({"tid":"leaving","state":"offline"})", 1, false}).ok());
+    REQUIRE(eventually([&] { return rig.stats()["registered"] == 1; }));
+    CHECK(rig.stats()["released"] == 1);
+    notifier->stop();
+    leaving->stop();
+}
+
+TEST_CASE("events on the sim: events of an application silent for the lease are released") {
+    Rig rig(8, std::chrono::milliseconds(600));
+    Seen seen;
+    REQUIRE(rig.client->register_event(kDev, on("feed_override"), seen.handler()).ok());
+    CHECK(rig.stats()["registered"] == 1);
+    REQUIRE(eventually([&] { return rig.stats()["registered"] == 0; }));
+    CHECK(rig.stats()["released"] == 1);
+}
+
+TEST_CASE("events on the sim: nclink events prints the events live") {
+    if (!cli_built()) {
+        WARN("bin/nclink not built: skipped");
+        return;
+    }
+    Rig rig;
+    rig.set("feed_override", {{"value", 100}});
+    auto cli = std::async(std::launch::async, [&] {
+        return run_cli("events --broker " + rig.broker.url() + " --device " + kDev +
+                       " feed_override --filter greater:110 --filter equal:50 --count 2 --json --timeout 5000");
+    });
+    REQUIRE(eventually([&] { return rig.stats()["registered"] == 1; }));
+    rig.set("feed_override", {{"value", 120}});
+    REQUIRE(eventually([&] { return rig.stats()["fired"] == 1; }));
+    rig.set("feed_override", {{"value", 50}});
+    const Run run = cli.get();
+    CHECK(run.status == 0);
+    std::vector<Json> lines;
+    std::size_t start = 0;
+    while (start < run.out.size()) {
+        const auto end = run.out.find('\n', start);
+        lines.push_back(Json::parse(run.out.substr(start, end - start)));
+        start = end == std::string::npos ? run.out.size() : end + 1;
+    }
+    REQUIRE(lines.size() == 2);
+    CHECK(lines[0]["event"]["value"] == 120);
+    CHECK(lines[1]["event"]["value"] == 50);
+    CHECK(lines[1]["event"]["oldValue"] == 120);
+    // It unregistered on the way out.
+    REQUIRE(eventually([&] { return rig.stats()["registered"] == 0; }));
+}
+
+TEST_CASE("events on the sim: nclink events exit codes") {
+    if (!cli_built()) {
+        WARN("bin/nclink not built: skipped");
+        return;
+    }
+    Rig rig;
+    CHECK(run_cli("events --broker " + rig.broker.url() + " --device " + kDev + " no_such_item").status == 1);
+    CHECK(run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter bogus:1").status == 2);
+    CHECK(run_cli("events --broker " + rig.broker.url() + " --device " + kDev + " feed_override --trigger maybe").status == 2);
+    CHECK(run_cli("events --broker " + rig.broker.url() + " --device " + kDev).status == 2);
+    // A refused filter is the adapter's answer (421): exit 1.
+    CHECK(run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter '{\"type\":\"change\",\"from\":1}'").status == 1);
+    // once: the first event ends it.
+    rig.set("feed_override", {{"value", 100}});
+    const Run once = run_cli("events --broker " + rig.broker.url() + " " + kDev +
+                             " feed_override --filter equal:100 --trigger once");
+    CHECK(once.status == 0);
+    CHECK(once.out.find("feed_override 100") != std::string::npos);
+}
