@@ -20,6 +20,7 @@
 #include <nclink/driver.hpp>
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
+#include <nclink/sampling.hpp>
 #include <nclink/transport.hpp>
 
 #include <functional>
@@ -42,6 +43,10 @@ struct AdapterStats {
     /// keyed by feature name.
     Json features = Json::object();
 };
+
+/// The statistics as one JSON object (what the `nclink_stats` data item and
+/// `nclink stats` show; docs/sampling.md).
+Json to_json(const AdapterStats& stats);
 
 /// Called after a Probe/Set replaced the model (on a request worker). Later
 /// modules (sampling, events) restart what runs from the model here.
@@ -79,6 +84,24 @@ public:
     AdapterStats stats() const;
 
     void add_model_listener(ModelListener listener);
+
+    /// Push-mode handle of a model sample channel listed in
+    /// SamplingConfig::push_channels (docs/sampling.md). Call after start();
+    /// the handle's push() is wait-free and safe from a real-time thread.
+    /// Errors: 401 no such channel, 405 not a push-mode channel, 202 not
+    /// started or sampling disabled. Thread-safe.
+    Result<PushChannel> push_channel(const std::string& channel_id) const;
+    /// Statistics of the sample channels (also in stats().features["sampling"]). Thread-safe.
+    SamplingStats sampling_stats() const;
+
+    /// A driver (or the firmware) says item `id` has the whole value `value`
+    /// now, e.g. from its own change notification. Events watching the item
+    /// (docs/events.md) evaluate it at once instead of waiting for the next
+    /// poll. Thread-safe, never blocks on the network or the driver: the value
+    /// is queued for the events thread. Ignored before start() has returned
+    /// and for items no event watches. Not needed for correctness: unsampled
+    /// items are polled anyway (EventsConfig::poll_interval).
+    void notify_value(const std::string& id, Json value);
 
     struct Impl;
 

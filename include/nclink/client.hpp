@@ -22,6 +22,7 @@
 // Errors are values; nothing thrown escapes.
 #pragma once
 
+#include <nclink/client_state.hpp>
 #include <nclink/dtu.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -39,19 +40,14 @@
 
 namespace nclink {
 
-/// The application state of seed 004 (initial, normal, request, disconnected).
-/// For now derived from the link and the pending requests; the full state
-/// machine (queueing requests while disconnected, replaying them on
-/// reconnect) comes later. Until then requests made while the link is down
-/// wait in the transport's offline buffer, their timeouts running.
-enum class ClientState {
-    initial,       ///< not started, or the link has never come up
-    normal,        ///< connected, no request outstanding
-    request,       ///< connected, at least one request waiting for its response
-    disconnected,  ///< the link was up and is down now
-};
-
-std::string_view to_string(ClientState state) noexcept;
+// ClientState (include/nclink/client_state.hpp) is the application state
+// machine of seed 004: initial until the link first comes up, then normal
+// (connected, nothing outstanding), request (connected, requests outstanding)
+// and disconnected. Requests made while not connected (initial or
+// disconnected) are queued by the client and sent, in order, when the link
+// comes back; they keep the deadline they got when made, and one that times
+// out while queued fails with 203 and is never sent (docs/client.md,
+// "State machine").
 
 struct ClientOptions {
     /// The application's terminal id (ex_cid): cli_uuid when registering and the
@@ -59,6 +55,8 @@ struct ClientOptions {
     std::string ex_cid;
     /// Timeout of a request whose RequestOptions give none.
     std::chrono::milliseconds default_timeout{2000};
+    /// Requests held at most while the link is down (more fail with 404).
+    std::size_t max_queued_requests = 1024;
     /// How long stop() lets the transport flush what is still buffered.
     std::chrono::milliseconds stop_flush_timeout{500};
     /// Called on the dispatch thread when the link changes state.
@@ -93,6 +91,8 @@ struct ClientStats {
     std::uint64_t unreachable = 0;          ///< requests completed by a DEV_UNREACHABLE answer
     std::uint64_t samples = 0;              ///< Sample DTUs handed to handlers
     std::uint64_t notifications = 0;        ///< state and version notifications handed to handlers
+    std::uint64_t queued = 0;               ///< requests made while disconnected (held, sent on reconnect)
+    std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks (client_events.cpp)
 };
 
 using SubscriptionId = std::uint64_t;
@@ -144,8 +144,14 @@ public:
     void set_async(const std::string& dev, std::vector<SetItem> items, Completion<std::vector<SetResult>> done,
                    RequestOptions options = {});
 
+    /// Discovery/Request: the adapters this application may access, as the
+    /// agent lists them (guid, status, lastAliveTimeStamp). An empty list when
+    /// the agent answers deviceList null; 203 when no agent answers.
+    void discover_async(Completion<std::vector<DeviceListEntry>> done, RequestOptions options = {});
+
     // ---- the same, blocking (not from a callback) ------------------------------
     Result<RegisterOutcome> register_terminal(RequestOptions options = {});
+    Result<std::vector<DeviceListEntry>> discover(RequestOptions options = {});
     Result<Json> probe(const std::string& dev, RequestOptions options = {});
     Result<void> probe_set(const std::string& dev, Json model, RequestOptions options = {});
     Result<std::vector<QueryResult>> query(const std::string& dev, std::vector<QueryItem> items,
@@ -166,6 +172,114 @@ public:
     /// handler of its filter). Called on the dispatch thread it takes effect at
     /// once; from another thread a handler call already under way may finish.
     Result<void> unsubscribe(SubscriptionId id);
+
+    // ==== methods (8.2.22-8.2.26; src/client/client_methods.cpp, docs/methods.md) ====
+    /// Method/Control actions (8.2.25): stop pauses, resume continues, cancel ends.
+    enum class MethodAction { stop, resume, cancel };
+    /// "stop", "resume", "cancel".
+    static std::string_view method_action_name(MethodAction action) noexcept;
+
+    /// Method/Call of the METHOD `method_id` with `args` (a JSON object; null =
+    /// none). `on_status` (may be empty) gets each Method/Status of this call
+    /// (status waiting/executing/stopped, progress percent, `msg_id` = the
+    /// call's @id); `done` gets its Method/Result, whatever `result` says
+    /// (finished, canceled, or error: a refused call, e.g. 401/102/409/417,
+    /// is an error result with code NG and the table-19 reason/error). Both
+    /// run on the dispatch thread; every on_status comes before done. `done`
+    /// gets an Error only when no Method/Result came: 203 when neither a
+    /// Status nor the Result arrived for the request timeout (each Status
+    /// restarts it, so a long method keeps its call alive: keep the timeout
+    /// above the adapter's methods.status_period), 202 when the client stopped
+    /// or the agent answered DEV_UNREACHABLE. Thread-safe.
+    void call_method_async(const std::string& dev, const std::string& method_id, Json args,
+                           std::function<void(const MethodStatus&)> on_status, Completion<MethodResult> done,
+                           RequestOptions options = {});
+    /// Blocking form (not from a callback); on_status still runs on the dispatch thread.
+    Result<MethodResult> call_method(const std::string& dev, const std::string& method_id, Json args,
+                                     std::function<void(const MethodStatus&)> on_status = {},
+                                     RequestOptions options = {});
+    /// Method/Control on the running calls of `method_id` at `dev`: this
+    /// application's own calls, else (as an operator) everybody's;
+    /// options.private_info = {"call": <the call's @id>} narrows it to one
+    /// call. OK completes with success; NG with the Error of its code (401
+    /// unknown method, 418 bad action, 202 not running). Thread-safe.
+    void control_method_async(const std::string& dev, const std::string& method_id, MethodAction action,
+                              Completion<void> done, RequestOptions options = {});
+    Result<void> control_method(const std::string& dev, const std::string& method_id, MethodAction action,
+                                RequestOptions options = {});
+    // ==== end of methods ==============================================================
+
+    // ==== dynamic sampling (8.2.17-8.2.21; src/client/client_sampling.cpp, docs/dynamic-sampling.md) ====
+    /// A dynamic sample channel this application registered.
+    struct SamplingChannel {
+        std::string dev;
+        std::string id;                   ///< the channel id the adapter allocated ("dyn<n>")
+        SubscriptionId subscription = 0;  ///< the handler's subscription (unregister_sampling removes it)
+    };
+    /// Register/Sample: asks `dev` to read `ids` every `sample_interval` and
+    /// publish them every `upload_interval` on Sample/{dev}/{ex_cid}/{channel}.
+    /// `handler` is subscribed before the request goes out and gets the DTUs
+    /// of the allocated channel only, on the dispatch thread. `done` gets the
+    /// channel, or the Error of the adapter's NG (401 unknown id, 411 bad
+    /// intervals, 415 no dynamic channel left, ...); on any failure the
+    /// handler's subscription is removed again. options.private_info
+    /// {"qos": 1} asks for QoS 1 Sample DTUs (default QoS 0). The adapter
+    /// releases the channel when this application sends it no DTU for its
+    /// application lease, or goes offline. Thread-safe.
+    void register_sampling_async(const std::string& dev, std::vector<std::string> ids,
+                                 std::chrono::milliseconds sample_interval, std::chrono::milliseconds upload_interval,
+                                 SampleHandler handler, Completion<SamplingChannel> done, RequestOptions options = {});
+    /// Blocking form (not from a callback).
+    Result<SamplingChannel> register_sampling(const std::string& dev, std::vector<std::string> ids,
+                                              std::chrono::milliseconds sample_interval,
+                                              std::chrono::milliseconds upload_interval, SampleHandler handler,
+                                              RequestOptions options = {});
+    /// Unregister/Sample of `channel`; its handler subscription goes too, also
+    /// when the adapter refuses (401 unknown channel, 301 not this
+    /// application's). Thread-safe.
+    void unregister_sampling_async(const SamplingChannel& channel, Completion<void> done, RequestOptions options = {});
+    Result<void> unregister_sampling(const SamplingChannel& channel, RequestOptions options = {});
+    /// True for a Sample DTU the adapter held while the broker was unreachable
+    /// and replayed later: privateInfo {"replayed": true} (docs/store-and-forward.md).
+    static bool is_replayed(const SampleDtu& dtu) noexcept;
+    // ==== end of dynamic sampling =====================================================
+
+    // ==== events (8.2.27-8.2.31; src/client/client_events.cpp, docs/events.md) ====
+    /// What a Register/Event asks for (table 48).
+    struct EventRegistration {
+        std::string id;                     ///< the data item
+        std::optional<std::string> key;     ///< a dict item's element (required for dicts)
+        std::optional<std::int64_t> index;  ///< a list item's element (required for lists)
+        /// Figure-16 filter objects, OR-ed in order, e.g. {"type":"range","from":10,"to":20};
+        /// empty = the adapter's default change filter.
+        std::vector<Json> filters;
+        std::string trigger = "always";     ///< triggerType: always | normal | once
+    };
+    /// Gets the Event DTUs of one registration (8.2.31), on the dispatch thread.
+    using EventHandler = std::function<void(const EventData&)>;
+
+    /// Register/Event at `dev`. `done` gets the adapter's event id (or the
+    /// Error of its NG: 401, 402, 403, 409, 410, 101, 416, 419, 420, 421...).
+    /// From the OK on, `on_event` gets every Event of the registration,
+    /// including the one the adapter sends at once when the current value
+    /// already matches (it arrives after `done`). A once registration's
+    /// callback goes with its first event. Both callbacks run on the dispatch
+    /// thread. Thread-safe. The adapter releases the events of an application
+    /// it has not heard from for its application lease (docs/events.md).
+    void register_event_async(const std::string& dev, EventRegistration registration, EventHandler on_event,
+                              Completion<std::string> done, RequestOptions options = {});
+    /// Blocking form (not from a callback): the event id.
+    Result<std::string> register_event(const std::string& dev, EventRegistration registration,
+                                       EventHandler on_event, RequestOptions options = {});
+    /// Unregister/Event. The callback is dropped at once (no Event reaches it
+    /// after this call, whatever the answer); `done` gets OK or the Error of
+    /// the NG (401 unknown event, 301 another application's). Thread-safe.
+    void unregister_event_async(const std::string& dev, const std::string& event_id, Completion<void> done,
+                                RequestOptions options = {});
+    Result<void> unregister_event(const std::string& dev, const std::string& event_id, RequestOptions options = {});
+    /// Registrations whose callbacks are in place (once ones leave after firing).
+    std::size_t event_registrations() const;
+    // ==== end of events ===============================================================
 
     // ---- introspection -----------------------------------------------------------
     const std::string& ex_cid() const noexcept;

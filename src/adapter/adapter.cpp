@@ -10,7 +10,10 @@
 #include "adapter/model_host.hpp"
 #include "adapter/request_handlers.hpp"
 #include "core/executor.hpp"
+#include "sampling/sampling_service.hpp"
 #include "driver/driver_runner.hpp"
+#include "methods/methods_service.hpp"
+#include "events/events_service.hpp"
 
 #include <atomic>
 #include <condition_variable>
@@ -28,6 +31,7 @@ struct Adapter::Impl {
         : config(std::move(c)), logger(std::move(l)), driver(std::move(d)), host(config.persistence_dir, logger) {}
 
     // ---- configuration and collaborators
+    const Adapter* self = nullptr;  // the owner, for its stats() (the statistics data item)
     AdapterConfig config;
     Logger logger;
     std::shared_ptr<Driver> driver;
@@ -44,6 +48,7 @@ struct Adapter::Impl {
     detail::SampleTap sample_tap;
     std::unique_ptr<detail::ServiceHost> service_host;
     std::vector<std::unique_ptr<detail::AdapterService>> services;
+    std::atomic<bool> services_ready{false};  // set once `services` is complete and started
     std::unique_ptr<detail::ApplicationTracker> applications;
 
     // ---- state (mutex)
@@ -170,6 +175,9 @@ struct Adapter::Impl {
             [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
             [this] { return next_msg_id(); }});
         // (factories: services.push_back(detail::make_..._service(*service_host));)
+        services.push_back(detail::make_sampling_service(*service_host));
+        services.push_back(detail::make_methods_service(*service_host));
+        services.push_back(detail::make_events_service(*service_host));
         for (std::size_t i = 0; i < services.size(); ++i) {
             if (auto begun = services[i]->start(); !begun) {
                 for (std::size_t j = i; j-- > 0;) services[j]->stop();
@@ -178,6 +186,7 @@ struct Adapter::Impl {
                                   fmt::format("{} failed to start: {}", services[i]->name(), begun.error().message));
             }
         }
+        services_ready.store(true, std::memory_order_release);  // notify_value may reach them now
         return ok_result();
     }
 
@@ -365,7 +374,9 @@ struct Adapter::Impl {
     void handle(const ParsedTopic& topic, const std::string& payload) {
         ++requests;
         const auto current = host.current();
-        detail::HandlerContext context{*current, *runner, host, dev, logger};
+        // config.sampling.stats_item: the SDK-provided statistics item (docs/sampling.md)
+        detail::HandlerContext context{*current, *runner, host, dev, logger, config.sampling.stats_item,
+                                       [this] { return to_json(self->stats()); }};
         std::optional<Json> reply;
         switch (topic.kind) {
             case TopicKind::query_request:
@@ -456,7 +467,9 @@ struct Adapter::Impl {
 };
 
 Adapter::Adapter(AdapterConfig config, std::shared_ptr<Driver> driver, Logger logger)
-    : impl_(std::make_unique<Impl>(std::move(config), std::move(driver), std::move(logger))) {}
+    : impl_(std::make_unique<Impl>(std::move(config), std::move(driver), std::move(logger))) {
+    impl_->self = this;
+}
 
 Adapter::~Adapter() { stop(std::chrono::milliseconds(500)); }
 
@@ -493,6 +506,46 @@ AdapterStats Adapter::stats() const {
     if (impl_->transport) s.transport = impl_->transport->stats();
     for (const auto& service : impl_->services) s.features[std::string(service->name())] = service->stats();
     return s;
+}
+
+void Adapter::notify_value(const std::string& id, Json value) {
+    if (!impl_->services_ready.load(std::memory_order_acquire)) return;
+    for (const auto& service : impl_->services) service->on_value(id, value);
+}
+
+namespace {
+detail::SamplingService* sampling_service(const std::vector<std::unique_ptr<detail::AdapterService>>& services) {
+    for (const auto& service : services)
+        if (auto* sampling = dynamic_cast<detail::SamplingService*>(service.get())) return sampling;
+    return nullptr;
+}
+}  // namespace
+
+Result<PushChannel> Adapter::push_channel(const std::string& channel_id) const {
+    auto* sampling = impl_->services_ready.load(std::memory_order_acquire) ? sampling_service(impl_->services) : nullptr;
+    if (!sampling || !impl_->config.sampling.enabled)
+        return make_error(ErrorCode::unavailable, "sampling is not running (adapter not started, or sampling.enabled is false)");
+    return sampling->push_channel(channel_id);
+}
+
+SamplingStats Adapter::sampling_stats() const {
+    auto* sampling = impl_->services_ready.load(std::memory_order_acquire) ? sampling_service(impl_->services) : nullptr;
+    return sampling ? sampling->typed_stats() : SamplingStats{};
+}
+
+Json to_json(const AdapterStats& s) {
+    const auto& t = s.transport;
+    return Json{{"requests", s.requests},
+                {"ignored_retained", s.ignored_retained},
+                {"ignored_duplicates", s.ignored_duplicates},
+                {"rejected", s.rejected},
+                {"driver_timeouts", s.driver_timeouts},
+                {"registered", s.registered},
+                {"state", std::string(to_string(s.state))},
+                {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},
+                               {"dropped_bytes", t.dropped_bytes}, {"connects", t.connects}, {"buffered", t.buffered},
+                               {"buffered_bytes", t.buffered_bytes}, {"in_flight", t.in_flight}}},
+                {"features", s.features}};
 }
 
 void Adapter::add_model_listener(ModelListener listener) {

@@ -11,6 +11,8 @@
 // - on_link(): the transport's callback thread: never block there.
 // - on_application_gone(): the adapter's housekeeping thread, or the transport
 //   callback thread for a Notify/State offline: do not block long.
+// - on_value(): the thread of whoever called Adapter::notify_value (a driver
+//   thread, firmware): never block there.
 // - stats(): any thread.
 #pragma once
 
@@ -68,6 +70,8 @@ public:
     /// Application `ex_cid` is gone (Notify/State offline, or silent for the
     /// lease): release what it registered (8.2.18.3).
     virtual void on_application_gone(const std::string& /*ex_cid*/) {}
+    /// A driver pushed the current whole value of item `id` (Adapter::notify_value).
+    virtual void on_value(const std::string& /*id*/, const Json& /*value*/) {}
     /// Counters for AdapterStats/`nclink stats` (a JSON object).
     virtual Json stats() const { return Json::object(); }
 };

@@ -27,6 +27,15 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
         result.id = item.id;
         result.params = item.params;
         const DataObject* object = context.state.item(item.id);
+        if (!object && context.stats && !context.stats_item.empty() && item.id == context.stats_item) {
+            // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
+            auto values = evaluate_query(item.params.value_or(Json(nullptr)), context.stats(), DataKind::dict);
+            if (values)
+                result.values = std::move(values).value();
+            else
+                result.status = ResponseStatus(values.error());
+            continue;
+        }
         if (!object) {
             result.status = ResponseStatus(unknown_item(item.id));
             continue;

@@ -8,6 +8,9 @@
 
 #include <nclink/dtu.hpp>
 
+#include <functional>
+#include <string>
+
 namespace nclink::detail {
 
 struct HandlerContext {
@@ -16,6 +19,11 @@ struct HandlerContext {
     const ModelHost& host;
     const std::string& dev;
     const Logger& logger;
+    /// The SDK-provided statistics item (SamplingConfig::stats_item, "" = none):
+    /// a Query of this id, when the model has no item of that id, answers
+    /// stats() as a dict value.
+    std::string stats_item = {};
+    std::function<Json()> stats = {};
 };
 
 /// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are

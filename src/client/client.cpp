@@ -2,7 +2,12 @@
 // registry and the dispatch thread together.
 #include <nclink/client.hpp>
 
+#include "client/client_state_machine.hpp"
+#include "client/discovery_responder.hpp"
 #include "client/dispatcher.hpp"
+#include "client/client_methods.hpp"
+#include "client/client_sampling.hpp"
+#include "client/client_events.hpp"
 #include "client/pending_requests.hpp"
 #include "client/request_ids.hpp"
 #include "client/responders.hpp"
@@ -23,16 +28,6 @@ using client_detail::Clock;
 using client_detail::Dispatcher;
 using client_detail::PendingRequest;
 using client_detail::Responder;
-
-std::string_view to_string(ClientState state) noexcept {
-    switch (state) {
-        case ClientState::initial: return "initial";
-        case ClientState::normal: return "normal";
-        case ClientState::request: return "request";
-        case ClientState::disconnected: return "disconnected";
-    }
-    return "?";
-}
 
 std::string_view to_string(RegisterOutcome::Kind kind) noexcept {
     switch (kind) {
@@ -56,9 +51,16 @@ bool valid_topic_level(std::string_view level) {
 bool is_client_response(TopicKind kind) {
     switch (kind) {
         case TopicKind::register_response:
+        case TopicKind::discovery_response:
         case TopicKind::probe_query_response:
         case TopicKind::probe_set_response:
         case TopicKind::query_response:
+        case TopicKind::method_result:            // client_methods.cpp
+        case TopicKind::method_control_response:  // client_methods.cpp
+        case TopicKind::sample_register_response:    // client_sampling.cpp
+        case TopicKind::sample_unregister_response:  // client_sampling.cpp
+        case TopicKind::event_register_response:    // client_events.cpp
+        case TopicKind::event_unregister_response:  // client_events.cpp
         case TopicKind::set_response: return true;
         default: return false;
     }
@@ -80,7 +82,7 @@ void safely(const Logger& log, F&& f) noexcept {
 struct Client::Impl {
     struct Counters {
         std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0},
-            unreachable{0}, samples{0}, notifications{0};
+            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0};
     };
 
     ClientOptions options;
@@ -98,6 +100,8 @@ struct Client::Impl {
     std::condition_variable link_changed;
     LinkState link = LinkState::disconnected;
     bool ever_connected = false;
+    client_detail::ClientStateMachine machine;  // seed 004; the send path goes through it
+    client_detail::EventRoutes event_routes;  // client_events.cpp
     Dispatcher dispatcher;  // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
@@ -105,6 +109,11 @@ struct Client::Impl {
           log(options.logger),
           transport(std::move(t)),
           ids(options.ex_cid),
+          machine(client_detail::ClientStateMachine::Hooks{
+                      [this](const std::string& id) { return (pending.peek(id, nullptr) != nullptr); },
+                      [this] { return pending.size() > 0; },
+                      [this](Message m) { return transport->publish(std::move(m)); }},
+                  options.max_queued_requests),
           dispatcher(Dispatcher::Hooks{
               [this] { return pending.next_deadline(); },
               [this](Clock::time_point now) { expire(now); },
@@ -114,9 +123,14 @@ struct Client::Impl {
 
     std::vector<std::string> response_filters() const {
         const std::string& ex = options.ex_cid;
-        return {topics::register_response(ex), topics::probe_query_response("+", ex),
+        return {topics::register_response(ex), topics::discovery_response(ex), topics::probe_query_response("+", ex),
                 topics::probe_set_response("+", ex), topics::query_response("+", ex),
-                topics::set_response("+", ex)};
+                topics::set_response("+", ex),
+                topics::method_result("+", ex), topics::method_status("+", ex),  // client_methods.cpp
+                topics::method_control_response("+", ex),
+                topics::sample_register_response("+", ex), topics::sample_unregister_response("+", ex),  // client_sampling.cpp
+                topics::event_register_response("+", ex), topics::event_unregister_response("+", ex),  // client_events.cpp
+                topics::event("+", ex)};
     }
 
     Result<void> start() {
@@ -160,6 +174,12 @@ struct Client::Impl {
     }
 
     void on_link(LinkState state, std::string_view detail) {
+        // The state machine first: wait_connected() returns into state normal.
+        if (state == LinkState::connected) {
+            for (auto& [id, error] : machine.link_restored()) fail_request(id, std::move(error));
+        } else if (state == LinkState::disconnected) {
+            machine.link_lost();
+        }
         {
             std::lock_guard<std::mutex> lock(link_mutex);
             link = state;
@@ -176,6 +196,17 @@ struct Client::Impl {
         const auto parsed = parse_topic(m.topic);
         if (!parsed) {
             ++counters.unmatched;
+            return;
+        }
+        if (parsed->kind == TopicKind::event) {  // client_events.cpp
+            const auto delivery = event_routes.deliver(parsed->dev, m.payload, log);
+            ++(delivery == client_detail::EventRoutes::Delivery::delivered  ? counters.events
+               : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
+                                                                             : counters.unmatched);
+            return;
+        }
+        if (parsed->kind == TopicKind::method_status) {
+            client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
             return;
         }
         if (is_client_response(parsed->kind))
@@ -229,7 +260,8 @@ struct Client::Impl {
         const auto subs = subscriptions.matching(m.topic);
         if (subs.empty()) return;
         switch (topic.kind) {
-            case TopicKind::sample: {
+            case TopicKind::sample:
+            case TopicKind::dynamic_sample: {  // client_sampling.cpp filters by channel
                 auto dtu = decode<SampleDtu>(m.payload);
                 if (!dtu) {
                     ++counters.malformed;
@@ -307,13 +339,24 @@ struct Client::Impl {
             return;
         }
         dispatcher.poke();  // its deadline may be the nearest now
-        auto published = transport->publish(Message{std::move(topic), encode(request), 1, false});
-        if (published) {
-            ++counters.requests;
+        auto submitted = machine.submit(id, Message{std::move(topic), encode(request), 1, false}, [&] {
+            return pending.add(PendingRequest{id, response_kind, Clock::now() + timeout,
+                                              client_detail::track_completion(responder, [this] { machine.completed(); })});
+        });
+        if (submitted) {
+            ++(*submitted == client_detail::ClientStateMachine::Outcome::queued ? counters.queued : counters.requests);
             return;
         }
+        if (!(pending.peek(id, nullptr) != nullptr)) {  // never entered: the client is stopping, or the queue is full
+            safely(log, [&] { responder->fail(std::move(submitted).error()); });
+            return;
+        }
+        fail_request(id, std::move(submitted).error());
+    }
+
+    // Fails a pending request whose publish failed; on the dispatch thread when it runs.
+    void fail_request(const std::string& id, Error error) {
         if (auto taken = pending.take(id)) {
-            auto error = std::move(published).error();
             auto task = [this, r = std::move(taken->responder), error]() mutable {
                 safely(log, [&] { r->fail(std::move(error)); });
             };
@@ -432,6 +475,17 @@ void Client::set_async(const std::string& dev, std::vector<SetItem> items, Compl
                 client_detail::set_responder(std::move(done)), options);
 }
 
+void Client::discover_async(Completion<std::vector<DeviceListEntry>> done, RequestOptions options) {
+    DiscoveryRequest request;
+    request.guid = impl_->options.ex_cid;
+    impl_->send(TopicKind::discovery_response, topics::discovery_request(impl_->options.ex_cid), std::move(request),
+                client_detail::discovery_responder(std::move(done)), options);
+}
+
+Result<std::vector<DeviceListEntry>> Client::discover(RequestOptions options) {
+    return impl_->wait<std::vector<DeviceListEntry>>([&](auto done) { discover_async(std::move(done), options); });
+}
+
 Result<RegisterOutcome> Client::register_terminal(RequestOptions options) {
     return impl_->wait<RegisterOutcome>([&](auto done) { register_async(std::move(done), options); });
 }
@@ -491,14 +545,7 @@ LinkState Client::link_state() const {
     return impl_->link;
 }
 
-ClientState Client::state() const {
-    {
-        std::lock_guard<std::mutex> lock(impl_->link_mutex);
-        if (!impl_->ever_connected) return ClientState::initial;
-        if (impl_->link != LinkState::connected) return ClientState::disconnected;
-    }
-    return impl_->pending.size() > 0 ? ClientState::request : ClientState::normal;
-}
+ClientState Client::state() const { return impl_->machine.state(); }
 
 ClientStats Client::stats() const {
     const auto& c = impl_->counters;
@@ -512,11 +559,50 @@ ClientStats Client::stats() const {
     s.unreachable = c.unreachable;
     s.samples = c.samples;
     s.notifications = c.notifications;
+    s.queued = c.queued;
+    s.events = c.events;
     return s;
 }
 
 std::size_t Client::pending_requests() const { return impl_->pending.size(); }
 
 const Transport& Client::transport() const noexcept { return *impl_->transport; }
+
+// ---- the core services client_methods.cpp builds on (client_methods.hpp)
+namespace client_detail {
+void send_method_call(Client::Impl& impl, std::string topic, MethodCall request, std::shared_ptr<Responder> responder,
+                      const RequestOptions& options) {
+    impl.send(TopicKind::method_result, std::move(topic), std::move(request), std::move(responder), options);
+}
+void send_method_control(Client::Impl& impl, std::string topic, MethodControlRequest request,
+                         std::shared_ptr<Responder> responder, const RequestOptions& options) {
+    impl.send(TopicKind::method_control_response, std::move(topic), std::move(request), std::move(responder), options);
+}
+std::chrono::milliseconds default_timeout(const Client::Impl& impl) { return impl.options.default_timeout; }
+PendingRequests& pending_requests(Client::Impl& impl) { return impl.pending; }
+bool on_dispatch_thread(const Client::Impl& impl) { return impl.dispatcher.on_dispatch_thread(); }
+void send_sample_register(Client::Impl& impl, std::string topic, SampleRegisterRequest request,
+                          std::shared_ptr<Responder> responder, const RequestOptions& options) {
+    impl.send(TopicKind::sample_register_response, std::move(topic), std::move(request), std::move(responder), options);
+}
+void send_sample_unregister(Client::Impl& impl, std::string topic, SampleUnregisterRequest request,
+                            std::shared_ptr<Responder> responder, const RequestOptions& options) {
+    impl.send(TopicKind::sample_unregister_response, std::move(topic), std::move(request), std::move(responder),
+              options);
+}
+Result<SubscriptionId> subscribe_sample_filter(Client::Impl& impl, std::string filter, SampleHandler handler) {
+    return impl.subscribe(std::move(filter), std::move(handler));
+}
+// client_events.cpp (client_events.hpp)
+void send_event_register(Client::Impl& impl, std::string topic, EventRegisterRequest request,
+                         std::shared_ptr<Responder> responder, const RequestOptions& options) {
+    impl.send(TopicKind::event_register_response, std::move(topic), std::move(request), std::move(responder), options);
+}
+void send_event_unregister(Client::Impl& impl, std::string topic, EventUnregisterRequest request,
+                           std::shared_ptr<Responder> responder, const RequestOptions& options) {
+    impl.send(TopicKind::event_unregister_response, std::move(topic), std::move(request), std::move(responder), options);
+}
+EventRoutes& event_routes(Client::Impl& impl) { return impl.event_routes; }
+}  // namespace client_detail
 
 }  // namespace nclink

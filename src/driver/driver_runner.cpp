@@ -42,6 +42,7 @@ DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logg
     : driver_(std::move(driver)), options_(options), logger_(std::move(logger)), name_(driver_->info().name) {
     const std::size_t count = driver_->info().concurrent ? std::max<std::size_t>(1, options_.concurrent_workers) : 1;
     queue_->running_workers = count;
+    queue_->concurrent = driver_->info().concurrent;
     for (std::size_t i = 0; i < count; ++i) workers_.emplace_back([queue = queue_] { work(queue); });
 }
 
@@ -55,7 +56,13 @@ void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
         auto task = std::move(queue->tasks.front());
         queue->tasks.pop_front();
         lock.unlock();
-        task();
+        if (queue->concurrent) {
+            std::shared_lock<std::shared_timed_mutex> call(queue->calls);
+            task();
+        } else {
+            std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+            task();
+        }
         lock.lock();
     }
     --queue->running_workers;
@@ -105,6 +112,35 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     return std::move(pending->value);
 }
 
+void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
+                               std::chrono::nanoseconds wait) {
+    results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    auto call = [&] {
+        if (queue_->closed.load(std::memory_order_acquire)) {
+            for (auto& r : results) r = make_error(ErrorCode::unavailable, "driver stopped");
+            return;
+        }
+        try {
+            driver_->read(points, results);
+        } catch (const std::exception& e) {
+            for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
+        }
+    };
+    const auto busy = [&] {
+        count_timeout();
+        for (auto& r : results) r = make_error(ErrorCode::timeout, "driver busy with another call");
+    };
+    if (queue_->concurrent) {
+        std::shared_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
+        if (!lock.try_lock_for(wait)) return busy();
+        call();
+    } else {
+        std::unique_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
+        if (!lock.try_lock_for(wait)) return busy();
+        call();
+    }
+}
+
 Result<void> DriverRunner::write(const WriteRequest& request) {
     struct Outcome {
         Result<void> result = make_error(ErrorCode::unavailable);
@@ -147,6 +183,16 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
         logger_.error("driver '{}' did not return within {} ms of shutdown; its worker thread is abandoned", name_,
                       grace.count());
         return;
+    }
+    {
+        // No read_direct() may be inside the driver when it closes.
+        std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
+        if (!calls.try_lock_for(grace)) {
+            logger_.error("driver '{}': a direct read did not return within {} ms of shutdown; not closing it", name_,
+                          grace.count());
+            return;
+        }
+        queue_->closed.store(true, std::memory_order_release);
     }
     try {
         driver_->close();

@@ -14,6 +14,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
+#include <atomic>
 #include <thread>
 #include <vector>
 
@@ -34,6 +36,14 @@ public:
     /// Thread-safe. One result per point, in order.
     std::vector<Result<Json>> read(const std::vector<PointRef>& points);
     std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout);
+    /// Reads on the CALLING thread (no hand-off to a worker: the sampling
+    /// path, where a thread wake-up per tick costs more than the read).
+    /// Still serialized with the workers' calls on a serialized driver: waits
+    /// at most `wait` for a running call to finish, then answers Timeout (203)
+    /// for every point. The driver call itself cannot be interrupted, so use
+    /// it only where a hanging read may stall the caller. Thread-safe.
+    void read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
+                     std::chrono::nanoseconds wait);
     /// Thread-safe.
     Result<void> write(const WriteRequest& request);
     /// Queues `task` on a worker without waiting (long-running work such as
@@ -46,6 +56,11 @@ public:
     void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(2000));
 
     const Driver& driver() const { return *driver_; }
+    /// The driver itself, for calls made on threads other than the workers:
+    /// methods run on method threads of their own, beside read()/write()
+    /// (driver.hpp, threading contract). Shared, so a method thread abandoned
+    /// at shutdown never holds a dangling driver.
+    std::shared_ptr<Driver> shared_driver() const { return driver_; }
     std::uint64_t timeouts() const;
 
 private:
@@ -58,6 +73,12 @@ private:
         std::deque<std::function<void()>> tasks;
         bool stopping = false;
         std::size_t running_workers = 0;
+        // Serializes driver calls between the workers and read_direct():
+        // exclusive per call for a serialized driver, shared for a concurrent
+        // one; stop() takes it exclusively before close().
+        std::shared_timed_mutex calls;
+        bool concurrent = false;
+        std::atomic<bool> closed{false};
         std::uint64_t timeouts = 0;
     };
     static void work(const std::shared_ptr<Queue>& queue);

@@ -9,6 +9,31 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
     ConfigReader r(section, "sampling.");
     NCLINK_TRY(r.boolean("enabled", out.enabled));
     NCLINK_TRY(r.count("max_dynamic_channels", out.max_dynamic_channels));
+    NCLINK_TRY(r.read("push_channels", out.push_channels,
+                      [](const Json& j) {
+                          if (!j.is_array()) return false;
+                          for (const auto& e : j)
+                              if (!e.is_string()) return false;
+                          return true;
+                      },
+                      "an array of channel ids"));
+    NCLINK_TRY(r.str("full_policy", out.full_policy));
+    if (out.full_policy != "drop_oldest" && out.full_policy != "block")
+        return make_error(ErrorCode::out_of_range, "configuration: sampling.full_policy must be \"drop_oldest\" or \"block\"");
+    NCLINK_TRY(r.read("ring_periods", out.ring_periods, [](const Json& j) { return j.is_number() && j.get<double>() > 0; },
+                      "a positive number"));
+    NCLINK_TRY(r.count("ring_max_rows", out.ring_max_rows));
+    NCLINK_TRY(r.boolean("direct_reads", out.direct_reads));
+    NCLINK_TRY(r.read("rt_priority", out.rt_priority,
+                      [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= 0 && j.get<long long>() <= 99; },
+                      "an integer 0..99"));
+    NCLINK_TRY(r.count("timer_slack_ns", out.timer_slack_ns));
+    NCLINK_TRY(r.read("cpu", out.cpu, [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= -1; },
+                      "-1 or a CPU number"));
+    NCLINK_TRY(r.count("text_budget_bytes", out.text_budget_bytes));
+    NCLINK_TRY(r.str("stats_item", out.stats_item));
+    NCLINK_TRY(r.count("spool_memory_bytes", out.spool_memory_bytes));
+    NCLINK_TRY(r.count("spool_disk_bytes", out.spool_disk_bytes));
     return r.no_unknown_keys();
 }
 

@@ -24,6 +24,14 @@ extern const char* const query_usage;
 extern const char* const set_usage;
 extern const char* const watch_usage;
 extern const char* const state_usage;
+int run_events(const Args& args);  // cmd_events.cpp
+extern const char* const events_usage;
+int run_call(const Args& args);     // cmd_call.cpp
+int run_control(const Args& args);  // cmd_control.cpp
+extern const char* const call_usage;
+extern const char* const control_usage;
+/// For call/control: the device as --device or the first positional.
+bool parse_method_command(const Args& args, const char* usage, CliOptions& out);
 
 /// Parses the options, prints `usage` for --help (returns true = done), and
 /// checks --device / --client-id. Fills in the default client id.

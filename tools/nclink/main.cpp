@@ -9,6 +9,13 @@
 #include <exception>
 #include <string_view>
 
+namespace nclink::cli {
+int run_stats(const Args& args);  // cmd_stats.cpp
+extern const char* const stats_usage;
+int run_sample(const Args& args);  // cmd_sample.cpp
+extern const char* const sample_usage;
+}  // namespace nclink::cli
+
 namespace {
 
 using nclink::cli::Command;
@@ -20,7 +27,12 @@ const Command kCommands[] = {
     {"query", "query data items: ID[:PARAMS]...", &nclink::cli::run_query, nclink::cli::query_usage},
     {"set", "set data items: ID=VALUE... or ID:PARAMS...", &nclink::cli::run_set, nclink::cli::set_usage},
     {"watch", "print a device's samples as a rolling table", &nclink::cli::run_watch, nclink::cli::watch_usage},
+    {"events", "register an event on a data item: DEV ID, print its events live", &nclink::cli::run_events, nclink::cli::events_usage},
+    {"sample", "register a dynamic sample channel: DEV ID..., print its rows", &nclink::cli::run_sample, nclink::cli::sample_usage},
     {"state", "print a device's online/offline state", &nclink::cli::run_state, nclink::cli::state_usage},
+    {"call", "call a method: DEV METHOD [ARGS_JSON], with progress", &nclink::cli::run_call, nclink::cli::call_usage},
+    {"control", "stop, resume or cancel a running method", &nclink::cli::run_control, nclink::cli::control_usage},
+    {"stats", "print an adapter's statistics (sample channels, link)", &nclink::cli::run_stats, nclink::cli::stats_usage},
 };
 
 void print_usage(std::FILE* out) {

@@ -1,0 +1,405 @@
+// End-to-end sampling throughput: an nclink Adapter (its own process, reading
+// an in-memory driver) -> mosquitto -> a paho subscriber counting DTUs.
+// For 1, 10 and 50 channels the number of points per row goes up until a run
+// is no longer lossless; for the largest lossless load, the adapter's CPU per
+// million points is compared with the irreducible work measured in the same
+// run: encoding the same DTUs (SampleEncoder) + a bare paho publisher (also
+// its own process) sending the same bytes, at the same pace, through the same
+// broker to the same subscriber.
+//
+//   bench_sampling_throughput [seconds_per_run=3] [rounds=3] [qos=0]
+//
+// Lossless = every DTU the adapter published reached the subscriber, no ring
+// drop, nothing dropped by the spool or the transport. Null values (ticks the
+// sampler ran late, see PERF-FLOORS.md and sampling.md) are printed beside it. Channels are dynamic
+// channels (Register/Sample) of `points` copies of one item, 1 ms sample,
+// 100 ms upload. CPU = getrusage of the adapter process between "all channels
+// registered" and "stopped and flushed" (so it includes the final flush).
+#include <nclink/adapter.hpp>
+#include <nclink/sample_encoder.hpp>
+#include <nclink/topics.hpp>
+
+#include "bench_util.hpp"
+#include "support/mosquitto_broker.hpp"
+#include "transport/tcp_nodelay.hpp"
+
+#include <mqtt/async_client.h>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <string>
+#include <thread>
+
+extern char** environ;
+
+using namespace nclink;
+using namespace std::chrono_literals;
+
+namespace {
+
+const char* kDev = "test-dev";  // the test model's device
+const char* kEx = "bench-app";
+constexpr int kSampleMs = 1;
+constexpr int kUploadMs = 100;
+constexpr std::size_t kRows = kUploadMs / kSampleMs;
+
+double cpu_seconds_self() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
+}
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) / 1e9;
+}
+
+class MemoryDriver final : public Driver {
+public:
+    DriverInfo info() const override { return {"memory", "1", true}; }
+    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
+        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(123.456 + static_cast<double>(i));
+    }
+};
+
+// ---------------------------------------------------------------- child processes
+// Both children talk over stdin/stdout lines: "mark" starts the CPU window,
+// "stop" ends the run; the child then prints one JSON line and exits.
+
+int adapter_child(int port) {
+    AdapterConfig config;
+    config.broker_url = "tcp://127.0.0.1:" + std::to_string(port);
+    config.model_path = std::string(NCLINK_SOURCE_DIR) + "/tests/data/adapter-test-model.json";
+    config.register_timeout = 60000ms;
+    config.sampling.max_dynamic_channels = 64;
+    Adapter adapter(config, std::make_shared<MemoryDriver>(), Logger(stderr_sink(), LogLevel::warn));
+    if (!adapter.start().ok()) return 1;
+    std::printf("ready\n");
+    std::fflush(stdout);
+    double start = 0;
+    std::string line;
+    while (std::getline(std::cin, line)) {
+        if (line == "mark") start = cpu_seconds_self();
+        if (line == "stop") break;
+    }
+    adapter.stop(10000ms);
+    const double cpu = cpu_seconds_self() - start;
+    const auto stats = adapter.stats();
+    std::printf("%s\n", Json{{"cpu_s", cpu}, {"sampling", stats.features.at("sampling")},
+                             {"transport_dropped", stats.transport.dropped}}
+                            .dump()
+                            .c_str());
+    return 0;
+}
+
+// Publishes `count` payloads (sizes given) round-robin at `per_second`
+// messages/s, at most `window` unacknowledged, then waits for completion.
+int publisher_child(int port, int qos, const std::string& payload_file, std::size_t count, double per_second) {
+    std::ifstream in(payload_file, std::ios::binary);
+    std::vector<std::string> payloads;
+    std::string line;
+    while (std::getline(in, line)) payloads.push_back(line);
+    if (payloads.empty()) return 1;
+    mqtt::async_client client("tcp://127.0.0.1:" + std::to_string(port), "bench-floor",
+                              mqtt::create_options(MQTTVERSION_3_1_1, 64 + 16), nullptr);
+    auto options = mqtt::connect_options_builder().clean_session(true).max_inflight(64).finalize();
+    if (!client.connect(options)->wait_for(10s)) return 1;
+    detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
+    std::printf("ready\n");
+    std::fflush(stdout);
+    std::getline(std::cin, line);  // "mark"
+    const double start = cpu_seconds_self();
+    std::deque<mqtt::delivery_token_ptr> window;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < count; ++i) {
+        std::this_thread::sleep_until(t0 + std::chrono::duration<double>(static_cast<double>(i) / per_second));
+        const std::string& p = payloads[i % payloads.size()];
+        const std::string topic = topics::dynamic_sample(kDev, kEx, "dyn" + std::to_string(i % payloads.size() + 1));
+        while (window.size() >= 64) {
+            window.front()->wait();
+            window.pop_front();
+        }
+        window.push_back(client.publish(topic, p.data(), p.size(), qos, false));
+    }
+    for (auto& t : window) t->wait();
+    const double cpu = cpu_seconds_self() - start;
+    std::getline(std::cin, line);  // "stop"
+    client.disconnect()->wait_for(2s);
+    std::printf("%s\n", Json{{"cpu_s", cpu}}.dump().c_str());
+    return 0;
+}
+
+// ---------------------------------------------------------------- parent side
+
+struct Child {
+    pid_t pid = -1;
+    FILE* to = nullptr;
+    FILE* from = nullptr;
+
+    explicit Child(std::vector<std::string> args) {
+        int in_pipe[2], out_pipe[2];
+        if (::pipe(in_pipe) != 0 || ::pipe(out_pipe) != 0) throw std::runtime_error("pipe");
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, in_pipe[0], 0);
+        posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
+        posix_spawn_file_actions_addclose(&actions, in_pipe[1]);
+        posix_spawn_file_actions_addclose(&actions, out_pipe[0]);
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        if (::posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ) != 0)
+            throw std::runtime_error("spawn");
+        posix_spawn_file_actions_destroy(&actions);
+        ::close(in_pipe[0]);
+        ::close(out_pipe[1]);
+        to = ::fdopen(in_pipe[1], "w");
+        from = ::fdopen(out_pipe[0], "r");
+        if (read_line() != "ready") throw std::runtime_error("child did not start");
+    }
+    ~Child() {
+        if (to) std::fclose(to);
+        if (from) std::fclose(from);
+        if (pid > 0) ::waitpid(pid, nullptr, 0);
+    }
+    void say(const char* line) {
+        std::fprintf(to, "%s\n", line);
+        std::fflush(to);
+    }
+    std::string read_line() {
+        char buffer[1 << 16];
+        std::string out;
+        while (std::fgets(buffer, sizeof buffer, from)) {
+            out += buffer;
+            if (!out.empty() && out.back() == '\n') break;
+        }
+        while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+        return out;
+    }
+};
+
+// Subscribes to every dynamic channel of bench-app, counts DTUs and bytes,
+// and registers channels through the same connection.
+class App {
+public:
+    explicit App(int port, int qos) : client_("tcp://127.0.0.1:" + std::to_string(port), kEx) {
+        client_.set_message_callback([this](mqtt::const_message_ptr m) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (m->get_topic().rfind("Sample/", 0) == 0) {
+                ++dtus_;
+                bytes_ += m->get_payload().size();
+            } else {
+                last_reply_ = m->to_string();
+                cv_.notify_all();
+            }
+        });
+        auto options = mqtt::connect_options_builder().clean_session(true).finalize();
+        client_.connect(options)->wait();
+        detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
+        client_.subscribe(topics::dynamic_sample(kDev, kEx, "+"), qos)->wait();
+        client_.subscribe(topics::sample_register_response(kDev, kEx), 1)->wait();
+    }
+    ~App() {
+        try {
+            client_.disconnect()->wait_for(2s);
+        } catch (...) {
+        }
+    }
+    bool register_channel(int points, int qos) {
+        Json ids = Json::array();
+        for (int i = 0; i < points; ++i) ids.push_back(Json{{"id", "pos"}});
+        Json request{{"@id", "r" + std::to_string(++counter_)}, {"guid", kDev}, {"sampleInterval", kSampleMs},
+                     {"uploadInterval", kUploadMs}, {"ids", ids}};
+        if (qos) request["privateInfo"] = Json{{"qos", qos}};
+        std::unique_lock<std::mutex> lock(mutex_);
+        last_reply_.clear();
+        lock.unlock();
+        client_.publish(topics::sample_register_request(kDev, kEx), request.dump(), 1, false)->wait();
+        lock.lock();
+        if (!cv_.wait_for(lock, 10s, [&] { return !last_reply_.empty(); })) return false;
+        return Json::parse(last_reply_).value("code", "") == "OK";
+    }
+    std::uint64_t dtus() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return dtus_;
+    }
+    void reset() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        dtus_ = 0;
+        bytes_ = 0;
+    }
+
+private:
+    mqtt::async_client client_;
+    std::mutex mutex_;
+    std::condition_variable cv_;
+    std::uint64_t dtus_ = 0, bytes_ = 0;
+    std::string last_reply_;
+    int counter_ = 0;
+};
+
+struct RunResult {
+    bool lossless = false;
+    double cpu_s = 0;
+    std::uint64_t points = 0;  // points published
+    std::uint64_t dtus = 0, received = 0, drops = 0, nulls = 0, overruns = 0, spool_dropped = 0, transport_dropped = 0;
+    double seconds = 0;
+    double per_million() const { return points ? cpu_s / (static_cast<double>(points) / 1e6) : 0; }
+    double points_per_s() const { return seconds > 0 ? static_cast<double>(points) / seconds : 0; }
+};
+
+RunResult run_adapter(int port, int channels, int points, int qos, double seconds) {
+    RunResult r;
+    Child child({"bench_sampling_throughput", "--adapter-child", std::to_string(port)});
+    App app(port, qos);
+    std::this_thread::sleep_for(300ms);  // the adapter subscribes after connecting
+    for (int c = 0; c < channels; ++c)
+        if (!app.register_channel(points, qos)) throw std::runtime_error("Register/Sample refused");
+    child.say("mark");
+    const auto t0 = std::chrono::steady_clock::now();
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+    child.say("stop");
+    const Json out = Json::parse(child.read_line());
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.cpu_s = out["cpu_s"].get<double>();
+    for (const auto& c : out["sampling"]["channels"]) {
+        if (!c.contains("owner_ex")) continue;  // the model's own channel
+        r.dtus += c["dtus_published"].get<std::uint64_t>();
+        r.points += c["rows_published"].get<std::uint64_t>() * c["points"].get<std::uint64_t>();
+        r.drops += c["drops"].get<std::uint64_t>();
+        r.nulls += c["null_values"].get<std::uint64_t>();
+        r.overruns += c["overruns"].get<std::uint64_t>();
+    }
+    r.spool_dropped = out["sampling"]["spool"]["dropped"].get<std::uint64_t>();
+    r.transport_dropped = out["transport_dropped"].get<std::uint64_t>();
+    // Stragglers: the subscriber may still be reading.
+    for (int i = 0; i < 100 && app.dtus() < r.dtus; ++i) std::this_thread::sleep_for(20ms);
+    r.received = app.dtus();
+    // Delivery loss only; null values (late ticks of the sampler on a loaded
+    // machine, sampling.md) are reported beside it.
+    r.lossless = r.received == r.dtus && r.drops == 0 && r.spool_dropped == 0 && r.transport_dropped == 0;
+    return r;
+}
+
+/// A Sample DTU of the adapter's shape (points x kRows doubles).
+std::string encode_dtu(SampleEncoder& encoder, int points, int channel, std::int64_t t) {
+    std::vector<SampleValue> values(static_cast<std::size_t>(points) * kRows);
+    for (std::size_t p = 0; p < static_cast<std::size_t>(points); ++p)
+        for (std::size_t row = 0; row < kRows; ++row)
+            values[p * kRows + row] = SampleValue::float64(123.456 + static_cast<double>(p));
+    const std::string id = "dyn" + std::to_string(channel);
+    SampleDtuHeader header;
+    header.guid = kDev;
+    header.channel_id = id;
+    header.begin_time_ms = t;
+    return std::string(encoder.encode(header, SampleBlock{values.data(), static_cast<std::size_t>(points), kRows}));
+}
+
+/// The floor for `adapter`: encoding its DTUs + a bare publisher sending them.
+double run_floor(int port, int channels, int points, int qos, const RunResult& adapter, double& encode_s,
+                 double& publish_s) {
+    SampleEncoder encoder;
+    // Encode exactly as many DTUs as the adapter did (thread CPU time).
+    std::vector<std::string> payloads;
+    const double e0 = thread_cpu_seconds();
+    for (std::uint64_t i = 0; i < adapter.dtus; ++i) {
+        std::string dtu = encode_dtu(encoder, points, static_cast<int>(i % static_cast<std::uint64_t>(channels)) + 1,
+                                     1763719200000 + static_cast<std::int64_t>(i));
+        if (payloads.size() < static_cast<std::size_t>(channels)) payloads.push_back(std::move(dtu));
+        bench::do_not_optimize(dtu);
+    }
+    encode_s = thread_cpu_seconds() - e0;
+    const std::string file = "/tmp/nclink-bench-floor-" + std::to_string(::getpid()) + ".txt";
+    {
+        std::ofstream out(file, std::ios::binary);
+        for (const auto& p : payloads) out << p << '\n';
+    }
+    App app(port, qos);
+    const double per_second = static_cast<double>(adapter.dtus) / adapter.seconds;
+    Child child({"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
+                 std::to_string(adapter.dtus), std::to_string(per_second)});
+    child.say("mark");
+    child.say("stop");
+    const Json out = Json::parse(child.read_line());
+    std::remove(file.c_str());
+    publish_s = out["cpu_s"].get<double>();
+    for (int i = 0; i < 100 && app.dtus() < adapter.dtus; ++i) std::this_thread::sleep_for(20ms);
+    if (app.dtus() != adapter.dtus)
+        std::printf("    (floor publisher: %llu of %llu DTUs arrived)\n", static_cast<unsigned long long>(app.dtus()),
+                    static_cast<unsigned long long>(adapter.dtus));
+    return encode_s + publish_s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc >= 3 && std::string(argv[1]) == "--adapter-child") return adapter_child(std::atoi(argv[2]));
+    if (argc >= 7 && std::string(argv[1]) == "--publisher-child")
+        return publisher_child(std::atoi(argv[2]), std::atoi(argv[3]), argv[4], std::strtoull(argv[5], nullptr, 10),
+                               std::atof(argv[6]));
+    const double seconds = argc > 1 ? std::atof(argv[1]) : 3.0;
+    const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
+    const int qos = argc > 3 ? std::atoi(argv[3]) : 0;
+
+    test::MosquittoBroker broker;
+    std::printf("sampling throughput: %d ms sample, %d ms upload, QoS %d, %.1f s per run, %d rounds at the max load\n",
+                kSampleMs, kUploadMs, qos, seconds, rounds);
+    std::printf("%8s %7s %12s %12s %8s %10s %9s %s\n", "channels", "points", "points/s", "DTUs", "lost", "nulls",
+                "cpu_s", "lossless");
+    for (int channels : {1, 10, 50}) {
+        int best = 0;
+        RunResult best_run;
+        for (int points : {10, 20, 50, 100, 200, 500, 1000}) {
+            if (channels * points > 50000) break;
+            const RunResult r = run_adapter(broker.port(), channels, points, qos, seconds);
+            std::printf("%8d %7d %12.0f %12llu %8lld %10llu %9.3f %s\n", channels, points, r.points_per_s(),
+                        static_cast<unsigned long long>(r.dtus),
+                        static_cast<long long>(r.dtus) - static_cast<long long>(r.received),
+                        static_cast<unsigned long long>(r.nulls), r.cpu_s, r.lossless ? "yes" : "NO");
+            std::fflush(stdout);
+            if (!r.lossless) break;
+            best = points;
+            best_run = r;
+        }
+        if (best == 0) {
+            std::printf("  %d channel(s): no lossless load found\n", channels);
+            continue;
+        }
+        // Rounds at the largest lossless load: adapter and floor alternate.
+        std::vector<double> adapter_pm, floor_pm, encode_pm, publish_pm, rates;
+        for (int round = 0; round < rounds; ++round) {
+            const RunResult r = round == 0 ? best_run : run_adapter(broker.port(), channels, best, qos, seconds);
+            if (!r.lossless) std::printf("    (round %d not lossless)\n", round + 1);
+            double encode_s = 0, publish_s = 0;
+            const double floor_s = run_floor(broker.port(), channels, best, qos, r, encode_s, publish_s);
+            const double millions = static_cast<double>(r.points) / 1e6;
+            adapter_pm.push_back(r.per_million());
+            floor_pm.push_back(floor_s / millions);
+            encode_pm.push_back(encode_s / millions);
+            publish_pm.push_back(publish_s / millions);
+            rates.push_back(r.points_per_s());
+        }
+        const double a = bench::median(adapter_pm), f = bench::median(floor_pm);
+        std::printf("  => %d channel(s) x %d points: %.0f points/s lossless; CPU s per million points: adapter %.3f "
+                    "[%.3f-%.3f], floor %.3f (encode %.3f + bare paho publish %.3f); ratio %.2fx (target <= 1.5x)\n",
+                    channels, best, bench::median(rates), a, bench::minimum(adapter_pm), bench::maximum(adapter_pm), f,
+                    bench::median(encode_pm), bench::median(publish_pm), f > 0 ? a / f : 0);
+        std::fflush(stdout);
+    }
+    return 0;
+}

@@ -1,0 +1,238 @@
+#include "sampling/sampling_engine.hpp"
+
+#include "sampling/channel_core.hpp"
+#include "sampling/engine_shared.hpp"
+#include "sampling/realtime.hpp"
+#include "sampling/scheduler.hpp"
+#include "sampling/uploader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <thread>
+
+namespace nclink {
+
+// ---- PushChannel (public, include/nclink/sampling.hpp)
+
+namespace {
+std::int64_t wall_now_ns() noexcept {
+    timespec ts{};
+    clock_gettime(CLOCK_REALTIME, &ts);  // vDSO: no system call
+    return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+const std::string kNoId;
+}  // namespace
+
+bool PushChannel::push(const SampleValue* values, std::size_t count) noexcept {
+    return core_ && core_->push(values, count, wall_now_ns());
+}
+bool PushChannel::push(const SampleValue* values, std::size_t count, std::int64_t time_ns) noexcept {
+    return core_ && core_->push(values, count, time_ns);
+}
+std::size_t PushChannel::points() const noexcept { return core_ ? core_->ring().width() : 0; }
+const std::string& PushChannel::id() const noexcept { return core_ ? core_->spec().id : kNoId; }
+
+}  // namespace nclink
+
+namespace nclink::detail {
+
+struct SamplingEngine::State {
+    explicit State(EngineDeps deps) : shared(std::move(deps)), scheduler(shared), uploader(shared) {}
+
+    EngineShared shared;
+    Scheduler scheduler;
+    Uploader uploader;
+
+    std::mutex lifecycle;  // start/stop
+    bool running = false;
+    std::atomic<bool> stop_sampler{false};
+    std::atomic<bool> stop_uploader{false};
+    std::thread sampler_thread;
+    std::thread uploader_thread;
+
+    void sample_loop() {
+        RealtimeStatus rt = apply_realtime(shared.deps.config, shared.deps.logger);
+        {
+            std::lock_guard<std::mutex> lock(shared.mutex);
+            shared.realtime = rt;
+        }
+        Sleeper& sleeper = *shared.deps.sleeper;
+        const Clock& clock = *shared.deps.clock;
+        while (!stop_sampler.load(std::memory_order_acquire)) {
+            const auto seen = sleeper.wakes();
+            const auto next = scheduler.poll();
+            if (stop_sampler.load(std::memory_order_acquire)) break;
+            sleeper.sleep_until(std::min(next, clock.now() + sleeper.max_wait()), seen);
+        }
+    }
+
+    void upload_loop() {
+        Sleeper& sleeper = *shared.deps.sleeper;
+        const Clock& clock = *shared.deps.clock;
+        while (!stop_uploader.load(std::memory_order_acquire)) {
+            const auto seen = sleeper.wakes();
+            const auto next = uploader.poll(false);
+            if (stop_uploader.load(std::memory_order_acquire)) break;
+            sleeper.sleep_until(std::min(next, clock.now() + sleeper.max_wait()), seen);
+        }
+        uploader.poll(true);  // what every ring holds goes out
+    }
+};
+
+SamplingEngine::SamplingEngine(EngineDeps deps) {
+    if (!deps.clock) deps.clock = std::make_shared<SystemClock>();
+    if (!deps.sleeper) deps.sleeper = std::make_shared<NanosleepSleeper>();
+    state_ = std::make_shared<State>(std::move(deps));
+}
+
+SamplingEngine::~SamplingEngine() { stop(); }
+
+Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
+    if (spec.id.empty()) return make_error(ErrorCode::parameter_missing, "sample channel without id");
+    if (spec.points.empty()) return make_error(ErrorCode::syntax_error, "sample channel " + spec.id + " has no data items");
+    if (!std::isfinite(spec.sample_interval_ms) || !std::isfinite(spec.upload_interval_ms) || spec.sample_interval_ms <= 0 ||
+        spec.upload_interval_ms <= 0 || spec.sample_interval_ms * 1e6 < 1)
+        return make_error(ErrorCode::unsupported_get_length,
+                          fmt::format("sample channel {}: intervals must be positive (sampleInterval {}, uploadInterval {})", spec.id,
+                                      spec.sample_interval_ms, spec.upload_interval_ms));
+    if (spec.upload_interval_ms < spec.sample_interval_ms)
+        return make_error(ErrorCode::unsupported_get_length,
+                          fmt::format("sample channel {}: uploadInterval {} is shorter than sampleInterval {}", spec.id,
+                                      spec.upload_interval_ms, spec.sample_interval_ms));
+    auto& shared = state_->shared;
+    const auto& config = shared.deps.config;
+    const double rows_per_upload = std::max(1.0, std::floor(spec.upload_interval_ms / spec.sample_interval_ms));
+    const double wanted = std::ceil(rows_per_upload * config.ring_periods);
+    const std::size_t capacity =
+        static_cast<std::size_t>(std::clamp(wanted, 64.0, static_cast<double>(std::max<std::size_t>(64, config.ring_max_rows))));
+    auto core = std::make_shared<ChannelCore>(std::move(spec), capacity, shared.policy, config.text_budget_bytes);
+
+    std::lock_guard<std::mutex> lock(shared.mutex);
+    for (const auto& c : shared.channels)
+        if (!c->removed.load() && c->spec().id == core->spec().id)
+            return make_error(ErrorCode::key_error, "sample channel " + core->spec().id + " exists already");
+    // Push rows are accepted from now on (before start() they wait in the
+    // ring); stop() closes the channel, start() opens it again.
+    core->open_.store(true, std::memory_order_release);
+    shared.channels.push_back(core);
+    shared.version.fetch_add(1, std::memory_order_acq_rel);
+    shared.publish_sampled_locked();
+    shared.deps.sleeper->wake();
+    return ok_result();
+}
+
+bool SamplingEngine::remove_channel(const std::string& id) {
+    auto& shared = state_->shared;
+    std::lock_guard<std::mutex> lock(shared.mutex);
+    for (const auto& c : shared.channels) {
+        if (c->removed.load() || c->spec().id != id) continue;
+        c->open_.store(false, std::memory_order_release);
+        c->removed.store(true, std::memory_order_release);
+        // No sampler will write to it: push channels have no sampler; a
+        // stopped engine's sampler is gone. Else the sampler says so.
+        if (c->spec().push || !shared.sampler_running) c->producer_done.store(true, std::memory_order_release);
+        shared.version.fetch_add(1, std::memory_order_acq_rel);
+        shared.publish_sampled_locked();
+        shared.deps.sleeper->wake();
+        return true;
+    }
+    return false;
+}
+
+std::vector<ChannelStats> SamplingEngine::stats() const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    std::vector<ChannelStats> out;
+    out.reserve(state_->shared.channels.size());
+    for (const auto& c : state_->shared.channels) out.push_back(c->snapshot());
+    return out;
+}
+
+void SamplingEngine::start() {
+    std::lock_guard<std::mutex> life(state_->lifecycle);
+    if (state_->running) return;
+    auto& shared = state_->shared;
+    {
+        std::lock_guard<std::mutex> lock(shared.mutex);
+        shared.sampler_running = true;
+        for (const auto& c : shared.channels) {
+            if (c->removed.load()) continue;
+            c->producer_done.store(false, std::memory_order_release);
+            c->open_.store(true, std::memory_order_release);
+        }
+    }
+    state_->stop_sampler = false;
+    state_->stop_uploader = false;
+    state_->running = true;
+    auto* state = state_.get();
+    state_->sampler_thread = std::thread([state] { state->sample_loop(); });
+    state_->uploader_thread = std::thread([state] { state->upload_loop(); });
+}
+
+void SamplingEngine::stop() {
+    std::unique_lock<std::mutex> life(state_->lifecycle);
+    if (!state_->running) return;
+    auto& shared = state_->shared;
+    state_->stop_sampler = true;
+    shared.deps.sleeper->wake();
+    state_->sampler_thread.join();
+    {
+        std::lock_guard<std::mutex> lock(shared.mutex);
+        shared.sampler_running = false;
+        for (const auto& c : shared.channels) c->open_.store(false, std::memory_order_release);
+    }
+    state_->scheduler.reset();  // the timelines restart at the next start()
+    state_->stop_uploader = true;
+    shared.deps.sleeper->wake();
+    state_->uploader_thread.join();
+    state_->running = false;
+}
+
+void SamplingEngine::set_model(std::shared_ptr<const ModelState> state) {
+    {
+        std::lock_guard<std::mutex> lock(state_->shared.mutex);
+        state_->shared.model = std::move(state);
+    }
+    state_->shared.model_version.fetch_add(1, std::memory_order_acq_rel);
+}
+
+Result<PushChannel> SamplingEngine::push_channel(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    for (const auto& c : state_->shared.channels) {
+        if (c->removed.load() || c->spec().id != id) continue;
+        if (!c->spec().push)
+            return make_error(ErrorCode::value_type, "sample channel " + id + " is not push-mode (sampling.push_channels)");
+        return PushChannel(c);
+    }
+    return make_error(ErrorCode::node_not_exists, "no sample channel " + id);
+}
+
+std::vector<std::string> SamplingEngine::channel_ids() const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    std::vector<std::string> ids;
+    for (const auto& c : state_->shared.channels)
+        if (!c->removed.load()) ids.push_back(c->spec().id);
+    return ids;
+}
+
+bool SamplingEngine::has_channel(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    for (const auto& c : state_->shared.channels)
+        if (!c->removed.load() && c->spec().id == id) return true;
+    return false;
+}
+
+RealtimeStatus SamplingEngine::realtime() const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    return state_->shared.realtime;
+}
+
+bool SamplingEngine::running() const {
+    std::lock_guard<std::mutex> life(state_->lifecycle);
+    return state_->running;
+}
+
+void SamplingEngine::run_sampling_once() { state_->scheduler.poll(); }
+void SamplingEngine::run_upload_once(bool final_flush) { state_->uploader.poll(final_flush); }
+
+}  // namespace nclink::detail

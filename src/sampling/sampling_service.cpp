@@ -1,0 +1,202 @@
+#include "sampling/sampling_service.hpp"
+
+#include "sampling/dynamic_channels.hpp"
+#include "sampling/spool_extension.hpp"
+
+#include <algorithm>
+
+namespace nclink::detail {
+
+namespace {
+
+std::shared_ptr<Sleeper> sleeper_for(const std::shared_ptr<const Clock>& clock) {
+    // Real time sleeps in the kernel with absolute deadlines; any other clock
+    // (ManualClock in adapter tests) is polled.
+    if (dynamic_cast<const SystemClock*>(clock.get()) != nullptr) return std::make_shared<NanosleepSleeper>();
+    return std::make_shared<PollingSleeper>(clock);
+}
+
+}  // namespace
+
+SamplingService::SamplingService(ServiceHost& host) : host_(host) {
+    sink_ = [this](Message message) {
+        if (auto published = host_.transport.publish(std::move(message)); !published) {
+            publish_errors_.fetch_add(1, std::memory_order_relaxed);
+            host_.logger.debug("sampling: publish failed: {}", published.error().describe());
+        }
+    };
+    EngineDeps deps;
+    deps.driver = &host_.driver;
+    deps.model = [this] { return host_.model.current(); };
+    deps.clock = host_.clock;
+    deps.sleeper = sleeper_for(host_.clock);
+    deps.logger = host_.logger;
+    deps.config = host_.config.sampling;
+    deps.dev = host_.dev;
+    deps.sink = [this](Message message) { sink_(std::move(message)); };
+    deps.tap = &host_.sample_tap;
+    engine_ = std::make_unique<SamplingEngine>(std::move(deps));
+    // EXTENSIONS (dynamic sampling, spool: see sampling_service.hpp)
+    add_extension(make_dynamic_channels(host_, *engine_));
+    add_extension(make_spool_extension(host_, *this));
+}
+
+SamplingService::~SamplingService() { stop(); }
+
+void SamplingService::add_extension(std::unique_ptr<SamplingExtension> extension) {
+    extensions_.push_back(std::move(extension));
+}
+
+void SamplingService::wrap_sink(const std::function<DtuSink(DtuSink)>& wrapper) { sink_ = wrapper(std::move(sink_)); }
+
+bool SamplingService::handles(TopicKind kind) const {
+    return std::any_of(extensions_.begin(), extensions_.end(), [&](const auto& e) { return e->handles(kind); });
+}
+
+void SamplingService::handle(const ParsedTopic& topic, const std::string& payload) {
+    for (auto& extension : extensions_) {
+        if (extension->handles(topic.kind)) {
+            extension->handle(topic, payload);
+            return;
+        }
+    }
+}
+
+Result<void> SamplingService::start() {
+    if (!host_.config.sampling.enabled) {
+        host_.logger.info("sampling disabled by configuration (sampling.enabled = false)");
+        return ok_result();
+    }
+    const auto state = host_.model.current();
+    if (state) start_model_channels(*state);
+    engine_->start();
+    for (std::size_t i = 0; i < extensions_.size(); ++i) {
+        if (auto begun = extensions_[i]->start(); !begun) {
+            for (std::size_t j = i; j-- > 0;) extensions_[j]->stop();
+            engine_->stop();
+            return begun;
+        }
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    started_ = true;
+    return ok_result();
+}
+
+void SamplingService::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!started_) return;
+        started_ = false;
+    }
+    for (auto it = extensions_.rbegin(); it != extensions_.rend(); ++it) (*it)->stop();
+    engine_->stop();  // publishes what the rings hold
+}
+
+void SamplingService::start_model_channels(const ModelState& state) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!state.model || !state.device) return;
+    const auto& config = host_.config.sampling;
+    for (const auto& id : config.push_channels)
+        if (!state.model->channel(id)) host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
+    for (const auto& channel : state.model->channels()) {
+        if (channel.device_id != state.device->id) continue;
+        ChannelSpec spec;
+        spec.id = channel.id;
+        for (const auto& item_id : channel.ids) {
+            const DataObject* item = state.model->data_object(item_id);
+            spec.points.push_back(PointRef{item_id, item ? item->kind : DataKind::single});
+        }
+        spec.sample_interval_ms = channel.sample_interval_ms;
+        spec.upload_interval_ms = channel.upload_interval_ms;
+        spec.topic = topics::sample(host_.dev, channel.id);
+        spec.qos = 0;  // WIRE.md: Sample DTUs QoS 0
+        spec.push = std::find(config.push_channels.begin(), config.push_channels.end(), channel.id) != config.push_channels.end();
+        if (auto added = engine_->add_channel(spec); !added) {
+            host_.logger.error("sample channel {} not started: {}", channel.id, added.error().describe());
+            continue;
+        }
+        model_channels_.push_back(channel.id);
+        host_.logger.info("sample channel {}: {} item(s) every {} ms, published every {} ms on {}{}", channel.id, spec.points.size(),
+                          spec.sample_interval_ms, spec.upload_interval_ms, spec.topic, spec.push ? " (push mode)" : "");
+    }
+}
+
+void SamplingService::on_model(std::shared_ptr<const ModelState> state) {
+    engine_->set_model(state);
+    if (host_.config.sampling.enabled && state) {
+        std::vector<std::string> old;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            old.swap(model_channels_);
+        }
+        // The old channels' rows sampled so far are still published.
+        for (const auto& id : old) engine_->remove_channel(id);
+        start_model_channels(*state);
+    }
+    for (auto& extension : extensions_) extension->on_model(state);
+}
+
+void SamplingService::on_link(LinkState link) {
+    for (auto& extension : extensions_) extension->on_link(link);
+}
+
+void SamplingService::on_application_gone(const std::string& ex_cid) {
+    for (auto& extension : extensions_) extension->on_application_gone(ex_cid);
+}
+
+SamplingStats SamplingService::typed_stats() const {
+    SamplingStats s;
+    s.running = engine_->running();
+    s.realtime = engine_->realtime();
+    s.channels = engine_->stats();
+    return s;
+}
+
+Result<PushChannel> SamplingService::push_channel(const std::string& id) const { return engine_->push_channel(id); }
+
+Json SamplingService::stats() const {
+    Json out = to_json(typed_stats());
+    out["enabled"] = host_.config.sampling.enabled;
+    out["publish_errors"] = publish_errors_.load(std::memory_order_relaxed);
+    for (const auto& extension : extensions_) out[std::string(extension->name())] = extension->stats();
+    return out;
+}
+
+Json to_json(const SamplingStats& stats) {
+    Json channels = Json::array();
+    for (const auto& c : stats.channels) {
+        Json lateness = Json::object();
+        for (std::size_t i = 0; i < c.lateness.size(); ++i) {
+            const std::string key =
+                i < kLatenessBoundsUs.size() ? "lt_" + std::to_string(kLatenessBoundsUs[i]) : "ge_" + std::to_string(kLatenessBoundsUs.back());
+            lateness[key] = c.lateness[i];
+        }
+        Json entry = {{"id", c.id},
+                      {"topic", c.topic},
+                      {"push", c.push},
+                      {"sample_interval_ms", c.sample_interval_ms},
+                      {"upload_interval_ms", c.upload_interval_ms},
+                      {"points", c.points},
+                      {"ring_capacity", c.ring_capacity},
+                      {"rows_sampled", c.rows_sampled},
+                      {"rows_published", c.rows_published},
+                      {"dtus_published", c.dtus_published},
+                      {"overruns", c.overruns},
+                      {"skipped_ticks", c.skipped_ticks},
+                      {"drops", c.drops},
+                      {"null_values", c.null_values},
+                      {"max_lateness_us", c.max_lateness_us},
+                      {"lateness_us", lateness}};
+        if (!c.owner_ex.empty()) entry["owner_ex"] = c.owner_ex;
+        channels.push_back(std::move(entry));
+    }
+    const auto& rt = stats.realtime;
+    Json realtime = {{"fifo_priority", rt.fifo_priority}, {"fifo_granted", rt.fifo_granted},
+                     {"timer_slack_ns", rt.timer_slack_ns}, {"timer_slack_granted", rt.timer_slack_granted},
+                     {"cpu", rt.cpu}, {"cpu_granted", rt.cpu_granted}};
+    return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
+}
+
+std::unique_ptr<AdapterService> make_sampling_service(ServiceHost& host) { return std::make_unique<SamplingService>(host); }
+
+}  // namespace nclink::detail

@@ -1,0 +1,189 @@
+#include "sampling/scheduler.hpp"
+
+#include <algorithm>
+
+namespace nclink::detail {
+
+SampleValue to_sample_value(const Json& value, ChannelCore& channel) {
+    switch (value.type()) {
+        case Json::value_t::boolean: return SampleValue::boolean(value.get<bool>());
+        case Json::value_t::number_integer: return SampleValue::int64(value.get<std::int64_t>());
+        case Json::value_t::number_unsigned: return SampleValue::uint64(value.get<std::uint64_t>());
+        case Json::value_t::number_float: return SampleValue::float64(value.get<double>());
+        case Json::value_t::string: return channel.intern_text(value.get_ref<const std::string&>(), false);
+        case Json::value_t::array:
+        case Json::value_t::object:
+            return channel.intern_text(value.dump(-1, ' ', false, Json::error_handler_t::replace), true);
+        default: return SampleValue::null();
+    }
+}
+
+void Scheduler::reset() {
+    for (auto& lane : lanes_) lane.core->producer_done.store(true, std::memory_order_release);
+    lanes_.clear();
+    seen_version_ = 0;
+}
+
+void Scheduler::refresh(Clock::Steady now) {
+    const auto version = shared_.version.load(std::memory_order_acquire);
+    if (version == seen_version_) return;
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    seen_version_ = shared_.version.load(std::memory_order_acquire);
+    std::vector<Lane> next;
+    bool released = false;
+    for (const auto& core : shared_.channels) {
+        if (core->removed.load(std::memory_order_acquire)) {
+            // We never write to a removed channel again: the uploader may
+            // publish its last rows (wake it to do so).
+            if (!core->producer_done.exchange(true, std::memory_order_acq_rel)) released = true;
+            continue;
+        }
+        if (core->spec().push) continue;
+        auto found = std::find_if(lanes_.begin(), lanes_.end(), [&](const Lane& l) { return l.core == core; });
+        if (found != lanes_.end()) {
+            next.push_back(std::move(*found));
+            continue;
+        }
+        Lane lane;
+        lane.core = core;
+        lane.t0 = now;  // the first row is read at once
+        lane.wall0_ns = shared_.deps.clock->wall_ms() * 1'000'000;
+        next.push_back(std::move(lane));
+    }
+    lanes_ = std::move(next);
+    if (released) shared_.deps.sleeper->wake();
+}
+
+void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model, std::uint64_t version) {
+    lane.model = model;
+    lane.model_version = version;
+    lane.driver_points.clear();
+    lane.driver_columns.clear();
+    lane.store_ids.clear();
+    lane.store_columns.clear();
+    const auto& points = lane.core->spec().points;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (model && model->sdk_held(points[i].id)) {
+            lane.store_ids.push_back(points[i].id);
+            lane.store_columns.push_back(i);
+        } else {
+            lane.driver_points.push_back(points[i]);
+            lane.driver_columns.push_back(i);
+        }
+    }
+}
+
+Clock::Steady Scheduler::poll() {
+    const auto& clock = *shared_.deps.clock;
+    refresh(clock.now());
+    const auto model_version = shared_.model_version.load(std::memory_order_acquire);
+    std::shared_ptr<const ModelState> model;
+    Clock::Steady earliest = clock.now() + std::chrono::hours(1);
+    for (auto& lane : lanes_) {
+        if (lane.model_version != model_version) {
+            if (!model) model = shared_.current_model();
+            plan(lane, model, model_version);
+        }
+        earliest = std::min(earliest, serve(lane, clock.now()));
+    }
+    return earliest;
+}
+
+Clock::Steady Scheduler::serve(Lane& lane, Clock::Steady now) {
+    ChannelCore& core = *lane.core;
+    const std::int64_t interval = core.sample_interval_ns();
+    const auto deadline = [&](std::uint64_t k) { return lane.t0 + std::chrono::nanoseconds(static_cast<std::int64_t>(k) * interval); };
+    if (deadline(lane.next_k) > now) return deadline(lane.next_k);
+
+    // The newest due tick; older due ticks are overruns.
+    const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(now - lane.t0).count();
+    const std::uint64_t newest = static_cast<std::uint64_t>(elapsed / interval);
+    const auto late_of = [&](std::uint64_t k) { return std::chrono::duration_cast<std::chrono::nanoseconds>(now - deadline(k)).count(); };
+    core.record_lateness(late_of(lane.next_k));  // how late the pass came for the oldest due tick
+    const auto& observer = shared_.deps.tick_observer;
+
+    std::uint64_t missed = newest - lane.next_k;
+    if (missed > 0) {
+        const std::uint64_t keep = core.rows_per_upload();
+        if (missed > keep) {
+            // A long stall: null rows for the last upload period only.
+            core.skipped_ticks.add(missed - keep);
+            lane.next_k += missed - keep;
+            missed = keep;
+        }
+        if (!lane.in_burst) {
+            shared_.deps.logger.warn("sampling {}: {} tick(s) of {} ms missed (late by {} us); their rows are sent as null",
+                                     core.spec().id, missed, core.spec().sample_interval_ms,
+                                     std::chrono::duration_cast<std::chrono::microseconds>(now - deadline(lane.next_k)).count());
+            lane.in_burst = true;
+            lane.burst_overruns = 0;
+        }
+        while (lane.next_k < newest) {
+            if (!produce_null_row(lane, lane.next_k)) return now + std::chrono::nanoseconds(std::min<std::int64_t>(interval, 1'000'000));
+            if (observer) observer(core.spec().id, late_of(lane.next_k));
+            core.overruns.add();
+            lane.burst_overruns++;
+            lane.next_k++;
+        }
+    } else if (lane.in_burst) {
+        shared_.deps.logger.info("sampling {}: on time again after {} missed tick(s)", core.spec().id, lane.burst_overruns);
+        lane.in_burst = false;
+    }
+    if (!produce_read_row(lane, newest)) return now + std::chrono::nanoseconds(std::min<std::int64_t>(interval, 1'000'000));
+    if (observer) observer(core.spec().id, late_of(newest));
+    lane.next_k = newest + 1;
+    return deadline(lane.next_k);
+}
+
+// Both return false only under the block policy while the ring is full: the
+// tick stays due and is served when the uploader made room.
+bool Scheduler::produce_null_row(Lane& lane, std::uint64_t k) {
+    ChannelCore& core = *lane.core;
+    SampleValue* row = core.ring().try_begin();
+    if (row == nullptr) return core.ring().policy() != FullPolicy::block;  // drop_oldest refused: counted as a drop
+    const std::size_t width = core.ring().width();
+    for (std::size_t i = 0; i < width; ++i) row[i] = SampleValue::null();
+    core.ring().commit(row_time_ns(lane, k), k);
+    core.rows_sampled.add();
+    core.null_values.add(width);
+    return true;
+}
+
+bool Scheduler::produce_read_row(Lane& lane, std::uint64_t k) {
+    ChannelCore& core = *lane.core;
+    SampleValue* row = core.ring().try_begin();
+    if (row == nullptr) return core.ring().policy() != FullPolicy::block;
+    const auto& config = shared_.deps.config;
+    std::uint64_t nulls = 0;
+    if (!lane.driver_points.empty()) {
+        DriverRunner* driver = shared_.deps.driver;
+        // Waiting longer than one period for a busy driver only turns one
+        // late row into several missed ones.
+        const auto wait = std::chrono::nanoseconds(core.sample_interval_ns());
+        if (driver == nullptr) {
+            lane.results.assign(lane.driver_points.size(), Result<Json>(make_error(ErrorCode::unavailable, "no driver")));
+        } else if (config.direct_reads) {
+            driver->read_direct(lane.driver_points, lane.results, wait);
+        } else {
+            lane.results = driver->read(lane.driver_points,
+                                        std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)));
+        }
+        for (std::size_t i = 0; i < lane.driver_columns.size(); ++i) {
+            SampleValue& slot = row[lane.driver_columns[i]];
+            slot = i < lane.results.size() && lane.results[i] ? to_sample_value(lane.results[i].value(), core) : SampleValue::null();
+            if (slot.is_null()) ++nulls;
+        }
+    }
+    for (std::size_t i = 0; i < lane.store_ids.size(); ++i) {
+        SampleValue& slot = row[lane.store_columns[i]];
+        auto value = lane.model && lane.model->store ? lane.model->store->get(lane.store_ids[i]) : Result<Json>(make_error(ErrorCode::unavailable));
+        slot = value ? to_sample_value(value.value(), core) : SampleValue::null();
+        if (slot.is_null()) ++nulls;
+    }
+    core.ring().commit(row_time_ns(lane, k), k);
+    core.rows_sampled.add();
+    if (nulls) core.null_values.add(nulls);
+    return true;
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,143 @@
+#include "sampling/uploader.hpp"
+
+#include <algorithm>
+
+namespace nclink::detail {
+
+void Uploader::refresh(Clock::Steady now) {
+    const auto version = shared_.version.load(std::memory_order_acquire);
+    if (version == seen_version_) return;
+    std::lock_guard<std::mutex> lock(shared_.mutex);
+    seen_version_ = shared_.version.load(std::memory_order_acquire);
+    std::vector<Lane> next;
+    for (const auto& core : shared_.channels) {
+        auto found = std::find_if(lanes_.begin(), lanes_.end(), [&](const Lane& l) { return l.core == core; });
+        if (found != lanes_.end()) {
+            next.push_back(std::move(*found));
+            continue;
+        }
+        Lane lane;
+        lane.core = core;
+        const auto upload = std::chrono::nanoseconds(core->upload_interval_ns());
+        // Drain at least 4 times per ring's worth of rows, so the ring only
+        // fills when this thread is starved.
+        const auto ring_time = std::chrono::nanoseconds(core->sample_interval_ns() * static_cast<std::int64_t>(core->ring().capacity()));
+        lane.drain_period = std::max(std::chrono::nanoseconds(std::chrono::microseconds(100)), std::min(upload, ring_time / 4));
+        lane.next_publish = now + upload;
+        lane.next_drain = now + lane.drain_period;
+        next.push_back(std::move(lane));
+    }
+    lanes_ = std::move(next);
+}
+
+Clock::Steady Uploader::poll(bool final_flush) {
+    const auto& clock = *shared_.deps.clock;
+    const auto now = clock.now();
+    refresh(now);
+    Clock::Steady earliest = now + std::chrono::hours(1);
+    bool finished_any = false;
+    for (auto& lane : lanes_) {
+        ChannelCore& core = *lane.core;
+        const bool last = core.removed.load(std::memory_order_acquire) && core.producer_done.load(std::memory_order_acquire);
+        if (final_flush || last || now >= lane.next_drain || now >= lane.next_publish) {
+            drain(lane);
+            lane.next_drain = now + lane.drain_period;
+        }
+        if (final_flush || last || now >= lane.next_publish) {
+            publish(lane);
+            const auto upload = std::chrono::nanoseconds(core.upload_interval_ns());
+            lane.next_publish += upload;
+            if (lane.next_publish <= now) lane.next_publish = now + upload;  // fell behind: re-anchor
+        }
+        if (last) {
+            finished_any = true;
+            continue;
+        }
+        earliest = std::min({earliest, lane.next_drain, lane.next_publish});
+    }
+    if (finished_any) {
+        // Removed channels whose last rows are out leave the engine.
+        std::lock_guard<std::mutex> lock(shared_.mutex);
+        auto& list = shared_.channels;
+        list.erase(std::remove_if(list.begin(), list.end(),
+                                  [](const std::shared_ptr<ChannelCore>& c) {
+                                      return c->removed.load(std::memory_order_acquire) &&
+                                             c->producer_done.load(std::memory_order_acquire);
+                                  }),
+                   list.end());
+        lanes_.erase(std::remove_if(lanes_.begin(), lanes_.end(),
+                                    [](const Lane& l) {
+                                        return l.core->removed.load(std::memory_order_acquire) &&
+                                               l.core->producer_done.load(std::memory_order_acquire);
+                                    }),
+                     lanes_.end());
+        shared_.version.fetch_add(1, std::memory_order_acq_rel);
+        seen_version_ = shared_.version.load(std::memory_order_acquire);
+    }
+    return earliest;
+}
+
+void Uploader::drain(Lane& lane) {
+    ChannelCore& core = *lane.core;
+    SpscRowRing& ring = core.ring();
+    const std::size_t width = ring.width();
+    const std::size_t before = lane.times.size();
+    const std::size_t n = ring.claim();
+    for (std::size_t i = 0; i < n; ++i) {
+        const SampleValue* row = ring.row(i);
+        lane.values.insert(lane.values.end(), row, row + width);
+        lane.times.push_back(ring.time_ns(i));
+        lane.seqs.push_back(ring.seq(i));
+    }
+    ring.release(n);
+    SampleTap* tap = shared_.deps.tap;
+    if (tap != nullptr && n > 0 && tap->active()) {
+        for (std::size_t r = before; r < lane.times.size(); ++r)
+            tap->deliver(core.ids(), lane.values.data() + r * width, lane.times[r] / 1'000'000);
+    }
+}
+
+void Uploader::publish(Lane& lane) {
+    const std::size_t rows = lane.times.size();
+    if (rows == 0) return;
+    const std::size_t max_rows = std::max<std::size_t>(1, 2 * lane.core->rows_per_upload());
+    std::size_t first = 0;
+    for (std::size_t r = 1; r <= rows; ++r) {
+        const bool gap = r < rows && lane.seqs[r] != lane.seqs[r - 1] + 1;
+        if (r == rows || gap || r - first >= max_rows) {
+            publish_segment(lane, first, r - first);
+            first = r;
+        }
+    }
+    lane.values.clear();
+    lane.times.clear();
+    lane.seqs.clear();
+}
+
+void Uploader::publish_segment(Lane& lane, std::size_t first, std::size_t count) {
+    ChannelCore& core = *lane.core;
+    const std::size_t width = core.ring().width();
+    columns_.resize(width * count);
+    for (std::size_t r = 0; r < count; ++r) {
+        const SampleValue* row = lane.values.data() + (first + r) * width;
+        for (std::size_t p = 0; p < width; ++p) columns_[p * count + r] = row[p];
+    }
+    SampleDtuHeader header;
+    header.guid = shared_.deps.dev;
+    header.channel_id = core.spec().id;
+    const std::int64_t t = lane.times[first];
+    header.begin_time_ms = t >= 0 ? t / 1'000'000 : -((-t + 999'999) / 1'000'000);
+    const std::string_view payload = encoder_.encode(header, SampleBlock{columns_.data(), width, count});
+    Message message{core.spec().topic, std::string(payload), core.spec().qos, false};
+    if (shared_.deps.sink) {
+        try {
+            shared_.deps.sink(std::move(message));
+        } catch (const std::exception& e) {
+            shared_.deps.logger.error("sampling {}: the DTU sink threw: {}", core.spec().id, e.what());
+        }
+    }
+    core.rows_published.add(count);
+    core.dtus_published.add();
+}
+
+}  // namespace nclink::detail
