@@ -16,6 +16,10 @@ struct HandlerContext {
     const ModelHost& host;
     const std::string& dev;
     const Logger& logger;
+    /// Set when the request's deadline passed while the driver still had it
+    /// (driver-affine Query): driver items answer this error, the driver is
+    /// not called again; SDK-held items answer as usual.
+    const Error* driver_expired = nullptr;
 };
 
 /// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are
