@@ -58,7 +58,9 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
     }
 
     if (!points.empty()) {
-        auto read = context.driver.read(points);
+        auto read = context.driver_expired
+                        ? std::vector<Result<Json>>(points.size(), Result<Json>(*context.driver_expired))
+                        : context.driver.read(points);
         for (std::size_t k = 0; k < driver_items.size(); ++k) {
             QueryResult& result = response.values[driver_items[k].slot];
             if (!read[k].ok()) {

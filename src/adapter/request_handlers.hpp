@@ -24,6 +24,10 @@ struct HandlerContext {
     /// stats() as a dict value.
     std::string stats_item = {};
     std::function<Json()> stats = {};
+    /// Set when the request's deadline passed while the driver still had it
+    /// (driver-affine Query): driver items answer this error, the driver is
+    /// not called again; SDK-held items answer as usual.
+    const Error* driver_expired = nullptr;
 };
 
 /// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are

@@ -5,6 +5,11 @@
 namespace nclink::detail {
 namespace {
 
+// The queue whose worker this thread is (null elsewhere): a read made from a
+// task already running on the driver's worker calls the driver directly
+// instead of queueing behind itself.
+thread_local const void* tls_worker_of = nullptr;
+
 // The state one waiting caller shares with its task. The task may finish
 // after the caller gave up; the shared_ptr keeps the state alive for it.
 template <class T>
@@ -36,6 +41,15 @@ struct Pending {
     }
 };
 
+void call_read(Driver& driver, const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
+    try {
+        driver.read(points, results);
+    } catch (const std::exception& e) {
+        // A throwing driver must not take the adapter down.
+        for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
+    }
+}
+
 }  // namespace
 
 DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger)
@@ -49,6 +63,7 @@ DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logg
 DriverRunner::~DriverRunner() { stop(); }
 
 void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
+    tls_worker_of = queue.get();
     std::unique_lock<std::mutex> lock(queue->mutex);
     for (;;) {
         queue->wake.wait(lock, [&] { return queue->stopping || !queue->tasks.empty(); });
@@ -90,15 +105,19 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
 
 std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout) {
     using Results = std::vector<Result<Json>>;
+    if (tls_worker_of == queue_.get()) {
+        // On the driver's own worker (a driver-affine request): call in place.
+        // `this` is not touched after the call, so an abandoned worker that
+        // returns late from a stuck driver finds nothing destroyed under it.
+        const std::shared_ptr<Driver> driver = driver_;
+        Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+        call_read(*driver, points, results);
+        return results;
+    }
     auto pending = std::make_shared<Pending<Results>>();
     const bool queued = post([pending, points](Driver& driver) {
         Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-        try {
-            driver.read(points, results);
-        } catch (const std::exception& e) {
-            // A throwing driver must not take the adapter down.
-            for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
-        }
+        call_read(driver, points, results);
         pending->finish(std::move(results));
     });
     if (!queued) return Results(points.size(), Result<Json>(make_error(ErrorCode::unavailable, "driver stopped")));
@@ -180,6 +199,12 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
     }
     workers_.clear();
     if (!all_exited) {
+        // Nothing queued may start once its owner is gone: a worker that
+        // returns late from the stuck call finds the queue empty and exits.
+        {
+            std::lock_guard<std::mutex> queue_lock(queue_->mutex);
+            queue_->tasks.clear();
+        }
         logger_.error("driver '{}' did not return within {} ms of shutdown; its worker thread is abandoned", name_,
                       grace.count());
         return;

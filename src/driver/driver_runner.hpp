@@ -33,7 +33,10 @@ public:
     DriverRunner(const DriverRunner&) = delete;
     DriverRunner& operator=(const DriverRunner&) = delete;
 
-    /// Thread-safe. One result per point, in order.
+    /// Thread-safe. One result per point, in order. Called from a task
+    /// running on this runner's own worker (a driver-affine task, see post()),
+    /// the driver is called in place without a deadline: whoever posted the
+    /// task watches its deadline (the adapter's Query path does).
     std::vector<Result<Json>> read(const std::vector<PointRef>& points);
     std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout);
     /// Reads on the CALLING thread (no hand-off to a worker: the sampling
@@ -52,7 +55,8 @@ public:
 
     /// Stops taking calls, waits up to `grace` for running calls, closes the
     /// driver. A worker stuck in the driver past `grace` is abandoned (and
-    /// logged); the driver is then not closed.
+    /// logged), tasks not yet started are dropped, and the driver is not
+    /// closed.
     void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(2000));
 
     const Driver& driver() const { return *driver_; }

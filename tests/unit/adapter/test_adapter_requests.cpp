@@ -164,7 +164,24 @@ TEST_CASE("a slow driver answers Timeout (203) per item, and SDK items still ans
     CHECK(r["values"][1]["code"] == "OK");
     CHECK(r["values"][2]["error"] == 203);
     CHECK(f.adapter->stats().driver_timeouts >= 1);
+    // The driver's late answer is dropped: the deadline already answered.
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    CHECK(f.app->on("Query/Response/test-dev/app").size() == 1);
     f.driver->delay = std::chrono::milliseconds(0);
+}
+
+TEST_CASE("an adapter stopped while a Query is stuck in the driver shuts down and stays quiet") {
+    AdapterConfig c;
+    c.driver_timeout = std::chrono::milliseconds(100);  // also the grace stop() gives a driver call
+    auto f = std::make_unique<AdapterFixture>(c);
+    f->driver->delay = std::chrono::milliseconds(600);
+    f->app->send("Query/Request/test-dev/app", R"({"@id":"stuck","guid":"test-dev","ids":[{"id":"pos"}]})");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the read is under way
+    auto driver = f->driver;
+    f->adapter->stop(std::chrono::milliseconds(10));
+    f.reset();  // the adapter is gone while its driver worker is still inside read()
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));  // the read returns into nothing
+    CHECK(driver->delay.load() == std::chrono::milliseconds(600));
 }
 
 TEST_CASE("requests of features the adapter does not run are answered NG 202, never silence") {

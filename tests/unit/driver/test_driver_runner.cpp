@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <future>
 #include <mutex>
 #include <thread>
 
@@ -145,4 +146,39 @@ TEST_CASE("a driver stuck at shutdown is abandoned, not waited for forever") {
     }
     driver->release();  // the abandoned worker finishes and exits on its own
     while (driver->reads.load() < 1) std::this_thread::yield();
+}
+
+TEST_CASE("a read from a task on the driver's own worker calls the driver in place") {
+    // Without the in-place path a serialized runner would queue the read
+    // behind the very task waiting for it, and answer 203 after the deadline.
+    auto driver = std::make_shared<GatedDriver>(false);
+    driver->release();
+    DriverRunner::Options o;
+    o.call_timeout = std::chrono::milliseconds(5000);
+    DriverRunner runner(driver, o, Logger());
+    std::promise<std::vector<Result<Json>>> got;
+    REQUIRE(runner.post([&](Driver&) { got.set_value(runner.read(points({"a", "b"}))); }));
+    auto future = got.get_future();
+    REQUIRE(future.wait_for(std::chrono::seconds(2)) == std::future_status::ready);
+    const auto results = future.get();
+    REQUIRE(results.size() == 2);
+    CHECK(results[1].value() == Json("b"));
+    CHECK(runner.timeouts() == 0);
+}
+
+TEST_CASE("tasks queued behind a driver stuck at shutdown are dropped, not run later") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    std::atomic<int> ran_after{0};
+    {
+        DriverRunner::Options o;
+        o.call_timeout = std::chrono::milliseconds(10);
+        DriverRunner runner(driver, o, Logger());
+        (void)runner.read(points({"a"}));  // the worker stays inside the driver
+        REQUIRE(runner.post([&](Driver&) { ++ran_after; }));
+        runner.stop(std::chrono::milliseconds(20));
+    }
+    driver->release();
+    while (driver->reads.load() < 1) std::this_thread::yield();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    CHECK(ran_after == 0);
 }

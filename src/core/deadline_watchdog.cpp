@@ -1,0 +1,54 @@
+#include "core/deadline_watchdog.hpp"
+
+namespace nclink::detail {
+
+DeadlineWatchdog::DeadlineWatchdog() : thread_([this] { loop(); }) {}
+
+DeadlineWatchdog::~DeadlineWatchdog() { stop(); }
+
+bool DeadlineWatchdog::arm(Time at, std::function<void()> on_expiry) {
+    bool wake = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopping_) return false;
+        entries_.push(Entry{at, std::move(on_expiry)});
+        wake = at < sleeping_until_;
+    }
+    if (wake) wake_.notify_one();
+    return true;
+}
+
+void DeadlineWatchdog::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (stopping_ && !thread_.joinable()) return;
+        stopping_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+    std::lock_guard<std::mutex> lock(mutex_);
+    entries_ = {};
+}
+
+void DeadlineWatchdog::loop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+        const auto now = std::chrono::steady_clock::now();
+        if (!entries_.empty() && entries_.top().at <= now) {
+            auto run = std::move(const_cast<Entry&>(entries_.top()).run);
+            entries_.pop();
+            lock.unlock();
+            run();
+            lock.lock();
+            continue;
+        }
+        sleeping_until_ = entries_.empty() ? Time::max() : entries_.top().at;
+        if (sleeping_until_ == Time::max())
+            wake_.wait(lock);
+        else
+            wake_.wait_until(lock, sleeping_until_);
+        sleeping_until_ = Time::max();
+    }
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,71 @@
+#include "core/deadline_watchdog.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+using namespace nclink::detail;
+using Clock = std::chrono::steady_clock;
+
+TEST_CASE("the watchdog runs each callback once, never before its deadline, earliest first") {
+    DeadlineWatchdog watchdog;
+    std::mutex mutex;
+    std::vector<int> order;
+    std::vector<bool> on_time;
+    const auto start = Clock::now();
+    auto arm = [&](int tag, int ms) {
+        const auto at = start + std::chrono::milliseconds(ms);
+        REQUIRE(watchdog.arm(at, [&, tag, at] {
+            std::lock_guard<std::mutex> lock(mutex);
+            order.push_back(tag);
+            on_time.push_back(Clock::now() >= at);
+        }));
+    };
+    // Armed later-first, so the earlier ones must wake a sleeping watchdog.
+    arm(3, 60);
+    arm(2, 40);
+    arm(1, 20);
+    while (true) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (order.size() == 3) break;
+    }
+    CHECK(order == std::vector<int>{1, 2, 3});
+    CHECK(on_time == std::vector<bool>{true, true, true});
+}
+
+TEST_CASE("stop drops what is armed and refuses new deadlines") {
+    std::atomic<int> ran{0};
+    DeadlineWatchdog watchdog;
+    REQUIRE(watchdog.arm(Clock::now() + std::chrono::hours(1), [&] { ++ran; }));
+    watchdog.stop();
+    CHECK_FALSE(watchdog.arm(Clock::now(), [&] { ++ran; }));
+    CHECK(ran == 0);
+}
+
+TEST_CASE("an answer is claimed exactly once, by the worker or by the deadline") {
+    SECTION("worker first") {
+        AnswerClaim claim;
+        CHECK(claim.claim_for_worker());
+        CHECK_FALSE(claim.claim_for_deadline());
+        CHECK_FALSE(claim.claim_for_worker());
+    }
+    SECTION("deadline first") {
+        AnswerClaim claim;
+        CHECK(claim.claim_for_deadline());
+        CHECK_FALSE(claim.claim_for_worker());
+    }
+    SECTION("racing threads") {
+        for (int round = 0; round < 200; ++round) {
+            AnswerClaim claim;
+            std::atomic<int> wins{0};
+            std::thread a([&] { wins += claim.claim_for_worker(); });
+            std::thread b([&] { wins += claim.claim_for_deadline(); });
+            a.join();
+            b.join();
+            REQUIRE(wins == 1);
+        }
+    }
+}
