@@ -68,7 +68,10 @@ TEST_CASE("data objects expose their attributes") {
     CHECK_FALSE(m->data_object("x_speed")->setable);
     CHECK(m->data_object("feed_override")->setable);
     CHECK(m->data_object("status")->kind == DataKind::single);
-    CHECK(m->method("program_transfer")->args.at("operation") == "push");
+    const Json& args = m->method("program_transfer")->args;  // table 6: an array of parameters
+    REQUIRE(args.is_array());
+    CHECK(args.at(0).at("name") == "operation");
+    CHECK(args.at(0).at("default") == "push");
 }
 
 TEST_CASE("path lookup lists every id sharing a path, in file order") {
