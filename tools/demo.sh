@@ -91,6 +91,19 @@ nclink query no_such_item || true
 nclink set status='"free"' || true
 nclink query 'tools:{"indexes":["999"]}' || true
 
+say "samples: one Sample DTU of the slow channel (6.2.6), then a dynamic channel of two axes"
+nclink watch --channel ch_slow --count 1 || true
+nclink sample x_position y_position --sample-ms 10 --upload-ms 100 --count 5 || true
+
+say "events: the program line changes (a change filter, 8.2.27)"
+nclink events --count 2 line_number || true
+
+say "methods: cycle start (Method/Call, Status, Result)"
+nclink call cycle_start || true
+
+say "nclink stats: the adapter's own counters and the sample channels' timing"
+nclink stats || true
+
 if ((follow)); then
   say "following the machine every second (Ctrl-C to stop)"
   while true; do
