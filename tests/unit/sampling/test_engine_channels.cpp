@@ -52,7 +52,7 @@ TEST_CASE("the uploader publishes each channel every uploadInterval") {
     CHECK(s.dtus_published == 10);
 }
 
-TEST_CASE("drop_oldest: a full ring loses the oldest rows, counts them, and the DTU begins at the first kept row") {
+TEST_CASE("drop_oldest: a full ring loses and counts the oldest rows and the DTU begins at the first kept row") {
     SamplingConfig config;
     config.ring_periods = 1;  // capacity 64 (the minimum)
     EngineFixture f(config);
@@ -70,7 +70,7 @@ TEST_CASE("drop_oldest: a full ring loses the oldest rows, counts them, and the 
     CHECK(f.dtus("Sample/dev1/ch").front().at("beginTime") == "1700000000036");
 }
 
-TEST_CASE("block: a full ring holds the sampler back, and the ticks it missed become null rows") {
+TEST_CASE("block: a full ring holds the sampler back and the ticks it missed become null rows") {
     SamplingConfig config;
     config.ring_periods = 1;
     config.full_policy = "block";
@@ -211,7 +211,7 @@ TEST_CASE("SDK-held items are read from the value store and not from the driver"
     CHECK(f.driver->counters.count("fixed") == 0);
 }
 
-TEST_CASE("statistics count rows, DTUs and lateness") {
+TEST_CASE("statistics count rows and DTUs and lateness") {
     EngineFixture f;
     REQUIRE(f.engine->add_channel(EngineFixture::spec("ch", {"a"}, 10, 20)).ok());
     f.engine->run_sampling_once();

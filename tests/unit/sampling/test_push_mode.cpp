@@ -39,7 +39,7 @@ TEST_CASE("pushed rows are published like sampled ones with the caller's timesta
     CHECK(s.rows_published == 10);
 }
 
-TEST_CASE("push refuses a wrong column count, a removed channel and a stopped engine") {
+TEST_CASE("push refuses a wrong column count and a removed channel and a stopped engine") {
     EngineFixture f;
     REQUIRE(f.engine->add_channel(push_spec("servo", {"x", "y"}, 1, 10)).ok());
     REQUIRE(f.engine->add_channel(EngineFixture::spec("pull", {"x"}, 1, 10)).ok());

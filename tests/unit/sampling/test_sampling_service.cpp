@@ -27,6 +27,12 @@ void run_ticks(AdapterFixture& f, const std::string& channel, int ticks, std::ch
     }
 }
 
+/// Ticks on (as run_ticks) until a DTU arrives on `topic`; returns the first.
+Json wait_dtu(AdapterFixture& f, const std::string& channel, const std::string& topic) {
+    for (int i = 0; i < 1000 && f.app->on(topic).empty(); ++i) run_ticks(f, channel, 1, std::chrono::milliseconds(10));
+    return f.app->wait(topic);
+}
+
 Json test_model() {
     std::ifstream in(test_model_path());
     std::stringstream text;
@@ -39,8 +45,8 @@ Json test_model() {
 TEST_CASE("the model's sample channel publishes Sample DTUs with every row") {
     AdapterFixture f;
     REQUIRE(eventually([&] { return rows_of(*f.adapter, "ch1") >= 1; }));
-    run_ticks(f, "ch1", 12, 10ms);
-    const Json dtu = f.app->wait("Sample/test-dev/ch1");
+    run_ticks(f, "ch1", 10, 10ms);
+    const Json dtu = wait_dtu(f, "ch1", "Sample/test-dev/ch1");
     CHECK(dtu.at("guid") == "test-dev");
     CHECK(dtu.at("id") == "ch1");
     REQUIRE(dtu.at("data").size() == 1);  // one column: ids = [pos]
@@ -68,8 +74,7 @@ TEST_CASE("a Probe/Set restarts the sample channels from the new model") {
         return s.channels.size() == 1 && s.channels[0].id == "ch2";
     }));
     REQUIRE(eventually([&] { return rows_of(*f.adapter, "ch2") >= 1; }));
-    run_ticks(f, "ch2", 3, 10ms);
-    const Json dtu = f.app->wait("Sample/test-dev/ch2");
+    const Json dtu = wait_dtu(f, "ch2", "Sample/test-dev/ch2");
     REQUIRE(dtu.at("data").size() == 2);
     CHECK(dtu.at("data")[0].at("data")[0] == 100);   // ovr
     CHECK(dtu.at("data")[1].at("data")[0] == 12.5);  // pos
@@ -102,7 +107,12 @@ TEST_CASE("push_channels makes a model channel push-mode through Adapter::push_c
         REQUIRE(ch.value().push(&v, 1));
     }
     CHECK(rows_of(*f.adapter, "ch1") == 10);
-    f.clock->advance(100ms);
+    // The uploader publishes every 100 ms of fake time.
+    REQUIRE(eventually([&] {
+        f.clock->advance(10ms);
+        std::this_thread::sleep_for(1ms);
+        return !f.app->on("Sample/test-dev/ch1").empty();
+    }));
     const Json dtu = f.app->wait("Sample/test-dev/ch1");
     CHECK(dtu.at("data")[0].at("data") == Json::array({0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
     CHECK(f.driver->writes == 0);
