@@ -67,7 +67,13 @@ public:
         } catch (const mqtt::exception& e) {
             logger_.debug("mqtt: disconnect: {}", e.what());
         }
-        client_.disable_callbacks();
+        try {
+            // paho throws here too (-1) when the client is mid-reconnect;
+            // an exception escaping stop() aborted Adapter::stop().
+            client_.disable_callbacks();
+        } catch (const mqtt::exception& e) {
+            logger_.debug("mqtt: disable callbacks: {}", e.what());
+        }
         set_state(LinkState::disconnected, "stopped");
     }
 
