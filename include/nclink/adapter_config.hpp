@@ -35,7 +35,14 @@ struct SamplingConfig {
     int rt_priority = 0;                      ///< "rt_priority": SCHED_FIFO priority of the sampling thread (0 = normal scheduling)
     long timer_slack_ns = 0;                  ///< "timer_slack_ns": PR_SET_TIMERSLACK of the sampling thread (0 = leave default)
     int cpu = -1;                             ///< "cpu": pin the sampling thread to this CPU (-1 = no pinning)
+    /// "overrun_log_interval_ms": missed ticks are logged at most once per
+    /// this interval (over all channels; the line sums up the bursts between).
+    std::chrono::milliseconds overrun_log_interval{10000};
     std::size_t text_budget_bytes = 1u << 20; ///< "text_budget_bytes": distinct text values kept per channel
+    /// "max_dtu_bytes": an upload period whose DTU would be larger is sent as
+    /// several consecutive DTUs of about this size (0 = no limit). paho
+    /// stalls on payloads beyond the socket buffer (docs/sampling.md).
+    std::size_t max_dtu_bytes = 1u << 20;
     /// "stats_item": id of the SDK-provided data item a Query reads the
     /// adapter's statistics from ("" = none).
     std::string stats_item = "nclink_stats";

@@ -6,7 +6,8 @@
 // Threading contract
 // - The SDK never calls a driver from an MQTT callback thread.
 // - read() and write() come from the driver's own worker thread(s), owned by
-//   the SDK. By default they are serialized (one worker): the driver needs no
+//   the SDK; sample channels read on the sampling thread (read_samples(), or
+//   read() when that is not implemented), still serialized with the workers. By default they are serialized (one worker): the driver needs no
 //   locking of its own for them. A driver whose info().concurrent is true gets
 //   two workers and may be called from both at once.
 // - call_method() runs on a method thread of its own, one per accepted
@@ -43,6 +44,7 @@
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/result.hpp>
+#include <nclink/sample_value.hpp>
 
 #include <memory>
 #include <string>
@@ -123,6 +125,27 @@ public:
     /// (202); other failures any table-19 code with a detail message.
     /// `results` arrives sized to points.size(), every entry 202.
     virtual void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) = 0;
+
+    /// Optional typed fast path for sample channels (docs/sampling.md,
+    /// "Typed reads"). Writes the current value of points[i] into out[i] and
+    /// returns true; `out` arrives with every entry null, and an entry left
+    /// null is sent as null (a failed read). The default returns false, and
+    /// the SDK then calls read() and converts each Json value: correct, but
+    /// at high point rates most of the sampling cost is building those Json
+    /// values, which a typed read skips.
+    /// Called on the sampling thread, under the same rules as read():
+    /// serialized with read()/write() unless info().concurrent. Used while
+    /// sampling.direct_reads is on (the default); with it off, channels read
+    /// through read() on a driver worker.
+    /// Text and json values are borrowed: the characters must stay unchanged
+    /// until read_samples() is called again (the SDK copies them before it
+    /// does); storage the driver keeps for read_samples() alone satisfies
+    /// this. A throw is caught; that row's values are then null.
+    virtual bool read_samples(const std::vector<PointRef>& points, SampleValue* out) {
+        (void)points;
+        (void)out;
+        return false;
+    }
 
     /// Items whose value the SDK holds itself — data objects with a fixed
     /// `value` in the model and configuration objects — are answered from the

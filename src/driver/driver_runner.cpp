@@ -1,5 +1,6 @@
 #include "driver/driver_runner.hpp"
 
+#include <algorithm>
 #include <atomic>
 
 namespace nclink::detail {
@@ -131,10 +132,30 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     return std::move(pending->value);
 }
 
+template <typename Call>
+bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
+    if (queue_->concurrent) {
+        std::shared_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
+        if (!lock.try_lock_for(wait)) {
+            count_timeout();
+            return false;
+        }
+        call();
+    } else {
+        std::unique_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
+        if (!lock.try_lock_for(wait)) {
+            count_timeout();
+            return false;
+        }
+        call();
+    }
+    return true;
+}
+
 void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
                                std::chrono::nanoseconds wait) {
     results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-    auto call = [&] {
+    const bool called = call_direct(wait, [&] {
         if (queue_->closed.load(std::memory_order_acquire)) {
             for (auto& r : results) r = make_error(ErrorCode::unavailable, "driver stopped");
             return;
@@ -144,20 +165,25 @@ void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<
         } catch (const std::exception& e) {
             for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
         }
-    };
-    const auto busy = [&] {
-        count_timeout();
+    });
+    if (!called)
         for (auto& r : results) r = make_error(ErrorCode::timeout, "driver busy with another call");
-    };
-    if (queue_->concurrent) {
-        std::shared_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
-        if (!lock.try_lock_for(wait)) return busy();
-        call();
-    } else {
-        std::unique_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
-        if (!lock.try_lock_for(wait)) return busy();
-        call();
-    }
+}
+
+DriverRunner::TypedRead DriverRunner::read_samples_direct(const std::vector<PointRef>& points, SampleValue* out,
+                                                          std::chrono::nanoseconds wait) {
+    std::fill(out, out + points.size(), SampleValue::null());
+    bool supported = true;
+    const bool called = call_direct(wait, [&] {
+        if (queue_->closed.load(std::memory_order_acquire)) return;
+        try {
+            supported = driver_->read_samples(points, out);
+        } catch (...) {
+            std::fill(out, out + points.size(), SampleValue::null());  // a half-written row is not trusted
+        }
+    });
+    if (!called) return TypedRead::busy;
+    return supported ? TypedRead::done : TypedRead::unsupported;
 }
 
 Result<void> DriverRunner::write(const WriteRequest& request) {

@@ -47,6 +47,14 @@ public:
     /// it only where a hanging read may stall the caller. Thread-safe.
     void read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
                      std::chrono::nanoseconds wait);
+    enum class TypedRead { done, unsupported, busy };
+    /// The typed form of read_direct() (Driver::read_samples): `out` is set
+    /// to nulls first. `unsupported` when the driver does not implement it
+    /// (nothing read: use read_direct()); `busy` when a running call did not
+    /// finish within `wait` (counted as a timeout; `out` stays null). A throw
+    /// leaves `out` null. Text values in `out` borrow the driver's storage
+    /// until the next read_samples_direct(). Thread-safe.
+    TypedRead read_samples_direct(const std::vector<PointRef>& points, SampleValue* out, std::chrono::nanoseconds wait);
     /// Thread-safe.
     Result<void> write(const WriteRequest& request);
     /// Queues `task` on a worker without waiting (long-running work such as
@@ -86,6 +94,10 @@ private:
         std::uint64_t timeouts = 0;
     };
     static void work(const std::shared_ptr<Queue>& queue);
+    /// Runs `call` on the calling thread, serialized with the workers' calls;
+    /// false (and a counted timeout) when the lock was not had within `wait`.
+    template <typename Call>
+    bool call_direct(std::chrono::nanoseconds wait, Call&& call);
     void count_timeout();
 
     std::shared_ptr<Driver> driver_;

@@ -60,12 +60,13 @@ public:
     /// Text of a read value, kept alive for the channel's life (interned: a
     /// STATUS item repeats few strings). Producer thread only. Null when the
     /// budget is exhausted (counted as a null value).
-    SampleValue intern_text(const std::string& text, bool json) {
-        auto found = texts_.find(text);
+    SampleValue intern_text(std::string_view text, bool json) {
+        lookup_.assign(text.data(), text.size());  // C++17 sets have no string_view lookup
+        auto found = texts_.find(lookup_);
         if (found == texts_.end()) {
             if (text_bytes_ + text.size() > text_budget_) return SampleValue::null();
             text_bytes_ += text.size() + sizeof(std::string);
-            found = texts_.insert(text).first;
+            found = texts_.insert(lookup_).first;
         }
         // unordered_set nodes never move: the view stays valid.
         return json ? SampleValue::json(*found) : SampleValue::text(*found);
@@ -120,6 +121,7 @@ private:
     const std::int64_t upload_interval_ns_;
     std::uint64_t push_seq_ = 0;  // push producer only
     std::unordered_set<std::string> texts_;
+    std::string lookup_;
     std::size_t text_bytes_ = 0;
     const std::size_t text_budget_;
 };

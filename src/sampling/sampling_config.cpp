@@ -30,7 +30,9 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
     NCLINK_TRY(r.count("timer_slack_ns", out.timer_slack_ns));
     NCLINK_TRY(r.read("cpu", out.cpu, [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= -1; },
                       "-1 or a CPU number"));
+    NCLINK_TRY(r.duration("overrun_log_interval_ms", out.overrun_log_interval));
     NCLINK_TRY(r.count("text_budget_bytes", out.text_budget_bytes));
+    NCLINK_TRY(r.count("max_dtu_bytes", out.max_dtu_bytes));
     NCLINK_TRY(r.str("stats_item", out.stats_item));
     NCLINK_TRY(r.count("spool_memory_bytes", out.spool_memory_bytes));
     NCLINK_TRY(r.count("spool_disk_bytes", out.spool_disk_bytes));

@@ -46,8 +46,17 @@ void Scheduler::refresh(Clock::Steady now) {
         }
         Lane lane;
         lane.core = core;
-        lane.t0 = now;  // the first row is read at once
-        lane.wall0_ns = shared_.deps.clock->wall_ms() * 1'000'000;
+        // Timelines start on the monotonic clock's grid of their interval:
+        // channels of one interval (or of multiples of it) then come due
+        // together and share one wake-up, where start-up order would spread
+        // their phases over the period (a wake-up per channel per tick). The
+        // first row waits at most one interval.
+        const std::int64_t interval = core->sample_interval_ns();
+        const std::int64_t since = std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count();
+        const std::int64_t phase = ((since % interval) + interval) % interval;
+        const std::int64_t delay = phase == 0 ? 0 : interval - phase;
+        lane.t0 = now + std::chrono::nanoseconds(delay);
+        lane.wall0_ns = shared_.deps.clock->wall_ms() * 1'000'000 + delay;
         next.push_back(std::move(lane));
     }
     lanes_ = std::move(next);
@@ -61,6 +70,7 @@ void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model,
     lane.driver_columns.clear();
     lane.store_ids.clear();
     lane.store_columns.clear();
+    lane.typed = true;  // a new model may come with a new driver behaviour: ask again
     const auto& points = lane.core->spec().points;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (model && model->sdk_held(points[i].id)) {
@@ -71,6 +81,7 @@ void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model,
             lane.driver_columns.push_back(i);
         }
     }
+    lane.identity_columns = lane.store_ids.empty();
 }
 
 Clock::Steady Scheduler::poll() {
@@ -112,9 +123,7 @@ Clock::Steady Scheduler::serve(Lane& lane, Clock::Steady now) {
             missed = keep;
         }
         if (!lane.in_burst) {
-            shared_.deps.logger.warn("sampling {}: {} tick(s) of {} ms missed (late by {} us); their rows are sent as null",
-                                     core.spec().id, missed, core.spec().sample_interval_ms,
-                                     std::chrono::duration_cast<std::chrono::microseconds>(now - deadline(lane.next_k)).count());
+            report_burst(core, missed, std::chrono::duration_cast<std::chrono::microseconds>(now - deadline(lane.next_k)), now);
             lane.in_burst = true;
             lane.burst_overruns = 0;
         }
@@ -126,7 +135,7 @@ Clock::Steady Scheduler::serve(Lane& lane, Clock::Steady now) {
             lane.next_k++;
         }
     } else if (lane.in_burst) {
-        shared_.deps.logger.info("sampling {}: on time again after {} missed tick(s)", core.spec().id, lane.burst_overruns);
+        shared_.deps.logger.debug("sampling {}: on time again after {} missed tick(s)", core.spec().id, lane.burst_overruns);
         lane.in_burst = false;
     }
     if (!produce_read_row(lane, newest)) return now + std::chrono::nanoseconds(std::min<std::int64_t>(interval, 1'000'000));
@@ -153,27 +162,8 @@ bool Scheduler::produce_read_row(Lane& lane, std::uint64_t k) {
     ChannelCore& core = *lane.core;
     SampleValue* row = core.ring().try_begin();
     if (row == nullptr) return core.ring().policy() != FullPolicy::block;
-    const auto& config = shared_.deps.config;
     std::uint64_t nulls = 0;
-    if (!lane.driver_points.empty()) {
-        DriverRunner* driver = shared_.deps.driver;
-        // Waiting longer than one period for a busy driver only turns one
-        // late row into several missed ones.
-        const auto wait = std::chrono::nanoseconds(core.sample_interval_ns());
-        if (driver == nullptr) {
-            lane.results.assign(lane.driver_points.size(), Result<Json>(make_error(ErrorCode::unavailable, "no driver")));
-        } else if (config.direct_reads) {
-            driver->read_direct(lane.driver_points, lane.results, wait);
-        } else {
-            lane.results = driver->read(lane.driver_points,
-                                        std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)));
-        }
-        for (std::size_t i = 0; i < lane.driver_columns.size(); ++i) {
-            SampleValue& slot = row[lane.driver_columns[i]];
-            slot = i < lane.results.size() && lane.results[i] ? to_sample_value(lane.results[i].value(), core) : SampleValue::null();
-            if (slot.is_null()) ++nulls;
-        }
-    }
+    if (!lane.driver_points.empty()) nulls += read_driver_columns(lane, row);
     for (std::size_t i = 0; i < lane.store_ids.size(); ++i) {
         SampleValue& slot = row[lane.store_columns[i]];
         auto value = lane.model && lane.model->store ? lane.model->store->get(lane.store_ids[i]) : Result<Json>(make_error(ErrorCode::unavailable));
@@ -184,6 +174,77 @@ bool Scheduler::produce_read_row(Lane& lane, std::uint64_t k) {
     core.rows_sampled.add();
     if (nulls) core.null_values.add(nulls);
     return true;
+}
+
+void Scheduler::report_burst(const ChannelCore& core, std::uint64_t missed, std::chrono::microseconds late, Clock::Steady now) {
+    // One line per burst would be one line per channel per hiccup of a
+    // loaded host: report the first burst, then at most one line per
+    // interval, summing up the bursts in between (nclink stats has counts).
+    const auto interval = shared_.deps.config.overrun_log_interval;
+    if (reported_burst_ && now - last_burst_report_ < interval) {
+        ++quiet_bursts_;
+        quiet_channels_.insert(core.spec().id);
+        return;
+    }
+    std::string since;
+    if (quiet_bursts_ > 0)
+        since = fmt::format("; {} more burst(s) on {} channel(s) since the last report", quiet_bursts_, quiet_channels_.size());
+    shared_.deps.logger.warn("sampling {}: {} tick(s) of {} ms missed (late by {} us); their rows are sent as null{}",
+                             core.spec().id, missed, core.spec().sample_interval_ms, late.count(), since);
+    reported_burst_ = true;
+    last_burst_report_ = now;
+    quiet_bursts_ = 0;
+    quiet_channels_.clear();
+}
+
+std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
+    ChannelCore& core = *lane.core;
+    DriverRunner* driver = shared_.deps.driver;
+    const std::size_t n = lane.driver_points.size();
+    std::uint64_t nulls = 0;
+    if (driver == nullptr) {
+        for (std::size_t i = 0; i < n; ++i) row[lane.driver_columns[i]] = SampleValue::null();
+        return n;
+    }
+    // Waiting longer than one period for a busy driver only turns one late
+    // row into several missed ones.
+    const auto wait = std::chrono::nanoseconds(core.sample_interval_ns());
+    const bool direct = shared_.deps.config.direct_reads;
+    if (direct && lane.typed) {
+        // Typed read straight into the ring slot when the driver's columns
+        // are the whole row in order, else through the lane's scratch row.
+        SampleValue* out = row;
+        if (!lane.identity_columns) {
+            lane.samples.resize(n);
+            out = lane.samples.data();
+        }
+        const auto outcome = driver->read_samples_direct(lane.driver_points, out, wait);
+        if (outcome == DriverRunner::TypedRead::unsupported) {
+            lane.typed = false;  // asked once per plan; read() from now on
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                SampleValue value = out[i];
+                // Borrowed text lives in the driver until its next call: copy it.
+                if (value.kind() == SampleValue::Kind::text || value.kind() == SampleValue::Kind::json)
+                    value = core.intern_text(value.as_text(), value.kind() == SampleValue::Kind::json);
+                row[lane.driver_columns[i]] = value;
+                if (value.is_null()) ++nulls;
+            }
+            return nulls;
+        }
+    }
+    if (direct) {
+        driver->read_direct(lane.driver_points, lane.results, wait);
+    } else {
+        lane.results = driver->read(lane.driver_points,
+                                    std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        SampleValue& slot = row[lane.driver_columns[i]];
+        slot = i < lane.results.size() && lane.results[i] ? to_sample_value(lane.results[i].value(), core) : SampleValue::null();
+        if (slot.is_null()) ++nulls;
+    }
+    return nulls;
 }
 
 }  // namespace nclink::detail

@@ -14,7 +14,9 @@
 //   period's missed ticks get null rows; the earlier ones are skipped
 //   (counted) and the uploader starts a new DTU after the gap.
 // - A read that fails or times out gives null in its slot.
-// - Overruns are logged once per burst (at the first, and when it ends).
+// - Overruns are logged once per burst, and at most once per
+//   sampling.overrun_log_interval_ms over all channels: the line then sums
+//   up the bursts since the previous one. The end of a burst is a debug line.
 #pragma once
 
 #include "sampling/engine_shared.hpp"
@@ -22,6 +24,8 @@
 #include <nclink/clock.hpp>
 
 #include <memory>
+#include <set>
+#include <string>
 #include <vector>
 
 namespace nclink::detail {
@@ -49,7 +53,10 @@ private:
         std::vector<std::string> store_ids;
         std::vector<std::size_t> store_columns;
         std::shared_ptr<const ModelState> model;
-        std::vector<Result<Json>> results;
+        std::vector<Result<Json>> results;     // read() path
+        std::vector<SampleValue> samples;       // read_samples() path, when columns are not the whole row
+        bool typed = true;                      // the driver may implement read_samples()
+        bool identity_columns = false;          // driver column i is row slot i
         bool in_burst = false;
         std::uint64_t burst_overruns = 0;
     };
@@ -60,6 +67,11 @@ private:
     Clock::Steady serve(Lane& lane, Clock::Steady now);
     bool produce_null_row(Lane& lane, std::uint64_t k);
     bool produce_read_row(Lane& lane, std::uint64_t k);
+    /// Reads the driver's points of `lane` into their slots of `row`; returns
+    /// how many are null.
+    std::uint64_t read_driver_columns(Lane& lane, SampleValue* row);
+    /// Logs the start of a burst of missed ticks, rate-limited.
+    void report_burst(const ChannelCore& core, std::uint64_t missed, std::chrono::microseconds late, Clock::Steady now);
     std::int64_t row_time_ns(const Lane& lane, std::uint64_t k) const {
         return lane.wall0_ns + static_cast<std::int64_t>(k) * lane.core->sample_interval_ns();
     }
@@ -67,6 +79,11 @@ private:
     EngineShared& shared_;
     std::vector<Lane> lanes_;
     std::uint64_t seen_version_ = 0;
+    // overrun log rate limit
+    bool reported_burst_ = false;
+    Clock::Steady last_burst_report_{};
+    std::uint64_t quiet_bursts_ = 0;
+    std::set<std::string> quiet_channels_;
 };
 
 /// A driver/store value as a SampleValue (text kept alive by the channel).

@@ -100,7 +100,15 @@ void Uploader::drain(Lane& lane) {
 void Uploader::publish(Lane& lane) {
     const std::size_t rows = lane.times.size();
     if (rows == 0) return;
-    const std::size_t max_rows = std::max<std::size_t>(1, 2 * lane.core->rows_per_upload());
+    std::size_t max_rows = std::max<std::size_t>(1, 2 * lane.core->rows_per_upload());
+    const std::size_t max_bytes = shared_.deps.config.max_dtu_bytes;
+    if (max_bytes > 0) {
+        // Before the channel's first DTU, assume the longest double text
+        // (24 characters) per value: a first DTU too small is harmless.
+        const double per_row =
+            lane.bytes_per_row > 0 ? lane.bytes_per_row : 24.0 * static_cast<double>(lane.core->ring().width()) + 16.0;
+        max_rows = std::clamp<std::size_t>(static_cast<std::size_t>(static_cast<double>(max_bytes) / per_row), 1, max_rows);
+    }
     std::size_t first = 0;
     for (std::size_t r = 1; r <= rows; ++r) {
         const bool gap = r < rows && lane.seqs[r] != lane.seqs[r - 1] + 1;
@@ -128,6 +136,7 @@ void Uploader::publish_segment(Lane& lane, std::size_t first, std::size_t count)
     const std::int64_t t = lane.times[first];
     header.begin_time_ms = t >= 0 ? t / 1'000'000 : -((-t + 999'999) / 1'000'000);
     const std::string_view payload = encoder_.encode(header, SampleBlock{columns_.data(), width, count});
+    lane.bytes_per_row = static_cast<double>(payload.size()) / static_cast<double>(count);
     Message message{core.spec().topic, std::string(payload), core.spec().qos, false};
     if (shared_.deps.sink) {
         try {

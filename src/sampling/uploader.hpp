@@ -7,7 +7,9 @@
 // channel point in the channel's order, beginTime = the first row's time.
 // A batch is split into several DTUs where rows are missing (a gap in the
 // sequence: dropped rows, skipped ticks), since a DTU's rows are implicitly
-// sampleInterval apart; and at 2 upload periods of rows, to bound a DTU.
+// sampleInterval apart; at 2 upload periods of rows; and at about
+// sampling.max_dtu_bytes (judged from the channel's previous DTU), to bound
+// a DTU.
 #pragma once
 
 #include "sampling/engine_shared.hpp"
@@ -37,6 +39,7 @@ private:
         std::vector<SampleValue> values;
         std::vector<std::int64_t> times;
         std::vector<std::uint64_t> seqs;
+        double bytes_per_row = 0;  // of the last DTU (0 = none yet)
     };
 
     void refresh(Clock::Steady now);

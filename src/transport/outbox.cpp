@@ -32,7 +32,7 @@ Result<void> Outbox::push(Message message) {
             return make_error(ErrorCode::memory_configured,
                               fmt::format("message of {} bytes exceeds the {}-byte buffer", size, limits_.max_bytes));
         while (bytes_ + size > limits_.max_bytes && entries_.size() > in_flight_) drop_oldest_waiting_locked();
-        entries_.push_back(Entry{std::move(message), 0});
+        entries_.push_back(Entry{std::make_shared<const Message>(std::move(message)), 0});
         bytes_ += size;
         send_now = can_send_locked() && entries_.size() - in_flight_ == 1;
     }
@@ -65,9 +65,9 @@ bool Outbox::send_first_waiting() {
     const std::uint64_t attempt = next_attempt_++;
     next->attempt = attempt;
     ++in_flight_;
-    Message message = next->message;  // the entry may be erased while we send
+    const std::shared_ptr<const Message> message = next->message;  // the entry may be erased while we send
     lock.unlock();
-    const bool accepted = send_(message, attempt);
+    const bool accepted = send_(*message, attempt);
     if (!accepted) {
         lock.lock();
         put_back_locked(attempt);
@@ -78,13 +78,13 @@ bool Outbox::send_first_waiting() {
 void Outbox::drop_oldest_waiting_locked() {
     auto it = std::find_if(entries_.begin(), entries_.end(), [](const Entry& e) { return e.attempt == 0; });
     if (it == entries_.end()) return;
-    const std::size_t size = cost(it->message);
+    const std::size_t size = cost(*it->message);
     bytes_ -= size;
     ++dropped_;
     dropped_bytes_ += size;
     if (drop_burst_++ == 0)
         logger_.warn("offline buffer full ({} bytes): dropping oldest messages, first on {}", limits_.max_bytes,
-                     it->message.topic);
+                     it->message->topic);
     entries_.erase(it);
 }
 
@@ -112,7 +112,7 @@ void Outbox::delivered(std::uint64_t attempt) {
         auto it = std::find_if(entries_.begin(), entries_.end(),
                                [attempt](const Entry& e) { return e.attempt == attempt; });
         if (it == entries_.end()) return;  // a late answer for an attempt already put back
-        bytes_ -= cost(it->message);
+        bytes_ -= cost(*it->message);
         --in_flight_;
         ++published_;
         entries_.erase(it);

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -52,7 +53,9 @@ public:
 
 private:
     struct Entry {
-        Message message;
+        // Shared, so a send hands the link a reference, not a copy of a
+        // payload that may be megabytes (the entry may be erased meanwhile).
+        std::shared_ptr<const Message> message;
         std::uint64_t attempt = 0;  // 0 = waiting, else in flight under this attempt id
     };
 

@@ -182,3 +182,46 @@ TEST_CASE("tasks queued behind a driver stuck at shutdown are dropped, not run l
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     CHECK(ran_after == 0);
 }
+
+namespace {
+// GatedDriver's read() blocks; read_samples() answers at once.
+class TypedGatedDriver : public GatedDriver {
+public:
+    TypedGatedDriver() : GatedDriver(false) {}
+    bool read_samples(const std::vector<PointRef>& pts, SampleValue* out) override {
+        for (std::size_t i = 0; i < pts.size(); ++i) out[i] = SampleValue::int64(static_cast<std::int64_t>(i) + 7);
+        return true;
+    }
+};
+}  // namespace
+
+TEST_CASE("typed direct reads: done, unsupported, busy behind a running call, refused after stop") {
+    auto typed = std::make_shared<TypedGatedDriver>();
+    DriverRunner runner(typed, {}, Logger());
+    SampleValue out[2] = {SampleValue::float64(1), SampleValue::float64(1)};
+    CHECK(runner.read_samples_direct(points({"a", "b"}), out, std::chrono::milliseconds(100)) == DriverRunner::TypedRead::done);
+    CHECK(out[0].as_int64() == 7);
+    CHECK(out[1].as_int64() == 8);
+
+    // A read() stuck on a worker holds the serialized driver: the typed read
+    // gives up after its wait, leaves nulls and counts a timeout.
+    std::thread stuck([&] { (void)runner.read(points({"x"}), std::chrono::seconds(20)); });
+    while (typed->inside.load() < 1) std::this_thread::yield();
+    CHECK(runner.read_samples_direct(points({"a", "b"}), out, std::chrono::milliseconds(20)) == DriverRunner::TypedRead::busy);
+    CHECK(out[0].is_null());
+    CHECK(out[1].is_null());
+    CHECK(runner.timeouts() == 1);
+    typed->release();
+    stuck.join();
+
+    runner.stop();
+    out[0] = SampleValue::float64(1);
+    CHECK(runner.read_samples_direct(points({"a"}), out, std::chrono::milliseconds(20)) == DriverRunner::TypedRead::done);
+    CHECK(out[0].is_null());  // the driver is closed: nothing read
+
+    auto plain = std::make_shared<GatedDriver>(false);
+    plain->release();
+    DriverRunner plain_runner(plain, {}, Logger());
+    CHECK(plain_runner.read_samples_direct(points({"a"}), out, std::chrono::milliseconds(100)) ==
+          DriverRunner::TypedRead::unsupported);
+}

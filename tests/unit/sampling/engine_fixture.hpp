@@ -48,9 +48,12 @@ public:
 };
 
 struct EngineFixture {
-    explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false) {
+    /// `other_driver`: read that driver instead of the CountingDriver.
+    explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false,
+                           std::shared_ptr<Driver> other_driver = nullptr) {
         driver = std::make_shared<CountingDriver>();
-        runner = std::make_unique<detail::DriverRunner>(driver, detail::DriverRunner::Options{}, Logger{});
+        runner = std::make_unique<detail::DriverRunner>(other_driver ? other_driver : std::shared_ptr<Driver>(driver),
+                                                        detail::DriverRunner::Options{}, Logger{});
         detail::EngineDeps deps;
         deps.driver = runner.get();
         deps.clock = clock;

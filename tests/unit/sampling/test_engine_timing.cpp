@@ -121,3 +121,44 @@ TEST_CASE("fractional sample intervals keep exact nominal spacing") {
     CHECK(f.stats("ch").rows_sampled == 21);
     CHECK(f.stats("ch").overruns == 0);
 }
+
+TEST_CASE("missed ticks are logged at most once per overrun_log_interval over all channels") {
+    auto lines = std::make_shared<std::vector<std::string>>();
+    auto mutex = std::make_shared<std::mutex>();
+    SamplingConfig config;
+    config.overrun_log_interval = 1000ms;
+    EngineFixture f(config);
+    // The fixture's engine logs nowhere: build one that logs into `lines`.
+    detail::EngineDeps deps;
+    deps.driver = f.runner.get();
+    deps.clock = f.clock;
+    deps.sleeper = f.sleeper;
+    deps.config = config;
+    deps.dev = "dev1";
+    deps.sink = [](Message) {};
+    deps.logger = Logger(
+        [lines, mutex](LogLevel level, std::string_view text) {
+            if (level < LogLevel::warn) return;
+            std::lock_guard<std::mutex> lock(*mutex);
+            lines->emplace_back(text);
+        },
+        LogLevel::debug);
+    detail::SamplingEngine engine(std::move(deps));
+    for (const char* id : {"a", "b", "c"}) REQUIRE(engine.add_channel(EngineFixture::spec(id, {id}, 10, 100)).ok());
+    engine.run_sampling_once();
+    const auto hiccup = [&] {  // every channel misses 2 ticks, then catches up
+        f.clock->advance(30ms);
+        engine.run_sampling_once();
+        f.clock->advance(10ms);
+        engine.run_sampling_once();
+    };
+    hiccup();
+    CHECK(lines->size() == 1);  // one line, not one per channel
+    for (int i = 0; i < 5; ++i) hiccup();
+    CHECK(lines->size() == 1);  // 200 ms later: still quiet
+    f.clock->advance(1000ms);
+    engine.run_sampling_once();  // a long stall starts a burst after the interval
+    REQUIRE(lines->size() == 2);
+    CHECK_THAT(lines->back(), Catch::Contains("since the last report"));
+    CHECK_THAT(lines->back(), Catch::Contains("on 3 channel(s)"));
+}
