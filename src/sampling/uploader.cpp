@@ -71,8 +71,10 @@ Clock::Steady Uploader::poll(bool final_flush) {
                                                l.core->producer_done.load(std::memory_order_acquire);
                                     }),
                      lanes_.end());
+        // Not marked seen: a channel added since this pass's refresh (e.g. by
+        // the sink above) bumped the version too, and must get its lane at
+        // the next refresh rather than be skipped over.
         shared_.version.fetch_add(1, std::memory_order_acq_rel);
-        seen_version_ = shared_.version.load(std::memory_order_acquire);
     }
     return earliest;
 }

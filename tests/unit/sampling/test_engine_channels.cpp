@@ -228,3 +228,39 @@ TEST_CASE("statistics count rows and DTUs and lateness") {
     CHECK(s.max_lateness_us == 150);
     CHECK(s.topic == "Sample/dev1/ch");
 }
+
+TEST_CASE("a channel added while the uploader retires a removed one still gets published") {
+    // A Probe/Set replaces ch1 by ch2; the add can land while the uploader
+    // is publishing ch1's last rows. Here the sink itself adds ch2 then.
+    EngineFixture f;
+    std::vector<Message> sent;
+    bool added = false;
+    detail::EngineDeps deps;
+    deps.driver = f.runner.get();
+    deps.clock = f.clock;
+    deps.sleeper = f.sleeper;
+    deps.dev = "dev1";
+    detail::SamplingEngine* engine_ptr = nullptr;
+    deps.sink = [&](Message m) {
+        if (!added && m.topic == "Sample/dev1/ch1") {
+            added = true;
+            REQUIRE(engine_ptr->add_channel(EngineFixture::spec("ch2", {"b"}, 10, 20)).ok());
+        }
+        sent.push_back(std::move(m));
+    };
+    detail::SamplingEngine engine(std::move(deps));
+    engine_ptr = &engine;
+    REQUIRE(engine.add_channel(EngineFixture::spec("ch1", {"a"}, 10, 100)).ok());
+    engine.run_sampling_once();
+    engine.run_upload_once();  // the uploader knows ch1
+    REQUIRE(engine.remove_channel("ch1"));
+    engine.run_upload_once();  // publishes ch1's last row (the sink adds ch2) and retires ch1
+    REQUIRE(added);
+    for (int i = 0; i < 5; ++i) {
+        f.clock->advance(10ms);
+        engine.run_sampling_once();
+        engine.run_upload_once();
+    }
+    const auto ch2 = std::count_if(sent.begin(), sent.end(), [](const Message& m) { return m.topic == "Sample/dev1/ch2"; });
+    CHECK(ch2 >= 2);
+}
