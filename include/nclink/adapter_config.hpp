@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstddef>
 #include <optional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,10 @@ struct SamplingConfig {
     /// "push_channels": model channels whose rows the firmware pushes
     /// (Adapter::push_channel) instead of the SDK reading the driver.
     std::vector<std::string> push_channels;
+    /// "qos": MQTT QoS (0 or 1) of the model channels' Sample DTUs (WIRE.md: 0).
+    int qos = 0;
+    /// "channel_qos": per model channel overrides of "qos", {"ch_fast": 1}.
+    std::map<std::string, int> channel_qos;
     /// "full_policy": "drop_oldest" (default) or "block" when the uploader
     /// falls behind and a channel's ring is full (docs/sampling.md).
     std::string full_policy = "drop_oldest";

@@ -17,6 +17,16 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
                           return true;
                       },
                       "an array of channel ids"));
+    const auto qos_value = [](const Json& j) { return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1); };
+    NCLINK_TRY(r.read("qos", out.qos, qos_value, "0 or 1"));
+    NCLINK_TRY(r.read("channel_qos", out.channel_qos,
+                      [&](const Json& j) {
+                          if (!j.is_object()) return false;
+                          for (const auto& q : j)
+                              if (!qos_value(q)) return false;
+                          return true;
+                      },
+                      "an object of channel id: 0 or 1"));
     NCLINK_TRY(r.str("full_policy", out.full_policy));
     if (out.full_policy != "drop_oldest" && out.full_policy != "block")
         return make_error(ErrorCode::out_of_range, "configuration: sampling.full_policy must be \"drop_oldest\" or \"block\"");

@@ -98,6 +98,9 @@ void SamplingService::start_model_channels(const ModelState& state) {
     const auto& config = host_.config.sampling;
     for (const auto& id : config.push_channels)
         if (!state.model->channel(id)) host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
+    for (const auto& entry : config.channel_qos)
+        if (!state.model->channel(entry.first))
+            host_.logger.warn("sampling.channel_qos names {}, which is no sample channel of the model", entry.first);
     for (const auto& channel : state.model->channels()) {
         if (channel.device_id != state.device->id) continue;
         ChannelSpec spec;
@@ -109,7 +112,9 @@ void SamplingService::start_model_channels(const ModelState& state) {
         spec.sample_interval_ms = channel.sample_interval_ms;
         spec.upload_interval_ms = channel.upload_interval_ms;
         spec.topic = topics::sample(host_.dev, channel.id);
-        spec.qos = 0;  // WIRE.md: Sample DTUs QoS 0
+        // WIRE.md: Sample DTUs QoS 0 unless configured (per channel).
+        const auto qos = config.channel_qos.find(channel.id);
+        spec.qos = qos != config.channel_qos.end() ? qos->second : config.qos;
         spec.push = std::find(config.push_channels.begin(), config.push_channels.end(), channel.id) != config.push_channels.end();
         if (auto added = engine_->add_channel(spec); !added) {
             host_.logger.error("sample channel {} not started: {}", channel.id, added.error().describe());

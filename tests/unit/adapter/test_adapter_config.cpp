@@ -80,3 +80,23 @@ TEST_CASE("code overrides a loaded configuration, defaults are documented values
     CHECK(c->strict);
     CHECK(c->model_path == "m.json");
 }
+
+TEST_CASE("sampling qos channel_qos max_dtu_bytes and overrun_log_interval_ms are read and checked") {
+    auto read = adapter_config_from_json(Json{{"sampling",
+                                               {{"qos", 1},
+                                                {"channel_qos", {{"ch_fast", 0}}},
+                                                {"max_dtu_bytes", 65536},
+                                                {"overrun_log_interval_ms", 2500}}}});
+    REQUIRE(read.ok());
+    CHECK(read->sampling.qos == 1);
+    CHECK(read->sampling.channel_qos.at("ch_fast") == 0);
+    CHECK(read->sampling.max_dtu_bytes == 65536);
+    CHECK(read->sampling.overrun_log_interval == std::chrono::milliseconds(2500));
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"qos", 2}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"channel_qos", {{"ch_fast", "1"}}}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"channel_qos", Json::array({1})}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"max_dtu_bytes", -1}}}}).ok());
+    const AdapterConfig defaults;
+    CHECK(defaults.sampling.qos == 0);
+    CHECK(defaults.sampling.max_dtu_bytes == 1u << 20);
+}
