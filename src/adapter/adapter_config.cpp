@@ -1,11 +1,6 @@
 #include <nclink/adapter_config.hpp>
 
-#include "core/config_reader.hpp"
-
-#include <filesystem>
-#include <fstream>
-#include <set>
-#include <sstream>
+#include "core/config_common.hpp"
 
 namespace nclink {
 using detail::ConfigReader;
@@ -24,28 +19,9 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     if (const Json* broker = top.object("broker")) {
         if (!broker->is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
         ConfigReader b(*broker, "broker.");
-        NCLINK_TRY(b.str("url", c.broker_url));
-        NCLINK_TRY(b.str("client_id", c.client_id));
-        NCLINK_TRY(b.str("username", c.username));
-        NCLINK_TRY(b.str("password", c.password));
-        NCLINK_TRY(b.count("mqtt_version", c.mqtt_version));
-        NCLINK_TRY(b.duration("keep_alive_s", c.keep_alive));
+        NCLINK_TRY(detail::read_broker_common(b, c));
         NCLINK_TRY(b.boolean("clean_session", c.clean_session));
-        if (const Json* tls = b.object("tls")) {
-            if (!tls->is_object()) return make_error(ErrorCode::value_type, "configuration: broker.tls must be an object");
-            ConfigReader t(*tls, "broker.tls.");
-            MqttTlsOptions o = c.tls.value_or(MqttTlsOptions{});
-            NCLINK_TRY(t.str("ca_file", o.ca_file));
-            NCLINK_TRY(t.str("cert_file", o.cert_file));
-            NCLINK_TRY(t.str("key_file", o.key_file));
-            NCLINK_TRY(t.str("key_password", o.key_password));
-            NCLINK_TRY(t.boolean("verify", o.verify_server));
-            NCLINK_TRY(t.no_unknown_keys());
-            c.tls = o;
-        }
         NCLINK_TRY(b.no_unknown_keys());
-        if (c.mqtt_version != 4 && c.mqtt_version != 5)
-            return make_error(ErrorCode::value_type, "configuration: broker.mqtt_version must be 4 (MQTT 3.1.1) or 5");
     }
 
     NCLINK_TRY(top.str("model", c.model_path));
@@ -67,15 +43,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     if (const Json* section = top.object("events")) NCLINK_TRY(detail::read_events_config(*section, c.events));
     if (const Json* section = top.object("methods")) NCLINK_TRY(detail::read_methods_config(*section, c.methods));
 
-    std::string level;
-    NCLINK_TRY(top.str("log_level", level));
-    if (!level.empty()) {
-        auto parsed = log_level_from_string(level);
-        if (!parsed)
-            return make_error(ErrorCode::value_type,
-                              fmt::format("configuration: log_level '{}' is not trace/debug/info/warn/error/off", level));
-        c.log_level = *parsed;
-    }
+    NCLINK_TRY(detail::read_log_level(top, c.log_level));
 
     if (const Json* driver = top.object("driver")) {
         if (!driver->is_object()) return make_error(ErrorCode::value_type, "configuration: driver must be an object");
@@ -91,29 +59,15 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
 }
 
 Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base) {
-    std::ifstream in(path);
-    if (!in) return make_error(ErrorCode::unavailable, fmt::format("cannot read configuration file {}", path));
-    std::stringstream text;
-    text << in.rdbuf();
-    Json json = Json::parse(text.str(), nullptr, false);
-    if (json.is_discarded())
-        return make_error(ErrorCode::syntax_error, fmt::format("configuration file {} is not valid JSON", path));
-    auto config = adapter_config_from_json(json, std::move(base));
+    auto json = detail::read_config_file(path);
+    if (!json) return std::move(json).error();
+    auto config = adapter_config_from_json(*json, std::move(base));
     if (!config) return make_error(config.error().code, fmt::format("{}: {}", path, config.error().message));
-    // Paths inside the file are relative to the file, not to where the program runs.
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    auto resolve = [&](std::string& p) {
-        if (!p.empty() && std::filesystem::path(p).is_relative()) p = (dir / p).lexically_normal().string();
-    };
     AdapterConfig& c = config.value();
-    if (json.contains("model")) resolve(c.model_path);
-    if (json.contains("persistence_dir")) resolve(c.persistence_dir);
-    if (json.contains("driver")) resolve(c.driver_plugin);
-    if (c.tls && json.contains("broker")) {
-        resolve(c.tls->ca_file);
-        resolve(c.tls->cert_file);
-        resolve(c.tls->key_file);
-    }
+    if (json->contains("model")) detail::resolve_against(path, c.model_path);
+    if (json->contains("persistence_dir")) detail::resolve_against(path, c.persistence_dir);
+    if (json->contains("driver")) detail::resolve_against(path, c.driver_plugin);
+    if (json->contains("broker")) detail::resolve_tls_paths(path, c.tls);
     return config;
 }
 

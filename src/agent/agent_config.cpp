@@ -1,14 +1,9 @@
 // Reads the agent's configuration file (docs/agent.md has the reference).
-#include <nclink/adapter_config.hpp>  // log_level_from_string
 #include <nclink/agent.hpp>
 
 #include "agent/access.hpp"
 #include "agent/terminal_id.hpp"
-#include "core/config_reader.hpp"
-
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include "core/config_common.hpp"
 
 namespace nclink {
 using detail::ConfigReader;
@@ -18,28 +13,8 @@ namespace {
 Result<void> read_broker(const Json& broker, AgentConfig& c) {
     if (!broker.is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
     ConfigReader b(broker, "broker.");
-    NCLINK_TRY(b.str("url", c.broker_url));
-    NCLINK_TRY(b.str("client_id", c.client_id));
-    NCLINK_TRY(b.str("username", c.username));
-    NCLINK_TRY(b.str("password", c.password));
-    NCLINK_TRY(b.count("mqtt_version", c.mqtt_version));
-    NCLINK_TRY(b.duration("keep_alive_s", c.keep_alive));
-    if (const Json* tls = b.object("tls")) {
-        if (!tls->is_object()) return make_error(ErrorCode::value_type, "configuration: broker.tls must be an object");
-        ConfigReader t(*tls, "broker.tls.");
-        MqttTlsOptions o = c.tls.value_or(MqttTlsOptions{});
-        NCLINK_TRY(t.str("ca_file", o.ca_file));
-        NCLINK_TRY(t.str("cert_file", o.cert_file));
-        NCLINK_TRY(t.str("key_file", o.key_file));
-        NCLINK_TRY(t.str("key_password", o.key_password));
-        NCLINK_TRY(t.boolean("verify", o.verify_server));
-        NCLINK_TRY(t.no_unknown_keys());
-        c.tls = o;
-    }
-    NCLINK_TRY(b.no_unknown_keys());
-    if (c.mqtt_version != 4 && c.mqtt_version != 5)
-        return make_error(ErrorCode::value_type, "configuration: broker.mqtt_version must be 4 (MQTT 3.1.1) or 5");
-    return ok_result();
+    NCLINK_TRY(detail::read_broker_common(b, c));
+    return b.no_unknown_keys();
 }
 
 Result<void> read_registration(const Json& section, RegistrationPolicy& p) {
@@ -118,15 +93,7 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
         NCLINK_TRY(a.str("agent_user", c.acl_agent_user));
         NCLINK_TRY(a.no_unknown_keys());
     }
-    std::string level;
-    NCLINK_TRY(top.str("log_level", level));
-    if (!level.empty()) {
-        auto parsed = log_level_from_string(level);
-        if (!parsed)
-            return make_error(ErrorCode::value_type,
-                              fmt::format("configuration: log_level '{}' is not trace/debug/info/warn/error/off", level));
-        c.log_level = *parsed;
-    }
+    NCLINK_TRY(detail::read_log_level(top, c.log_level));
     NCLINK_TRY(top.no_unknown_keys());
     if (c.request_timeout.count() <= 0)
         return make_error(ErrorCode::out_of_range, "configuration: request_timeout_ms must be positive");
@@ -139,26 +106,13 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
 }
 
 Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base) {
-    std::ifstream in(path);
-    if (!in) return make_error(ErrorCode::unavailable, fmt::format("cannot read configuration file {}", path));
-    std::stringstream text;
-    text << in.rdbuf();
-    const Json json = Json::parse(text.str(), nullptr, false);
-    if (json.is_discarded())
-        return make_error(ErrorCode::syntax_error, fmt::format("configuration file {} is not valid JSON", path));
-    auto config = agent_config_from_json(json, std::move(base));
+    auto json = detail::read_config_file(path);
+    if (!json) return std::move(json).error();
+    auto config = agent_config_from_json(*json, std::move(base));
     if (!config) return make_error(config.error().code, fmt::format("{}: {}", path, config.error().message));
-    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    auto resolve = [&](std::string& p) {
-        if (!p.empty() && std::filesystem::path(p).is_relative()) p = (dir / p).lexically_normal().string();
-    };
     AgentConfig& c = config.value();
-    if (json.contains("state_dir")) resolve(c.state_dir);
-    if (c.tls && json.contains("broker")) {
-        resolve(c.tls->ca_file);
-        resolve(c.tls->cert_file);
-        resolve(c.tls->key_file);
-    }
+    if (json->contains("state_dir")) detail::resolve_against(path, c.state_dir);
+    if (json->contains("broker")) detail::resolve_tls_paths(path, c.tls);
     return config;
 }
 
