@@ -2,6 +2,7 @@
 // registry and the dispatch thread together.
 #include <nclink/client.hpp>
 
+#include "client/blocking_call.hpp"
 #include "client/client_state_machine.hpp"
 #include "client/discovery_responder.hpp"
 #include "client/dispatcher.hpp"

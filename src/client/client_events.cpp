@@ -1,4 +1,5 @@
 // Client: event registrations and the delivery of Event DTUs (docs/events.md).
+#include "client/blocking_call.hpp"
 #include "client/client_events.hpp"
 
 #include "client/responders.hpp"
@@ -7,7 +8,6 @@
 
 #include <cctype>
 #include <exception>
-#include <future>
 
 namespace nclink {
 namespace client_detail {
@@ -115,15 +115,6 @@ private:
     Completion<void> done_;
     std::optional<ResponseStatus> status_;
 };
-
-template <class T, class Start>
-Result<T> wait_for(const Client::Impl& impl, Start&& start) {
-    if (on_dispatch_thread(impl)) return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
-    auto promise = std::make_shared<std::promise<Result<T>>>();
-    auto future = promise->get_future();
-    start([promise](Result<T> result) { promise->set_value(std::move(result)); });
-    return future.get();
-}
 
 }  // namespace
 }  // namespace client_detail

@@ -51,6 +51,5 @@ void send_event_register(Client::Impl& impl, std::string topic, EventRegisterReq
 void send_event_unregister(Client::Impl& impl, std::string topic, EventUnregisterRequest request,
                            std::shared_ptr<Responder> responder, const RequestOptions& options);
 EventRoutes& event_routes(Client::Impl& impl);
-bool on_dispatch_thread(const Client::Impl& impl);
 
 }  // namespace nclink::client_detail

@@ -2,13 +2,13 @@
 // pending request answered by its Method/Result (@id); every Method/Status
 // of it reaches on_status and restarts its timeout, so a method running for
 // minutes keeps its call alive while the adapter reports it.
+#include "client/blocking_call.hpp"
 #include "client/client_methods.hpp"
 
 #include "client/responders.hpp"
 
 #include <nclink/topics.hpp>
 
-#include <future>
 #include <utility>
 
 namespace nclink {
@@ -101,16 +101,6 @@ private:
     Completion<void> done_;
     std::optional<MethodControlResponse> response_;
 };
-
-template <class T, class Start>
-Result<T> wait_for(const Client::Impl& impl, Start&& start) {
-    if (on_dispatch_thread(impl))
-        return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
-    auto promise = std::make_shared<std::promise<Result<T>>>();
-    auto future = promise->get_future();
-    start([promise](Result<T> result) { promise->set_value(std::move(result)); });
-    return future.get();
-}
 
 }  // namespace
 

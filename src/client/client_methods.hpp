@@ -32,6 +32,5 @@ void send_method_control(Client::Impl& impl, std::string topic, MethodControlReq
                          std::shared_ptr<Responder> responder, const RequestOptions& options);
 std::chrono::milliseconds default_timeout(const Client::Impl& impl);
 PendingRequests& pending_requests(Client::Impl& impl);
-bool on_dispatch_thread(const Client::Impl& impl);
 
 }  // namespace nclink::client_detail

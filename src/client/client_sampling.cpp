@@ -3,14 +3,13 @@
 // so no DTU of the new channel can slip by; it passes on only the DTUs of the
 // channel the adapter allocated (known once the response is in; response and
 // data arrive in that order on the dispatch thread).
+#include "client/blocking_call.hpp"
 #include "client/client_sampling.hpp"
 
-#include "client/client_methods.hpp"  // on_dispatch_thread
 #include "client/responders.hpp"      // error_from_status
 
 #include <nclink/topics.hpp>
 
-#include <future>
 #include <utility>
 
 namespace nclink {
@@ -69,15 +68,6 @@ private:
     Completion<void> done_;
     std::optional<SampleUnregisterResponse> response_;
 };
-
-template <class T, class Start>
-Result<T> wait_for(const Client::Impl& impl, Start&& start) {
-    if (on_dispatch_thread(impl)) return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
-    auto promise = std::make_shared<std::promise<Result<T>>>();
-    auto future = promise->get_future();
-    start([promise](Result<T> result) { promise->set_value(std::move(result)); });
-    return future.get();
-}
 
 bool valid_level(std::string_view level) {
     if (level.empty()) return false;
