@@ -7,6 +7,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -16,6 +17,10 @@
 using namespace nclink;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 using nclink::test::MosquittoOptions;
 
 namespace {
@@ -50,26 +55,15 @@ struct Rig {
         c.broker_url = broker.url();
         c.driver_timeout = driver_timeout;
         c.register_timeout = std::chrono::milliseconds(500);
-        adapter = std::make_unique<Adapter>(c, driver);
-        REQUIRE(adapter->start().ok());
-        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+        adapter = started_adapter(c, driver);
     }
     std::unique_ptr<Client> client(const std::string& ex, bool persistent = false) {
-        MqttOptions m;
-        m.broker_url = broker.url();
-        m.client_id = "nclink-itest-" + ex;
-        m.clean_session = !persistent;
-        m.reconnect_min = std::chrono::milliseconds(50);
-        m.reconnect_max = std::chrono::milliseconds(300);
-        ClientOptions o;
-        o.ex_cid = ex;
-        o.default_timeout = std::chrono::seconds(5);
-        auto made = Client::create(m, o);
-        REQUIRE(made.ok());
-        auto c = std::move(made).value();
-        REQUIRE(c->start().ok());
-        REQUIRE(eventually([&] { return c->link_state() == LinkState::connected; }));
-        return c;
+        return started_client(broker.url(), ex, std::chrono::seconds(5), [&](MqttOptions& m, ClientOptions&) {
+            m.client_id = "nclink-itest-" + ex;
+            m.clean_session = !persistent;
+            m.reconnect_min = std::chrono::milliseconds(50);
+            m.reconnect_max = std::chrono::milliseconds(300);
+        });
     }
 
     MosquittoBroker broker;

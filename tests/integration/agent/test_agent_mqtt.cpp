@@ -8,6 +8,7 @@
 
 #include "support/inbox.hpp"
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 #include "unit/adapter/adapter_fixture.hpp"  // FakeDriver, scratch_dir, test_model_path
 
@@ -46,25 +47,12 @@ std::unique_ptr<Adapter> start_adapter(const MosquittoBroker& broker, std::share
     c.broker_url = broker.url();
     c.username = username;
     c.register_timeout = 300ms;
-    auto adapter = std::make_unique<Adapter>(c, std::move(driver));
-    REQUIRE(adapter->start().ok());
-    REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
-    return adapter;
+    return started_adapter(c, std::move(driver));
 }
 
 std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::string& ex,
                                      const std::string& username = "") {
-    MqttOptions m;
-    m.broker_url = broker.url();
-    m.username = username;
-    ClientOptions o;
-    o.ex_cid = ex;
-    o.default_timeout = 2000ms;
-    auto client = Client::create(m, o);
-    REQUIRE(client.ok());
-    auto c = std::move(client).value();
-    REQUIRE(c->start().ok());
-    REQUIRE(c->wait_connected(5s));
+    auto c = started_client(broker.url(), ex, 2000ms, [&](MqttOptions& m, ClientOptions&) { m.username = username; });
     std::this_thread::sleep_for(100ms);
     return c;
 }

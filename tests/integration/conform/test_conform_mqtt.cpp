@@ -13,6 +13,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -30,6 +31,10 @@ using namespace nclink;
 using namespace nclink::conform;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 
 namespace {
 
@@ -95,11 +100,7 @@ struct SimAdapter {
         c.model_path = mill_path();
         c.broker_url = broker.url();
         c.register_timeout = std::chrono::milliseconds(500);
-        auto model = load_model_file(mill_path()).model;
-        std::shared_ptr<Driver> driver = SimDriver::create(model).value();
-        adapter = std::make_unique<Adapter>(c, driver);
-        REQUIRE(adapter->start().ok());
-        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+        adapter = started_adapter(c, sim_for(mill_path()));
     }
     ~SimAdapter() { adapter->stop(); }
     std::unique_ptr<Adapter> adapter;

@@ -7,6 +7,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -23,6 +24,10 @@
 using namespace nclink;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 
 namespace {
 
@@ -59,26 +64,12 @@ struct Rig {
         c.events.max_events = max_events;
         c.events.poll_interval = std::chrono::milliseconds(50);
         c.application_lease = lease;
-        auto sim = SimDriver::create(load_model_file(mill_path()).model);
-        REQUIRE(sim.ok());
-        adapter = std::make_unique<Adapter>(c, std::shared_ptr<Driver>(std::move(sim).value()));
-        REQUIRE(adapter->start().ok());
-        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+        adapter = started_adapter(c, sim_for(mill_path()));
         client = make_client("app");
     }
     std::unique_ptr<Client> make_client(const std::string& ex) {
-        MqttOptions m;
-        m.broker_url = broker.url();
-        m.client_id = "nclink-itest-" + ex;
-        ClientOptions o;
-        o.ex_cid = ex;
-        o.default_timeout = std::chrono::seconds(5);
-        auto made = Client::create(m, o);
-        REQUIRE(made.ok());
-        auto c = std::move(made).value();
-        REQUIRE(c->start().ok());
-        REQUIRE(c->wait_connected(std::chrono::seconds(10)));
-        return c;
+        return started_client(broker.url(), ex, std::chrono::seconds(5),
+                              [&](MqttOptions& m, ClientOptions&) { m.client_id = "nclink-itest-" + ex; });
     }
     void set(const std::string& id, Json params) {
         auto results = client->set(kDev, {SetItem{id, std::move(params)}});

@@ -9,6 +9,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -29,6 +30,10 @@ using namespace nclink;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 namespace fs = std::filesystem;
 
 namespace {
@@ -37,7 +42,8 @@ const std::string kDev = "nclink-sim-mill-01";
 
 struct Rig {
     MosquittoBroker broker;
-    fs::path root = fs::temp_directory_path() / ("nclink-itest-methods-" + std::to_string(std::random_device{}()));
+    ScratchDir scratch{"nclink-itest-methods-"};
+    fs::path root = scratch.path;
     fs::path programs = root / "prog";
     fs::path outside = root / "outside";
     std::shared_ptr<ManualClock> clock = std::make_shared<ManualClock>();
@@ -57,34 +63,15 @@ struct Rig {
         config.methods.max_running = max_running;
         config.methods.status_period = 100ms;
         config.driver_config = Json{{"program_dir", programs.string()}, {"transfer_rate", 1024}};
-        auto loaded = load_model_file(config.model_path);
-        REQUIRE(loaded.ok());
         SimOptions options;
         options.clock = clock;
-        auto created = SimDriver::create(loaded.model, options);
-        REQUIRE(created.ok());
-        sim = std::move(created).value();
-        adapter = std::make_unique<Adapter>(config, sim);
-        adapter->use_clock(clock);
-        REQUIRE(adapter->start().ok());
-        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
-
-        MqttOptions mqtt;
-        mqtt.broker_url = broker.url();
-        ClientOptions options_c;
-        options_c.ex_cid = "mes-1";
-        options_c.default_timeout = 10s;
-        auto made = Client::create(std::move(mqtt), std::move(options_c));
-        REQUIRE(made.ok());
-        client = std::move(made).value();
-        REQUIRE(client->start().ok());
-        REQUIRE(client->wait_connected(10s));
+        sim = sim_for(config.model_path, options);
+        adapter = started_adapter(config, sim, clock);
+        client = started_client(broker.url(), "mes-1", 10s);
     }
     ~Rig() {
         if (client) client->stop();
         if (adapter) adapter->stop();
-        std::error_code ec;
-        fs::remove_all(root, ec);
     }
 
     fs::path make_file(const std::string& name, std::size_t bytes) {

@@ -7,6 +7,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -24,6 +25,10 @@ using namespace nclink;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 namespace fs = std::filesystem;
 
 namespace {
@@ -32,7 +37,8 @@ const std::string kDev = "nclink-sim-mill-01";
 
 struct Rig {
     MosquittoBroker broker;
-    fs::path root = fs::temp_directory_path() / ("nclink-itest-dynamic-" + std::to_string(std::random_device{}()));
+    ScratchDir scratch{"nclink-itest-dynamic-"};
+    fs::path root = scratch.path;
     std::shared_ptr<SimDriver> sim;
     std::unique_ptr<Adapter> adapter;
     std::unique_ptr<Client> client;
@@ -44,35 +50,15 @@ struct Rig {
         config.persistence_dir = (root / "state").string();
         config.register_timeout = 200ms;
         config.sampling.max_dynamic_channels = 2;
-        auto loaded = load_model_file(config.model_path);
-        REQUIRE(loaded.ok());
-        auto created = SimDriver::create(loaded.model);
-        REQUIRE(created.ok());
-        sim = std::move(created).value();
-        adapter = std::make_unique<Adapter>(config, sim);
-        REQUIRE(adapter->start().ok());
-        REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+        sim = sim_for(config.model_path);
+        adapter = started_adapter(config, sim);
         client = make_client("mes-1");
     }
     ~Rig() {
         if (client) client->stop();
         if (adapter) adapter->stop(0ms);
-        std::error_code ec;
-        fs::remove_all(root, ec);
     }
-    std::unique_ptr<Client> make_client(const std::string& ex) {
-        MqttOptions mqtt;
-        mqtt.broker_url = broker.url();
-        ClientOptions options;
-        options.ex_cid = ex;
-        options.default_timeout = 5s;
-        auto made = Client::create(std::move(mqtt), std::move(options));
-        REQUIRE(made.ok());
-        auto c = std::move(made).value();
-        REQUIRE(c->start().ok());
-        REQUIRE(c->wait_connected(10s));
-        return c;
-    }
+    std::unique_ptr<Client> make_client(const std::string& ex) { return started_client(broker.url(), ex); }
     Json dynamic_stats() { return adapter->stats().features.at("sampling").at("dynamic"); }
 };
 

@@ -13,6 +13,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -26,6 +27,10 @@ using namespace nclink;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::ScratchDir;
+using nclink::test::sim_for;
+using nclink::test::started_adapter;
+using nclink::test::started_client;
 using nclink::test::MosquittoOptions;
 namespace fs = std::filesystem;
 
@@ -53,7 +58,8 @@ MosquittoOptions persistent_broker() {
 
 struct Rig {
     MosquittoBroker broker{persistent_broker()};
-    fs::path dir = fs::temp_directory_path() / ("nclink-itest-spool-" + std::to_string(std::random_device{}()));
+    ScratchDir scratch{"nclink-itest-spool-"};
+    fs::path dir = scratch.path;
     std::shared_ptr<CounterDriver> driver = std::make_shared<CounterDriver>();
     std::unique_ptr<Adapter> adapter;
     std::unique_ptr<Transport> app;
@@ -104,8 +110,6 @@ struct Rig {
     ~Rig() {
         if (adapter) adapter->stop(0ms);
         if (app) app->stop(0ms);
-        std::error_code ec;
-        fs::remove_all(dir, ec);
     }
 
     void send(const std::string& topic, const Json& payload) {
