@@ -101,6 +101,9 @@ struct SimDriver::Impl {
     bool emergency = false;
 
     mutable std::mutex mutex;
+    /// Texts lent by read_samples(), valid until its next call (reserved per
+    /// call, so no element moves while views into it are out).
+    std::vector<std::string> lent_texts;
 
     void build();
     void advance();
@@ -398,6 +401,37 @@ void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Jso
         }
         results[i] = impl_->value_of(impl_->items[it->second]);
     }
+}
+
+bool SimDriver::read_samples(const std::vector<PointRef>& points, SampleValue* out) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->broken) return true;  // the row stays null
+    impl_->advance();
+    auto& texts = impl_->lent_texts;
+    texts.clear();
+    texts.reserve(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        auto it = impl_->index.find(points[i].id);
+        if (it == impl_->index.end()) continue;  // null: not a simulated item
+        const Json value = impl_->value_of(impl_->items[it->second]);
+        switch (value.type()) {
+            case Json::value_t::boolean: out[i] = SampleValue::boolean(value.get<bool>()); break;
+            case Json::value_t::number_integer: out[i] = SampleValue::int64(value.get<std::int64_t>()); break;
+            case Json::value_t::number_unsigned: out[i] = SampleValue::uint64(value.get<std::uint64_t>()); break;
+            case Json::value_t::number_float: out[i] = SampleValue::float64(value.get<double>()); break;
+            case Json::value_t::string:
+                texts.push_back(value.get<std::string>());
+                out[i] = SampleValue::text(texts.back());
+                break;
+            case Json::value_t::array:
+            case Json::value_t::object:
+                texts.push_back(value.dump());
+                out[i] = SampleValue::json(texts.back());
+                break;
+            default: break;  // null stays null
+        }
+    }
+    return true;
 }
 
 Result<void> SimDriver::write(const WriteRequest& request) {

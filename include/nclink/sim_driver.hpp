@@ -66,6 +66,10 @@ public:
     DriverInfo info() const override;
     Result<void> open(const DriverContext& context) override;
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override;
+    /// The typed read sample channels use (a reference for vendors: the
+    /// same values as read(), texts lent from a buffer kept until the next
+    /// call). An unusable model or a broken link leaves the row null.
+    bool read_samples(const std::vector<PointRef>& points, SampleValue* out) override;
     /// Applies request.params with parse_set/apply (all or nothing; table-19
     /// errors). `setable` is not checked again: the SDK already refused Sets
     /// on non-setable items, and tests may drive any item directly.

@@ -1,6 +1,8 @@
 // Generic simulation: every data object of any model reads a plausible value.
 #include "sim_test_util.hpp"
 
+#include <nclink/sample_encoder.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <set>
@@ -218,4 +220,33 @@ TEST_CASE("the list size is configurable") {
     created.value()->read(points, results);
     CHECK(results[0].value().size() == 5);
     CHECK(results[1].value().size() == 5);
+}
+
+TEST_CASE("read_samples gives read()'s values typed, texts and objects included") {
+    sim_test::Rig json_rig("sim-mill.json", 7), typed_rig("sim-mill.json", 7);
+    json_rig.advance_ms(1234);
+    typed_rig.advance_ms(1234);
+    auto ids = typed_rig.driver->item_ids();
+    ids.push_back("no_such_item");
+    std::vector<nclink::PointRef> points;
+    for (const auto& id : ids) points.push_back({id, nclink::DataKind::single});
+    std::vector<nclink::SampleValue> out(points.size());
+    REQUIRE(typed_rig.driver->read_samples(points, out.data()));
+    const auto expected = json_rig.read(ids);
+    bool saw_text = false, saw_object = false;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        INFO(ids[i]);
+        if (!expected[i].ok()) {
+            CHECK(out[i].is_null());
+            continue;
+        }
+        const nclink::Json& want = expected[i].value();
+        std::string got;
+        nclink::append_sample_value(got, out[i]);  // what the Sample DTU would carry
+        CHECK(nclink::Json::parse(got) == want);
+        saw_text = saw_text || want.is_string();
+        saw_object = saw_object || want.is_structured();
+    }
+    CHECK(saw_text);
+    CHECK(saw_object);
 }
