@@ -95,5 +95,14 @@ inline std::optional<TerminalInfo> terminal(Agent& agent, const std::string& id)
         if (t.id == id) return t;
     return std::nullopt;
 }
+/// "" while the agent does not know `id` (safe inside eventually()).
+inline std::string status_of(Agent& agent, const std::string& id) {
+    auto t = terminal(agent, id);
+    return t ? t->status : std::string();
+}
+inline std::string kind_of(Agent& agent, const std::string& id) {
+    auto t = terminal(agent, id);
+    return t ? t->kind : std::string();
+}
 
 }  // namespace nclink::test

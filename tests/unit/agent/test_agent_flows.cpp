@@ -65,7 +65,7 @@ TEST_CASE("register: allowlist and credentials give 301 Permission Denied") {
 TEST_CASE("register: one live registration per adapter id") {
     AgentFixture f;
     QuietAdapter first(f, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1") && terminal(*f.agent, "mill-1")->kind == "adapter"; }));
+    REQUIRE(eventually([&] { return kind_of(*f.agent, "mill-1") == "adapter"; }));
     CHECK(f.register_as(*first.side, "mill-1", "a")["code"] == "OK");
     // a second process claiming the same id while the first is online
     auto second = f.peer("impostor");
@@ -74,9 +74,9 @@ TEST_CASE("register: one live registration per adapter id") {
     CHECK(refused["error"] == 301);
     // the first one's connection ends (last will): the id is free again
     REQUIRE(f.broker.drop_client("mill-1"));
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
     f.announce(*second, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
     CHECK(f.register_as(*second, "mill-1", "c")["code"] == "OK");
 }
 
@@ -89,7 +89,7 @@ TEST_CASE("discovery: registered adapters the application may access with status
     f.register_as(*a.side, "mill-1", "r1");
     f.register_as(*b.side, "mill-2", "r2");
     f.register_as(*f.app, "some-app", "r3");  // applications are not listed
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-2")->kind == "adapter"; }));
+    REQUIRE(eventually([&] { return kind_of(*f.agent, "mill-2") == "adapter"; }));
 
     const Json all = f.app_wait_after(*f.app, topics::discovery_request("anyone"), topics::discovery_response("anyone"),
                                       Json{{"@id", "d1"}, {"guid", "anyone"}});
@@ -121,9 +121,9 @@ TEST_CASE("discovery: nothing accessible is deviceList null") {
 TEST_CASE("notify: the adapter's retained state and last will set its status") {
     AgentFixture f;
     QuietAdapter a(f, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1") && terminal(*f.agent, "mill-1")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
     REQUIRE(f.broker.drop_client("mill-1"));  // abnormal disconnect: the will says offline
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
 }
 
 TEST_CASE("notify: no DTU for the liveness time is offline and announced retained") {
@@ -131,7 +131,7 @@ TEST_CASE("notify: no DTU for the liveness time is offline and announced retaine
     c.adapter_liveness = 5000ms;
     AgentFixture f(c);
     QuietAdapter a(f, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1") && terminal(*f.agent, "mill-1")->kind == "adapter"; }));
+    REQUIRE(eventually([&] { return kind_of(*f.agent, "mill-1") == "adapter"; }));
     f.advance(4000ms);
     a.side->send(topics::sample("mill-1", "ch"), R"({"id":"ch","beginTime":"1","data":[]})");  // a sign of life
     std::this_thread::sleep_for(100ms);
@@ -139,7 +139,7 @@ TEST_CASE("notify: no DTU for the liveness time is offline and announced retaine
     std::this_thread::sleep_for(100ms);
     CHECK(terminal(*f.agent, "mill-1")->status == "online");
     f.advance(1001ms);
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
     REQUIRE(eventually([&] {
         const auto seen = f.app->on(topics::notify_state("mill-1"));
         const auto kept = f.broker.retained(topics::notify_state("mill-1"));
@@ -148,7 +148,7 @@ TEST_CASE("notify: no DTU for the liveness time is offline and announced retaine
     }));
     // it speaks again: online, announced
     a.side->send(topics::sample("mill-1", "ch"), R"({"id":"ch","beginTime":"1","data":[]})");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
     REQUIRE(eventually([&] {
         const auto r = f.broker.retained(topics::notify_state("mill-1"));
         return r && r->payload.find("online") != std::string::npos;
@@ -160,10 +160,10 @@ TEST_CASE("notify: an application that goes silent is announced offline") {
     c.application_liveness = 60000ms;
     AgentFixture f(c);
     f.app->send(topics::discovery_request("mes"), Json{{"@id", "d"}, {"guid", "mes"}}.dump());
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mes") && terminal(*f.agent, "mes")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mes") == "online"; }));
     REQUIRE(eventually([&] { return f.broker.retained(topics::notify_state("mes")).has_value(); }));
     f.advance(60000ms);
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mes")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mes") == "offline"; }));
     REQUIRE(eventually([&] {
         const auto r = f.broker.retained(topics::notify_state("mes"));
         return r && r->payload.find("offline") != std::string::npos;
@@ -193,7 +193,7 @@ TEST_CASE("version: answered and the model fetched and served from the cache whi
     CHECK(eventually([&] { return adapter.stats().registered; }));
 
     adapter.stop();
-    REQUIRE(eventually([&] { return terminal(*f.agent, "test-dev")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "test-dev") == "offline"; }));
     const Json cached = f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"),
                                          topics::probe_query_response("test-dev", "app"), Json{{"@id", "p1"}, {"guid", "test-dev"}});
     CHECK(cached["code"] == "OK");
@@ -205,7 +205,7 @@ TEST_CASE("version: answered and the model fetched and served from the cache whi
 
     // ... and after an agent restart, from the state directory
     f.restart_agent();
-    REQUIRE(eventually([&] { return terminal(*f.agent, "test-dev") && terminal(*f.agent, "test-dev")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "test-dev") == "offline"; }));
     CHECK(terminal(*f.agent, "test-dev")->registered);
     const Json again = f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"),
                                         topics::probe_query_response("test-dev", "app"), Json{{"@id", "p2"}, {"guid", "test-dev"}});
@@ -243,7 +243,7 @@ TEST_CASE("DEV_UNREACHABLE: a request to an offline adapter is answered by the a
     AgentFixture f;
     QuietAdapter a(f, "mill-1");
     f.announce(*a.side, "mill-1", "offline");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->status == "offline"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
     const Json answer = f.app_wait_after(*f.app, topics::query_request("mill-1", "mes"),
                                          topics::query_response("mill-1", "mes"),
                                          Json{{"@id", "q1"}, {"guid", "mill-1"}, {"ids", {{{"id", "pos"}}}}});
@@ -263,7 +263,7 @@ TEST_CASE("DEV_UNREACHABLE: a request to an offline adapter is answered by the a
 TEST_CASE("DEV_UNREACHABLE: the adapter drops while a request waits (8.3.5 and table 54)") {
     AgentFixture f;
     QuietAdapter a(f, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1") && terminal(*f.agent, "mill-1")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
     f.app->send(topics::set_request("mill-1", "mes"),
                 Json{{"@id", "s1"}, {"guid", "mill-1"}, {"values", {{{"id", "ovr"}, {"params", {{"value", 1}}}}}}}.dump());
     REQUIRE(eventually([&] { return f.agent->stats().pending == 1; }));
@@ -279,7 +279,7 @@ TEST_CASE("Timeout: a request the adapter does not answer in time gets 203 from 
     c.request_timeout = 1500ms;
     AgentFixture f(c);
     QuietAdapter a(f, "mill-1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1") && terminal(*f.agent, "mill-1")->status == "online"; }));
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
     f.app->send(topics::query_request("mill-1", "mes"), Json{{"@id", "q1"}, {"guid", "mill-1"}, {"ids", {"pos"}}}.dump());
     f.app->send(topics::query_request("mill-1", "mes"), Json{{"@id", "q2"}, {"guid", "mill-1"}, {"ids", {"pos"}}}.dump());
     REQUIRE(eventually([&] { return f.agent->stats().pending == 2; }));
@@ -337,7 +337,7 @@ TEST_CASE("persistence: registrations survive an agent restart") {
     AgentFixture f(c);
     QuietAdapter a(f, "mill-1");
     f.register_as(*a.side, "mill-1", "r1");
-    REQUIRE(eventually([&] { return terminal(*f.agent, "mill-1")->kind == "adapter"; }));
+    REQUIRE(eventually([&] { return kind_of(*f.agent, "mill-1") == "adapter"; }));
     f.restart_agent();
     const auto t = terminal(*f.agent, "mill-1");
     REQUIRE(t);
