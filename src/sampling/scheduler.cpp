@@ -50,11 +50,12 @@ void Scheduler::refresh(Clock::Steady now) {
         // channels of one interval (or of multiples of it) then come due
         // together and share one wake-up, where start-up order would spread
         // their phases over the period (a wake-up per channel per tick). The
-        // first row waits at most one interval.
-        const std::int64_t interval = core->sample_interval_ns();
+        // grid of intervals over a second is the second: their wake-ups are
+        // rare anyway, and the first row should not wait minutes.
+        const std::int64_t grid = std::min<std::int64_t>(core->sample_interval_ns(), 1'000'000'000);
         const std::int64_t since = std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count();
-        const std::int64_t phase = ((since % interval) + interval) % interval;
-        const std::int64_t delay = phase == 0 ? 0 : interval - phase;
+        const std::int64_t phase = ((since % grid) + grid) % grid;
+        const std::int64_t delay = phase == 0 ? 0 : grid - phase;
         lane.t0 = now + std::chrono::nanoseconds(delay);
         lane.wall0_ns = shared_.deps.clock->wall_ms() * 1'000'000 + delay;
         next.push_back(std::move(lane));

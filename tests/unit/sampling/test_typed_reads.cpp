@@ -141,6 +141,19 @@ TEST_CASE("a channel started off its interval's grid waits for the grid, so chan
     CHECK(f.dtus("Sample/dev1/a").at(0).at("beginTime") == "1700000000010");
 }
 
+TEST_CASE("a long-interval channel starts on the next whole second, not a whole interval later") {
+    EngineFixture f;
+    f.clock->advance(3ms);
+    REQUIRE(f.engine->add_channel(EngineFixture::spec("slow", {"a"}, 10000, 60000)).ok());
+    f.engine->run_sampling_once();
+    f.clock->advance(996ms);  // t = 999 ms
+    f.engine->run_sampling_once();
+    CHECK(f.stats("slow").rows_sampled == 0);
+    f.clock->advance(1ms);  // t = 1 s
+    f.engine->run_sampling_once();
+    CHECK(f.stats("slow").rows_sampled == 1);
+}
+
 TEST_CASE("max_dtu_bytes splits an upload period into consecutive DTUs without losing a row") {
     SamplingConfig config;
     config.max_dtu_bytes = 300;
