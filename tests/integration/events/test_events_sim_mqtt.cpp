@@ -113,10 +113,12 @@ struct Run {
 
 bool cli_built() { return ::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) == 0; }
 
+// No Catch assertion in here: one test runs it on a std::async thread, and
+// Catch2 is not thread-safe. A pipe that cannot open gives status -1.
 Run run_cli(const std::string& args) {
     Run run;
     std::FILE* pipe = ::popen((std::string(NCLINK_BINARY_DIR) + "/bin/nclink " + args + " 2>/dev/null").c_str(), "r");
-    REQUIRE(pipe != nullptr);
+    if (pipe == nullptr) return run;
     char buffer[4096];
     std::size_t n = 0;
     while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
