@@ -7,8 +7,9 @@
 // - The SDK never calls a driver from an MQTT callback thread.
 // - read() and write() come from the driver's own worker thread(s), owned by
 //   the SDK; sample channels read on the sampling thread (read_samples(), or
-//   read() when that is not implemented), still serialized with the workers. By default they are serialized (one worker): the driver needs no
-//   locking of its own for them. A driver whose info().concurrent is true gets
+//   read() for a driver without it), still serialized with the workers. By
+//   default they are serialized (one worker): the driver needs no locking of
+//   its own for them. A driver whose info().concurrent is true gets
 //   two workers and may be called from both at once.
 // - call_method() runs on a method thread of its own, one per accepted
 //   Method/Call (at most AdapterConfig::methods.max_running at once). It

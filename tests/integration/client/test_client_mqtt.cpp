@@ -4,6 +4,7 @@
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/topics.hpp>
 
+#include "support/cli.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/wait.hpp"
 
@@ -18,6 +19,9 @@
 #include <thread>
 
 using namespace nclink;
+using nclink::test::cli_built;
+using nclink::test::run_cli;
+using Run = nclink::test::CliRun;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
@@ -106,26 +110,8 @@ std::unique_ptr<Client> connect(const MosquittoBroker& broker, const std::string
     return std::move(client).value();
 }
 
-struct Run {
-    int status = -1;
-    std::string out;
-};
 
-// Runs the nclink binary (built by the nclink_cli target) and captures stdout.
-Run run_cli(const std::string& args) {
-    const std::string binary = std::string(NCLINK_BINARY_DIR) + "/bin/nclink";
-    Run run;
-    std::FILE* pipe = ::popen((binary + " " + args + " 2>/dev/null").c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
 
-bool cli_built() { return ::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) == 0; }
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <nclink/sim_driver.hpp>
 #include <nclink/topics.hpp>
 
+#include "support/cli.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
@@ -22,6 +23,9 @@
 #include <thread>
 
 using namespace nclink;
+using nclink::test::cli_built;
+using nclink::test::run_cli;
+using Run = nclink::test::CliRun;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
 using nclink::test::ScratchDir;
@@ -106,26 +110,8 @@ ErrorCode refused(Rig& rig, Client::EventRegistration r) {
     return id.error().code;
 }
 
-struct Run {
-    int status = -1;
-    std::string out;
-};
 
-bool cli_built() { return ::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) == 0; }
 
-// No Catch assertion in here: one test runs it on a std::async thread, and
-// Catch2 is not thread-safe. A pipe that cannot open gives status -1.
-Run run_cli(const std::string& args) {
-    Run run;
-    std::FILE* pipe = ::popen((std::string(NCLINK_BINARY_DIR) + "/bin/nclink " + args + " 2>/dev/null").c_str(), "r");
-    if (pipe == nullptr) return run;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <nclink/sim_driver.hpp>
 #include <nclink/topics.hpp>
 
+#include "support/cli.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
@@ -27,6 +28,9 @@
 #include <thread>
 
 using namespace nclink;
+using nclink::test::cli_built;
+using nclink::test::run_cli;
+using Run = nclink::test::CliRun;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
@@ -123,25 +127,8 @@ struct Call {
     bool done() { return future.wait_for(0s) == std::future_status::ready; }
 };
 
-struct Run {
-    int status = -1;
-    std::string out;
-};
 
-Run run_cli(const std::string& args) {
-    const std::string binary = std::string(NCLINK_BINARY_DIR) + "/bin/nclink";
-    Run run;
-    std::FILE* pipe = ::popen((binary + " " + args + " 2>/dev/null").c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
 
-bool cli_built() { return ::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) == 0; }
 
 }  // namespace
 

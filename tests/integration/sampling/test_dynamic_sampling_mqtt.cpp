@@ -6,6 +6,7 @@
 #include <nclink/sim_driver.hpp>
 #include <nclink/topics.hpp>
 
+#include "support/cli.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
@@ -22,6 +23,9 @@
 #include <sstream>
 
 using namespace nclink;
+using nclink::test::cli_built;
+using nclink::test::run_cli;
+using Run = nclink::test::CliRun;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
@@ -79,23 +83,7 @@ struct Rows {
     }
 };
 
-struct Run {
-    int status = -1;
-    std::string out;
-};
 
-Run run_cli(const std::string& args) {
-    Run run;
-    const std::string binary = std::string(NCLINK_BINARY_DIR) + "/bin/nclink";
-    std::FILE* pipe = ::popen((binary + " " + args + " 2>/dev/null").c_str(), "r");
-    REQUIRE(pipe != nullptr);
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) run.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return run;
-}
 
 }  // namespace
 
