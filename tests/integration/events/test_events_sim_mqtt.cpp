@@ -7,14 +7,13 @@
 #include <nclink/topics.hpp>
 
 #include "support/cli.hpp"
+#include "support/collected.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -40,24 +39,7 @@ const std::string kDev = "nclink-sim-mill-01";
 std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
 
 /// Event DTUs a callback received, for the test thread.
-struct Seen {
-    std::mutex mutex;
-    std::vector<EventData> events;
-    Client::EventHandler handler() {
-        return [this](const EventData& e) {
-            std::lock_guard<std::mutex> lock(mutex);
-            events.push_back(e);
-        };
-    }
-    std::size_t size() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return events.size();
-    }
-    EventData at(std::size_t i) {
-        std::lock_guard<std::mutex> lock(mutex);
-        return events.at(i);
-    }
-};
+using Seen = nclink::test::Collected<EventData>;
 
 struct Rig {
     explicit Rig(std::size_t max_events = 8, std::chrono::milliseconds lease = std::chrono::minutes(5)) {

@@ -7,14 +7,13 @@
 #include <nclink/topics.hpp>
 
 #include "support/cli.hpp"
+#include "support/collected.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -66,24 +65,7 @@ struct Rig {
     Json dynamic_stats() { return adapter->stats().features.at("sampling").at("dynamic"); }
 };
 
-struct Rows {
-    std::mutex mutex;
-    std::vector<SampleDtu> dtus;
-    void add(const SampleDtu& d) {
-        std::lock_guard<std::mutex> lock(mutex);
-        dtus.push_back(d);
-    }
-    std::size_t size() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return dtus.size();
-    }
-    SampleDtu at(std::size_t i) {
-        std::lock_guard<std::mutex> lock(mutex);
-        return dtus.at(i);
-    }
-};
-
-
+using Rows = nclink::test::Collected<SampleDtu>;
 
 }  // namespace
 
@@ -154,7 +136,7 @@ TEST_CASE("dynamic channels of a client that stops are released when it goes off
 }
 
 TEST_CASE("nclink sample prints the rows of a dynamic channel and unregisters it") {
-    if (::access((std::string(NCLINK_BINARY_DIR) + "/bin/nclink").c_str(), X_OK) != 0) {
+    if (!cli_built()) {
         WARN("bin/nclink not built (NCLINK_BUILD_TOOLS=OFF): skipped");
         return;
     }

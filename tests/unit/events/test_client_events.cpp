@@ -1,6 +1,7 @@
 // The client library's events (src/client/client_events.cpp) against a real
 // Adapter over the loopback broker.
 #include "events_rig.hpp"
+#include "support/collected.hpp"
 
 #include <nclink/client.hpp>
 
@@ -24,23 +25,7 @@ struct ClientRig : EventsRig {
     }
     ~ClientRig() { client->stop(); }
 
-    Client::EventHandler collect() {
-        return [this](const EventData& e) {
-            std::lock_guard<std::mutex> lock(seen_mutex);
-            seen.push_back(e);
-        };
-    }
-    std::size_t seen_count() {
-        std::lock_guard<std::mutex> lock(seen_mutex);
-        return seen.size();
-    }
-    EventData seen_at(std::size_t i) {
-        std::lock_guard<std::mutex> lock(seen_mutex);
-        return seen.at(i);
-    }
-
-    std::mutex seen_mutex;
-    std::vector<EventData> seen;
+    nclink::test::Collected<EventData> seen;
     std::unique_ptr<Client> client;
 };
 
@@ -59,16 +44,16 @@ TEST_CASE("client events: the registration's first event reaches the callback af
     std::promise<std::string> done_id;
     std::atomic<std::size_t> events_when_done{99};
     f.client->register_event_async(
-        "test-dev", on("ovr", {{{"type", "equal"}, {"value", 100}}}), f.collect(),
+        "test-dev", on("ovr", {{{"type", "equal"}, {"value", 100}}}), f.seen.handler(),
         [&](Result<std::string> id) {
-            events_when_done = f.seen_count();
+            events_when_done = f.seen.size();
             done_id.set_value(id.ok() ? *id : std::string());
         });
     const std::string id = done_id.get_future().get();
     REQUIRE_FALSE(id.empty());
     CHECK(events_when_done == 0);
-    REQUIRE(eventually([&] { return f.seen_count() == 1; }));
-    const EventData e = f.seen_at(0);
+    REQUIRE(eventually([&] { return f.seen.size() == 1; }));
+    const EventData e = f.seen.at(0);
     CHECK(e.id == id);
     CHECK(e.guid == "test-dev");
     CHECK(e.event.id == "ovr");
@@ -79,19 +64,19 @@ TEST_CASE("client events: the registration's first event reaches the callback af
 
 TEST_CASE("client events: polled changes reach the callback with old and new value") {
     ClientRig f;
-    auto id = f.client->register_event("test-dev", on("ovr"), f.collect());
+    auto id = f.client->register_event("test-dev", on("ovr"), f.seen.handler());
     REQUIRE(id.ok());
     f.machine("ovr", 70);
     f.poll();
-    REQUIRE(eventually([&] { return f.seen_count() == 1; }));
-    CHECK(*f.seen_at(0).event.old_value == 100);
-    CHECK(f.seen_at(0).event.value == 70);
+    REQUIRE(eventually([&] { return f.seen.size() == 1; }));
+    CHECK(*f.seen.at(0).event.old_value == 100);
+    CHECK(f.seen.at(0).event.value == 70);
 }
 
 TEST_CASE("client events: refusals come back as their table-19 codes") {
     ClientRig f;
     auto code = [&](Client::EventRegistration r) {
-        auto id = f.client->register_event("test-dev", std::move(r), f.collect());
+        auto id = f.client->register_event("test-dev", std::move(r), f.seen.handler());
         REQUIRE_FALSE(id.ok());
         return id.error().code;
     };
@@ -108,18 +93,18 @@ TEST_CASE("client events: refusals come back as their table-19 codes") {
 
 TEST_CASE("client events: a once callback goes with its first event") {
     ClientRig f;
-    REQUIRE(f.client->register_event("test-dev", on("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.collect()).ok());
+    REQUIRE(f.client->register_event("test-dev", on("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.seen.handler()).ok());
     CHECK(f.client->event_registrations() == 1);
     f.machine("ovr", 10);
     f.poll();
-    REQUIRE(eventually([&] { return f.seen_count() == 1; }));
+    REQUIRE(eventually([&] { return f.seen.size() == 1; }));
     REQUIRE(eventually([&] { return f.client->event_registrations() == 0; }));
     CHECK(f.feature_stats()["registered"] == 0);
 }
 
 TEST_CASE("client events: unregister drops the callback and reports NG codes") {
     ClientRig f;
-    auto id = f.client->register_event("test-dev", on("ovr"), f.collect());
+    auto id = f.client->register_event("test-dev", on("ovr"), f.seen.handler());
     REQUIRE(id.ok());
     REQUIRE(f.client->unregister_event("test-dev", *id).ok());
     CHECK(f.client->event_registrations() == 0);
