@@ -3,6 +3,7 @@
 // polled and what is not.
 #include "events/events_service.hpp"
 
+#include "support/recording_transport.hpp"
 #include "unit/adapter/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
@@ -14,35 +15,7 @@ using nclink::test::FakeDriver;
 
 namespace {
 
-/// Keeps every published message.
-class CapturingTransport final : public Transport {
-public:
-    void set_message_handler(MessageHandler) override {}
-    void set_state_handler(LinkStateHandler) override {}
-    Result<void> start() override { return ok_result(); }
-    void stop(std::chrono::milliseconds) override {}
-    Result<void> publish(Message message) override {
-        std::lock_guard<std::mutex> lock(mutex);
-        sent.push_back(std::move(message));
-        return ok_result();
-    }
-    Result<void> subscribe(std::vector<std::string>, int) override { return ok_result(); }
-    Result<void> unsubscribe(std::vector<std::string>) override { return ok_result(); }
-    LinkState state() const override { return LinkState::connected; }
-    TransportStats stats() const override { return {}; }
-    bool flush(std::chrono::milliseconds) override { return true; }
-
-    std::vector<Json> on(const std::string& topic) {
-        std::lock_guard<std::mutex> lock(mutex);
-        std::vector<Json> out;
-        for (const auto& m : sent)
-            if (m.topic == topic) out.push_back(Json::parse(m.payload));
-        return out;
-    }
-
-    std::mutex mutex;
-    std::vector<Message> sent;
-};
+using CapturingTransport = nclink::test::RecordingTransport;
 
 /// Counts the driver's reads of each item.
 class CountingDriver final : public FakeDriver {
@@ -73,8 +46,7 @@ struct ServiceRig {
         host = std::make_unique<ServiceHost>(ServiceHost{
             config, dev, logger, clock, transport, runner, model, tap,
             [this](const ParsedTopic& topic, const Json& reply) {
-                std::lock_guard<std::mutex> lock(transport.mutex);
-                transport.sent.push_back(Message{build_topic(topic), reply.dump(), 1, false});
+                (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
             },
             [this] { return "m" + std::to_string(++ids); }});
         service = make_events_service(*host);

@@ -5,6 +5,7 @@
 
 #include <nclink/loopback_transport.hpp>
 
+#include "support/recording_transport.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -20,41 +21,9 @@ using nclink::test::eventually;
 
 namespace {
 
-/// A transport whose link state and backlog the test sets; records publishes.
-class ScriptedTransport final : public Transport {
-public:
-    void set_message_handler(MessageHandler) override {}
-    void set_state_handler(LinkStateHandler) override {}
-    Result<void> start() override { return ok_result(); }
-    void stop(std::chrono::milliseconds) override {}
-    Result<void> publish(Message message) override {
-        std::lock_guard<std::mutex> lock(mutex);
-        sent.push_back(std::move(message));
-        return ok_result();
-    }
-    Result<void> subscribe(std::vector<std::string>, int) override { return ok_result(); }
-    Result<void> unsubscribe(std::vector<std::string>) override { return ok_result(); }
-    LinkState state() const override { return link; }
-    TransportStats stats() const override {
-        TransportStats s;
-        s.buffered = backlog;
-        return s;
-    }
-    bool flush(std::chrono::milliseconds) override { return true; }
-
-    std::vector<Message> messages() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return sent;
-    }
-    std::size_t count() {
-        std::lock_guard<std::mutex> lock(mutex);
-        return sent.size();
-    }
-
-    std::atomic<LinkState> link{LinkState::disconnected};
-    std::atomic<std::size_t> backlog{0};
-    std::mutex mutex;
-    std::vector<Message> sent;
+/// Starts disconnected: the spool's tests bring the link up themselves.
+struct ScriptedTransport final : nclink::test::RecordingTransport {
+    ScriptedTransport() { link = LinkState::disconnected; }
 };
 
 /// A Sample DTU whose only varying value is its sequence number.
