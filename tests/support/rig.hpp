@@ -51,6 +51,10 @@ inline std::unique_ptr<Client> started_client(const std::string& broker_url, con
     return client;
 }
 
+/// The simulated mill the examples run (models/sim-mill.json) and its device id.
+inline std::string sim_mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+inline const std::string kSimMillDevice = "nclink-sim-mill-01";
+
 /// The simulated machine of a model file.
 inline std::shared_ptr<SimDriver> sim_for(const std::string& model_path, SimOptions options = {}) {
     auto loaded = load_model_file(model_path);

@@ -19,20 +19,19 @@ using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
+using nclink::test::sim_mill_path;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
 using nclink::test::MosquittoOptions;
 
 namespace {
 
-const std::string kDev = "nclink-sim-mill-01";
-
-std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+const std::string kDev = nclink::test::kSimMillDevice;
 
 // The simulator around a slot that can make reads slow (for the restart test).
 class SlowableSim final : public Driver {
 public:
-    SlowableSim() : sim_(SimDriver::create(load_model_file(mill_path()).model).value()) {}
+    SlowableSim() : sim_(SimDriver::create(load_model_file(sim_mill_path()).model).value()) {}
     DriverInfo info() const override { return sim_->info(); }
     void read(const std::vector<PointRef>& p, std::vector<Result<Json>>& r) override {
         if (const auto d = delay.load(); d.count() > 0) std::this_thread::sleep_for(d);
@@ -51,7 +50,7 @@ struct Rig {
 
     void start_adapter(std::chrono::milliseconds driver_timeout = std::chrono::milliseconds(1000)) {
         AdapterConfig c;
-        c.model_path = mill_path();
+        c.model_path = sim_mill_path();
         c.broker_url = broker.url();
         c.driver_timeout = driver_timeout;
         c.register_timeout = std::chrono::milliseconds(500);

@@ -33,14 +33,13 @@ using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
+using nclink::test::sim_mill_path;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
 
 namespace {
 
-const std::string kDev = "nclink-sim-mill-01";
-
-std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+const std::string kDev = nclink::test::kSimMillDevice;
 
 std::string read_text(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -97,10 +96,10 @@ void pass_or_not_supported(const TestRecord& r, std::initializer_list<const char
 struct SimAdapter {
     explicit SimAdapter(const MosquittoBroker& broker) {
         AdapterConfig c;
-        c.model_path = mill_path();
+        c.model_path = sim_mill_path();
         c.broker_url = broker.url();
         c.register_timeout = std::chrono::milliseconds(500);
-        adapter = started_adapter(c, sim_for(mill_path()));
+        adapter = started_adapter(c, sim_for(sim_mill_path()));
     }
     ~SimAdapter() { adapter->stop(); }
     std::unique_ptr<Adapter> adapter;
@@ -111,7 +110,7 @@ struct SimAdapter {
 class BrokenAdapter {
 public:
     explicit BrokenAdapter(const MosquittoBroker& broker) : transport_(mqtt(broker, "broken-adapter")) {
-        model_ = Json::parse(read_text(mill_path()));
+        model_ = Json::parse(read_text(sim_mill_path()));
         transport_->set_message_handler([this](const Message& m) { on_request(m); });
         transport_->set_state_handler([](LinkState, std::string_view) {});
         REQUIRE(transport_->subscribe(topics::adapter_subscriptions(kDev), 1).ok());

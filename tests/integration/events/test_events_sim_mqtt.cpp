@@ -29,14 +29,13 @@ using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
+using nclink::test::sim_mill_path;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
 
 namespace {
 
-const std::string kDev = "nclink-sim-mill-01";
-
-std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+const std::string kDev = nclink::test::kSimMillDevice;
 
 /// Event DTUs a callback received, for the test thread.
 using Seen = nclink::test::Collected<EventData>;
@@ -44,13 +43,13 @@ using Seen = nclink::test::Collected<EventData>;
 struct Rig {
     explicit Rig(std::size_t max_events = 8, std::chrono::milliseconds lease = std::chrono::minutes(5)) {
         AdapterConfig c;
-        c.model_path = mill_path();
+        c.model_path = sim_mill_path();
         c.broker_url = broker.url();
         c.register_timeout = std::chrono::milliseconds(500);
         c.events.max_events = max_events;
         c.events.poll_interval = std::chrono::milliseconds(50);
         c.application_lease = lease;
-        adapter = started_adapter(c, sim_for(mill_path()));
+        adapter = started_adapter(c, sim_for(sim_mill_path()));
         client = make_client("app");
     }
     std::unique_ptr<Client> make_client(const std::string& ex) {

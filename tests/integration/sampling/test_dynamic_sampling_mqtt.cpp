@@ -30,13 +30,14 @@ using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
+using nclink::test::sim_mill_path;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kDev = "nclink-sim-mill-01";
+const std::string kDev = nclink::test::kSimMillDevice;
 
 struct Rig {
     MosquittoBroker broker;
@@ -49,7 +50,7 @@ struct Rig {
     Rig() {
         AdapterConfig config;
         config.broker_url = broker.url();
-        config.model_path = std::string(NCLINK_MODELS_DIR) + "/sim-mill.json";
+        config.model_path = sim_mill_path();
         config.persistence_dir = (root / "state").string();
         config.register_timeout = 200ms;
         config.sampling.max_dynamic_channels = 2;

@@ -8,6 +8,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -18,11 +19,11 @@
 using namespace nclink;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::sim_mill_path;
 
 namespace {
 
-const std::string kDev = "nclink-sim-mill-01";
-std::string mill_path() { return std::string(NCLINK_MODELS_DIR) + "/sim-mill.json"; }
+const std::string kDev = nclink::test::kSimMillDevice;
 
 struct Received {
     std::mutex mutex;
@@ -59,10 +60,10 @@ TEST_CASE("the mill's channels arrive on Sample/dev/channel with every row") {
     REQUIRE(eventually([&] { return subscriber->state() == LinkState::connected; }));
 
     AdapterConfig config;
-    config.model_path = mill_path();
+    config.model_path = sim_mill_path();
     config.broker_url = broker.url();
     config.register_timeout = std::chrono::milliseconds(500);
-    const auto model = load_model_file(mill_path()).model;
+    const auto model = load_model_file(sim_mill_path()).model;
     REQUIRE(model);
     auto adapter = std::make_unique<Adapter>(config, SimDriver::create(model).value());
     REQUIRE(adapter->start().ok());
