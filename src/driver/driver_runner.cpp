@@ -132,24 +132,27 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     return std::move(pending->value);
 }
 
+namespace {
+
+// Runs `call` under `Lock` (shared for a concurrent driver, exclusive for a
+// serialized one) if the lock is had within `wait`.
+template <typename Lock, typename Call>
+bool call_locked(std::shared_timed_mutex& calls, std::chrono::nanoseconds wait, Call& call) {
+    Lock lock(calls, std::defer_lock);
+    if (!lock.try_lock_for(wait)) return false;
+    call();
+    return true;
+}
+
+}  // namespace
+
 template <typename Call>
 bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
-    if (queue_->concurrent) {
-        std::shared_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
-        if (!lock.try_lock_for(wait)) {
-            count_timeout();
-            return false;
-        }
-        call();
-    } else {
-        std::unique_lock<std::shared_timed_mutex> lock(queue_->calls, std::defer_lock);
-        if (!lock.try_lock_for(wait)) {
-            count_timeout();
-            return false;
-        }
-        call();
-    }
-    return true;
+    const bool called = queue_->concurrent
+                            ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
+                            : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);
+    if (!called) count_timeout();
+    return called;
 }
 
 void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
