@@ -7,7 +7,7 @@
 //   bench_adapter_memory [--seconds N]     (default 5 s per configuration)
 #include <nclink/adapter.hpp>
 #include <nclink/model.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include "support/mosquitto_broker.hpp"
 

@@ -1,7 +1,7 @@
 // SimDriver: the generic per-type simulation for every data object, with the
 // mill profile layered on top when the model is sim-mill.json. Time advances
 // lazily to clock->now() on each call, under one mutex.
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include "mill_kinematics.hpp"
 #include "mill_profile.hpp"

@@ -4,7 +4,7 @@
 //    "device": "mill", "autostart": true, "program_dir": "/var/nc/prog",
 //    "transfer_rate": 32768}   (the last two read by SimDriver::open)
 #include <nclink/driver_plugin_export.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include <memory>
 #include <string>

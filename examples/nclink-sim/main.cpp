@@ -8,7 +8,7 @@
 //              [--log-level LEVEL]
 #include <nclink/adapter.hpp>
 #include <nclink/model.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include <csignal>
 #include <cstdio>

@@ -13,7 +13,7 @@
 #include <nclink/adapter.hpp>
 #include <nclink/model.hpp>
 #include <nclink/sampling.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include <time.h>
 

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string_view>
 
 namespace nclink {
@@ -13,6 +14,8 @@ namespace nclink {
 enum class LogLevel { trace = 0, debug, info, warn, error, off };
 
 std::string_view to_string(LogLevel level) noexcept;
+/// "trace"/"debug"/"info"/"warn" (or "warning")/"error"/"off"; nullopt otherwise.
+std::optional<LogLevel> log_level_from_string(std::string_view text);
 
 /// Receives one formatted message (no trailing newline).
 /// Thread: called on whichever SDK thread logs, possibly several at once;

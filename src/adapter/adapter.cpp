@@ -4,7 +4,7 @@
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/topics.hpp>
 
-#include "adapter/adapter_service.hpp"
+#include "feature/feature.hpp"
 #include "adapter/application_tracker.hpp"
 #include "adapter/dedup_window.hpp"
 #include "adapter/model_host.hpp"
@@ -61,8 +61,8 @@ struct Adapter::Impl {
 
     // ---- features (sampling, events, methods): see adapter_service.hpp
     detail::SampleTap sample_tap;
-    std::unique_ptr<detail::ServiceHost> service_host;
-    std::vector<std::unique_ptr<detail::AdapterService>> services;
+    std::unique_ptr<detail::FeatureHost> service_host;
+    std::vector<std::unique_ptr<detail::Feature>> services;
     std::atomic<bool> services_ready{false};  // set once `services` is complete and started
     std::unique_ptr<detail::ApplicationTracker> applications;
 
@@ -186,10 +186,11 @@ struct Adapter::Impl {
 
     // The features beside Query/Set/Probe. Each module adds its factory here.
     Result<void> make_services() {
-        service_host = std::make_unique<detail::ServiceHost>(detail::ServiceHost{
-            config, dev, logger, clock, *transport, *runner, host, sample_tap,
+        service_host = std::make_unique<detail::FeatureHost>(detail::FeatureHost{
+            dev, logger, clock, *transport, *runner, host, sample_tap,
             [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
-            [this] { return next_msg_id(); }});
+            [this] { return next_msg_id(); },
+            config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
         // (factories: services.push_back(detail::make_..._service(*service_host));)
         services.push_back(detail::make_sampling_service(*service_host));
         services.push_back(detail::make_methods_service(*service_host));
@@ -584,7 +585,7 @@ void Adapter::notify_value(const std::string& id, Json value) {
 }
 
 namespace {
-detail::SamplingService* sampling_service(const std::vector<std::unique_ptr<detail::AdapterService>>& services) {
+detail::SamplingService* sampling_service(const std::vector<std::unique_ptr<detail::Feature>>& services) {
     for (const auto& service : services)
         if (auto* sampling = dynamic_cast<detail::SamplingService*>(service.get())) return sampling;
     return nullptr;

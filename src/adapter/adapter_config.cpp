@@ -1,16 +1,13 @@
 #include <nclink/adapter_config.hpp>
 
 #include "core/config_common.hpp"
+#include "transport/broker_config.hpp"
+#include "events/events_config.hpp"
+#include "methods/methods_config.hpp"
+#include "sampling/sampling_config.hpp"
 
 namespace nclink {
 using detail::ConfigReader;
-
-std::optional<LogLevel> log_level_from_string(std::string_view text) {
-    for (LogLevel level : {LogLevel::trace, LogLevel::debug, LogLevel::info, LogLevel::warn, LogLevel::error, LogLevel::off})
-        if (to_string(level) == text) return level;
-    if (text == "warning") return LogLevel::warn;
-    return std::nullopt;
-}
 
 Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c) {
     if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");

@@ -1,22 +1,11 @@
 #include "adapter/model_host.hpp"
+#include "core/atomic_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 namespace nclink::detail {
-
-const DataObject* ModelState::item(const std::string& id) const {
-    const DataObject* object = model ? model->data_object(id) : nullptr;
-    if (!object) return nullptr;
-    // Items of another device of the same model file are not ours to serve.
-    if (!object->device_id.empty() && device && object->device_id != device->id) return nullptr;
-    return object;
-}
 
 ModelHost::ModelHost(std::string persistence_dir, Logger logger)
     : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
@@ -99,32 +88,6 @@ Result<void> ModelHost::persist_values(const ValueStore& store) const {
     }
     return write_file_atomically((std::filesystem::path(dir_) / "values.json").string(),
                                  settable.dump(2, ' ', false, Json::error_handler_t::replace));
-}
-
-Result<void> write_file_atomically(const std::string& path, const std::string& text) {
-    std::error_code ec;
-    const auto parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    const std::string temp = path + ".tmp";
-    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return make_error(ErrorCode::unavailable, fmt::format("cannot write {}", temp));
-    std::size_t written = 0;
-    while (written < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-        if (n <= 0) {
-            ::close(fd);
-            std::remove(temp.c_str());
-            return make_error(ErrorCode::unavailable, fmt::format("cannot write {}", temp));
-        }
-        written += static_cast<std::size_t>(n);
-    }
-    const bool synced = ::fsync(fd) == 0;
-    ::close(fd);
-    if (!synced || std::rename(temp.c_str(), path.c_str()) != 0) {
-        std::remove(temp.c_str());
-        return make_error(ErrorCode::unavailable, fmt::format("cannot replace {}", path));
-    }
-    return ok_result();
 }
 
 }  // namespace nclink::detail

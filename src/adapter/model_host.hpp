@@ -1,8 +1,10 @@
-// The adapter's current model and the values the SDK holds for it.
-// Readers take a snapshot (shared_ptr) and keep using it even if a Probe/Set
-// swaps the model meanwhile. Persistence writes are atomic (temp file +
+// The adapter's current model and the values the SDK holds for it: builds
+// the snapshot a model file gives, installs it, and persists Probe/Set
+// models and settable values. Persistence writes are atomic (temp file +
 // rename), so a crash never leaves a half-written model or value file.
 #pragma once
+
+#include "feature/model_state.hpp"
 
 #include <nclink/driver.hpp>
 #include <nclink/log.hpp>
@@ -15,23 +17,7 @@
 
 namespace nclink::detail {
 
-/// What one snapshot of the adapter serves: the model, the device this
-/// adapter is, and the SDK-held values.
-struct ModelState {
-    std::shared_ptr<const Model> model;
-    const Device* device = nullptr;
-    std::vector<Problem> problems;             ///< conformance problems and warnings of this model
-    std::shared_ptr<ValueStore> store;         ///< SDK-held items (fixed values, unclaimed configs)
-    std::shared_ptr<const std::string> probe_text;  ///< the model as sent in Probe/Query (cached)
-    std::shared_ptr<const Json> probe_json;
-
-    /// True when `id` is answered from the store rather than the driver.
-    bool sdk_held(const std::string& id) const { return store && store->contains(id); }
-    /// A data object of this adapter's device (or of the root configs).
-    const DataObject* item(const std::string& id) const;
-};
-
-class ModelHost {
+class ModelHost final : public ModelSource {
 public:
     ModelHost(std::string persistence_dir, Logger logger);
 
@@ -41,7 +27,7 @@ public:
     Result<std::shared_ptr<const ModelState>> build(const LoadResult& loaded, const std::string& device_id,
                                                     const Driver& driver) const;
 
-    std::shared_ptr<const ModelState> current() const;
+    std::shared_ptr<const ModelState> current() const override;
     void install(std::shared_ptr<const ModelState> state);
 
     /// The model file a previous Probe/Set persisted, if any ("" = none).
@@ -57,8 +43,5 @@ private:
     mutable std::mutex mutex_;
     std::shared_ptr<const ModelState> current_;
 };
-
-/// Writes `text` to `path` atomically (write a sibling temp file, fsync, rename).
-Result<void> write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace nclink::detail

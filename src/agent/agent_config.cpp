@@ -4,6 +4,7 @@
 #include "agent/access.hpp"
 #include "agent/terminal_id.hpp"
 #include "core/config_common.hpp"
+#include "transport/broker_config.hpp"
 
 namespace nclink {
 using detail::ConfigReader;

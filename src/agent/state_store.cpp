@@ -1,6 +1,6 @@
 #include "agent/state_store.hpp"
 
-#include "adapter/model_host.hpp"  // write_file_atomically
+#include "core/atomic_file.hpp"
 
 #include <fmt/format.h>
 

@@ -36,4 +36,11 @@ LogSink stderr_sink() {
     };
 }
 
+std::optional<LogLevel> log_level_from_string(std::string_view text) {
+    for (LogLevel level : {LogLevel::trace, LogLevel::debug, LogLevel::info, LogLevel::warn, LogLevel::error, LogLevel::off})
+        if (to_string(level) == text) return level;
+    if (text == "warning") return LogLevel::warn;
+    return std::nullopt;
+}
+
 }  // namespace nclink

@@ -1,4 +1,4 @@
-#include <nclink/adapter_config.hpp>
+#include "events/events_config.hpp"
 
 #include "core/config_reader.hpp"
 

@@ -19,11 +19,11 @@ namespace {
 // again now and then: this bounds how long it sleeps while polling is due.
 constexpr std::chrono::milliseconds kMaxSleep{20};
 
-class EventsServiceImpl final : public AdapterService {
+class EventsServiceImpl final : public Feature {
 public:
-    explicit EventsServiceImpl(ServiceHost& host)
+    explicit EventsServiceImpl(FeatureHost& host)
         : host_(host),
-          config_(host.config.events),
+          config_(host.events),
           engine_(config_.max_events, fmt::format("{:x}", std::random_device{}() & 0xffffffu)) {}
 
     ~EventsServiceImpl() override { stop(); }
@@ -269,7 +269,7 @@ private:
             points.push_back(PointRef{id, kind});
         }
         if (!points.empty()) {
-            auto read = host_.driver.read(points, host_.config.driver_timeout);
+            auto read = host_.driver.read(points, host_.driver_timeout);
             for (std::size_t i = 0; i < points.size() && i < read.size(); ++i)
                 if (read[i].ok()) values.emplace_back(points[i].id, std::move(read[i]).value());
         }
@@ -324,7 +324,7 @@ private:
         }
     }
 
-    ServiceHost& host_;
+    FeatureHost& host_;
     const EventsConfig config_;
     std::shared_ptr<ValueInbox> inbox_ = std::make_shared<ValueInbox>(config_.max_queued_values);
     mutable std::mutex engine_mutex_;
@@ -336,7 +336,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<AdapterService> make_events_service(ServiceHost& host) {
+std::unique_ptr<Feature> make_events_service(FeatureHost& host) {
     return std::make_unique<EventsServiceImpl>(host);
 }
 

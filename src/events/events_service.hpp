@@ -18,7 +18,7 @@
 // notify_value only queue values for it. Time comes from the host's clock.
 #pragma once
 
-#include "adapter/adapter_service.hpp"
+#include "feature/feature.hpp"
 
 #include <memory>
 
@@ -27,6 +27,6 @@ namespace nclink::detail {
 class EventsService;
 
 /// The service; `host` outlives it.
-std::unique_ptr<AdapterService> make_events_service(ServiceHost& host);
+std::unique_ptr<Feature> make_events_service(FeatureHost& host);
 
 }  // namespace nclink::detail

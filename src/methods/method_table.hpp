@@ -14,10 +14,10 @@
 
 #include "methods/method_run.hpp"
 
-#include <nclink/adapter_config.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/driver.hpp>
 #include <nclink/dtu.hpp>
+#include <nclink/feature_config.hpp>
 #include <nclink/log.hpp>
 #include <nclink/transport.hpp>
 

@@ -1,4 +1,4 @@
-#include <nclink/adapter_config.hpp>
+#include "methods/methods_config.hpp"
 
 #include "core/config_reader.hpp"
 

@@ -30,14 +30,14 @@ std::optional<Json> detail_of(const Error& error) {
     return Json{{"message", error.message}};
 }
 
-class MethodsService final : public AdapterService {
+class MethodsService final : public Feature {
 public:
-    explicit MethodsService(ServiceHost& host) : host_(host) {
+    explicit MethodsService(FeatureHost& host) : host_(host) {
         MethodTable::Outlet outlet;
         outlet.dev = host.dev;
         outlet.transport = &host.transport;
         outlet.respond = host.respond;
-        table_ = MethodTable::create(host.config.methods, std::move(outlet), host.logger, host.clock);
+        table_ = MethodTable::create(host.methods, std::move(outlet), host.logger, host.clock);
     }
     ~MethodsService() override { stop(); }
 
@@ -52,7 +52,7 @@ public:
         return ok_result();
     }
 
-    void stop() override { table_->shutdown(host_.config.methods.stop_grace); }
+    void stop() override { table_->shutdown(host_.methods.stop_grace); }
 
     // Thread: a request worker.
     void handle(const ParsedTopic& topic, const std::string& payload) override {
@@ -182,14 +182,14 @@ private:
         return method;
     }
 
-    ServiceHost& host_;
+    FeatureHost& host_;
     std::shared_ptr<MethodTable> table_;
     std::atomic<std::uint64_t> rejected_calls_{0}, control_requests_{0};
 };
 
 }  // namespace
 
-std::unique_ptr<AdapterService> make_methods_service(ServiceHost& host) {
+std::unique_ptr<Feature> make_methods_service(FeatureHost& host) {
     return std::make_unique<MethodsService>(host);
 }
 

@@ -2,7 +2,7 @@
 // Method/Control. See docs/methods.md.
 #pragma once
 
-#include "adapter/adapter_service.hpp"
+#include "feature/feature.hpp"
 
 #include <memory>
 
@@ -11,6 +11,6 @@ namespace nclink::detail {
 /// Runs accepted calls on method threads of their own (up to
 /// MethodsConfig::max_running), beside the driver runner's read()/write()
 /// worker: a long method never holds up Query, Set or sampling.
-std::unique_ptr<AdapterService> make_methods_service(ServiceHost& host);
+std::unique_ptr<Feature> make_methods_service(FeatureHost& host);
 
 }  // namespace nclink::detail

@@ -26,7 +26,7 @@ int requested_qos(const std::optional<Json>& private_info) {
 
 }  // namespace
 
-DynamicChannels::DynamicChannels(ServiceHost& host, SamplingEngine& engine) : host_(host), engine_(engine) {}
+DynamicChannels::DynamicChannels(FeatureHost& host, SamplingEngine& engine) : host_(host), engine_(engine) {}
 
 bool DynamicChannels::handles(TopicKind kind) const {
     return kind == TopicKind::sample_register_request || kind == TopicKind::sample_unregister_request;
@@ -81,7 +81,7 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
     spec.qos = requested_qos(request.private_info);
 
     std::lock_guard<std::mutex> lock(mutex_);
-    if (owners_.size() >= host_.config.sampling.max_dynamic_channels) {
+    if (owners_.size() >= host_.sampling.max_dynamic_channels) {
         host_.logger.info("Register/Sample from {} refused: {} dynamic channel(s) in use (415)", *topic.ex,
                           owners_.size());
         return refuse(response, ErrorCode::insufficient_dynamic_sampling);
@@ -152,7 +152,7 @@ Json DynamicChannels::stats() const {
     Json owners = Json::object();
     for (const auto& [id, owner] : owners_) owners[id] = owner;
     return Json{{"channels", owners_.size()},
-                {"max_channels", host_.config.sampling.max_dynamic_channels},
+                {"max_channels", host_.sampling.max_dynamic_channels},
                 {"registered", registered_},
                 {"unregistered", unregistered_},
                 {"released", released_},
@@ -160,7 +160,7 @@ Json DynamicChannels::stats() const {
                 {"owners", owners}};
 }
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(ServiceHost& host, SamplingEngine& engine) {
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine) {
     return std::make_unique<DynamicChannels>(host, engine);
 }
 

@@ -40,7 +40,7 @@ namespace nclink::detail {
 
 class DynamicChannels final : public SamplingExtension {
 public:
-    DynamicChannels(ServiceHost& host, SamplingEngine& engine);
+    DynamicChannels(FeatureHost& host, SamplingEngine& engine);
 
     std::string_view name() const override { return "dynamic"; }
     bool handles(TopicKind kind) const override;
@@ -55,7 +55,7 @@ private:
     Json register_channel(const ParsedTopic& topic, const SampleRegisterRequest& request);
     Json unregister_channel(const ParsedTopic& topic, const SampleUnregisterRequest& request);
 
-    ServiceHost& host_;
+    FeatureHost& host_;
     SamplingEngine& engine_;
 
     mutable std::mutex mutex_;
@@ -64,6 +64,6 @@ private:
     std::uint64_t registered_ = 0, unregistered_ = 0, released_ = 0, refused_ = 0;
 };
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(ServiceHost& host, SamplingEngine& engine);
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine);
 
 }  // namespace nclink::detail

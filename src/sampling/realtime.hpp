@@ -3,7 +3,7 @@
 // as granted or not (logged, and in the statistics).
 #pragma once
 
-#include <nclink/adapter_config.hpp>
+#include <nclink/feature_config.hpp>
 #include <nclink/log.hpp>
 #include <nclink/sampling.hpp>
 

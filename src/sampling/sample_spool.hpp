@@ -112,7 +112,7 @@ public:
     /// The engine's DtuSink. Thread-safe; never blocks on the network or disk
     /// (only on a transport hand-over already under way).
     void publish(Message message);
-    /// The link changed (AdapterService::on_link). Never blocks.
+    /// The link changed (Feature::on_link). Never blocks.
     void on_link(LinkState link);
 
     SpoolStats stats() const;

@@ -19,12 +19,12 @@
 // - stats(): includes channels being removed until their last rows are out.
 #pragma once
 
-#include "adapter/model_host.hpp"
-#include "adapter/sample_tap.hpp"
+#include "feature/model_state.hpp"
+#include "feature/sample_tap.hpp"
 #include "driver/driver_runner.hpp"
 #include "sampling/sleeper.hpp"
 
-#include <nclink/adapter_config.hpp>
+#include <nclink/feature_config.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/driver.hpp>
 #include <nclink/log.hpp>

@@ -18,7 +18,7 @@ std::shared_ptr<Sleeper> sleeper_for(const std::shared_ptr<const Clock>& clock) 
 
 }  // namespace
 
-SamplingService::SamplingService(ServiceHost& host) : host_(host) {
+SamplingService::SamplingService(FeatureHost& host) : host_(host) {
     sink_ = [this](Message message) {
         if (auto published = host_.transport.publish(std::move(message)); !published) {
             publish_errors_.fetch_add(1, std::memory_order_relaxed);
@@ -31,7 +31,7 @@ SamplingService::SamplingService(ServiceHost& host) : host_(host) {
     deps.clock = host_.clock;
     deps.sleeper = sleeper_for(host_.clock);
     deps.logger = host_.logger;
-    deps.config = host_.config.sampling;
+    deps.config = host_.sampling;
     deps.dev = host_.dev;
     deps.sink = [this](Message message) { sink_(std::move(message)); };
     deps.tap = &host_.sample_tap;
@@ -63,7 +63,7 @@ void SamplingService::handle(const ParsedTopic& topic, const std::string& payloa
 }
 
 Result<void> SamplingService::start() {
-    if (!host_.config.sampling.enabled) {
+    if (!host_.sampling.enabled) {
         host_.logger.info("sampling disabled by configuration (sampling.enabled = false)");
         return ok_result();
     }
@@ -95,7 +95,7 @@ void SamplingService::stop() {
 void SamplingService::start_model_channels(const ModelState& state) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!state.model || !state.device) return;
-    const auto& config = host_.config.sampling;
+    const auto& config = host_.sampling;
     for (const auto& id : config.push_channels)
         if (!state.model->channel(id)) host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
     for (const auto& entry : config.channel_qos)
@@ -128,7 +128,7 @@ void SamplingService::start_model_channels(const ModelState& state) {
 
 void SamplingService::on_model(std::shared_ptr<const ModelState> state) {
     engine_->set_model(state);
-    if (host_.config.sampling.enabled && state) {
+    if (host_.sampling.enabled && state) {
         std::vector<std::string> old;
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -161,7 +161,7 @@ Result<PushChannel> SamplingService::push_channel(const std::string& id) const {
 
 Json SamplingService::stats() const {
     Json out = to_json(typed_stats());
-    out["enabled"] = host_.config.sampling.enabled;
+    out["enabled"] = host_.sampling.enabled;
     out["publish_errors"] = publish_errors_.load(std::memory_order_relaxed);
     for (const auto& extension : extensions_) out[std::string(extension->name())] = extension->stats();
     return out;
@@ -202,6 +202,6 @@ Json to_json(const SamplingStats& stats) {
     return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
 }
 
-std::unique_ptr<AdapterService> make_sampling_service(ServiceHost& host) { return std::make_unique<SamplingService>(host); }
+std::unique_ptr<Feature> make_sampling_service(FeatureHost& host) { return std::make_unique<SamplingService>(host); }
 
 }  // namespace nclink::detail

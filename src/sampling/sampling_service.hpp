@@ -19,7 +19,7 @@
 //   constructor (before start()).
 #pragma once
 
-#include "adapter/adapter_service.hpp"
+#include "feature/feature.hpp"
 #include "sampling/sampling_engine.hpp"
 
 #include <atomic>
@@ -44,9 +44,9 @@ public:
     virtual Json stats() const { return Json::object(); }
 };
 
-class SamplingService final : public AdapterService {
+class SamplingService final : public Feature {
 public:
-    explicit SamplingService(ServiceHost& host);
+    explicit SamplingService(FeatureHost& host);
     ~SamplingService() override;
 
     std::string_view name() const override { return "sampling"; }
@@ -72,7 +72,7 @@ public:
 private:
     void start_model_channels(const ModelState& state);
 
-    ServiceHost& host_;
+    FeatureHost& host_;
     DtuSink sink_;  // what the engine's sink forwards to (wrappable before start)
     std::unique_ptr<SamplingEngine> engine_;
     std::vector<std::unique_ptr<SamplingExtension>> extensions_;
@@ -82,7 +82,7 @@ private:
     std::atomic<std::uint64_t> publish_errors_{0};
 };
 
-std::unique_ptr<AdapterService> make_sampling_service(ServiceHost& host);
+std::unique_ptr<Feature> make_sampling_service(FeatureHost& host);
 
 /// Json view of the typed stats (also what `nclink stats` prints).
 Json to_json(const SamplingStats& stats);

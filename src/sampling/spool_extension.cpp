@@ -7,12 +7,12 @@
 namespace nclink::detail {
 namespace {
 
-SpoolOptions spool_options(const ServiceHost& host) {
+SpoolOptions spool_options(const FeatureHost& host) {
     SpoolOptions o;
-    o.memory_bytes = host.config.sampling.spool_memory_bytes;
-    o.disk_bytes = host.config.sampling.spool_disk_bytes;
-    if (o.disk_bytes > 0 && !host.config.persistence_dir.empty())
-        o.disk_dir = (std::filesystem::path(host.config.persistence_dir) / "sample-spool").string();
+    o.memory_bytes = host.sampling.spool_memory_bytes;
+    o.disk_bytes = host.sampling.spool_disk_bytes;
+    if (o.disk_bytes > 0 && !host.persistence_dir.empty())
+        o.disk_dir = (std::filesystem::path(host.persistence_dir) / "sample-spool").string();
     else if (o.disk_bytes > 0)
         host.logger.warn("sampling.spool_disk_bytes is set but persistence_dir is not: spooling to RAM only");
     return o;
@@ -20,7 +20,7 @@ SpoolOptions spool_options(const ServiceHost& host) {
 
 class SpoolExtension final : public SamplingExtension {
 public:
-    SpoolExtension(ServiceHost& host, SamplingService& service)
+    SpoolExtension(FeatureHost& host, SamplingService& service)
         : engine_(service.engine()), spool_(std::make_shared<SampleSpool>(spool_options(host), host.transport, host.logger)) {
         // The sink holds the spool: the engine may flush into it until it is
         // destroyed, whatever the order members go in.
@@ -45,7 +45,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SamplingExtension> make_spool_extension(ServiceHost& host, SamplingService& service) {
+std::unique_ptr<SamplingExtension> make_spool_extension(FeatureHost& host, SamplingService& service) {
     return std::make_unique<SpoolExtension>(host, service);
 }
 

@@ -9,6 +9,6 @@
 namespace nclink::detail {
 
 /// Wraps `service`'s sink at once (call from the service's constructor).
-std::unique_ptr<SamplingExtension> make_spool_extension(ServiceHost& host, SamplingService& service);
+std::unique_ptr<SamplingExtension> make_spool_extension(FeatureHost& host, SamplingService& service);
 
 }  // namespace nclink::detail

@@ -1,6 +1,6 @@
 #include "sampling/spool_segment.hpp"
 
-#include "adapter/model_host.hpp"  // write_file_atomically
+#include "core/atomic_file.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include <nclink/loopback_transport.hpp>
+#include <nclink/testing/loopback_transport.hpp>
 
 #include "transport/outbox.hpp"
 

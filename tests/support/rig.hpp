@@ -7,7 +7,7 @@
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
 #include <nclink/mqtt_transport.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include "support/wait.hpp"
 

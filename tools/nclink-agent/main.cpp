@@ -3,7 +3,7 @@
 //
 //   nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level L]
 //   nclink-agent [--config FILE] --write-mosquitto-acl FILE
-#include <nclink/adapter_config.hpp>  // log_level_from_string
+#include <nclink/log.hpp>
 #include <nclink/agent.hpp>
 
 #include <csignal>

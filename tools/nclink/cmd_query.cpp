@@ -2,7 +2,7 @@
 // item; prints `id = value` or `id: NG 401 Node not exists` per item.
 #include "cli_device.hpp"
 
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 
 #include <cstdio>
 

@@ -2,7 +2,7 @@
 // prints `id: OK` or `id: NG ...` per item.
 #include "cli_device.hpp"
 
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 
 #include <cstdio>
 

@@ -4,7 +4,7 @@
 // object.
 #include "cli_device.hpp"
 
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 
 #include <cstdio>
 

@@ -11,7 +11,7 @@
 
 #include "commands.hpp"
 
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 #include <nclink/dtu.hpp>
 
 #include <string>

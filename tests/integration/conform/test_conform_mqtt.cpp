@@ -9,7 +9,7 @@
 #include <nclink/adapter.hpp>
 #include <nclink/dtu.hpp>
 #include <nclink/mqtt_transport.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"

@@ -4,7 +4,7 @@
 // delivered.
 #include <nclink/adapter.hpp>
 #include <nclink/mqtt_transport.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 #include <nclink/topics.hpp>
 
 #include "support/mosquitto_broker.hpp"

@@ -7,7 +7,7 @@
 
 #include <nclink/adapter.hpp>
 #include <nclink/dtu.hpp>
-#include <nclink/loopback_transport.hpp>
+#include <nclink/testing/loopback_transport.hpp>
 #include <nclink/topics.hpp>
 
 #include "support/wait.hpp"

@@ -5,7 +5,7 @@
 
 #include <nclink/agent.hpp>
 #include <nclink/dtu.hpp>
-#include <nclink/loopback_transport.hpp>
+#include <nclink/testing/loopback_transport.hpp>
 #include <nclink/topics.hpp>
 
 #include "support/wait.hpp"

@@ -1,6 +1,7 @@
-// The events service on its own (no Adapter): a ServiceHost built by hand, so
+// The events service on its own (no Adapter): a FeatureHost built by hand, so
 // the tests can feed the sample stream (SampleTap) directly and see what is
 // polled and what is not.
+#include "adapter/model_host.hpp"
 #include "events/events_service.hpp"
 
 #include "support/recording_transport.hpp"
@@ -43,12 +44,13 @@ struct ServiceRig {
         auto built = model.build(loaded, "", *driver);
         REQUIRE(built.ok());
         model.install(*built);
-        host = std::make_unique<ServiceHost>(ServiceHost{
-            config, dev, logger, clock, transport, runner, model, tap,
+        host = std::make_unique<FeatureHost>(FeatureHost{
+            dev, logger, clock, transport, runner, model, tap,
             [this](const ParsedTopic& topic, const Json& reply) {
                 (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
             },
-            [this] { return "m" + std::to_string(++ids); }});
+            [this] { return "m" + std::to_string(++ids); },
+            config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
         service = make_events_service(*host);
         REQUIRE(service->start().ok());
     }
@@ -75,8 +77,8 @@ struct ServiceRig {
     DriverRunner runner{driver, DriverRunner::Options{}, logger};
     ModelHost model{"", logger};
     SampleTap tap;
-    std::unique_ptr<ServiceHost> host;
-    std::unique_ptr<AdapterService> service;
+    std::unique_ptr<FeatureHost> host;
+    std::unique_ptr<Feature> service;
     int ids = 0;
 };
 

@@ -1,7 +1,7 @@
 // check_method_args: the METHOD object's declared args against a call's args.
 #include "methods/method_args.hpp"
 
-#include <nclink/adapter_config.hpp>
+#include "methods/methods_config.hpp"
 
 #include <catch2/catch.hpp>
 

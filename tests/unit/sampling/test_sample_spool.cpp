@@ -3,7 +3,7 @@
 // the test) and once over the in-process loopback broker.
 #include "sampling/sample_spool.hpp"
 
-#include <nclink/loopback_transport.hpp>
+#include <nclink/testing/loopback_transport.hpp>
 
 #include "support/recording_transport.hpp"
 #include "support/wait.hpp"

@@ -3,7 +3,7 @@
 
 #include <nclink/clock.hpp>
 #include <nclink/model.hpp>
-#include <nclink/sim_driver.hpp>
+#include "sim/sim_driver.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // Transport semantics (ordering, offline buffer, wills, retained) exercised
 // through the in-process loopback, which shares the outbox with MQTT.
-#include <nclink/loopback_transport.hpp>
+#include <nclink/testing/loopback_transport.hpp>
 
 #include "support/inbox.hpp"
 #include "support/wait.hpp"

@@ -1,32 +1,34 @@
-// A feature the adapter runs beside Query/Set/Probe: sampling, events,
-// methods. Each is one AdapterService; the adapter owns them, routes the
-// requests they answer to them, and tells them about the link, the model and
-// applications that have gone. They publish through the ServiceHost only.
+// The feature contract: what a feature that runs beside Query/Set/Probe
+// (sampling, events, methods) needs from the terminal that hosts it, and what
+// the host may ask of the feature. Features stand on this contract only and
+// never include adapter/: the adapter implements FeatureHost and composes the
+// features (docs/architecture.md).
 //
 // Threads (who calls what):
-// - start()/stop(): the adapter's owner thread, in Adapter::start()/stop()
+// - start()/stop(): the host's owner thread, in Adapter::start()/stop()
 //   (stop in reverse order of start). stop() joins every thread it started.
 // - handle(): a request worker (several may run at once: be thread-safe).
 // - on_model(): the request worker that installed a Probe/Set model.
 // - on_link(): the transport's callback thread: never block there.
-// - on_application_gone(): the adapter's housekeeping thread, or the transport
+// - on_application_gone(): the host's housekeeping thread, or the transport
 //   callback thread for a Notify/State offline: do not block long.
 // - on_value(): the thread of whoever called Adapter::notify_value (a driver
 //   thread, firmware): never block there.
 // - stats(): any thread.
 #pragma once
 
-#include "adapter/model_host.hpp"
-#include "adapter/sample_tap.hpp"
 #include "driver/driver_runner.hpp"
+#include "feature/model_state.hpp"
+#include "feature/sample_tap.hpp"
 
-#include <nclink/adapter_config.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/dtu.hpp>
+#include <nclink/feature_config.hpp>
 #include <nclink/log.hpp>
 #include <nclink/topics.hpp>
 #include <nclink/transport.hpp>
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -34,28 +36,34 @@
 
 namespace nclink::detail {
 
-/// What the adapter lends its services. Every member outlives the services.
-struct ServiceHost {
-    const AdapterConfig& config;
-    const std::string& dev;               ///< this adapter's terminal id
+/// What the host lends its features. Every member outlives the features.
+struct FeatureHost {
+    const std::string& dev;               ///< the terminal id of the host (dev_uuid)
     const Logger& logger;
     std::shared_ptr<const Clock> clock;   ///< injected in tests (ManualClock)
     Transport& transport;                 ///< publish() is thread-safe; buffered while offline
     DriverRunner& driver;                 ///< deadlines, serialization
-    const ModelHost& model;               ///< model.current(): the snapshot to serve
+    const ModelSource& model;             ///< model.current(): the snapshot to serve
     SampleTap& sample_tap;                ///< sampled rows, for events watching the sample stream
-    /// Publishes a reply on the response topic(s) mirroring `request`
-    /// (both spellings where WIRE.md says so) and updates the adapter state.
+    /// Publishes a reply on the response topic(s) mirroring `request` (both
+    /// spellings where docs/wire.md says so) and updates the host's state.
     std::function<void(const ParsedTopic& request, const Json& reply)> respond;
-    /// A fresh @id for DTUs the adapter originates.
+    /// A fresh @id for DTUs the host originates.
     std::function<std::string()> next_msg_id;
+
+    // --- settings (the host's configuration)
+    const SamplingConfig& sampling;
+    const EventsConfig& events;
+    const MethodsConfig& methods;
+    const std::string& persistence_dir;   ///< "" = nothing persisted
+    std::chrono::milliseconds driver_timeout;
 };
 
-class AdapterService {
+class Feature {
 public:
-    virtual ~AdapterService() = default;
+    virtual ~Feature() = default;
     virtual std::string_view name() const = 0;
-    /// True for the request kinds this service answers.
+    /// True for the request kinds this feature answers.
     virtual bool handles(TopicKind kind) const = 0;
     /// One request (already filtered: not retained, not a repeated @id, for
     /// this device). Must answer through host.respond (or the DTU the standard

@@ -1,4 +1,4 @@
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 
 #include <fmt/format.h>
 

@@ -1,5 +1,5 @@
 // The text syntax of request items (nclink query/set) and result lines.
-#include <nclink/client_args.hpp>
+#include "client_args.hpp"
 
 #include <catch2/catch.hpp>
 

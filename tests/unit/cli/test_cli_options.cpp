@@ -1,6 +1,6 @@
 // Option parsing of the `nclink` device commands (tools/nclink/cli_options.hpp,
 // header-only so it can be tested here without the program).
-#include "../../../tools/nclink/cli_options.hpp"
+#include "cli_options.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,5 +1,5 @@
 // `nclink events` argument parsing (tools/nclink/event_args.hpp, header-only).
-#include "../../../tools/nclink/event_args.hpp"
+#include "event_args.hpp"
 
 #include <catch2/catch.hpp>
 

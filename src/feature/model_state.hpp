@@ -1,0 +1,40 @@
+// What a feature (sampling, events, methods) and the request handlers see of
+// the model: one immutable snapshot per installed model. Readers take a
+// snapshot (shared_ptr) and keep using it even if a Probe/Set (8.2.9) swaps
+// the model meanwhile.
+#pragma once
+
+#include <nclink/model.hpp>
+#include <nclink/value_store.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nclink::detail {
+
+/// What one snapshot of the adapter serves: the model, the device this
+/// adapter is, and the SDK-held values.
+struct ModelState {
+    std::shared_ptr<const Model> model;
+    const Device* device = nullptr;
+    std::vector<Problem> problems;             ///< conformance problems and warnings of this model
+    std::shared_ptr<ValueStore> store;         ///< SDK-held items (fixed values, unclaimed configs)
+    std::shared_ptr<const std::string> probe_text;  ///< the model as sent in Probe/Query (cached)
+    std::shared_ptr<const Json> probe_json;
+
+    /// True when `id` is answered from the store rather than the driver.
+    bool sdk_held(const std::string& id) const { return store && store->contains(id); }
+    /// A data object of this adapter's device (or of the root configs).
+    const DataObject* item(const std::string& id) const;
+};
+
+/// Where the current snapshot comes from (the adapter's model host).
+class ModelSource {
+public:
+    virtual ~ModelSource() = default;
+    /// The snapshot to serve now (null before the first install). Thread-safe.
+    virtual std::shared_ptr<const ModelState> current() const = 0;
+};
+
+}  // namespace nclink::detail
