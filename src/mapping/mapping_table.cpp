@@ -309,7 +309,11 @@ const DataTypeRow kRows[] = {
     sample("FLOW", "L/s", "FLOW", "", "Flow", Dimension::flow, "A.5 0x5005"),
     sample("FREQUENCY", "Hz", "FREQUENCY", "", "Frequency", Dimension::frequency, "A.5 0x3013"),
     sample("LENGTH", "mm", "LENGTH", "", "Length", Dimension::length, "A.5 0x6005"),
-    sample("MASS", "kg", "MASS", "", "Mass", Dimension::mass, "MTConnect MASS (no A.5 row)"),
+    // MASS is a 1.4 DataItem type, but MTConnectStreams_1.4 has no Mass
+    // element to report it with: an agent could describe it and never send it.
+    fallback("MASS", ValueType::number,
+             "MTConnect 1.4 Devices lists MASS, but its Streams schema has no Mass element",
+             "Double"),
     sample("PERIOD", "s", "ACCUMULATED_TIME", "", "AccumulatedTime", Dimension::time,
            "A.5 0x5018, 0x5019"),
     sample("POSITION", "mm", "POSITION", "ACTUAL", "Position", Dimension::length,
