@@ -254,6 +254,18 @@ constexpr DataTypeRow fallback(std::string_view type, ValueType value_type, std:
             ua_data_type, {}, {}, nullptr, 0, std::nullopt, std::nullopt};
 }
 
+/// A row whose MTConnect side falls back while its OPC UA side stays.
+constexpr DataTypeRow mtconnect_fallback(DataTypeRow row, std::string_view reason) {
+    row.mt_fallback = true;
+    row.category = MtCategory::event;
+    row.mt_type = "MESSAGE";
+    row.mt_sub_type = "";
+    row.element = "Message";
+    row.value_form = MtValueForm::text;
+    row.clause = reason;
+    return row;
+}
+
 /// A fallback whose OPC UA form is a Boolean TwoStateDiscreteType.
 constexpr DataTypeRow fallback_flag(std::string_view type, std::string_view reason,
                                     std::string_view true_state = "on",
@@ -311,9 +323,9 @@ const DataTypeRow kRows[] = {
     sample("LENGTH", "mm", "LENGTH", "", "Length", Dimension::length, "A.5 0x6005"),
     // MASS is a 1.4 DataItem type, but MTConnectStreams_1.4 has no Mass
     // element to report it with: an agent could describe it and never send it.
-    fallback("MASS", ValueType::number,
-             "MTConnect 1.4 Devices lists MASS, but its Streams schema has no Mass element",
-             "Double"),
+    mtconnect_fallback(sample("MASS", "kg", "MASS", "", "Mass", Dimension::mass, ""),
+                       "MTConnect 1.4 Devices lists MASS, but its Streams schema has no Mass "
+                       "element"),
     sample("PERIOD", "s", "ACCUMULATED_TIME", "", "AccumulatedTime", Dimension::time,
            "A.5 0x5018, 0x5019"),
     sample("POSITION", "mm", "POSITION", "ACTUAL", "Position", Dimension::length,

@@ -214,6 +214,10 @@ TEST_CASE("OPC UA kinds follow tables B.8 B.10 and B.11") {
     CHECK(find_data_row("CATAGORY", in_axis())->ua_kind == UaKind::data_item);
     CHECK(find_data_row("PROGRAM", {})->ua_kind == UaKind::data_item);
     CHECK(find_data_row("TOOL_NUMBER", {})->ua_data_type == "Int32");
+    // MASS falls back in MTConnect (no Streams element) but stays analog in OPC UA.
+    CHECK(find_data_row("MASS", {})->mt_fallback);
+    CHECK(find_data_row("MASS", {})->ua_kind == UaKind::analog);
+    CHECK(find_data_row("MASS", {})->default_units == "kg");
 }
 
 TEST_CASE("units convert to MTConnect's units and carry UNECE codes") {
