@@ -35,6 +35,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -183,6 +184,8 @@ private:
     friend struct MtConnectMappingBuilder;
     std::vector<MtDevice> devices_;
     std::vector<MtDataItem> items_;
+    std::unordered_map<std::string, std::size_t> by_item_;  ///< NC-Link id -> items_
+    std::unordered_map<std::string, std::size_t> by_id_;    ///< DataItem id -> items_
 };
 
 Result<MtConnectMapping> mtconnect_mapping(const Model& model, const MappingOptions& options = {});
@@ -270,6 +273,7 @@ private:
     friend struct OpcUaMappingBuilder;
     std::vector<UaNamespace> namespaces_;
     std::vector<UaVariable> variables_;
+    std::unordered_map<std::string, std::size_t> by_item_;  ///< NC-Link id -> variables_
 };
 
 Result<OpcUaMapping> opcua_mapping(const Model& model, const MappingOptions& options = {});

@@ -344,6 +344,7 @@ Result<MtPlan> plan_mtconnect(const Model& model, const MappingOptions& options)
     out.plan = std::move(*plan);
     MtPlanner planner(out);
     if (auto r = planner.run(out.plan); !r) return std::move(r).error();
+    MtConnectMappingBuilder::index(out.mapping);
     return out;
 }
 

@@ -16,6 +16,15 @@ namespace nclink {
 struct MtConnectMappingBuilder {
     static std::vector<MtDevice>& devices(MtConnectMapping& m) { return m.devices_; }
     static std::vector<MtDataItem>& items(MtConnectMapping& m) { return m.items_; }
+    /// Builds the lookup indexes once the items are complete.
+    static void index(MtConnectMapping& m) {
+        m.by_item_.clear();
+        m.by_id_.clear();
+        for (std::size_t i = 0; i < m.items_.size(); ++i) {
+            m.by_item_.emplace(m.items_[i].item_id, i);
+            if (!m.items_[i].id.empty()) m.by_id_.emplace(m.items_[i].id, i);
+        }
+    }
 };
 
 namespace mapping_detail {

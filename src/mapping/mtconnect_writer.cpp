@@ -138,15 +138,13 @@ std::string_view to_string(MtCategory category) noexcept {
 }
 
 const MtDataItem* MtConnectMapping::find(std::string_view item_id) const {
-    for (const auto& m : items_)
-        if (m.item_id == item_id) return &m;
-    return nullptr;
+    const auto it = by_item_.find(std::string(item_id));
+    return it == by_item_.end() ? nullptr : &items_[it->second];
 }
 
 const MtDataItem* MtConnectMapping::find_by_mtconnect_id(std::string_view id) const {
-    for (const auto& m : items_)
-        if (!m.id.empty() && m.id == id) return &m;
-    return nullptr;
+    const auto it = by_id_.find(std::string(id));
+    return it == by_id_.end() ? nullptr : &items_[it->second];
 }
 
 const MtDevice* MtConnectMapping::device(std::string_view id_or_uuid) const {

@@ -18,6 +18,11 @@ namespace nclink {
 struct OpcUaMappingBuilder {
     static std::vector<UaNamespace>& namespaces(OpcUaMapping& m) { return m.namespaces_; }
     static std::vector<UaVariable>& variables(OpcUaMapping& m) { return m.variables_; }
+    /// Builds the lookup index once the variables are complete.
+    static void index(OpcUaMapping& m) {
+        m.by_item_.clear();
+        for (std::size_t i = 0; i < m.variables_.size(); ++i) m.by_item_.emplace(m.variables_[i].item_id, i);
+    }
 };
 
 namespace mapping_detail {

@@ -523,6 +523,7 @@ Result<UaDocument> plan_opcua(const Model& model, const MappingOptions& options)
         UaDeviceBuilder builder(doc, doc.plan.devices[i], static_cast<int>(i) + 1, doc.cnc_namespace);
         builder.build();
     }
+    OpcUaMappingBuilder::index(doc.mapping);
     if (!doc.nodes.collision().empty())
         return make_error(ErrorCode::key_error,
                           fmt::format("OPC UA NodeId \"{}\" is generated twice (an NC-Link id "
@@ -556,9 +557,8 @@ std::string_view to_string(UaEncoding encoding) noexcept {
 }
 
 const UaVariable* OpcUaMapping::find(std::string_view item_id) const {
-    for (const auto& v : variables_)
-        if (v.item_id == item_id) return &v;
-    return nullptr;
+    const auto it = by_item_.find(std::string(item_id));
+    return it == by_item_.end() ? nullptr : &variables_[it->second];
 }
 
 Result<OpcUaMapping> opcua_mapping(const Model& model, const MappingOptions& options) {
