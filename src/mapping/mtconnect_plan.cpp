@@ -45,6 +45,7 @@ public:
 
     Result<void> run(const Plan& plan) {
         out_.notes = plan.notes;
+        out_.unmapped = plan.unmapped;
         // Pass 1: every data object, and the ids taken from the model.
         for (const auto& device : plan.devices) {
             auto& devices = MtConnectMappingBuilder::devices(out_.mapping);

@@ -496,6 +496,7 @@ Result<UaDocument> plan_opcua(const Model& model, const MappingOptions& options)
     UaDocument doc;
     doc.plan = std::move(*plan);
     doc.notes = doc.plan.notes;
+    doc.unmapped = doc.plan.unmapped;
     auto& namespaces = OpcUaMappingBuilder::namespaces(doc.mapping);
     for (const auto& d : doc.plan.devices)
         namespaces.push_back(UaNamespace{"urn:nclink:device:" + d.dev_uuid, d.device->id, d.dev_uuid});

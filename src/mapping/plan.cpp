@@ -179,6 +179,18 @@ Result<Plan> make_plan(const Model& model, const MappingOptions& options) {
                           "a terminal id override needs exactly one device (select one)");
 
     Plan plan;
+    // Never dropped silently: what no device holds, and methods (MTConnect is
+    // read-only, A.4; calling them is the OPC UA server's business, B.5 e).
+    for (const auto& d : model.data_objects())
+        if (d.device_id.empty())
+            plan.unmapped.push_back(UnmappedItem{d.id, d.type, "not written",
+                                                 "a data object of the root's configs belongs to "
+                                                 "no device"});
+    for (const auto& m : model.methods())
+        plan.unmapped.push_back(UnmappedItem{m.id, "METHOD", "not written",
+                                             "methods are no MTConnect DataItem (A.4: read-only) "
+                                             "and no OPC UA variable (B.5 e) Method nodes are "
+                                             "the OPC UA server's)"});
     Planner planner(model, plan.notes);
     for (const Device* d : selected)
         plan.devices.push_back(planner.device(*d, resolve_dev_uuid(*d, options.dev_uuid)));

@@ -52,6 +52,9 @@ struct PlannedDevice {
 struct Plan {
     std::vector<PlannedDevice> devices;
     std::vector<MappingNote> notes;
+    /// Objects outside every device (root configs) and METHOD objects:
+    /// neither document has a place for them.
+    std::vector<UnmappedItem> unmapped;
 };
 
 /// Errors: see map_to_mtconnect.

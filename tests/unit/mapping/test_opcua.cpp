@@ -172,6 +172,7 @@ TEST_CASE("fixed values go into the NodeSet in the variable's DataType") {
 
 TEST_CASE("unknown types fall back to BaseDataVariableType and are listed") {
     const auto model = parse_mapping_model(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0",
+      "configs":[{"id":"root_cfg","type":"VERSION","value":"1"}],
       "devices":[{"id":"d","type":"MACHINE","version":"1.0.0","guid":"g",
         "dataItems":[{"id":"v1","type":"VIBRATION_X","value":[1,2]}],
         "components":[{"id":"t","type":"TURRET"}]}]})");
@@ -183,7 +184,7 @@ TEST_CASE("unknown types fall back to BaseDataVariableType and are listed") {
     CHECK(contains(v1, "<uax:String>[1,2]</uax:String>"));
     std::set<std::string> ids;
     for (const auto& u : doc->unmapped) ids.insert(u.id);
-    CHECK(ids == std::set<std::string>{"v1", "t"});
+    CHECK(ids == std::set<std::string>{"root_cfg", "v1", "t"});
     auto m = opcua_mapping(*model, fixed_options());
     CHECK(m->find("v1")->fallback);
 }
