@@ -24,5 +24,7 @@ struct Command {
 
 int run_validate(const Args& args);
 extern const char* const validate_usage;
+int run_map(const Args& args);  // cmd_map.cpp
+extern const char* const map_usage;
 
 }  // namespace nclink::cli

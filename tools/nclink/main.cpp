@@ -23,6 +23,8 @@ using nclink::cli::Command;
 const Command kCommands[] = {
     {"validate", "check model (probe) files against GB/T 41970-2022 chapters 6 and 7",
      &nclink::cli::run_validate, nclink::cli::validate_usage},
+    {"map", "write a model as MTConnect Devices or OPC UA NodeSet2 XML (GB/T 39561.3)",
+     &nclink::cli::run_map, nclink::cli::map_usage},
     {"probe", "print a device's model (Probe/Query) as a tree", &nclink::cli::run_probe, nclink::cli::probe_usage},
     {"query", "query data items: ID[:PARAMS]...", &nclink::cli::run_query, nclink::cli::query_usage},
     {"set", "set data items: ID=VALUE... or ID:PARAMS...", &nclink::cli::run_set, nclink::cli::set_usage},
