@@ -75,7 +75,7 @@ std::string error_document(const HeaderInfo& header, const std::vector<MtError>&
 
 std::string devices_header(const HeaderInfo& header) {
     std::string out = common_header(header);
-    attr(out, "assetBufferSize", "0");
+    attr(out, "assetBufferSize", "1024");  // the schema wants at least 1; assetCount says there are none
     attr(out, "assetCount", "0");
     out += "/>";
     return out;

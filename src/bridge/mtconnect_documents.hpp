@@ -39,7 +39,7 @@ std::int64_t now_ms();
 /// An MTConnectError document with one Error per entry.
 std::string error_document(const HeaderInfo& header, const std::vector<MtError>& errors);
 
-/// The Devices Header element (assetBufferSize 0 and assetCount 0: the bridge
+/// The Devices Header element (assetCount 0, assetBufferSize 1024: the bridge
 /// keeps no assets).
 std::string devices_header(const HeaderInfo& header);
 /// An MTConnectDevices document holding the Device elements of each mapped

@@ -7,6 +7,8 @@
 
 #include <httplib.h>
 
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -255,6 +257,13 @@ Result<void> HttpServer::start() {
     svr.set_read_timeout(static_cast<time_t>(impl.options.read_timeout.count()), 0);
     svr.set_keep_alive_timeout(static_cast<time_t>(impl.options.keep_alive_timeout.count()));
     svr.set_tcp_nodelay(true);
+    // httplib's default is SO_REUSEPORT, with which a second server silently
+    // shares a port already in use; SO_REUSEADDR alone lets a restart rebind
+    // at once yet makes a taken port an error.
+    svr.set_socket_options([](int sock) {
+        int yes = 1;
+        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+    });
     auto handler = [&impl](const httplib::Request& req, httplib::Response& res) { impl.dispatch(req, res); };
     svr.Get(".*", handler);
     svr.Post(".*", handler);

@@ -21,7 +21,11 @@ using namespace nclink::bridge;
 
 namespace {
 
-std::string schema_dir() { return std::string(NCLINK_SHARED_DIR) + "/interop/mtconnect-schema"; }
+// CI lays shared/ beside the source tree; NCLINK_SHARED_DIR in the environment overrides it.
+std::string schema_dir() {
+    const char* env = std::getenv("NCLINK_SHARED_DIR");
+    return std::string(env && *env ? env : NCLINK_SHARED_DIR) + "/interop/mtconnect-schema";
+}
 
 /// xmllint's verdict on `xml` against MTConnect<kind>_1.4_1.0.xsd; true when the schema is absent (skipped).
 bool validates(const std::string& xml, const std::string& kind) {
