@@ -22,6 +22,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -128,13 +129,16 @@ int main(int argc, char** argv) {
             from = std::stoull(attribute(client.Get("/current")->body, "nextSequence"));
             continue;
         }
-        std::uint64_t expected = from, last = 0;
-        for (auto it = std::sregex_iterator(r->body.begin(), r->body.end(), seq); it != std::sregex_iterator(); ++it) {
-            const std::uint64_t s = std::stoull((*it)[1]);
-            if (s == last) continue;  // a condition's second element
+        // Documents group observations by component: sort before checking for gaps.
+        std::vector<std::uint64_t> seen;
+        for (auto it = std::sregex_iterator(r->body.begin(), r->body.end(), seq); it != std::sregex_iterator(); ++it)
+            seen.push_back(std::stoull((*it)[1]));
+        std::sort(seen.begin(), seen.end());
+        seen.erase(std::unique(seen.begin(), seen.end()), seen.end());  // a condition's second element
+        std::uint64_t expected = from;
+        for (std::uint64_t s : seen) {
             if (s != expected) ++gaps;
             expected = s + 1;
-            last = s;
             ++observations;
         }
         for (std::size_t p = r->body.find("<Position"); p != std::string::npos; p = r->body.find("<Position", p + 1)) ++positions;

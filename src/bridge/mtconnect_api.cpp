@@ -83,7 +83,9 @@ std::string MtConnectApi::current_document(const BridgeState& st, const Selectio
                                            std::optional<std::uint64_t> at) const {
     std::vector<std::optional<Observation>> at_values;
     if (at) at_values = st.buffer.values_at(*at);
-    const auto& values = at ? at_values : st.buffer.latest();
+    // A reference to one or the other (a ?: of a const and a non-const vector would copy).
+    const std::vector<std::optional<Observation>>& values = at ? static_cast<const decltype(at_values)&>(at_values)
+                                                               : st.buffer.latest();
     std::vector<StreamEntry> entries;
     for (const DeviceEntry* d : sel.devices)
         for (ItemIndex i : d->items) {

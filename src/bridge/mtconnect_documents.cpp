@@ -22,11 +22,23 @@ void root(std::string& out, std::string_view element, std::string_view ns, std::
         ns, schema);
 }
 
+// Text as XML: most of it (ids, numbers, timestamps) needs no escaping, so
+// only text with a character xml_escape would change goes through it.
+void append_escaped(std::string& out, std::string_view text) {
+    for (unsigned char c : text) {
+        if (c < 0x20 || c >= 0x7f || c == '&' || c == '<' || c == '>' || c == '"' || c == '\'') {
+            out += xml_escape(text);
+            return;
+        }
+    }
+    out.append(text);
+}
+
 void attr(std::string& out, std::string_view name, std::string_view value) {
     out += ' ';
     out += name;
     out += "=\"";
-    out += xml_escape(value);
+    append_escaped(out, value);
     out += '"';
 }
 
@@ -158,7 +170,7 @@ std::string streams_document(const HeaderInfo& header, const std::vector<StreamE
                 out += "/>\n";
             } else {
                 out += '>';
-                out += xml_escape(ob.value);
+                append_escaped(out, ob.value);
                 out += "</";
                 out += ob.element;
                 out += ">\n";
