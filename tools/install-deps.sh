@@ -5,7 +5,11 @@ set -euo pipefail
 
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
-          mosquitto mosquitto-clients)
+          mosquitto mosquitto-clients
+          libcpp-httplib-dev libxml2-dev libxml2-utils)
+# libcpp-httplib-dev: the HTTP server of nclink-bridge (src/http);
+# libxml2-dev: the bridge's XPath (MTConnect path=); libxml2-utils: xmllint,
+# which the bridge's tests validate MTConnect documents with.
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 

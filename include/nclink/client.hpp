@@ -167,6 +167,11 @@ public:
     /// `Notify/State/{tid}`. The state is retained, so the current one arrives
     /// right after subscribing (and again after every reconnect).
     Result<SubscriptionId> subscribe_state(const std::string& tid, StateHandler handler);
+    /// `Notify/State/+`: the states of every terminal (adapters, and the
+    /// applications an agent announces), each retained one right after
+    /// subscribing. NotifyState::tid names the terminal. For applications that
+    /// follow whatever adapters exist without an agent (docs/bridge.md).
+    Result<SubscriptionId> subscribe_all_states(StateHandler handler);
     /// `Probe/Version/{dev}`: the adapter announces its model version.
     Result<SubscriptionId> subscribe_version(const std::string& dev, VersionHandler handler);
     /// Removes a subscription (the broker subscription goes with the last

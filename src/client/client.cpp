@@ -173,6 +173,10 @@ Result<SubscriptionId> Client::subscribe_state(const std::string& tid, StateHand
     return impl_->subscribe(topics::notify_state(tid), std::move(handler));
 }
 
+Result<SubscriptionId> Client::subscribe_all_states(StateHandler handler) {
+    return impl_->subscribe(topics::notify_state("+"), std::move(handler));
+}
+
 Result<SubscriptionId> Client::subscribe_version(const std::string& dev, VersionHandler handler) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_version: bad device id");
     return impl_->subscribe(topics::probe_version(dev), std::move(handler));
