@@ -177,8 +177,37 @@ class DeviceModel {
     return true;
   }
 
+  /// Why a write cannot become an NC-Link Set, or undefined. A Set carries a
+  /// whole value: no part of one (IndexRange), no status (OPC 10000-4 5.10.4:
+  /// BadWriteNotSupported for a combination the server does not support).
+  /// Timestamps a client sends are not refused but not kept either: the
+  /// variable shows the time of the Set, then the machine's.
+  refusalOf(writeValue) {
+    const range = writeValue.indexRange;
+    const hasRange = range && (typeof range === "string" ? range !== "" : typeof range.isEmpty === "function" ? !range.isEmpty() : true);
+    if (hasRange) return "writes of part of a value (IndexRange)";
+    const status = writeValue.value && writeValue.value.statusCode;
+    if (status && typeof status.isGood === "function" && !status.isGood()) return `a write with status ${status.name}`;
+    return undefined;
+  }
+
   bindWrite(item) {
     const model = this;
+    const { AttributeIds, StatusCodes } = this.opcua;
+    // Checked before node-opcua's own write path: past it, the setter below
+    // sees neither the IndexRange nor the status, and would Set the machine.
+    const writeAttribute = item.variable.writeAttribute;
+    item.variable.writeAttribute = function (context, writeValue, callback) {
+      if (writeValue && writeValue.attributeId === AttributeIds.Value) {
+        const refusal = model.refusalOf(writeValue);
+        if (refusal) {
+          model.log.info(`write ${model.entry.dev}/${item.id}: refused, ${refusal} cannot be an NC-Link Set (BadWriteNotSupported)`);
+          callback(null, StatusCodes.BadWriteNotSupported);
+          return;
+        }
+      }
+      writeAttribute.call(this, context, writeValue, callback);
+    };
     item.variable.bindVariable(
       {
         // Reads keep serving what setValueFromSource stored.

@@ -91,7 +91,11 @@ class ServerHost {
       buildInfo: { productName: "nclink-opcua", productUri: PRODUCT_URI, manufacturerName: "nclink", softwareVersion: this.version },
       isAuditing: false,
       maxConnectionsPerEndpoint: 64,
-      serverCapabilities: { maxSessions: 64 },
+      // Values arrive pushed by the bridge, so a variable whose
+      // MinimumSamplingInterval is 0 is served on change: with 0 here a
+      // client asking for sampling interval 0 gets every change (a status
+      // going running -> holding -> running), not one per 50 ms window.
+      serverCapabilities: { maxSessions: 64, minSupportedSampleRate: 0 },
     });
   }
 

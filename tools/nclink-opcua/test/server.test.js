@@ -170,6 +170,15 @@ describe("nclink-opcua against a fake bridge", () => {
     assert.equal(bridge.sets.length, before);
   });
 
+  it("a write of part of a value, or with a status, is BadWriteNotSupported and never reaches the bridge", async () => {
+    const before = bridge.sets.length;
+    const partial = await c.session.write({ nodeId: nodeId("program"), attributeId: AttributeIds.Value, indexRange: "0:1", value: { value: { dataType: DataType.String, value: "XY" } } });
+    assert.equal(partial.name, "BadWriteNotSupported");
+    const withStatus = await c.session.write({ nodeId: nodeId("program"), attributeId: AttributeIds.Value, value: { value: { dataType: DataType.String, value: "O9" }, statusCode: StatusCodes.Bad } });
+    assert.equal(withStatus.name, "BadWriteNotSupported");
+    assert.equal(bridge.sets.length, before);
+  });
+
   it("an NG from the bridge maps to the documented status and keeps the old value", async () => {
     const answers = [
       [{ code: "NG", error: 301, reason: "Permission Denied" }, "BadUserAccessDenied"],
@@ -235,29 +244,23 @@ describe("nclink-opcua against a fake bridge", () => {
     assert.equal((await read("x_position")).value.value, -3.5, "the snapshot after reconnect is served");
   });
 
-  it("a client with Basic256Sha256 SignAndEncrypt connects when certificates are trusted both ways", async () => {
+  it("Basic256Sha256 SignAndEncrypt: an unknown client is rejected until its certificate is moved to trusted", async () => {
     const clientPki = tempDir("nclink-opcua-client-pki-");
+    const cm = new OPCUACertificateManager({ rootFolder: clientPki, automaticallyAcceptUnknownCertificate: false });
+    const secureConnect = () => connect(opcua, url, { securityMode: MessageSecurityMode.SignAndEncrypt, securityPolicy: SecurityPolicy.Basic256Sha256, certificateManager: cm });
     try {
-      // The client's certificate, made before it connects, trusted by the server
-      // (what an administrator does: copy it into <pki>/trusted/certs/).
-      const cm = new OPCUACertificateManager({ rootFolder: clientPki, automaticallyAcceptUnknownCertificate: false });
-      await cm.initialize();
-      const maker = opcua.OPCUAClient.create({ applicationName: "nclink-opcua-test", clientCertificateManager: cm });
-      await maker.createDefaultCertificate();
-      fs.mkdirSync(path.join(pki, "trusted", "certs"), { recursive: true });
-      fs.copyFileSync(maker.certificateFile, path.join(pki, "trusted", "certs", "test-client.pem"));
-      // The server's self-signed certificate, trusted by the client.
+      // The client trusts the server's self-signed certificate, made in --pki.
       const serverCert = path.join(pki, "own", "certs", "certificate.pem");
       assert.ok(fs.existsSync(serverCert), "the server made its certificate in --pki");
+      await cm.initialize();
       fs.mkdirSync(path.join(clientPki, "trusted", "certs"), { recursive: true });
-      fs.copyFileSync(serverCert, path.join(clientPki, "trusted", "certs", "server.pem"));
-      await cm.dispose();
-
-      const trusted = new OPCUACertificateManager({ rootFolder: clientPki, automaticallyAcceptUnknownCertificate: false });
-      const secure = await waitUntil(
-        () => connect(opcua, url, { securityMode: MessageSecurityMode.SignAndEncrypt, securityPolicy: SecurityPolicy.Basic256Sha256, certificateManager: trusted }),
-        { ms: SETTLE_MS, every: 500, what: "a SignAndEncrypt session (the server sees the trusted certificate)" },
-      );
+      fs.copyFileSync(serverCert, path.join(clientPki, "trusted", "certs", "nclink-opcua.pem"));
+      // The server does not know the client yet: refused, the certificate kept in rejected/.
+      await assert.rejects(secureConnect());
+      const rejected = await waitUntil(() => fs.readdirSync(path.join(pki, "rejected")).filter((f) => f.endsWith(".pem") || f.endsWith(".der"))[0], { what: "a certificate in rejected/" });
+      // What an administrator does to trust it.
+      fs.renameSync(path.join(pki, "rejected", rejected), path.join(pki, "trusted", "certs", rejected));
+      const secure = await waitUntil(secureConnect, { ms: SETTLE_MS, every: 500, what: "a SignAndEncrypt session once the certificate is trusted" });
       try {
         assert.equal((await read("x_position", secure.session)).statusCode.name, "Good");
         const before = bridge.sets.length;
@@ -265,9 +268,9 @@ describe("nclink-opcua against a fake bridge", () => {
         assert.deepEqual(bridge.sets.slice(before), [{ dev: DEV, id: "spindle_override", value: 70 }]);
       } finally {
         await secure.close();
-        await trusted.dispose();
       }
     } finally {
+      await cm.dispose();
       fs.rmSync(clientPki, { recursive: true, force: true });
     }
   });
