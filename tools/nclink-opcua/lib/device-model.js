@@ -121,7 +121,6 @@ class DeviceModel {
       facts.hasValue = true;
     }
     const status = itemStatus(link, facts);
-    this.noteProblem(item, cached && converted.error ? `value ${JSON.stringify(cached.value)} does not convert: ${converted.error}` : undefined);
     const itemLevel = status === "Good" || status === "BadDeviceFailure" || status === "BadConfigurationError";
     const sourceTimestamp = itemLevel && cached ? timeOf(cached.time) : this.entry.linkChangedAt;
     let value = new Variant({ dataType: DataType.Null });
@@ -134,7 +133,8 @@ class DeviceModel {
           })
         : item.initial;
     }
-    return { value, statusCode: StatusCodes[status], sourceTimestamp };
+    const problem = cached && converted.error ? `value ${JSON.stringify(cached.value)} does not convert: ${converted.error}` : undefined;
+    return { value, statusCode: StatusCodes[status], sourceTimestamp, problem };
   }
 
   noteProblem(item, problem) {
@@ -146,7 +146,17 @@ class DeviceModel {
   publish(item) {
     if (item.variable.isDisposed && item.variable.isDisposed()) return;
     const dv = this.dataValueOf(item);
-    item.variable.setValueFromSource(dv.value, dv.statusCode, dv.sourceTimestamp);
+    let problem = dv.problem;
+    try {
+      item.variable.setValueFromSource(dv.value, dv.statusCode, dv.sourceTimestamp);
+    } catch (e) {
+      // node-opcua refuses a Variant its DataType check does not accept (a
+      // DataType the conversion does not know well enough): say so, serve Bad.
+      problem = `value not accepted by the variable: ${e.message}`;
+      const { Variant, DataType, StatusCodes } = this.opcua;
+      item.variable.setValueFromSource(new Variant({ dataType: DataType.Null }), StatusCodes.BadConfigurationError, dv.sourceTimestamp);
+    }
+    this.noteProblem(item, problem);
   }
 
   publishAvailability() {

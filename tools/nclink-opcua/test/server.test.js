@@ -210,6 +210,16 @@ describe("nclink-opcua against a fake bridge", () => {
     assert.equal((await read("tool_number")).value.value, 4);
   });
 
+  it("a value that does not fit the model is BadConfigurationError, logged once", async () => {
+    const from = server.lines.length;
+    bridge.pushValue(DEV, "status", "sideways");
+    await waitStatus("status", "BadConfigurationError");
+    bridge.pushValue(DEV, "status", "free");
+    await waitStatus("status", "Good");
+    assert.equal((await read("status")).value.value, 1);
+    assert.equal(server.lines.slice(from).filter((l) => /item status: value "sideways" does not convert/.test(l)).length, 1);
+  });
+
   it("the device going offline turns its values Bad, back Good when online", async () => {
     bridge.setState(DEV, "offline");
     await waitStatus("x_position", "BadNoCommunication");
