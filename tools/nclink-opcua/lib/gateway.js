@@ -27,7 +27,7 @@ class Gateway {
     this.stream = stream;
     this.devices = new Map();
     this.bridgeUp = false;
-    this.everUp = false;
+    this.downSince = undefined; // the stream has been failing since (ms), logged once
     this.queue = Promise.resolve();
     this.stopped = false;
     this.refreshing = null;
@@ -279,7 +279,6 @@ class Gateway {
   onStreamOpen() {
     this.bridgeUp = true;
     this.log.info(`bridge stream open (${this.options.bridge})`);
-    this.everUp = true;
     this.downSince = undefined;
     for (const entry of this.devices.values()) {
       entry.linkChangedAt = new Date();
@@ -331,8 +330,9 @@ class Gateway {
     this.setState(entry, data.state, "snapshot");
     entry.linkChangedAt = new Date();
     if (entry.model) entry.model.publishAll();
-    else if (!this.devices.get(data.dev).version) this.refreshDevices();
-    this.reconcile(entry);
+    // A device first heard of here: learn its version before loading it.
+    if (entry.version === undefined) this.refreshDevices().then(() => this.reconcile(entry));
+    else this.reconcile(entry);
   }
 
   onValue(data) {

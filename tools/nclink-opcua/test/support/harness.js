@@ -40,8 +40,14 @@ async function waitUntil(fn, { ms = 20000, every = 50, what = "condition" } = {}
 
 /// nclink-opcua with `args`; its log is kept (and echoed with VERBOSE=1).
 /// HOME points to a scratch folder: nothing may be written to the real one.
+function serverEnv(home) {
+  const env = { ...process.env, HOME: home, XDG_STATE_HOME: path.join(home, "state") };
+  delete env.VERBOSE; // node-opcua-pki would print its certificate steps
+  return env;
+}
+
 function startServer(args, { home = tempDir("nclink-opcua-home-") } = {}) {
-  const proc = spawn(process.execPath, [SCRIPT, ...args], { stdio: ["ignore", "pipe", "pipe"], env: { ...process.env, HOME: home, XDG_STATE_HOME: path.join(home, "state") } });
+  const proc = spawn(process.execPath, [SCRIPT, ...args], { stdio: ["ignore", "pipe", "pipe"], env: serverEnv(home) });
   const lines = [];
   let buffer = "";
   const onData = (chunk) => {
@@ -79,7 +85,7 @@ function startServer(args, { home = tempDir("nclink-opcua-home-") } = {}) {
 function runToExit(args, { ms = 60000 } = {}) {
   const home = tempDir("nclink-opcua-home-");
   return new Promise((resolve, reject) => {
-    const proc = spawn(process.execPath, [SCRIPT, ...args], { env: { ...process.env, HOME: home, XDG_STATE_HOME: path.join(home, "state") } });
+    const proc = spawn(process.execPath, [SCRIPT, ...args], { env: serverEnv(home) });
     let output = "";
     proc.stdout.on("data", (c) => (output += c));
     proc.stderr.on("data", (c) => (output += c));
