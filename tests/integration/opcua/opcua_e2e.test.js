@@ -220,4 +220,25 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
     assert.ok(!items.get("x_position").setable);
     assert.equal((await write("x_position", DataType.Double, 1)).name, "BadNotWritable");
   });
+
+  it("profile cnc: the mill's OPC 40502 nodeset loads, every item is there with its value", async () => {
+    const port = await freePort();
+    const cnc = startServer(["--bridge", bridgeUrl, "--port", String(port), "--pki", path.join(work, "pki-cnc"), "--profile", "cnc"]);
+    let s;
+    try {
+      await cnc.waitForLine(/device nclink-sim-mill-01: serving \d+ items/);
+      s = await connect(opcua, `opc.tcp://127.0.0.1:${port}`);
+      const namespaces = await s.session.readNamespaceArray();
+      assert.ok(namespaces.includes("http://opcfoundation.org/UA/CNC"));
+      const cncNs = namespaces.indexOf(URI);
+      const found = await browseVariables(opcua, s.session, "i=85", cncNs);
+      for (const id of items.keys()) assert.ok(found.has(id), `item ${id} browsed`);
+      const dv = await s.session.read({ nodeId: `ns=${cncNs};s=spindle_override`, attributeId: AttributeIds.Value });
+      assert.equal(dv.statusCode.name, "Good");
+      assert.equal(dv.value.value, 100);
+    } finally {
+      if (s) await s.close();
+      await cnc.stop();
+    }
+  });
 });
