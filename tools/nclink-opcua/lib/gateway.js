@@ -15,6 +15,9 @@ const { scanNodeset } = require("./nodeset-info");
 const { backoffDelay } = require("./bridge-stream");
 
 const STATES = new Set(["online", "offline", "unknown"]);
+
+/// reattachAll's way of asking for another fresh server (lib/gateway.js rebuild).
+class RevertModel extends Error {}
 const LOAD_RETRY_MAX_MS = 30000;
 
 class Gateway {
@@ -160,7 +163,7 @@ class Gateway {
 
   loadFailed(entry, version, e) {
     entry.failed = { version };
-    this.log.error(`device ${entry.dev}: nodeset (version ${version}) does not load: ${e.message}; not served until the bridge reports another version`);
+    this.log.error(`device ${entry.dev}: nodeset (version ${version}) does not load: ${e.message}; that version is not tried again`);
   }
 
   /// A new device into the running server.
@@ -195,15 +198,19 @@ class Gateway {
   /// current nodeset (node-opcua cannot replace a namespace in place).
   async rebuild(changed, fetched) {
     this.log.info(`device ${changed.dev}: model changed (version ${changed.loadedVersion} -> ${fetched.version}); restarting the OPC UA server to reload it, clients reconnect`);
-    const previous = changed.xml ? { xml: changed.xml, info: changed.info, loadedVersion: changed.loadedVersion } : null;
+    const plan = {
+      changed,
+      previous: changed.xml ? { xml: changed.xml, info: changed.info, loadedVersion: changed.loadedVersion } : null,
+    };
     Object.assign(changed, { xml: fetched.xml, info: fetched.info, loadedVersion: fetched.version });
-    for (let attempt = 0; !this.stopped; attempt++) {
+    for (let attempt = 0; !this.stopped; ) {
       for (const entry of this.devices.values()) entry.model = null;
       try {
-        await this.host.restart((addressSpace) => this.reattachAll(addressSpace, changed, previous));
+        await this.host.restart((addressSpace) => this.reattachAll(addressSpace, plan));
         break;
       } catch (e) {
-        const delay = backoffDelay(attempt, LOAD_RETRY_MAX_MS, 1000);
+        if (e instanceof RevertModel) continue; // at once, with the previous model
+        const delay = backoffDelay(attempt++, LOAD_RETRY_MAX_MS, 1000);
         this.log.error(`OPC UA server not restarted: ${e.message}; retrying in ${delay} ms`);
         await new Promise((resolve) => setTimeout(resolve, delay));
       }
@@ -211,34 +218,29 @@ class Gateway {
     if (!this.stopped) this.log.info(`listening again on ${this.host.endpointUrls().join(" ")}`);
   }
 
-  /// Every device's nodeset into a new address space; a changed model that
-  /// does not load gives way to the one it replaced.
-  async reattachAll(addressSpace, changed, previous) {
+  /// Every device's nodeset into a new address space. A changed model that
+  /// does not load gives way to the one it replaced: that takes another fresh
+  /// address space, as the failed load may have left part of its namespace.
+  async reattachAll(addressSpace, plan) {
     for (const entry of this.devices.values()) {
       if (!entry.xml) continue;
       try {
         await this.opcua.generateAddressSpace(addressSpace, [{ name: `device ${entry.dev}`, source: entry.xml }]);
-        if (entry === changed) entry.failed = null;
+        if (entry.failed && entry.failed.version === entry.loadedVersion) entry.failed = null;
       } catch (e) {
-        if (entry !== changed) {
+        if (entry !== plan.changed) {
           this.log.error(`device ${entry.dev}: nodeset not reloaded: ${e.message}`);
           continue;
         }
         this.loadFailed(entry, entry.loadedVersion, e);
-        if (!previous) {
-          entry.xml = null;
-          continue;
+        if (plan.previous) {
+          Object.assign(entry, plan.previous);
+          plan.previous = null;
+          this.log.info(`device ${entry.dev}: serving version ${entry.loadedVersion} again`);
+          throw new RevertModel();
         }
-        // The new model does not load: serve the old one rather than nothing
-        // (it loaded before; a fresh address space takes it again).
-        Object.assign(entry, previous);
-        this.log.info(`device ${entry.dev}: serving version ${entry.loadedVersion} again`);
-        try {
-          await this.opcua.generateAddressSpace(addressSpace, [{ name: `device ${entry.dev}`, source: entry.xml }]);
-        } catch (e2) {
-          this.log.error(`device ${entry.dev}: nodeset not reloaded: ${e2.message}`);
-          continue;
-        }
+        entry.xml = null;
+        continue;
       }
       this.attach(entry, addressSpace);
     }

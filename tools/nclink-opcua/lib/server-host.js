@@ -104,8 +104,14 @@ class ServerHost {
   async start(beforeListen = async () => {}) {
     const server = this.createServer();
     this.server = server;
-    await server.initialize();
-    await beforeListen(server.engine.addressSpace);
+    try {
+      await server.initialize();
+      await beforeListen(server.engine.addressSpace);
+    } catch (e) {
+      this.server = null;
+      await server.shutdown(0).catch(() => {});
+      throw e;
+    }
     try {
       await server.start();
     } catch (e) {

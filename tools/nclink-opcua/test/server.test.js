@@ -56,6 +56,7 @@ describe("nclink-opcua against a fake bridge", () => {
   let port;
   let url;
   let pki;
+  let knownClientPki;
   let c; // anonymous, security None
   let ns;
   const nodeId = (id) => `ns=${ns};s=${id}`;
@@ -73,6 +74,16 @@ describe("nclink-opcua against a fake bridge", () => {
     port = await freePort();
     url = `opc.tcp://127.0.0.1:${port}`;
     pki = tempDir("nclink-opcua-pki-");
+    // A client certificate the administrator trusts before the server starts
+    // (put into <pki>/trusted/certs/; node-opcua reads the folder when it opens it).
+    knownClientPki = tempDir("nclink-opcua-client-pki-");
+    const cm = new OPCUACertificateManager({ rootFolder: knownClientPki, automaticallyAcceptUnknownCertificate: false });
+    await cm.initialize();
+    const maker = opcua.OPCUAClient.create({ applicationName: "nclink-opcua-test", clientCertificateManager: cm });
+    await maker.createDefaultCertificate();
+    fs.mkdirSync(path.join(pki, "trusted", "certs"), { recursive: true });
+    fs.copyFileSync(maker.certificateFile, path.join(pki, "trusted", "certs", "known-client.pem"));
+    await cm.dispose();
     server = startServer([
       "--bridge", bridge.url, "--port", String(port), "--pki", pki,
       "--user", "operator:right-password", "--reconnect-max", "500", "--stream-idle", "3000",
@@ -91,6 +102,7 @@ describe("nclink-opcua against a fake bridge", () => {
     }
     if (bridge) await bridge.stop();
     if (pki) fs.rmSync(pki, { recursive: true, force: true });
+    if (knownClientPki) fs.rmSync(knownClientPki, { recursive: true, force: true });
   });
 
   it("serves one namespace per device, the device object under Objects", async () => {
@@ -254,23 +266,28 @@ describe("nclink-opcua against a fake bridge", () => {
     assert.equal((await read("x_position")).value.value, -3.5, "the snapshot after reconnect is served");
   });
 
-  it("Basic256Sha256 SignAndEncrypt: an unknown client is rejected until its certificate is moved to trusted", async () => {
-    const clientPki = tempDir("nclink-opcua-client-pki-");
-    const cm = new OPCUACertificateManager({ rootFolder: clientPki, automaticallyAcceptUnknownCertificate: false });
-    const secureConnect = () => connect(opcua, url, { securityMode: MessageSecurityMode.SignAndEncrypt, securityPolicy: SecurityPolicy.Basic256Sha256, certificateManager: cm });
-    try {
-      // The client trusts the server's self-signed certificate, made in --pki.
-      const serverCert = path.join(pki, "own", "certs", "certificate.pem");
-      assert.ok(fs.existsSync(serverCert), "the server made its certificate in --pki");
+  it("Basic256Sha256 SignAndEncrypt: an unknown client is rejected, a trusted one gets in", async () => {
+    const serverCert = path.join(pki, "own", "certs", "certificate.pem");
+    assert.ok(fs.existsSync(serverCert), "the server made its certificate in --pki");
+    // A client trusts the server's certificate: it is in the client's store
+    // before the store is opened (it is read when opened).
+    const secureClient = async (dir) => {
+      fs.mkdirSync(path.join(dir, "trusted", "certs"), { recursive: true });
+      fs.copyFileSync(serverCert, path.join(dir, "trusted", "certs", "nclink-opcua.pem"));
+      const cm = new OPCUACertificateManager({ rootFolder: dir, automaticallyAcceptUnknownCertificate: false });
       await cm.initialize();
-      fs.mkdirSync(path.join(clientPki, "trusted", "certs"), { recursive: true });
-      fs.copyFileSync(serverCert, path.join(clientPki, "trusted", "certs", "nclink-opcua.pem"));
-      // The server does not know the client yet: refused, the certificate kept in rejected/.
-      await assert.rejects(secureConnect());
-      const rejected = await waitUntil(() => fs.readdirSync(path.join(pki, "rejected")).filter((f) => f.endsWith(".pem") || f.endsWith(".der"))[0], { what: "a certificate in rejected/" });
-      // What an administrator does to trust it.
-      fs.renameSync(path.join(pki, "rejected", rejected), path.join(pki, "trusted", "certs", rejected));
-      const secure = await waitUntil(secureConnect, { ms: SETTLE_MS, every: 500, what: "a SignAndEncrypt session once the certificate is trusted" });
+      return { cm, connect: () => connect(opcua, url, { securityMode: MessageSecurityMode.SignAndEncrypt, securityPolicy: SecurityPolicy.Basic256Sha256, certificateManager: cm }) };
+    };
+    const strangerDir = tempDir("nclink-opcua-client-pki-");
+    const stranger = await secureClient(strangerDir);
+    const known = await secureClient(knownClientPki);
+    try {
+      // Unknown to the server: refused, its certificate kept in rejected/ for
+      // an administrator to move to trusted/certs/.
+      await assert.rejects(stranger.connect(), /BadSecurityChecksFailed/);
+      await waitUntil(() => fs.readdirSync(path.join(pki, "rejected")).some((f) => /\.(pem|der)$/.test(f)), { what: "a certificate in rejected/" });
+      // Trusted by the administrator (before the server started, see before()).
+      const secure = await known.connect();
       try {
         assert.equal((await read("x_position", secure.session)).statusCode.name, "Good");
         const before = bridge.sets.length;
@@ -280,8 +297,9 @@ describe("nclink-opcua against a fake bridge", () => {
         await secure.close();
       }
     } finally {
-      await cm.dispose();
-      fs.rmSync(clientPki, { recursive: true, force: true });
+      await stranger.cm.dispose();
+      await known.cm.dispose();
+      fs.rmSync(strangerDir, { recursive: true, force: true });
     }
   });
 
@@ -311,5 +329,26 @@ describe("nclink-opcua against a fake bridge", () => {
     await waitStatus("coolant_on", "Good");
     assert.equal((await read("coolant_on")).value.value, true);
     assert.equal((await read("x_position")).value.value, -3.5, "the cached values carry over");
+  });
+
+  it("a new model that does not load: the one before stays served", async () => {
+    const from = server.lines.length;
+    const v2 = makeNodeset(testDevice(DEV, { extraItems: [{ id: "coolant_on", dataType: "Boolean", encoding: "two_state", trueState: "on", falseState: "off", type: "COOLANT_ON" }] }));
+    bridge.changeModel(DEV, v2.replace('DataType="Double"', 'DataType="NoSuchAlias"'), "3");
+    await server.waitForLine(/nodeset \(version 3\) does not load/, { from });
+    await server.waitForLine(/serving version 2 again/, { from });
+    await server.waitForLine(/listening again/, { from });
+    await c.close().catch(() => {});
+    c = await waitUntil(() => connect(opcua, url), { ms: SETTLE_MS, every: 200, what: "reconnect after restart" });
+    ns = (await c.session.readNamespaceArray()).indexOf(URI);
+    await waitStatus("coolant_on", "Good");
+    assert.equal((await read("x_position")).value.value, -3.5);
+    // Version 3 is not fetched again for every event that repeats it.
+    const requests = bridge.nodesetRequests.length;
+    bridge.setState(DEV, "online");
+    bridge.dropStreams();
+    await server.waitForLine(/bridge stream open/, { from: server.lines.length - 1 });
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal(bridge.nodesetRequests.length, requests);
   });
 });
