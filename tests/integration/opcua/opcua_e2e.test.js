@@ -95,9 +95,13 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
       return devices.some((d) => d.dev === DEV && d.state === "online");
     }, { ms: 60000, what: "the bridge to see the simulated mill online" });
 
-    const xml = await (await fetch(`${bridgeUrl}/nclink/v1/devices/${DEV}/nodeset.xml?profile=basic`)).text();
-    items = scanNodeset(xml).items;
-    assert.ok(items.size > 10, "the bridge's nodeset names the mill's items");
+    // Online comes first, the model (Probe) a moment later: until then the
+    // nodeset is 404.
+    items = await waitUntil(async () => {
+      const res = await fetch(`${bridgeUrl}/nclink/v1/devices/${DEV}/nodeset.xml?profile=basic`);
+      const found = res.ok ? scanNodeset(await res.text()).items : new Map();
+      return found.size > 10 && found;
+    }, { ms: 60000, what: "the bridge's nodeset of the mill" });
 
     const port = await freePort();
     server = startServer(["--bridge", bridgeUrl, "--port", String(port), "--pki", path.join(work, "pki")]);

@@ -94,7 +94,10 @@ class Gateway {
         xml: null,
         info: null,
         model: null,
-        live: false, // a snapshot arrived on the current stream
+        // The cache holds values of the current stream: after a reconnect, not
+        // until the device's snapshot came; a device first heard of on this
+        // stream (the bridge announces it with a device event) from the start.
+        live: this.bridgeUp,
         cache: new Map(), // item id -> {value, time, quality}
         linkChangedAt: new Date(),
         loadAttempt: 0,

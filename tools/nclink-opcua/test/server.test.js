@@ -266,6 +266,29 @@ describe("nclink-opcua against a fake bridge", () => {
     assert.equal((await read("x_position")).value.value, -3.5, "the snapshot after reconnect is served");
   });
 
+  it("a device that appears later is added to the running server once its model is known", async () => {
+    const from = server.lines.length;
+    const dev = "fake-mill-2";
+    // Announced before the bridge has its model: the nodeset is 404 for now.
+    bridge.addDevice({ dev, name: "Second mill", version: "", nodeset: undefined });
+    bridge.setState(dev, "online");
+    await server.waitForLine(/device fake-mill-2: nodeset \(version \) not fetched: .*HTTP 404/, { from });
+    bridge.changeModel(dev, makeNodeset(testDevice(dev)), "1");
+    await server.waitForLine(/device fake-mill-2: serving 11 items/, { from });
+    bridge.pushValue(dev, "x_position", 7.5);
+    // Same session: a new device needs no restart.
+    // The Server's NamespaceArray (i=2255) grew (the client's readNamespaceArray caches).
+    const namespaces = (await c.session.read({ nodeId: "i=2255", attributeId: AttributeIds.Value })).value.value;
+    const ns2 = namespaces.indexOf(`urn:nclink:device:${dev}`);
+    assert.ok(ns2 > ns, "the new device has a namespace of its own");
+    await waitUntil(async () => {
+      const dv = await c.session.read({ nodeId: `ns=${ns2};s=x_position`, attributeId: AttributeIds.Value });
+      return dv.statusCode.name === "Good" && dv.value.value === 7.5;
+    }, { what: "the second device's value" });
+    assert.equal(await statusOf("x_position"), "Good", "the first device carries on");
+    assert.ok(!server.lines.slice(from).some((l) => /restarting/.test(l)));
+  });
+
   it("Basic256Sha256 SignAndEncrypt: an unknown client is rejected, a trusted one gets in", async () => {
     const serverCert = path.join(pki, "own", "certs", "certificate.pem");
     assert.ok(fs.existsSync(serverCert), "the server made its certificate in --pki");

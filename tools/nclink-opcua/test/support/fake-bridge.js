@@ -116,6 +116,8 @@ class FakeBridge {
     if (!d) return json(404, { code: "NG", error: 202, reason: "Unavailable" });
     if (req.method === "GET" && m[2] === "nodeset.xml") {
       this.nodesetRequests.push({ dev: d.dev, profile: url.searchParams.get("profile") });
+      // As the bridge: no nodeset until the device's model is known.
+      if (!d.nodeset) return json(404, { error: `the model of ${d.dev} is not known yet` });
       res.writeHead(200, { "Content-Type": "application/xml" });
       return res.end(d.nodeset);
     }
