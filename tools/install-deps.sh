@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Installs what nclink needs to build, test and run, from Debian 12 packages.
-# Idempotent: apt-get runs only when a package is missing.
+# Installs what nclink needs to build, test and run, from Debian 12 packages,
+# and the OPC UA server's Node.js packages (tools/nclink-opcua) from npm.
+# Idempotent: apt-get runs only when a package is missing, npm ci only when
+# node_modules is missing or the lockfile changed since it ran.
 set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
 
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
@@ -12,6 +15,10 @@ packages=(build-essential cmake pkg-config git
 # which the bridge's tests validate MTConnect documents with.
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
+# Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.
+# NodeSource's 20), else Debian's nodejs/npm (18 on Debian 12, which
+# node-opcua 2.182.2 supports). NCLINK_WITH_OPCUA=0 leaves it out.
+if [[ "${NCLINK_WITH_OPCUA:-1}" == 1 ]] && ! command -v node >/dev/null 2>&1; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -19,13 +26,33 @@ for p in "${packages[@]}"; do
 done
 if ((${#missing[@]} == 0)); then
   echo "install-deps: all packages present"
-  exit 0
+else
+  echo "install-deps: installing ${missing[*]}"
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  # Debian starts a system mosquitto on :1883 when installing it; nclink's tests
+  # start their own brokers on free ports and do not need it.
 fi
-echo "install-deps: installing ${missing[*]}"
-sudo=""
-if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-# Debian starts a system mosquitto on :1883 when installing it; nclink's tests
-# start their own brokers on free ports and do not need it.
+
+# node-opcua for tools/nclink-opcua, exactly as package-lock.json pins it.
+# The stamp holds the lockfile's hash at the last successful npm ci.
+if [[ "${NCLINK_WITH_OPCUA:-1}" == 1 ]]; then
+  opcua="$here/nclink-opcua"
+  stamp="$opcua/node_modules/.nclink-lock.sha256"
+  want=$(sha256sum "$opcua/package-lock.json" | cut -d' ' -f1)
+  if [[ -d "$opcua/node_modules" && -f "$stamp" && "$(cat "$stamp")" == "$want" ]]; then
+    echo "install-deps: node-opcua present (tools/nclink-opcua/node_modules)"
+  else
+    node_major=$(node -p 'process.versions.node.split(".")[0]')
+    if ((node_major < 18)); then
+      echo "install-deps: Node.js $(node --version) is too old for node-opcua 2.182.2 (needs >= 18)" >&2
+      exit 1
+    fi
+    echo "install-deps: npm ci in tools/nclink-opcua (node $(node --version))"
+    (cd "$opcua" && npm ci --engine-strict --no-audit --no-fund --omit=dev)
+    echo "$want" > "$stamp"
+  fi
+fi
