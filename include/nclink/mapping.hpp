@@ -26,6 +26,7 @@
 // Everything here is pure and thread-safe: results are values, nothing throws.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/model.hpp>
 #include <nclink/result.hpp>
@@ -52,11 +53,11 @@ namespace nclink {
 enum class OpcUaProfile { basic, cnc };
 
 /// "basic", "cnc".
-std::string_view to_string(OpcUaProfile profile) noexcept;
+NCLINK_API std::string_view to_string(OpcUaProfile profile) noexcept;
 /// Parses "basic"/"cnc"; std::nullopt otherwise.
-std::optional<OpcUaProfile> opcua_profile_from_string(std::string_view text) noexcept;
+NCLINK_API std::optional<OpcUaProfile> opcua_profile_from_string(std::string_view text) noexcept;
 
-struct MappingOptions {
+struct NCLINK_API MappingOptions {
     /// Map only this device: its NC-Link id or its terminal id. Empty = all.
     std::string device;
     /// Terminal id override (as resolve_dev_uuid). Only with one device.
@@ -74,7 +75,7 @@ struct MappingOptions {
 
 /// An object that had no standard mapping and went out under the fallback
 /// rule (docs/mapping.md "Fallback"). Nothing is ever dropped silently.
-struct UnmappedItem {
+struct NCLINK_API UnmappedItem {
     std::string id;           ///< NC-Link id of the data object or component
     std::string nclink_type;  ///< its type as written in the model
     std::string fallback;     ///< what it became ("EVENT MESSAGE x:TOOL", "System", ...)
@@ -83,12 +84,12 @@ struct UnmappedItem {
 
 /// Something the mapping assumed and a reader should know (a misspelt type
 /// read as the standard one, a unit it could not convert, ...).
-struct MappingNote {
+struct NCLINK_API MappingNote {
     std::string id;  ///< NC-Link id concerned
     std::string message;
 };
 
-struct MappedDocument {
+struct NCLINK_API MappedDocument {
     std::string xml;                     ///< UTF-8, with XML declaration
     std::vector<UnmappedItem> unmapped;  ///< fallbacks, in model order
     std::vector<MappingNote> notes;
@@ -98,17 +99,17 @@ struct MappedDocument {
 /// node_not_exists for an unknown MappingOptions::device, parameter_missing
 /// when the model has no device, arguments_nimiety for dev_uuid with more than
 /// one device, key_error when two generated identifiers collide.
-Result<MappedDocument> map_to_mtconnect(const Model& model, const MappingOptions& options = {});
+NCLINK_API Result<MappedDocument> map_to_mtconnect(const Model& model, const MappingOptions& options = {});
 
 /// The OPC UA NodeSet2 document (GB/T 39561.3 appendix B; OPC 40502 with
 /// OpcUaProfile::cnc). Errors as map_to_mtconnect.
-Result<MappedDocument> map_to_opcua(const Model& model, const MappingOptions& options = {});
+NCLINK_API Result<MappedDocument> map_to_opcua(const Model& model, const MappingOptions& options = {});
 
 // ------------------------------------------------------------------ MTConnect lookup
 
 enum class MtCategory { sample, event, condition };
 /// "SAMPLE", "EVENT", "CONDITION".
-std::string_view to_string(MtCategory category) noexcept;
+NCLINK_API std::string_view to_string(MtCategory category) noexcept;
 
 /// Where an NC-Link data object went in the Devices document.
 enum class MtTarget {
@@ -130,7 +131,7 @@ enum class MtValueForm {
 /// One NC-Link data object (data item or config item) as seen by MTConnect.
 /// For the description_attribute and component_element targets there is no
 /// DataItem: id, category, type and element are empty/unused.
-struct MtDataItem {
+struct NCLINK_API MtDataItem {
     std::string item_id;      ///< NC-Link id
     std::string nclink_type;  ///< chapter-7 spelling ("CATAGORY" for a written "TYPE")
     MtTarget target = MtTarget::data_item;
@@ -159,7 +160,7 @@ struct MtDataItem {
     std::vector<std::pair<std::string, std::string>> values;
 };
 
-struct MtDevice {
+struct NCLINK_API MtDevice {
     std::string item_id;          ///< NC-Link device id
     std::string uuid;             ///< terminal id (dev_uuid)
     std::string id;               ///< MTConnect Device id
@@ -168,7 +169,7 @@ struct MtDevice {
 };
 
 /// The lookup of every data object of the mapped devices.
-class MtConnectMapping {
+class NCLINK_API MtConnectMapping {
 public:
     const std::vector<MtDevice>& devices() const noexcept { return devices_; }
     /// Every data object (dataItems and configs) of the mapped devices, in model order.
@@ -188,10 +189,10 @@ private:
     std::unordered_map<std::string, std::size_t> by_id_;    ///< DataItem id -> items_
 };
 
-Result<MtConnectMapping> mtconnect_mapping(const Model& model, const MappingOptions& options = {});
+NCLINK_API Result<MtConnectMapping> mtconnect_mapping(const Model& model, const MappingOptions& options = {});
 
 /// One observation element of a Streams document.
-struct MtObservation {
+struct NCLINK_API MtObservation {
     /// "Position", "Execution", ...; for conditions "Normal", "Fault" or "Unavailable".
     std::string element;
     /// Element text, NOT escaped (use xml_escape): a value, or "UNAVAILABLE".
@@ -207,21 +208,21 @@ struct MtObservation {
 /// The observation(s) for an NC-Link value (null = UNAVAILABLE). One element
 /// for samples and events; for conditions one Fault per active alarm, or one
 /// Normal / Unavailable. Empty for items that are no DataItem.
-std::vector<MtObservation> mtconnect_observations(const MtDataItem& item, const Json& value);
+NCLINK_API std::vector<MtObservation> mtconnect_observations(const MtDataItem& item, const Json& value);
 
 /// The MTConnect (XML ID) form of an NC-Link id: the id itself when it is an
 /// ASCII NCName ([A-Za-z][A-Za-z0-9._-]*) not starting with '_'; otherwise
 /// "_" followed by the UTF-8 bytes with every byte outside [A-Za-z0-9.-] as
 /// "_XX" (two upper-case hex digits): "0103" -> "_0103", "a b" -> "_a_20b",
 /// "_x" -> "__5Fx". Injective, so distinct NC-Link ids never collide.
-std::string mtconnect_id(std::string_view nclink_id);
+NCLINK_API std::string mtconnect_id(std::string_view nclink_id);
 /// The inverse of mtconnect_id; std::nullopt for text mtconnect_id never produces.
-std::optional<std::string> nclink_id_from_mtconnect(std::string_view mtconnect_id);
+NCLINK_API std::optional<std::string> nclink_id_from_mtconnect(std::string_view mtconnect_id);
 
 /// Text escaped for XML 1.0 element content and attribute values alike:
 /// & < > " ' and TAB/LF/CR as character references; characters XML 1.0
 /// forbids (other C0 controls, U+FFFE, U+FFFF) and invalid UTF-8 as U+FFFD.
-std::string xml_escape(std::string_view text);
+NCLINK_API std::string xml_escape(std::string_view text);
 
 // ------------------------------------------------------------------ OPC UA lookup
 
@@ -234,9 +235,9 @@ enum class UaEncoding {
 };
 
 /// "scalar", "json", "enum_index", "two_state".
-std::string_view to_string(UaEncoding encoding) noexcept;
+NCLINK_API std::string_view to_string(UaEncoding encoding) noexcept;
 
-struct UaVariable {
+struct NCLINK_API UaVariable {
     std::string item_id;          ///< NC-Link id
     std::string nclink_type;      ///< chapter-7 spelling
     std::string node_id;          ///< "ns=1;s=x_position" (index within the document)
@@ -256,13 +257,13 @@ struct UaVariable {
     std::string cnc_slot;
 };
 
-struct UaNamespace {
+struct NCLINK_API UaNamespace {
     std::string uri;
     std::string device_id;  ///< NC-Link device id ("" for the CNC namespace)
     std::string dev_uuid;
 };
 
-class OpcUaMapping {
+class NCLINK_API OpcUaMapping {
 public:
     /// NamespaceUris of the document in order (index 1 first).
     const std::vector<UaNamespace>& namespaces() const noexcept { return namespaces_; }
@@ -276,7 +277,7 @@ private:
     std::unordered_map<std::string, std::size_t> by_item_;  ///< NC-Link id -> variables_
 };
 
-Result<OpcUaMapping> opcua_mapping(const Model& model, const MappingOptions& options = {});
+NCLINK_API Result<OpcUaMapping> opcua_mapping(const Model& model, const MappingOptions& options = {});
 
 /// The OPC 40502 namespace URI the cnc profile references (as the CNC
 /// nodeset 1.0.0 and node-opcua-nodesets spell it: no trailing slash).
