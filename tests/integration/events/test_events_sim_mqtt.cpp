@@ -27,12 +27,6 @@ using nclink::test::cli_built;
 using nclink::test::run_cli;
 using Run = nclink::test::CliRun;
 using nclink::test::eventually;
-using nclink::test::MosquittoBroker;
-using nclink::test::ScratchDir;
-using nclink::test::sim_for;
-using nclink::test::sim_mill_path;
-using nclink::test::started_adapter;
-using nclink::test::started_client;
 
 namespace {
 
@@ -51,17 +45,6 @@ struct Rig : nclink::test::SimMillRig {
     }
     Json stats() { return adapter->stats().features["events"]; }
 };
-        auto results = client->query(kDev, {item});
-        REQUIRE(results.ok());
-        REQUIRE(results->at(0).status.ok);
-        return (*results->at(0).values)[0];
-    }
-    Json stats() { return adapter->stats().features["events"]; }
-
-    MosquittoBroker broker;
-    std::unique_ptr<Adapter> adapter;
-    std::unique_ptr<Client> client;  // after the adapter: stopped first
-};
 
 Client::EventRegistration on(const std::string& id, std::vector<Json> filters = {}, std::string trigger = "always") {
     Client::EventRegistration r;
@@ -77,9 +60,6 @@ ErrorCode refused(Rig& rig, Client::EventRegistration r) {
     REQUIRE_FALSE(id.ok());
     return id.error().code;
 }
-
-
-
 
 }  // namespace
 
