@@ -7,11 +7,13 @@
 // its own process) sending the same bytes, at the same pace, through the same
 // broker to the same subscriber.
 //
-//   bench_sampling_throughput [--json-reads] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
+//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
 //
 // With `channels points` only that load runs (no search), e.g. under a profiler.
 // The bench's driver implements the typed Driver::read_samples(); with
 // --json-reads it implements read() only, so every value goes through Json.
+// --no-value-checks turns off the chapter-7 checks of sampled values
+// (AdapterConfig::check_values), to measure what they cost.
 // --rt-priority runs the adapter's sampling thread at SCHED_FIFO N with 1 ns
 // timer slack (sampling.rt_priority / timer_slack_ns), as on a firmware host.
 //
@@ -97,6 +99,7 @@ private:
 
 bool g_json_reads = false;  // --json-reads (parent and adapter child)
 int g_rt_priority = 0;      // --rt-priority N (parent and adapter child)
+bool g_no_value_checks = false;  // --no-value-checks (parent and adapter child)
 
 // ---------------------------------------------------------------- child processes
 // Both children talk over stdin/stdout lines: "mark" starts the CPU window,
@@ -108,6 +111,7 @@ int adapter_child(int port) {
     config.model_path = std::string(NCLINK_SOURCE_DIR) + "/tests/data/adapter-test-model.json";
     config.register_timeout = 60000ms;
     config.sampling.max_dynamic_channels = 64;
+    config.check_values = !g_no_value_checks;
     if (g_rt_priority > 0) {
         config.sampling.rt_priority = g_rt_priority;
         config.sampling.timer_slack_ns = 1;
@@ -297,6 +301,7 @@ RunResult run_adapter(int port, int channels, int points, int qos, double second
     RunResult r;
     std::vector<std::string> args{"bench_sampling_throughput", "--adapter-child", std::to_string(port)};
     if (g_json_reads) args.push_back("--json-reads");
+    if (g_no_value_checks) args.push_back("--no-value-checks");
     if (g_rt_priority > 0) {
         args.push_back("--rt-priority");
         args.push_back(std::to_string(g_rt_priority));
@@ -404,6 +409,8 @@ int run(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) {
         if (std::string(argv[i]) == "--json-reads")
             g_json_reads = true;
+        else if (std::string(argv[i]) == "--no-value-checks")
+            g_no_value_checks = true;
         else if (std::string(argv[i]) == "--rt-priority" && i + 1 < argc)
             g_rt_priority = std::atoi(argv[++i]);
         else

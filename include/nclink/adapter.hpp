@@ -37,6 +37,11 @@ struct NCLINK_API AdapterStats {
     std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
     std::uint64_t rejected = 0;             ///< requests answered NG as a whole (malformed)
     std::uint64_t driver_timeouts = 0;
+    /// Driver values refused for breaking chapter 7 (their item's type,
+    /// enumeration, keys or range; docs/porting-guide.md), and how many
+    /// items they belonged to.
+    std::uint64_t values_refused = 0;
+    std::uint64_t values_refused_items = 0;
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;

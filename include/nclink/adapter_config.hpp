@@ -36,6 +36,10 @@ struct NCLINK_API AdapterConfig {
     std::string dev_uuid;                ///< "dev_uuid": terminal id override ("" = device guid, else device id)
     bool strict = false;                 ///< "strict": refuse models with conformance problems too
     std::string persistence_dir;         ///< "persistence_dir": where Probe/Set models and settable config values are kept ("" = not persisted)
+    /// Check every value the driver returns against its item's chapter-7
+    /// rule (docs/porting-guide.md, "Values the SDK checks"). Off only to
+    /// measure what the checks cost (bench_sampling_throughput --no-value-checks).
+    bool check_values = true;
 
     // --- wire ---
     bool standard_typo_topics = true;    ///< "standard_typo_topics": also publish Reigster/Unreigster response topics

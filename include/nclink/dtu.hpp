@@ -135,6 +135,10 @@ struct NCLINK_API QueryResponse {
 struct NCLINK_API SetItem {
     std::string id;
     std::optional<Json> params;  ///< value/values, key/keys, index/indexes, offset, length, operation
+    /// Appendix A CMD_Set_Request gives offset/length beside `params` too
+    /// (8.2.13 example 3 inside them): both places are read, as given.
+    std::optional<Json> offset;
+    std::optional<Json> length;
 };
 struct NCLINK_API SetRequest {
     MessageId msg_id;

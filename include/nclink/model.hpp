@@ -127,6 +127,11 @@ struct NCLINK_API DataObject {
     std::string type;
     std::string description;
     DataKind kind = DataKind::single;
+    /// `datatype: "file"`: 6.2.1 names file a data type beside list and dict
+    /// (table 4 allows only those two). The item is accessed as a whole, like
+    /// a single item (kind is single), and its value is a file object
+    /// (docs/values.md, "FILE").
+    bool datatype_file = false;
     /// Given only when the value is known and fixed (table 4 note a).
     std::optional<Json> value;
     /// `source` exactly as written ("NC_LINK_ROOT:MACHINE#0001:AXIS").
@@ -228,6 +233,11 @@ inline bool operator!=(const Model& a, const Model& b) { return !(a == b); }
 struct NCLINK_API LoadResult {
     std::vector<Problem> problems;
     std::shared_ptr<const Model> model;
+    /// The document exactly as provided, in UTF-8 (a GBK file converted, a
+    /// UTF-8 byte order mark dropped); set whenever `model` is. The model is
+    /// normalized (versions, spellings); this text is what was given, and is
+    /// what an adapter answers Probe/Query with (8.2.8).
+    std::shared_ptr<const std::string> document;
 
     bool ok() const noexcept { return model != nullptr; }
     std::size_t count(Severity severity) const noexcept;

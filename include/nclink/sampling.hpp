@@ -52,6 +52,7 @@ struct NCLINK_API ChannelStats {
     std::uint64_t skipped_ticks = 0;    ///< ticks not produced at all after a very long stall (the DTU restarts)
     std::uint64_t drops = 0;            ///< rows lost because the ring was full
     std::uint64_t null_values = 0;      ///< values sent as null (failed/timed-out reads, missed ticks)
+    std::uint64_t refused_values = 0;   ///< values sent as null for breaking chapter 7 (their item's rule)
     std::uint64_t max_lateness_us = 0;
     /// lateness[i] counts ticks that started less than kLatenessBoundsUs[i] us
     /// after their deadline (and at least the previous bound); the last entry

@@ -78,6 +78,11 @@ struct NCLINK_API QueryParams {
     QueryOperation operation = QueryOperation::get_value;
     std::vector<std::string> keys;    ///< dict get_value/get_attributes, in request order
     std::vector<IndexRange> indexes;  ///< list get_value/get_attributes, in request order
+    /// Appendix A Query_Params: part of each selected list element (get_value
+    /// only), as a Set's offset/length write it: code points of a string,
+    /// elements of an array, bits of an integer (one bit, 0 or 1, without length).
+    std::optional<std::size_t> offset;
+    std::optional<std::size_t> length;
 
     /// True when the whole value is asked for (params absent, null or {}, or
     /// get_value on a single item). The response is then `[value]`.

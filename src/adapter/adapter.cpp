@@ -120,7 +120,7 @@ Message Adapter::Impl::state_message(const char* state_text) const {
 // The features beside Query/Set/Probe. Each module adds its factory here.
 Result<void> Adapter::Impl::make_features() {
     feature_host = std::make_unique<detail::FeatureHost>(detail::FeatureHost{
-        dev, logger, clock, *transport, *runner, host, sample_tap,
+        dev, logger, clock, *transport, *runner, host, sample_tap, *value_guard,
         [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
         [this] { return next_msg_id(); },
         config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
@@ -203,6 +203,9 @@ AdapterState Adapter::state() const {
 
 void Adapter::notify_value(const std::string& id, Json value) {
     if (!impl_->features_ready.load(std::memory_order_acquire)) return;
+    // Chapter 7: a pushed value breaking its item's rule reaches no event.
+    if (const auto state = impl_->host.current(); state && !impl_->value_guard->admit(*state, id, value, "notify_value"))
+        return;
     for (const auto& service : impl_->features) service->on_value(id, value);
 }
 

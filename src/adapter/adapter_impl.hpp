@@ -68,6 +68,8 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::unique_ptr<detail::DedupWindow> dedup;
     std::unique_ptr<detail::DeadlineWatchdog> watchdog;
     std::shared_ptr<Lifetime> lifetime = std::make_shared<Lifetime>();
+    /// Chapter 7 checks of driver values (shared: a driver-affine task may outlive the adapter).
+    std::shared_ptr<detail::ValueGuard> value_guard = std::make_shared<detail::ValueGuard>(logger, config.check_values);
     std::string dev;
     std::string msg_id_prefix;
 
@@ -123,6 +125,8 @@ struct NCLINK_LOCAL Adapter::Impl {
     template <class Request, class Handler>
     std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
     void respond(const ParsedTopic& request_topic, const Json& reply);
+    /// respond() with the payload already serialized (Probe/Query's verbatim model).
+    void respond_text(const ParsedTopic& request_topic, const std::string& payload);
 
     // ---- Probe/Set (adapter_probe_set.cpp)
     ProbeSetResponse probe_set(const ProbeSetRequest& request);

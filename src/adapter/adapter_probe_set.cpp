@@ -13,8 +13,11 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
     LoadResult loaded = parse_model(text);
     const std::string refused = detail::refusal_reasons(loaded, config.strict);
     if (!refused.empty()) {
-        // Every problem in `reason` (docs/wire.md: the sender fixes all in one round).
-        response.status = ResponseStatus::failure(refused, to_int(ErrorCode::syntax_error));
+        // `reason` is the table-19 string (table 20); every problem goes in
+        // privateInfo.problems, so the sender fixes all in one round
+        // (docs/wire.md, "Probe/Set").
+        response.status = ResponseStatus::failure(ErrorCode::syntax_error);
+        response.private_info = Json{{"problems", refused}};
         return response;
     }
     auto built = host.build(loaded, config.device_id, *driver);
@@ -25,7 +28,8 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
     const std::string new_dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
     if (new_dev != dev)
         logger.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev);
-    if (auto persisted = host.persist_model(serialize_model(*built.value()->model)); !persisted) {
+    // The text as sent: a restart serves (Probe/Query) the very model the application set.
+    if (auto persisted = host.persist_model(*built.value()->probe_text); !persisted) {
         response.status = ResponseStatus(persisted.error());
         return response;
     }

@@ -99,8 +99,9 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     const Logger task_logger = logger;
     const std::string task_dev = dev;
     // config.sampling.stats_item: the SDK-provided statistics item (docs/sampling.md)
+    const auto guard = value_guard;
     detail::HandlerContext context{*current, *runner, host, task_dev, task_logger, config.sampling.stats_item,
-                                   [this] { return to_json(self->stats()); }, driver_expired};
+                                   [this] { return to_json(self->stats()); }, driver_expired, guard.get()};
     std::optional<Json> reply;
     switch (topic.kind) {
         case TopicKind::query_request:
@@ -109,11 +110,16 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
         case TopicKind::set_request:
             reply = answer<SetRequest>(topic, payload, [&](const SetRequest& r) { return to_json(detail::handle_set(r, context)); });
             break;
-        case TopicKind::probe_query_request:
-            reply = answer<ProbeQueryRequest>(topic, payload, [&](const ProbeQueryRequest& r) {
-                return to_json(detail::handle_probe_query(r, context));
-            });
+        case TopicKind::probe_query_request: {
+            auto request = decode<ProbeQueryRequest>(payload);
+            if (request) {
+                respond_text(topic, detail::handle_probe_query(request.value(), context));
+                return;
+            }
+            ++rejected;
+            reply = make_error_reply(topic.kind, peek_message_id(payload), dev, request.error());
             break;
+        }
         case TopicKind::probe_set_request:
             reply = answer<ProbeSetRequest>(topic, payload, [&](const ProbeSetRequest& r) { return to_json(probe_set(r)); });
             break;
@@ -146,7 +152,10 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
 }
 
 void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply) {
-    const std::string payload = reply.dump(-1, ' ', false, Json::error_handler_t::replace);
+    respond_text(request_topic, reply.dump(-1, ' ', false, Json::error_handler_t::replace));
+}
+
+void Adapter::Impl::respond_text(const ParsedTopic& request_topic, const std::string& payload) {
     bool ok = true;
     for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
         ok = transport->publish(Message{topic, payload, 1, false}).ok() && ok;

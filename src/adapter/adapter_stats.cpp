@@ -15,6 +15,8 @@ AdapterStats Adapter::stats() const {
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
     for (const auto& service : impl_->features) s.features[std::string(service->name())] = service->stats();
+    s.values_refused = impl_->value_guard->refused();
+    s.values_refused_items = impl_->value_guard->refused_items();
     return s;
 }
 
@@ -30,6 +32,7 @@ Json to_json(const AdapterStats& s) {
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},
                                {"dropped_bytes", t.dropped_bytes}, {"connects", t.connects}, {"buffered", t.buffered},
                                {"buffered_bytes", t.buffered_bytes}, {"in_flight", t.in_flight}}},
+                {"values", {{"refused", s.values_refused}, {"refused_items", s.values_refused_items}}},
                 {"features", s.features}};
 }
 

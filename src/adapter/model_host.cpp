@@ -50,9 +50,14 @@ Result<std::shared_ptr<const ModelState>> ModelHost::build(const LoadResult& loa
         }
     }
 
-    Json probe = model_to_json(*state->model);
-    state->probe_text = std::make_shared<const std::string>(probe.dump(-1, ' ', false, Json::error_handler_t::replace));
-    state->probe_json = std::make_shared<const Json>(std::move(probe));
+    if (loaded.document) {
+        state->probe_text = loaded.document;
+    } else {
+        // A LoadResult built in code, without a document: the model's own form.
+        state->probe_text = std::make_shared<const std::string>(
+            model_to_json(*state->model).dump(-1, ' ', false, Json::error_handler_t::replace));
+    }
+    state->rules = std::make_shared<const ValueRules>(*state->model);
     return std::shared_ptr<const ModelState>(std::move(state));
 }
 

@@ -7,6 +7,37 @@ Error unknown_item(const std::string& id) {
     return make_error(ErrorCode::node_not_exists, fmt::format("no data item '{}' on this device", id));
 }
 
+// Appendix A (CMD_Set_Request) gives offset/length beside `params`, 8.2.13
+// example 3 inside them: both are one request, folded into the params. The
+// same key given in both places with different values is 409.
+Result<Json> effective_params(const SetItem& item) {
+    Json params = item.params.value_or(Json(nullptr));
+    const std::pair<const char*, const std::optional<Json>*> beside[] = {{"offset", &item.offset}, {"length", &item.length}};
+    for (const auto& [key, given] : beside) {
+        if (!*given || (*given)->is_null()) continue;
+        if (params.is_null()) params = Json::object();
+        if (!params.is_object()) break;  // the values module answers a params that is no object
+        const auto found = params.find(key);
+        if (found != params.end() && !found->is_null() && *found != **given)
+            return make_error(ErrorCode::arguments_nimiety,
+                              fmt::format("{} given beside params ({}) and inside them ({})", key, (*given)->dump(), found->dump()));
+        params[key] = **given;
+    }
+    return params;
+}
+
+// What a Set result echoes: the params without the value(s) written;
+// nothing when that leaves nothing (8.2.14 example 1: {"id","code":"OK"}).
+std::optional<Json> echo_params(const Json& params) {
+    if (params.is_null()) return std::nullopt;
+    if (!params.is_object()) return params;
+    Json out = params;
+    out.erase("value");
+    out.erase("values");
+    if (out.empty()) return std::nullopt;
+    return out;
+}
+
 }  // namespace
 
 QueryResponse handle_query(const QueryRequest& request, const HandlerContext& context) {
@@ -63,6 +94,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
                         : context.driver.read(points);
         for (std::size_t k = 0; k < driver_items.size(); ++k) {
             QueryResult& result = response.values[driver_items[k].slot];
+            if (context.values) context.values->screen(context.state, result.id, read[k], "query");
             if (!read[k].ok()) {
                 context.logger.debug("query {}: {}", result.id, read[k].error().describe());
                 result.status = ResponseStatus(read[k].error());
@@ -86,6 +118,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         std::size_t slot;
         SetParams params;
         const DataObject* object;
+        Json raw;  // the item's params, offset/length folded in
     };
     std::vector<DriverItem> driver_items;
     std::vector<PointRef> points;
@@ -96,35 +129,38 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         SetResult& result = response.results[i];
         result.id = item.id;
         const DataObject* object = context.state.item(item.id);
-        const Json params = item.params.value_or(Json(nullptr));
+        auto folded = effective_params(item);
+        if (!folded) {
+            result.status = ResponseStatus(folded.error());
+            continue;
+        }
+        const Json params = std::move(folded).value();
+        // 8.2.14's examples echo what was done (operation, key, index,
+        // offset, length), OK or NG, never the value written.
+        result.params = echo_params(params);
         if (!object) {
             result.status = ResponseStatus(unknown_item(item.id));
-            result.params = item.params;
             continue;
         }
         if (!object->setable) {
             result.status = ResponseStatus(make_error(ErrorCode::permission_denied, item.id + " is not setable"));
-            result.params = item.params;
             continue;
         }
         if (context.state.sdk_held(item.id)) {
             auto done = context.state.store->set(item.id, params);
             if (done)
                 store_changed = true;
-            else {
+            else
                 result.status = ResponseStatus(done.error());
-                result.params = item.params;
-            }
             continue;
         }
         auto parsed = parse_set(params, object->kind);
         if (!parsed) {
             result.status = ResponseStatus(parsed.error());
-            result.params = item.params;
             continue;
         }
         points.push_back(PointRef{item.id, object->kind});
-        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object});
+        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object, params});
     }
 
     if (!driver_items.empty()) {
@@ -139,12 +175,21 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             WriteRequest write;
             write.id = item.id;
             write.kind = d.object->kind;
-            write.params = item.params.value_or(Json(nullptr));
+            write.params = d.raw;
             if (current[k].ok()) {
                 Json next = current[k].value();
                 if (auto applied = apply(d.params, next, d.object->kind, true); !applied) {
                     result.status = ResponseStatus(applied.error());
-                    result.params = item.params;
+                    continue;
+                }
+                // Chapter 7: what the item would hold after the Set must fit
+                // its rule (a "spinning" SPINDLE_MODE is refused, not written).
+                // Judged only when the machine's value fits it: a Set is not
+                // refused for a fault of the driver's value.
+                const ValueRule* rule = context.state.rules ? context.state.rules->find(item.id) : nullptr;
+                if (rule != nullptr && rule->check(next) != ValueFault::none &&
+                    rule->check(current[k].value()) == ValueFault::none) {
+                    result.status = ResponseStatus(rule->verify(next).error());
                     continue;
                 }
                 write.new_value = std::move(next);
@@ -153,7 +198,6 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             if (!written) {
                 context.logger.debug("set {}: {}", item.id, written.error().describe());
                 result.status = ResponseStatus(written.error());
-                result.params = item.params;
             }
         }
     }
@@ -165,10 +209,16 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
     return response;
 }
 
-ProbeQueryResponse handle_probe_query(const ProbeQueryRequest& request, const HandlerContext& context) {
-    auto response = make_reply<ProbeQueryResponse>(request, context.dev);
-    response.probe = *context.state.probe_json;
-    return response;
+std::string handle_probe_query(const ProbeQueryRequest& request, const HandlerContext& context) {
+    const auto response = make_reply<ProbeQueryResponse>(request, context.dev);
+    std::string payload = to_json(response).dump(-1, ' ', false, Json::error_handler_t::replace);
+    // Keys are sorted and "probe" sorts after "@id", "code" and "guid": it
+    // goes last, before the closing brace.
+    payload.pop_back();
+    payload += ",\"probe\":";
+    payload += *context.state.probe_text;
+    payload += '}';
+    return payload;
 }
 
 std::string refusal_reasons(const LoadResult& loaded, bool strict) {

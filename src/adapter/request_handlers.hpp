@@ -5,6 +5,7 @@
 
 #include "adapter/model_host.hpp"
 #include "driver/driver_runner.hpp"
+#include "feature/value_guard.hpp"
 
 #include <nclink/dtu.hpp>
 
@@ -28,6 +29,8 @@ struct HandlerContext {
     /// (driver-affine Query): driver items answer this error, the driver is
     /// not called again; SDK-held items answer as usual.
     const Error* driver_expired = nullptr;
+    /// Checks the driver's values against chapter 7 (null: not checked).
+    ValueGuard* values = nullptr;
 };
 
 /// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are
@@ -40,7 +43,10 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
 SetResponse handle_set(const SetRequest& request, const HandlerContext& context);
 
 /// 8.2.7/8.2.8.
-ProbeQueryResponse handle_probe_query(const ProbeQueryRequest& request, const HandlerContext& context);
+/// The Probe/Query answer as payload text: `probe` is the model as provided
+/// (the vendor's file, byte for byte; 8.2.8), spliced in as the JSON object
+/// it is, so "1.0" stays "1.0" and the key order and spacing are the vendor's.
+std::string handle_probe_query(const ProbeQueryRequest& request, const HandlerContext& context);
 
 /// Text of every problem that makes a Probe/Set model unacceptable (fatal, and
 /// conformance when strict), "" when acceptable.

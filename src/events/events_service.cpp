@@ -183,6 +183,7 @@ private:
             return std::nullopt;
         }
         auto read = host_.driver.read({PointRef{spec.item, spec.kind}});
+        if (!read.empty()) host_.values.screen(state, spec.item, read.front(), "event read");
         if (!read.empty() && read.front().ok()) return std::move(read.front()).value();
         return std::nullopt;
     }
@@ -270,8 +271,10 @@ private:
         }
         if (!points.empty()) {
             auto read = host_.driver.read(points, host_.driver_timeout);
-            for (std::size_t i = 0; i < points.size() && i < read.size(); ++i)
+            for (std::size_t i = 0; i < points.size() && i < read.size(); ++i) {
+                host_.values.screen(*state, points[i].id, read[i], "event poll");  // chapter 7
                 if (read[i].ok()) values.emplace_back(points[i].id, std::move(read[i]).value());
+            }
         }
         if (points.empty() && values.empty()) return;
         std::vector<FiredEvent> fired;

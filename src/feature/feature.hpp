@@ -20,6 +20,7 @@
 #include "driver/driver_runner.hpp"
 #include "feature/model_state.hpp"
 #include "feature/sample_tap.hpp"
+#include "feature/value_guard.hpp"
 
 #include <nclink/clock.hpp>
 #include <nclink/dtu.hpp>
@@ -45,6 +46,7 @@ struct FeatureHost {
     DriverRunner& driver;                 ///< deadlines, serialization
     const ModelSource& model;             ///< model.current(): the snapshot to serve
     SampleTap& sample_tap;                ///< sampled rows, for events watching the sample stream
+    ValueGuard& values;                   ///< chapter 7 checks of every value a driver returns
     /// Publishes a reply on the response topic(s) mirroring `request` (both
     /// spellings where docs/wire.md says so) and updates the host's state.
     std::function<void(const ParsedTopic& request, const Json& reply)> respond;

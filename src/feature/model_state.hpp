@@ -5,6 +5,7 @@
 #pragma once
 
 #include <nclink/model.hpp>
+#include <nclink/value_rules.hpp>
 #include <nclink/value_store.hpp>
 
 #include <memory>
@@ -20,8 +21,11 @@ struct ModelState {
     const Device* device = nullptr;
     std::vector<Problem> problems;             ///< conformance problems and warnings of this model
     std::shared_ptr<ValueStore> store;         ///< SDK-held items (fixed values, unclaimed configs)
-    std::shared_ptr<const std::string> probe_text;  ///< the model as sent in Probe/Query (cached)
-    std::shared_ptr<const Json> probe_json;
+    /// The model as provided (the vendor's file, or the Probe/Set text), sent
+    /// verbatim as `probe` in Probe/Query (8.2.8): not the normalized model.
+    std::shared_ptr<const std::string> probe_text;
+    /// Chapter 7's rule of every data object (value_guard.hpp checks driver values against them).
+    std::shared_ptr<const ValueRules> rules;
 
     /// True when `id` is answered from the store rather than the driver.
     bool sdk_held(const std::string& id) const { return store && store->contains(id); }

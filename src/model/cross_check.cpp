@@ -1,6 +1,10 @@
 // Cross-object checks run after the whole tree has been read.
 #include "model/cross_check.hpp"
 
+#include "model/problems.hpp"
+
+#include <nclink/value_rules.hpp>
+
 #include <fmt/format.h>
 
 namespace nclink::model_detail {
@@ -23,6 +27,21 @@ void check_channel_references(const Model& model, const std::vector<ChannelRefer
                                                     "a {}, not a data item", ref.channel_id,
                                                     ref.id, to_string(target->kind)));
         }
+    }
+}
+
+void check_fixed_values(const Model& model, Problems& problems) {
+    const ValueRules rules(model);
+    for (const auto& object : model.data_objects()) {
+        if (!object.value) continue;
+        const ValueRule* rule = rules.find(object.id);
+        if (rule == nullptr) continue;
+        if (rule->check(*object.value) == ValueFault::kind) continue;  // the reader reported it
+        auto verdict = rule->verify(*object.value);
+        if (verdict) continue;
+        const ObjectInfo* info = model.find(object.id);
+        problems.conformance(pointer_append(info ? info->pointer : std::string(), "value"),
+                             fmt::format("the fixed value breaks chapter 7: {}", verdict.error().message));
     }
 }
 

@@ -69,7 +69,14 @@ LoadResult parse_utf8(std::string_view text, model_detail::Problems& problems) {
     ModelBuilder builder(problems);
     const auto outcome = model_detail::read_document(document, problems, builder);
     model_detail::check_channel_references(builder.model(), outcome.channel_references, problems);
-    if (!problems.has_fatal()) result.model = builder.finish();
+    model_detail::check_fixed_values(builder.model(), problems);
+    if (!problems.has_fatal()) {
+        result.model = builder.finish();
+        // As provided, for Probe/Query (8.2.8); a byte order mark is not JSON text.
+        constexpr std::string_view bom = "\xEF\xBB\xBF";
+        if (text.substr(0, bom.size()) == bom) text.remove_prefix(bom.size());
+        result.document = std::make_shared<const std::string>(text);
+    }
     result.problems = problems.take();
     return result;
 }
@@ -83,7 +90,7 @@ LoadResult parse_model(std::string_view text) {
         auto converted = model_detail::gbk_to_utf8(text);
         if (!converted) {
             problems.fatal("", "not a usable model: the file is neither UTF-8 nor GBK");
-            return LoadResult{problems.take(), nullptr};
+            return LoadResult{problems.take(), nullptr, nullptr};
         }
         problems.conformance("", "file is GBK-encoded, converted to UTF-8 (the standard "
                                  "requires UTF-8)");
@@ -91,13 +98,13 @@ LoadResult parse_model(std::string_view text) {
     } catch (const std::bad_alloc&) {
         model_detail::Problems oom;
         oom.fatal("", "out of memory while loading the model");
-        return LoadResult{oom.take(), nullptr};
+        return LoadResult{oom.take(), nullptr, nullptr};
     } catch (const std::exception& e) {
         // Defensive: the reader only uses non-throwing accessors, but a model
         // loader must never take the firmware down.
         model_detail::Problems internal;
         internal.fatal("", std::string("internal error while loading the model: ") + e.what());
-        return LoadResult{internal.take(), nullptr};
+        return LoadResult{internal.take(), nullptr, nullptr};
     }
 }
 
@@ -106,14 +113,14 @@ LoadResult load_model_file(const std::string& path) {
     if (!in) {
         model_detail::Problems problems;
         problems.fatal("", fmt::format("cannot open \"{}\"", path));
-        return LoadResult{problems.take(), nullptr};
+        return LoadResult{problems.take(), nullptr, nullptr};
     }
     std::ostringstream buffer;
     buffer << in.rdbuf();
     if (in.bad()) {
         model_detail::Problems problems;
         problems.fatal("", fmt::format("cannot read \"{}\"", path));
-        return LoadResult{problems.take(), nullptr};
+        return LoadResult{problems.take(), nullptr, nullptr};
     }
     return parse_model(buffer.str());
 }

@@ -63,7 +63,7 @@ bool operator==(const Component& a, const Component& b) {
 
 bool operator==(const DataObject& a, const DataObject& b) {
     return a.id == b.id && a.name == b.name && a.type == b.type &&
-           a.description == b.description && a.kind == b.kind && a.value == b.value &&
+           a.description == b.description && a.kind == b.kind && a.datatype_file == b.datatype_file && a.value == b.value &&
            a.source == b.source && a.units == b.units && a.setable == b.setable &&
            a.config == b.config && a.device_id == b.device_id && a.extra == b.extra;
 }

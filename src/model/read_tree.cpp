@@ -23,8 +23,15 @@ constexpr std::string_view kChannelType = "SAMPLE_CHANNEL";
 constexpr std::string_view kMethodType = "METHOD";
 constexpr std::string_view kDefaultVersion = "1.0.0";
 
-// Which array an object was found in decides what it may be (6.2.2-6.2.4).
-enum class ListKind { root_configs, configs, data_items };
+// Which array an object was found in decides what it may be (6.2.2-6.2.4):
+// the root's configs hold data objects and methods, a device's configs data
+// objects and sample channels (table 2), a component's configs data objects
+// only (table 3; appendix A `ConfigsGen`).
+enum class ListKind { root_configs, configs, component_configs, data_items };
+
+// Table 36/42: a sample channel id is at most 16 bytes (it is the last
+// segment of the Sample topic and the `id` of every Sample DTU).
+constexpr std::size_t kMaxChannelIdBytes = 16;
 
 struct Context {
     ListKind list = ListKind::configs;
@@ -46,7 +53,8 @@ std::string path_segment(const std::string& type, const std::string& number) {
     return segment;
 }
 
-// "1", "1.2", "1.2.3" -> parts; std::nullopt if anything else.
+// "1", "1.2", "1.2.3" -> parts; std::nullopt if anything else (leading
+// zeros are parts too; the caller reports them).
 std::optional<std::vector<std::string>> version_parts(const std::string& text) {
     std::vector<std::string> parts;
     std::string current;
@@ -65,6 +73,49 @@ std::optional<std::vector<std::string>> version_parts(const std::string& text) {
     parts.push_back(current);
     if (parts.size() > 3) return std::nullopt;
     return parts;
+}
+
+// 6.2.5 note b: `source` names the types of every object on the path from
+// the root to the component the data comes from, separated by ':'; objects
+// of one type are told apart as "TYPE#number" ("NC_LINK_ROOT:MACHINE#0001:
+// AXIS"). The note's own example writes " NCLINK_ROOT" (a space, no
+// underscore): that spelling of the root is accepted too (docs/wire.md).
+std::optional<std::string> source_syntax_error(std::string_view source) {
+    auto trim = [](std::string_view t) {
+        while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
+        while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
+        return t;
+    };
+    const std::string_view text = trim(source);
+    std::vector<std::string_view> segments;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t colon = text.find(':', start);
+        segments.push_back(text.substr(start, colon == std::string_view::npos ? std::string_view::npos : colon - start));
+        if (colon == std::string_view::npos) break;
+        start = colon + 1;
+    }
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+        const std::string_view seg = segments[i];
+        if (seg.empty()) return fmt::format("segment {} is empty", i + 1);
+        const std::size_t hash = seg.find('#');
+        const std::string_view type = seg.substr(0, hash);
+        if (type.empty()) return fmt::format("segment \"{}\" has no type", seg);
+        for (char c : type)
+            if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
+                return fmt::format("type \"{}\" holds '{}' (types are letters, digits and '_')", type, c);
+        if (hash != std::string_view::npos) {
+            const std::string_view number = seg.substr(hash + 1);
+            if (number.empty()) return fmt::format("segment \"{}\" has '#' but no number", seg);
+            for (char c : number)
+                if (c == '#' || std::isspace(static_cast<unsigned char>(c)))
+                    return fmt::format("number \"{}\" of segment \"{}\" holds '{}'", number, seg, c);
+        }
+    }
+    if (segments.front() != kRootType && segments.front() != "NCLINK_ROOT")
+        return fmt::format("the path starts at \"{}\", not at the root ({})", segments.front(), kRootType);
+    if (segments.size() < 2) return std::string("the path names no device below the root");
+    return std::nullopt;
 }
 
 class Reader {
@@ -156,7 +207,7 @@ std::string Reader::read_type(const Json& obj, const std::string& ptr) {
 }
 
 // Root `version` is the protocol version (1.x.x, table 1); a device `version`
-// is the model file's version (x.x.x, table 2). Both default to 1.0.0.
+// is the model file's version (1.x.x, table 2). Both default to 1.0.0 when absent.
 std::string Reader::read_version(const Json& obj, const std::string& ptr, bool protocol) {
     const std::string at = pointer_append(ptr, "version");
     if (!obj.contains("version")) {
@@ -171,21 +222,25 @@ std::string Reader::read_version(const Json& obj, const std::string& ptr, bool p
                                                   kDefaultVersion));
         return std::string(kDefaultVersion);
     }
+    // Table 1 (protocol) and table 2 (model file) both write the form
+    // 1.x.x: three decimal numbers, the first 1. Appendix A's patterns allow
+    // one digit per part; the tables' x does not say so, and nclink accepts
+    // more (docs/wire.md).
     auto parts = version_parts(text);
-    const std::string_view form = protocol ? "1.x.x" : "x.x.x";
+    const std::string_view table = protocol ? "table 1" : "table 2";
     if (!parts) {
-        problems_.conformance(at, fmt::format("version \"{}\" is not of the form {}", text, form));
+        problems_.conformance(at, fmt::format("version \"{}\" is not of the form 1.x.x ({})", text, table));
         return text;
     }
-    const bool bad_major = protocol && (*parts)[0] != "1";
-    if (parts->size() != 3 || bad_major) {
-        while (parts->size() < 3) parts->push_back("0");
-        const std::string normalized =
-            fmt::format("{}.{}.{}", (*parts)[0], (*parts)[1], (*parts)[2]);
-        const std::string taken = normalized == text ? "" : " (taken as " + normalized + ")";
-        problems_.conformance(at, fmt::format("version \"{}\" is not of the form {}{}", text,
-                                              form, taken));
-        return normalized;
+    const bool leading_zero = std::any_of(parts->begin(), parts->end(),
+                                          [](const std::string& p) { return p.size() > 1 && p[0] == '0'; });
+    const bool bad_major = (*parts)[0] != "1";
+    if (parts->size() != 3 || bad_major || leading_zero) {
+        // Reported, but kept as written: the version is the vendor's text,
+        // announced in Probe/Version and returned in Probe/Query exactly as
+        // given (8.2.5, 8.2.8), so "1.0" stays "1.0" on the wire.
+        const std::string why = leading_zero ? ": a part with a leading zero" : bad_major ? ": the first number is not 1" : "";
+        problems_.conformance(at, fmt::format("version \"{}\" is not of the form 1.x.x ({}){}", text, table, why));
     }
     return text;
 }
@@ -415,7 +470,7 @@ void Reader::read_component(const Json& obj, const std::string& ptr, const std::
             self = *id;
         }
     }
-    read_list(obj, ptr, Context{ListKind::configs, device_id, self, path, "configs"});
+    read_list(obj, ptr, Context{ListKind::component_configs, device_id, self, path, "configs"});
     read_list(obj, ptr, Context{ListKind::data_items, device_id, self, path, "dataItems"});
     read_components(obj, ptr, device_id, self, path);
 }
@@ -441,9 +496,13 @@ void Reader::read_list(const Json& holder, const std::string& holder_ptr, const 
             else if (ctx.list == ListKind::data_items)
                 problems_.conformance(ptr, "SAMPLE_CHANNEL object in dataItems: channels belong "
                                            "in configs (6.2.3)");
+            else if (ctx.list == ListKind::component_configs)
+                problems_.conformance(ptr, "SAMPLE_CHANNEL object in a component's configs: "
+                                           "channels belong in the device's configs (table 2; "
+                                           "table 3 lists data objects only)");
             read_channel(entry, ptr, ctx);
         } else if (typed && *type == kMethodType) {
-            if (ctx.list == ListKind::configs)
+            if (ctx.list == ListKind::configs || ctx.list == ListKind::component_configs)
                 problems_.conformance(ptr, "METHOD object outside the root configs: methods may "
                                            "only be defined in the root configs (6.2.7)");
             else if (ctx.list == ListKind::data_items)
@@ -473,6 +532,13 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
     }
     data.description = read_string(obj, ptr, "description");
     data.source = read_string(obj, ptr, "source");
+    if (!data.source.empty()) {
+        if (auto why = source_syntax_error(data.source))
+            problems_.conformance(pointer_append(ptr, "source"),
+                                  fmt::format("source \"{}\" is not a path of types from the root "
+                                              "(TYPE or TYPE#number, separated by ':', 6.2.5 note b): {}",
+                                              data.source, *why));
+    }
     data.units = read_string(obj, ptr, "units");
     if (!data.units.empty() && !is_known_unit(data.units))
         problems_.warning(pointer_append(ptr, "units"),
@@ -498,13 +564,16 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
         } else {
             const std::string text = v.get<std::string>();
             const std::string low = lower(text);
-            if (low == "list" || low == "dict") {
-                data.kind = low == "list" ? DataKind::list : DataKind::dict;
+            if (low == "list" || low == "dict" || low == "file") {
+                // "file": 6.2.1 names it a data type beside list and dict;
+                // table 4 lists only those two. Both readings are accepted.
+                data.kind = low == "list" ? DataKind::list : low == "dict" ? DataKind::dict : DataKind::single;
+                data.datatype_file = low == "file";
                 if (alias || text != low)
                     problems_.conformance(at, fmt::format("\"{}\": \"{}\" should be \"datatype\": "
                                                           "\"{}\"", datatype_key, text, low));
             } else {
-                problems_.conformance(at, fmt::format("unknown {} \"{}\" (list or dict; absent "
+                problems_.conformance(at, fmt::format("unknown {} \"{}\" (list, dict or file; absent "
                                                       "means single); taken as single",
                                                       datatype_key, text));
             }
@@ -567,6 +636,10 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
     SampleChannel channel;
     const auto id = read_id(obj, ptr);
     if (id) channel.id = *id;
+    if (id && id->size() > kMaxChannelIdBytes)
+        problems_.conformance(pointer_append(ptr, "id"),
+                              fmt::format("sample channel id \"{}\" is {} bytes; tables 36 and 42 allow at "
+                                          "most {}", *id, id->size(), kMaxChannelIdBytes));
     channel.name = read_string(obj, ptr, "name");
     channel.description = read_string(obj, ptr, "description");
     channel.device_id = ctx.device_id;
@@ -604,10 +677,14 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
     const auto upload = read_interval(obj, ptr, "uploadInterval");
     if (sample) channel.sample_interval_ms = *sample;
     if (upload) channel.upload_interval_ms = *upload;
+    // An upload period shorter than the sample period cannot carry one row
+    // (6.2.6.2: a DTU holds rows sampleInterval apart): the channel could
+    // never run, so the model cannot be run as written.
     if (sample && upload && *upload < *sample)
-        problems_.conformance(pointer_append(ptr, "uploadInterval"),
-                              fmt::format("uploadInterval {} is shorter than sampleInterval {}",
-                                          *upload, *sample));
+        problems_.fatal(pointer_append(ptr, "uploadInterval"),
+                        fmt::format("uploadInterval {} is shorter than sampleInterval {}: the channel "
+                                    "cannot upload what it samples",
+                                    *upload, *sample));
     channel.extra = unknown_attributes(obj, ptr,
                                        {"id", "name", "type", "description", "ids",
                                         "sampleInterval", "uploadInterval"});

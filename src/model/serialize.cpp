@@ -83,6 +83,7 @@ private:
         put_string(out, "type", d.type);
         put_string(out, "description", d.description);
         if (d.kind != DataKind::single) out["datatype"] = std::string(to_string(d.kind));
+        else if (d.datatype_file) out["datatype"] = "file";
         if (d.value) out["value"] = Ordered(*d.value);
         put_string(out, "source", d.source);
         put_string(out, "units", d.units);

@@ -97,11 +97,13 @@ SetRequest read(const Json& dtu, Tag<SetRequest>) {
     out.msg_id = r.message_id();
     out.guid = request_guid(r);
     for (const Json& entry : r.require_array("values")) {
-        Reader e(entry_object(entry, "values entry"), {"id", "params"}, "values entry");
+        Reader e(entry_object(entry, "values entry"), {"id", "params", "offset", "length"}, "values entry");
         SetItem item;
         item.id = e.require_string("id");
         // A missing params is answered per item (102) by the values module.
         item.params = e.optional_any("params");
+        item.offset = e.optional_any("offset");
+        item.length = e.optional_any("length");
         out.values.push_back(std::move(item));
     }
     out.private_info = r.private_info();
@@ -267,6 +269,8 @@ Json to_json(const SetRequest& dtu) {
     for (const auto& item : dtu.values) {
         Json entry = {{"id", item.id}};
         put_if(entry, "params", item.params);
+        put_if(entry, "offset", item.offset);
+        put_if(entry, "length", item.length);
         values.push_back(std::move(entry));
     }
     out["values"] = std::move(values);

@@ -98,6 +98,7 @@ public:
         s.skipped_ticks = skipped_ticks.get();
         s.drops = ring_.drops();
         s.null_values = null_values.get();
+        s.refused_values = refused_values.get();
         s.max_lateness_us = max_lateness_us.get();
         for (std::size_t i = 0; i < lateness.size(); ++i) s.lateness[i] = lateness[i].get();
         return s;
@@ -110,7 +111,7 @@ public:
 
     // ---- counters
     SingleWriterCounter rows_sampled, overruns, skipped_ticks, null_values, max_lateness_us;
-    SingleWriterCounter rows_published, dtus_published;
+    SingleWriterCounter rows_published, dtus_published, refused_values;  // refused: uploader (chapter 7)
     std::array<SingleWriterCounter, kLatenessBoundsUs.size() + 1> lateness;
 
 private:

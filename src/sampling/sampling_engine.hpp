@@ -20,6 +20,7 @@
 
 #include "feature/model_state.hpp"
 #include "feature/sample_tap.hpp"
+#include "feature/value_guard.hpp"
 #include "driver/driver_runner.hpp"
 #include "sampling/sleeper.hpp"
 
@@ -65,6 +66,9 @@ struct EngineDeps {
     std::string dev;                      ///< guid in the DTUs
     DtuSink sink;
     SampleTap* tap = nullptr;             ///< optional: rows for watchers
+    /// Optional: checks every sampled value against chapter 7 (a breaking
+    /// value is sent as null and counted; value_guard.hpp). Null: unchecked.
+    ValueGuard* values = nullptr;
     /// Optional, for benchmarks/diagnostics: called on the sampling thread for
     /// every tick (served or missed) with how late (ns) the pass that produced
     /// its row started after the tick's deadline. Must be quick.

@@ -35,6 +35,7 @@ SamplingService::SamplingService(FeatureHost& host) : host_(host) {
     deps.dev = host_.dev;
     deps.sink = [this](Message message) { sink_(std::move(message)); };
     deps.tap = &host_.sample_tap;
+    deps.values = &host_.values;
     engine_ = std::make_unique<SamplingEngine>(std::move(deps));
     // EXTENSIONS (dynamic sampling, spool: see sampling_service.hpp)
     add_extension(make_dynamic_channels(host_, *engine_));
@@ -190,6 +191,7 @@ Json to_json(const SamplingStats& stats) {
                       {"skipped_ticks", c.skipped_ticks},
                       {"drops", c.drops},
                       {"null_values", c.null_values},
+                      {"refused_values", c.refused_values},
                       {"max_lateness_us", c.max_lateness_us},
                       {"lateness_us", lateness}};
         if (!c.owner_ex.empty()) entry["owner_ex"] = c.owner_ex;

@@ -1,5 +1,7 @@
 #include "sampling/uploader.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 namespace nclink::detail {
@@ -92,10 +94,69 @@ void Uploader::drain(Lane& lane) {
         lane.seqs.push_back(ring.seq(i));
     }
     ring.release(n);
+    if (n > 0) screen(lane, before * width);
     SampleTap* tap = shared_.deps.tap;
     if (tap != nullptr && n > 0 && tap->active()) {
         for (std::size_t r = before; r < lane.times.size(); ++r)
             tap->deliver(core.ids(), lane.values.data() + r * width, lane.times[r] / 1'000'000);
+    }
+}
+
+void Uploader::screen(Lane& lane, std::size_t from) {
+    ValueGuard* guard = shared_.deps.values;
+    if (guard == nullptr || !guard->enabled()) return;
+    ChannelCore& core = *lane.core;
+    const std::size_t width = core.ring().width();
+    const auto version = shared_.model_version.load(std::memory_order_acquire);
+    if (lane.rules_version != version) {
+        lane.rules_version = version;
+        lane.model = shared_.current_model();
+        lane.rules.assign(width, nullptr);
+        lane.verdicts.assign(width, {});
+        lane.any_rule = false;
+        if (lane.model && lane.model->rules) {
+            for (std::size_t p = 0; p < width && p < core.ids().size(); ++p) {
+                lane.rules[p] = lane.model->rules->find(core.ids()[p]);
+                lane.any_rule = lane.any_rule || lane.rules[p] != nullptr;
+            }
+        }
+    }
+    if (!lane.any_rule || width == 0) return;
+    const bool stable_text = !core.spec().push;
+    for (std::size_t i = from, p = from % width; i < lane.values.size(); ++i, p = (p + 1 == width ? 0 : p + 1)) {
+        const ValueRule* rule = lane.rules[p];
+        if (rule == nullptr) continue;
+        SampleValue& value = lane.values[i];
+        ValueFault fault = rule->check(value);
+        if (fault == ValueFault::none && rule->needs_parse(value)) {
+            // Pre-serialized JSON (an object, a list): parsed once per
+            // distinct interned text of a pull channel, every time for a push
+            // channel (its text is the pusher's).
+            auto& verdicts = lane.verdicts[p];
+            const char* key = value.as_text().data();
+            auto cached = stable_text ? verdicts.find(key) : verdicts.end();
+            if (cached != verdicts.end()) {
+                fault = cached->second;
+            } else {
+                const Json parsed = Json::parse(value.as_text(), nullptr, false);
+                fault = parsed.is_discarded() ? ValueFault::type : rule->check(parsed);
+                if (stable_text && verdicts.size() < 4096) verdicts.emplace(key, fault);
+            }
+        }
+        if (fault == ValueFault::none) continue;
+        std::string shown;
+        switch (value.kind()) {
+            case SampleValue::Kind::text: shown = Json(std::string(value.as_text())).dump(-1, ' ', false, Json::error_handler_t::replace); break;
+            case SampleValue::Kind::json: shown = std::string(value.as_text()); break;
+            case SampleValue::Kind::boolean: shown = value.as_bool() ? "true" : "false"; break;
+            case SampleValue::Kind::int64: shown = std::to_string(value.as_int64()); break;
+            case SampleValue::Kind::uint64: shown = std::to_string(value.as_uint64()); break;
+            case SampleValue::Kind::float64: shown = fmt::format("{}", value.as_double()); break;
+            default: break;
+        }
+        guard->refuse(*rule, fault, "sample channel " + core.spec().id, shown);
+        value = SampleValue::null();
+        core.refused_values.add();
     }
 }
 

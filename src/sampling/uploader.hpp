@@ -17,6 +17,7 @@
 #include <nclink/sample_encoder.hpp>
 
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace nclink::detail {
@@ -40,10 +41,21 @@ private:
         std::vector<std::int64_t> times;
         std::vector<std::uint64_t> seqs;
         double bytes_per_row = 0;  // of the last DTU (0 = none yet)
+        // chapter 7 checks: each column's rule under the model of `rules_version`
+        std::uint64_t rules_version = 0;
+        std::shared_ptr<const ModelState> model;  // keeps `rules` alive
+        std::vector<const ValueRule*> rules;      // per column; null = unchecked
+        bool any_rule = false;
+        // Verdicts on pre-serialized JSON, per column by interned text (pull
+        // channels only: their text lives as long as the channel).
+        std::vector<std::unordered_map<const char*, ValueFault>> verdicts;
     };
 
     void refresh(Clock::Steady now);
     void drain(Lane& lane);
+    /// Chapter 7 on the rows drained from index `from` of lane.values: a value
+    /// breaking its item's rule becomes null (a missed value), refused via deps.values.
+    void screen(Lane& lane, std::size_t from);
     void publish(Lane& lane);
     void publish_segment(Lane& lane, std::size_t first, std::size_t count);
 

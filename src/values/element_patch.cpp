@@ -136,6 +136,39 @@ Result<Json> patch_bits(const Json& number, const Json& value, const std::option
 
 }  // namespace
 
+Result<Json> element_part(const Json& element, const std::optional<std::size_t>& offset,
+                          const std::optional<std::size_t>& length, const std::string& where) {
+    const std::size_t at = offset.value_or(0);
+    if (element.is_string()) {
+        const auto& text = element.get_ref<const std::string&>();
+        const std::size_t size = code_points(text);
+        const std::size_t count = length.value_or(at <= size ? size - at : 0);
+        if (auto span = check_span(at, count, size, "characters", where); !span) return std::move(span).error();
+        const std::size_t begin = byte_of(text, at);
+        return Json(text.substr(begin, byte_of(text, at + count) - begin));
+    }
+    if (element.is_array()) {
+        const std::size_t count = length.value_or(at <= element.size() ? element.size() - at : 0);
+        if (auto span = check_span(at, count, element.size(), "elements", where); !span) return std::move(span).error();
+        Json out = Json::array();
+        for (std::size_t i = at; i < at + count; ++i) out.push_back(element[i]);
+        return out;
+    }
+    if (element.is_number()) {
+        auto bits = register_bits(element, where);
+        if (!bits) return std::move(bits).error();
+        const std::size_t width = length.value_or(1);
+        if (width == 0 || width > 64 || at >= 64 || width > 64 - at)
+            return fail(ErrorCode::out_of_range, "bit field offset {} length {} does not fit the 64 bits of {}", at,
+                        width, where);
+        const std::uint64_t mask = width == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << width) - 1);
+        return Json((*bits >> at) & mask);
+    }
+    if (element.is_null()) return fail(ErrorCode::unavailable, "{} is not known", where);
+    return fail(ErrorCode::value_type, "offset/length apply to strings, arrays and integers, {} is a {}", where,
+                json_type_name(element));
+}
+
 Result<Json> patch_element(const Json& element, const Json& value, const std::optional<std::size_t>& offset,
                            const std::optional<std::size_t>& length, const std::string& where) {
     if (!offset && !length) {

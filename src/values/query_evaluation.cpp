@@ -58,7 +58,16 @@ Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind 
     if (request.indexes.empty()) return fail(ErrorCode::no_index, "{} needs indexes", to_string(request.operation));
     auto selected = expand_indexes(request.indexes, current.size());
     if (!selected) return std::move(selected).error();
-    for (const auto i : *selected) out.push_back(element_answer(current[i], request.operation));
+    const bool part = request.offset || request.length;
+    for (const auto i : *selected) {
+        if (!part) {
+            out.push_back(element_answer(current[i], request.operation));
+            continue;
+        }
+        auto piece = values_detail::element_part(current[i], request.offset, request.length, fmt::format("element {}", i));
+        if (!piece) return std::move(piece).error();
+        out.push_back(std::move(piece).value());
+    }
     return out;
 }
 

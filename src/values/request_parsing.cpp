@@ -43,8 +43,8 @@ Result<RawParams> scan(const Json& params, bool for_set) {
         else if (name == "indexes") raw.indexes = present;
         else if (for_set && name == "value") raw.value = present;
         else if (for_set && name == "values") raw.values = present;
-        else if (for_set && name == "offset") raw.offset = present;
-        else if (for_set && name == "length") raw.length = present;
+        else if (name == "offset") raw.offset = present;  // Set, and appendix A's Query_Params
+        else if (name == "length") raw.length = present;
         else
             return fail(ErrorCode::keys_of_arguments, "unknown parameter \"{}\" in {} params", name,
                         for_set ? "Set" : "Query");
@@ -181,7 +181,8 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind) {
         if (*name == "get_value" || *name == "get_values") request.operation = QueryOperation::get_value;
         else if (*name == "get_keys") request.operation = QueryOperation::get_keys;
         else if (*name == "get_length") request.operation = QueryOperation::get_length;
-        else if (*name == "get_attributes") request.operation = QueryOperation::get_attributes;
+        // "get_attribute": appendix A's Query_Params spelling; 8.2.11 writes get_attributes.
+        else if (*name == "get_attributes" || *name == "get_attribute") request.operation = QueryOperation::get_attributes;
         else return fail(ErrorCode::keys_of_arguments, "unknown Query operation \"{}\"", *name);
     }
     switch (request.operation) {
@@ -213,6 +214,25 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind) {
     if (request.operation == QueryOperation::get_attributes && request.keys.empty() && request.indexes.empty()) {
         if (kind == DataKind::dict) return fail(ErrorCode::no_key, "get_attributes needs keys");
         return fail(ErrorCode::no_index, "get_attributes needs indexes");
+    }
+    // Appendix A Query_Params offset/length: a part of list elements, read
+    // as a Set writes it (8.2.13 example 3).
+    if (raw.offset || raw.length) {
+        if (kind != DataKind::list)
+            return fail(ErrorCode::arguments_nimiety, "offset/length apply only to list elements");
+        if (request.operation != QueryOperation::get_value)
+            return fail(ErrorCode::arguments_nimiety, "{} takes no offset/length", to_string(request.operation));
+        if (request.indexes.empty()) return fail(ErrorCode::no_index, "offset/length need the index of an element");
+        if (raw.offset) {
+            auto offset = values_detail::parse_count(*raw.offset, "offset");
+            if (!offset) return std::move(offset).error();
+            request.offset = *offset;
+        }
+        if (raw.length) {
+            auto length = values_detail::parse_count(*raw.length, "length");
+            if (!length) return std::move(length).error();
+            request.length = *length;
+        }
     }
     return request;
 }

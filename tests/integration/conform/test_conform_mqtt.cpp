@@ -146,6 +146,11 @@ private:
                 Json values = Json::array();
                 for (const auto& e : req["ids"]) {
                     const std::string id = e.value("id", std::string());
+                    if (e.contains("params") && e["params"].value("operation", std::string()) == "get_attribute") {
+                        // appendix A's spelling refused as an unknown form
+                        values.push_back(Json{{"id", id}, {"code", "NG"}, {"reason", "keys of arguments error"}, {"error", 413}});
+                        continue;
+                    }
                     if (id == "nclink-conform-no-such-item") out["@id"] = "not-the-request-id";  // wrong @id
                     if (id == "tools" || id == "coordinates")
                         values.push_back(Json{{"id", id}, {"code", "OK"}, {"values", Json::array({5})}});  // a list as a number
@@ -159,9 +164,10 @@ private:
                 break;
             }
             case TopicKind::event_register_request:
+                // A refusal without "id" (table 49) and a reason of its own (table 20).
                 out["code"] = "NG";
-                out["reason"] = "Unavailable";
-                out["error"] = 202;
+                out["reason"] = "no such item";
+                out["error"] = 401;
                 break;
             default:
                 return;  // silence: dynamic sampling, methods, ...
@@ -207,8 +213,10 @@ TEST_CASE("the simulated mill passes every item it supports with writes allowed"
         INFO(key << ": " << item(r, key).summary);
         CHECK(item(r, key).outcome == Outcome::pass);
     }
-    pass_or_not_supported(r, {"sampling", "event-register", "event-data", "event-unregister", "dynamic-register", "dynamic-sample",
+    pass_or_not_supported(r, {"sampling", "event-register", "event-unregister", "dynamic-register", "dynamic-sample",
                               "dynamic-unregister", "method-call", "method-status", "method-control", "method-result"});
+    // Skipped when the watched item happened to stand still during the window.
+    CHECK(item(r, "event-data").outcome != Outcome::fail);
     CHECK(r.verdict() == Verdict::pass);
     REQUIRE(r.objects);
     CHECK(r.objects->channels == 2);
@@ -216,6 +224,31 @@ TEST_CASE("the simulated mill passes every item it supports with writes allowed"
     CHECK(r.model_version == "1.0.0");
     // Every change was undone: the adapter runs the original model again.
     CHECK(sim.adapter->model()->devices().front().version == "1.0.0");
+}
+
+// The event-data item once picked an item seen moving earlier and failed when
+// it stood still during the window (the mill's Z while it cuts in XY, 3 runs
+// of 8). It now judges from the values of the window: over many runs against
+// the unchanged sim it never fails.
+TEST_CASE("the event items never fail against the simulated mill over 20 runs") {
+    MosquittoBroker broker;
+    SimAdapter sim(broker);
+    RunOptions o;
+    o.timeout = std::chrono::milliseconds(1000);
+    o.max_wait = std::chrono::milliseconds(1500);
+    o.only = {"event"};
+    int passed_data = 0;
+    for (int run = 0; run < 20; ++run) {
+        const TestRecord r = run_tester(broker, o, "conform-events-" + std::to_string(run));
+        for (const char* key : {"event-register", "event-data", "event-unregister"}) {
+            const auto& i = item(r, key);
+            INFO("run " << run << " " << key << ": " << to_string(i.outcome) << " - " << i.summary);
+            for (const auto& e : i.evidence) INFO(e.note);
+            CHECK(i.outcome != Outcome::fail);
+        }
+        if (item(r, "event-data").outcome == Outcome::pass) ++passed_data;
+    }
+    CHECK(passed_data > 0);  // the check still runs: the mill moves in most windows
 }
 
 TEST_CASE("a broken adapter fails the matching items with the DTU as evidence") {
@@ -236,6 +269,8 @@ TEST_CASE("a broken adapter fails the matching items with the DTU as evidence") 
     CHECK(evidence_mentions(q, "tools (list): list item answered 5"));  // wrong value type
     CHECK(evidence_mentions(q, "the model fixes the value"));           // wrong fixed value
     CHECK(evidence_mentions(q, "instead of the request's"));            // wrong @id
+    CHECK(evidence_mentions(q, "breaks chapter 7"));                    // 0 for a string item
+    CHECK(evidence_mentions(q, "refused as malformed"));                // appendix A's get_attribute
     for (const auto& e : q.evidence) CHECK_FALSE(e.topic.empty());      // each with its DTU's topic
 
     const auto& s = item(r, "sampling");
@@ -247,9 +282,13 @@ TEST_CASE("a broken adapter fails the matching items with the DTU as evidence") 
     for (const auto& e : s.evidence) has_dtu = has_dtu || e.dtu.find("\"ch_fast\"") != std::string::npos;
     CHECK(has_dtu);
 
-    // NG 202 and silence on optional features are "not supported", not passes.
-    for (const char* key : {"event-register", "event-data", "event-unregister", "dynamic-register", "dynamic-sample",
-                            "dynamic-unregister"})
+    // A refused Register/Event without "id" and with a reason not of table 19.
+    const auto& ev = item(r, "event-register");
+    CHECK(ev.outcome == Outcome::fail);
+    CHECK(evidence_mentions(ev, "\"id\" is missing (table 49"));
+    CHECK(evidence_mentions(ev, "but error 401 is \"Node not exists\""));
+    // Silence on optional features is "not supported", not a pass.
+    for (const char* key : {"dynamic-register", "dynamic-sample", "dynamic-unregister"})
         CHECK(item(r, key).outcome == Outcome::not_supported);
     // Nothing that writes ran.
     for (const char* key : {"set", "model-set", "method-call", "method-status", "method-control", "method-result"}) {

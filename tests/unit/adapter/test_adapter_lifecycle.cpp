@@ -95,16 +95,17 @@ TEST_CASE("Probe/Set validates, persists, swaps the model and announces the new 
         f.start();
         CHECK(f.adapter->model()->device("dev-1")->version == "1.1.0");
     }
-    SECTION("an unusable model is refused with every problem in reason; nothing changes") {
+    SECTION("an unusable model is refused with every problem listed; nothing changes") {
         model["devices"][0]["dataItems"].push_back(Json{{"id", "pos"}, {"type", "POSITION"}});
         model["devices"][0]["configs"][2]["sampleInterval"] = -5;
         const Json r = f.app->request("Probe/Set/Request/test-dev/app", "Probe/Set/Response/test-dev/app",
                                       Json{{"@id", "bad"}, {"probe", model}});
         CHECK(r["code"] == "NG");
         CHECK(r["error"] == 412);
-        const std::string reason = r["reason"];
-        CHECK_THAT(reason, Catch::Contains("duplicate"));
-        CHECK_THAT(reason, Catch::Contains("sampleInterval"));
+        CHECK(r["reason"] == "syntax error");  // table 20: the table-19 string; the problems in privateInfo
+        const std::string problems = r["privateInfo"]["problems"];
+        CHECK_THAT(problems, Catch::Contains("duplicate"));
+        CHECK_THAT(problems, Catch::Contains("sampleInterval"));
         CHECK(f.adapter->model()->data_object("temp") == nullptr);
         CHECK_FALSE(std::filesystem::exists(std::filesystem::path(dir) / "model.json"));
     }

@@ -45,7 +45,7 @@ struct ServiceRig {
         REQUIRE(built.ok());
         model.install(*built);
         host = std::make_unique<FeatureHost>(FeatureHost{
-            dev, logger, clock, transport, runner, model, tap,
+            dev, logger, clock, transport, runner, model, tap, guard,
             [this](const ParsedTopic& topic, const Json& reply) {
                 (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
             },
@@ -77,6 +77,7 @@ struct ServiceRig {
     DriverRunner runner{driver, DriverRunner::Options{}, logger};
     ModelHost model{"", logger};
     SampleTap tap;
+    ValueGuard guard{logger};
     std::unique_ptr<FeatureHost> host;
     std::unique_ptr<Feature> service;
     int ids = 0;

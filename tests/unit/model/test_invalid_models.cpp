@@ -55,6 +55,10 @@ const std::map<std::string, Expected> kExpected = {
     {"missing-root-version", {C, "/version"}},
     {"missing-device-version", {C, "/devices/0/version"}},
     {"bad-version", {C, "/devices/0/version"}},
+    {"version-major-not-1", {C, "/devices/0/version"}},  // table 2: 1.x.x
+    {"channel-id-too-long", {C, "/devices/0/configs/0/id"}},  // tables 36/42: at most 16 bytes
+    {"channel-in-component-configs", {C, "/devices/0/components/0/configs/0"}},  // table 3
+    {"bad-source", {C, "/devices/0/components/0/dataItems/0/source"}},  // 6.2.5 note b
     {"bad-root-version", {C, "/version"}},
     {"version-not-numeric", {C, "/devices/0/version"}},
     {"empty-version", {C, "/devices/0/version"}},
@@ -72,7 +76,7 @@ const std::map<std::string, Expected> kExpected = {
     {"method-in-data-items", {C, "/devices/0/components/0/dataItems/2"}},
     {"channel-in-root-configs", {C, "/configs/1"}},
     {"channel-in-data-items", {C, "/devices/0/components/0/dataItems/2"}},
-    {"upload-less-than-sample", {C, "/devices/0/configs/0/uploadInterval"}},
+    {"upload-less-than-sample", {F, "/devices/0/configs/0/uploadInterval"}},  // such a channel never runs
     {"fractional-interval", {C, "/devices/0/configs/0/sampleInterval"}},
     {"missing-ids", {C, "/devices/0/configs/0/ids"}},
     {"ids-not-array", {C, "/devices/0/configs/0/ids"}},

@@ -72,21 +72,27 @@ TEST_CASE("aliases are normalized to chapter-6 values") {
               .size() == 1);
 }
 
-TEST_CASE("versions are normalized and checked") {
+TEST_CASE("versions are kept as written and checked against 1.x.x") {
     auto device_version = [](const std::string& v) {
         const std::string text = R"({"id":"r","type":"NC_LINK_ROOT","version":"1.2.3","devices":
           [{"id":"d","type":"MACHINE","guid":"g","version":)" + v + "}]}";
         return parse_model(text);
     };
-    const auto ok = device_version(R"("2.10.0")");
+    const auto ok = device_version(R"("1.10.0")");
     CHECK(ok.problems.empty());
-    CHECK(ok.model->devices()[0].version == "2.10.0");
+    CHECK(ok.model->devices()[0].version == "1.10.0");
+    // Table 2: the model file's version is of the form 1.x.x too.
+    const auto major = device_version(R"("2.10.0")");
+    CHECK(has_problem(major, Severity::conformance, "/devices/0/version"));
+    CHECK(major.model->devices()[0].version == "2.10.0");
+    const auto zero = device_version(R"("1.02.0")");
+    CHECK(has_problem(zero, Severity::conformance, "/devices/0/version"));
     CHECK(ok.model->root().version == "1.2.3");
     const auto short_form = device_version(R"("1.3")");
-    CHECK(short_form.model->devices()[0].version == "1.3.0");
+    CHECK(short_form.model->devices()[0].version == "1.3");  // kept as written
     CHECK(has_problem(short_form, Severity::conformance, "/devices/0/version"));
     const auto numeric = device_version("1.3");
-    CHECK(numeric.model->devices()[0].version == "1.3.0");
+    CHECK(numeric.model->devices()[0].version == "1.3");
     CHECK(numeric.count(Severity::conformance) == 2);  // not a string, not x.x.x
     const auto missing = parse_model(R"({"id":"r","type":"NC_LINK_ROOT","devices":
           [{"id":"d","type":"MACHINE","guid":"g"}]})");

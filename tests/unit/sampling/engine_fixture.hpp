@@ -49,8 +49,10 @@ public:
 
 struct EngineFixture {
     /// `other_driver`: read that driver instead of the CountingDriver.
+    /// `model`/`values`: the snapshot whose chapter-7 rules sampled values are checked against.
     explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false,
-                           std::shared_ptr<Driver> other_driver = nullptr) {
+                           std::shared_ptr<Driver> other_driver = nullptr,
+                           std::shared_ptr<const detail::ModelState> model = nullptr, detail::ValueGuard* values = nullptr) {
         driver = std::make_shared<CountingDriver>();
         runner = std::make_unique<detail::DriverRunner>(other_driver ? other_driver : std::shared_ptr<Driver>(driver),
                                                         detail::DriverRunner::Options{}, Logger{});
@@ -67,6 +69,8 @@ struct EngineFixture {
             sent.push_back(std::move(m));
         };
         deps.tap = &tap;
+        if (model) deps.model = [model] { return model; };
+        deps.values = values;
         engine = std::make_unique<detail::SamplingEngine>(std::move(deps));
     }
     ~EngineFixture() {

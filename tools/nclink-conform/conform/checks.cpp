@@ -1,4 +1,5 @@
 #include "conform/checks.hpp"
+#include "conform/checks_fidelity.hpp"
 
 #include "model/vocabulary.hpp"  // chapter-7 vocabularies (src/, linked from libnclink)
 
@@ -101,6 +102,7 @@ Problems check_status_keys(const Json& dtu) {
         out.push_back(fmt::format("\"error\" is {}, not a number (table 20)", show(*error)));
     if (code != dtu.end() && *code == "NG" && dtu.find("reason") == dtu.end() && dtu.find("error") == dtu.end())
         out.push_back("NG without \"reason\" or \"error\": the application cannot tell why");
+    for (auto& p : check_table19_reason(dtu)) out.push_back(std::move(p));
     return out;
 }
 
@@ -524,6 +526,8 @@ Problems check_sample_register_response(const Json& dtu, const Json& sent_id, st
     if (is_ok(dtu)) {
         auto id = str(dtu, "id");
         if (!id || id->empty()) out.push_back("code OK without a channel \"id\" (table 39)");
+    } else {
+        for (auto& p : check_id_in_refusal(dtu, "table 39")) out.push_back(std::move(p));
     }
     return out;
 }
@@ -537,6 +541,8 @@ Problems check_event_register_response(const Json& dtu, const Json& sent_id, std
     if (is_ok(dtu)) {
         auto id = str(dtu, "id");
         if (!id || id->empty()) out.push_back("code OK without an event \"id\" (table 49)");
+    } else {
+        for (auto& p : check_id_in_refusal(dtu, "table 49")) out.push_back(std::move(p));
     }
     return out;
 }

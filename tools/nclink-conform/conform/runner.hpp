@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ struct RunOptions {
     std::string method;               ///< method to call (with allow_write); "" = none
     std::optional<Json> method_args;  ///< its args (default: the model's `args`)
     Logger logger;                    ///< progress lines
+    /// Feature groups to run after the basics (connection, state, probe,
+    /// model file, query), by item key prefix: "sampling", "event",
+    /// "dynamic", "set", "model-set", "method". Empty: all. The others are
+    /// skipped. (Tests use it to repeat one group.)
+    std::set<std::string> only;
 };
 
 /// The filters the tester subscribes to before run(): every response, sample,

@@ -1,6 +1,6 @@
-// The feature items of run_conformance(): sampling (table 58), events (table
-// 59), dynamic sampling (table 60), data set (table 57 item 2), model set
+// The feature items of run_conformance(): sampling (table 58), dynamic sampling (table 60), data set (table 57 item 2), model set
 // (table 56 item 2) and methods (table 62).
+#include "conform/checks_fidelity.hpp"
 #include "conform/runner_impl.hpp"
 
 #include <nclink/dtu_common.hpp>
@@ -15,24 +15,11 @@
 namespace nclink::conform::detail {
 namespace {
 
-std::string join(const Problems& problems) {
-    std::string out;
-    for (const auto& p : problems) out += (out.empty() ? "" : "; ") + p;
-    return out;
-}
-
 constexpr const char* needs_write = "skipped: needs --allow-write (this item changes the machine, then restores it)";
 
 bool is_topic(const Captured& c, TopicKind kind) {
     auto t = parse_topic(c.message.topic);
     return t && t->kind == kind;
-}
-
-// A captured Sample DTU of a model channel of `dev`: its channel id.
-std::optional<std::string> model_channel_of(const Captured& c, const std::string& dev) {
-    auto t = parse_topic(c.message.topic);
-    if (!t || t->kind != TopicKind::sample || t->dev != dev || !t->channel) return std::nullopt;
-    return t->channel;
 }
 
 bool numbers_equal(const Json& a, const Json& b) {
@@ -41,6 +28,12 @@ bool numbers_equal(const Json& a, const Json& b) {
 }
 
 }  // namespace
+
+std::optional<std::string> model_channel_of(const Captured& c, const std::string& dev) {
+    auto t = parse_topic(c.message.topic);
+    if (!t || t->kind != TopicKind::sample || t->dev != dev || !t->channel) return std::nullopt;
+    return t->channel;
+}
 
 std::vector<ChannelSpec> Runner::channel_specs() const {
     std::vector<ChannelSpec> out;
@@ -126,132 +119,6 @@ void Runner::sampling() {
     if (s.outcome == Outcome::pass)
         s.summary = fmt::format("{} channel(s), {} Sample DTUs: columns, rows, beginTime continuity and upload pace match the model",
                                 specs.size(), dtus);
-}
-
-// ---- events (table 59) ----------------------------------------------------------------------
-
-std::string Runner::changing_item(bool* seen_changing) {
-    *seen_changing = true;
-    // 1. A sampled column whose values vary.
-    for (const auto& c : wire.collect(start_mark, [&](const Captured& m) { return model_channel_of(m, dev).has_value(); })) {
-        const auto* ch = model->channel(*model_channel_of(c, dev));
-        auto dtu = parse_object(c.message.payload);
-        if (!ch || !dtu || !dtu->contains("data") || !(*dtu)["data"].is_array()) continue;
-        const Json& data = (*dtu)["data"];
-        for (std::size_t k = 0; k < data.size() && k < ch->ids.size(); ++k) {
-            const Json& col = data[k];
-            if (!col.is_object() || !col.contains("data") || !col["data"].is_array()) continue;
-            const Json& v = col["data"];
-            const auto* obj = model->data_object(ch->ids[k]);
-            if (!obj || obj->kind != DataKind::single) continue;
-            for (std::size_t r = 1; r < v.size(); ++r)
-                if (v[r] != v[0] && !v[r].is_null() && !v[0].is_null()) return ch->ids[k];
-        }
-    }
-    // 2. A single item whose value differs from the Query item's answer.
-    std::vector<std::string> candidates;
-    for (const auto* obj : served_items(*model, *device))
-        if (obj->kind == DataKind::single && !obj->value && whole_values.count(obj->id)) candidates.push_back(obj->id);
-    for (std::size_t k = 0; k < candidates.size() && k < 64; ++k) {
-        std::string why;
-        auto now = query_value(candidates[k], Json(), &why);
-        if (now && *now != whole_values[candidates[k]]) return candidates[k];
-    }
-    *seen_changing = false;
-    if (!candidates.empty()) return candidates.front();
-    for (const auto* obj : served_items(*model, *device))
-        if (obj->kind == DataKind::single) return obj->id;
-    return {};
-}
-
-void Runner::events() {
-    auto& reg = item("event-register");
-    auto& data = item("event-data");
-    auto& unreg = item("event-unregister");
-    if (!device) {
-        for (auto* i : {&reg, &data, &unreg}) i->skip("no usable model");
-        return;
-    }
-    bool changing = false;
-    const std::string target = changing_item(&changing);
-    if (target.empty()) {
-        for (auto* i : {&reg, &data, &unreg}) i->skip("the model has no single-valued data object to watch");
-        return;
-    }
-    Json filters = Json::array({Json{{"type", "change"}}});
-    const auto before = wire.mark();  // an event may overtake the registration's answer
-    auto x = request_kind(TopicKind::event_register_request,
-                          Json{{"guid", dev}, {"id", target}, {"filters", filters}, {"triggerType", "always"}});
-    if (settle_unusable(reg, x, true)) {
-        const std::string why = reg.outcome == Outcome::fail ? "the registration failed" : "event registration is not supported";
-        for (auto* i : {&data, &unreg}) {
-            if (reg.outcome == Outcome::not_supported)
-                i->not_supported(why);
-            else
-                i->skip(why);
-        }
-        return;
-    }
-    if (auto problems = check_event_register_response(*x.dtu, x.sent_id, dev); !problems.empty())
-        fail_with(reg, join(problems), x);
-    if (!is_ok(*x.dtu)) {
-        fail_with(reg, fmt::format("a change event on \"{}\" was refused", target), x);
-        for (auto* i : {&data, &unreg}) i->skip("the registration failed");
-        return;
-    }
-    const std::string event_id = x.dtu->value("id", std::string());
-    if (event_id.empty()) {
-        for (auto* i : {&data, &unreg}) i->skip("the registration gave no event id");
-        return;
-    }
-    if (reg.outcome == Outcome::pass)
-        reg.summary = fmt::format("change event on \"{}\" registered as \"{}\"", target, event_id);
-
-    // Event data: the first events of this id (table 52).
-    const auto is_ours = [&](const Captured& m) {
-        auto t = parse_topic(m.message.topic);
-        if (!t || t->kind != TopicKind::event || t->dev != dev || (t->ex && *t->ex != ex)) return false;
-        auto id = parse_object(m.message.payload);
-        return id && id->value("id", std::string()) == event_id;
-    };
-    const auto window = std::max(opts.timeout, std::chrono::milliseconds(3000));
-    auto got = wire.wait_count(before, is_ours, 3, window);
-    if (got.empty()) {
-        if (changing)
-            data.fail(fmt::format("\"{}\" changes, but no Event \"{}\" arrived on {} within {} ms", target, event_id,
-                                  topics::event(dev, ex), window.count()));
-        else
-            data.skip(fmt::format("no event within {} ms, and \"{}\" was not seen changing (no item of the model was)", window.count(),
-                                  target));
-    } else {
-        for (const auto& c : got) {
-            auto dtu = parse_object(c.message.payload);
-            if (auto problems = check_event_data(*dtu, dev, event_id, target); !problems.empty()) {
-                fail_with(data, join(problems), c);
-                break;
-            }
-        }
-        if (data.outcome == Outcome::pass)
-            data.summary = fmt::format("{} Event DTU(s) for \"{}\" with the shape of table 52", got.size(), target);
-    }
-
-    // Unregister, then no more events.
-    auto u = request_kind(TopicKind::event_unregister_request, Json{{"guid", dev}, {"id", event_id}});
-    if (settle_unusable(unreg, u, true)) return;
-    if (auto problems = check_unregister_response(*u.dtu, u.sent_id, dev); !problems.empty()) fail_with(unreg, join(problems), u);
-    if (!is_ok(*u.dtu)) {
-        fail_with(unreg, fmt::format("unregistering event \"{}\" was refused", event_id), u);
-        return;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
-    const auto quiet_after = u.reply->at + std::chrono::milliseconds(300);
-    for (const auto& c : wire.collect(u.reply->seq, is_ours)) {
-        if (c.at > quiet_after) {
-            fail_with(unreg, fmt::format("Event \"{}\" still arrives after Unregister/Event was answered OK", event_id), c);
-            break;
-        }
-    }
-    if (unreg.outcome == Outcome::pass) unreg.summary = fmt::format("event \"{}\" unregistered; no event after it", event_id);
 }
 
 // ---- dynamic sampling (table 60) ---------------------------------------------------------------
@@ -434,6 +301,8 @@ void Runner::set() {
             s.fail(fmt::format("{}: Set of a setable item to {} answered NG", obj->id, expect.dump()), x.reply->message.topic, e->dump());
             continue;
         }
+        if (auto echo = check_set_echo(*e, params); !echo.empty())
+            s.fail(fmt::format("{}: {}", obj->id, join(echo)), x.reply->message.topic, e->dump());
         std::string why;
         auto now = query_value(obj->id, check_params, &why);
         if (!now)
@@ -509,6 +378,7 @@ void Runner::model_set() {
         m.fail("the device cannot be found in the probe's \"devices\"");
         return;
     }
+    refused_model_set(m);
     const std::string old_version = device->version;
     const std::string new_version = bump_version(old_version);
     (*raw_device)["version"] = new_version;

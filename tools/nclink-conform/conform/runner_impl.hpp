@@ -1,6 +1,6 @@
 // Internals of run_conformance(): the state shared by the item functions
 // (runner.cpp: connection, state, model, query; runner_features.cpp:
-// sampling, events, dynamic sampling, set, model set, methods).
+// sampling, dynamic sampling, set, model set, methods; runner_events.cpp: events).
 #pragma once
 
 #include "conform/checks.hpp"
@@ -66,7 +66,15 @@ public:
     // ---- helpers for features ----
     /// An item seen changing (sample columns, or two queries apart), else a fallback.
     std::string changing_item(bool* seen_changing);
+    /// Whether item `id` was seen changing in what arrived since `mark` (its
+    /// Sample rows stamped from `since_wall_ms` on), or between `before` (its
+    /// value then) and a Query now.
+    bool moved_since(const std::string& id, std::uint64_t mark, const std::optional<Json>& before, std::int64_t since_wall_ms);
     std::vector<ChannelSpec> channel_specs() const;
+    /// Chapter 7 on the values answered, and the appendix A Query forms (runner_fidelity.cpp).
+    void query_fidelity(ItemResult& q);
+    /// A model that cannot be valid is refused with a table-19 reason (8.2.10, table 20).
+    void refused_model_set(ItemResult& m);
     /// Whole-item Query of one id: its value, or why not.
     std::optional<Json> query_value(const std::string& id, const Json& params, std::string* why);
 
@@ -83,6 +91,11 @@ public:
     std::uint64_t start_mark = 0;            ///< first message of the run
     std::set<std::string> sent_ids;          ///< "@id"s of our requests (late answers are not strays)
 };
+
+/// Problems joined with "; ".
+std::string join(const Problems& problems);
+/// A captured Sample DTU of a model channel of `dev`: its channel id.
+std::optional<std::string> model_channel_of(const Captured& c, const std::string& dev);
 
 /// "<topic>" + payload of a captured message, for evidence.
 Evidence evidence_of(const Captured& c, std::string note);
