@@ -147,10 +147,11 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
 
 void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply) {
     const std::string payload = reply.dump(-1, ' ', false, Json::error_handler_t::replace);
-    bool ok = true;
+    std::vector<Message> response;
     for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
-        ok = transport->publish(Message{topic, payload, 1, false}).ok() && ok;
-    fire(ok ? AdapterEvent::request_answered : AdapterEvent::request_answer_failed);
+        response.push_back(Message{topic, payload, 1, false});
+    // Sent, or kept for later: the state machine's row decides (seed 004 69, 74, 79).
+    fire(AdapterEvent::request_handled, std::move(response));
 }
 
 
