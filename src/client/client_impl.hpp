@@ -163,12 +163,12 @@ struct NCLINK_LOCAL Client::Impl {
     /// Records a registration being made (unless the cache itself makes it
     /// again); returns `done` wrapped to note the id the adapter gives.
     Completion<std::string> stand_event(const std::string& dev, const Client::EventRegistration& registration,
-                                        const Client::EventHandler& handler, const RequestOptions& options,
+                                        const Client::EventHandler& handler, const RequestOptions& request_options,
                                         Completion<std::string> done);
-    Completion<Client::SamplingChannel> stand_channel(const std::string& dev, const std::vector<std::string>& ids,
+    Completion<Client::SamplingChannel> stand_channel(const std::string& dev, const std::vector<std::string>& item_ids,
                                                       std::chrono::milliseconds sample_interval,
                                                       std::chrono::milliseconds upload_interval,
-                                                      const SampleHandler& handler, const RequestOptions& options,
+                                                      const SampleHandler& handler, const RequestOptions& request_options,
                                                       Completion<Client::SamplingChannel> done);
     /// The application unregisters: forgets the record; returns the id (or
     /// channel) the adapter knows now.

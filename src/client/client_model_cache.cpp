@@ -155,11 +155,11 @@ void Client::Impl::reregister(const std::string& dev) {
 }
 
 Completion<std::string> Client::Impl::stand_event(const std::string& dev, const Client::EventRegistration& registration,
-                                                  const Client::EventHandler& handler, const RequestOptions& options,
+                                                  const Client::EventHandler& handler, const RequestOptions& request_options,
                                                   Completion<std::string> done) {
     if (t_reregistering || is_once(registration.trigger)) return done;
     if (!watch_device(dev)) log.warn("client: {} cannot be watched: its events will not be registered again", dev);
-    auto record = std::make_shared<StandingEvent>(StandingEvent{dev, registration, handler, options, {}});
+    auto record = std::make_shared<StandingEvent>(StandingEvent{dev, registration, handler, request_options, {}});
     return [this, record, done = std::move(done)](Result<std::string> id) {
         if (id) {
             std::lock_guard<std::mutex> lock(model_cache.mutex);
@@ -171,15 +171,15 @@ Completion<std::string> Client::Impl::stand_event(const std::string& dev, const 
     };
 }
 
-Completion<Client::SamplingChannel> Client::Impl::stand_channel(const std::string& dev, const std::vector<std::string>& ids,
+Completion<Client::SamplingChannel> Client::Impl::stand_channel(const std::string& dev, const std::vector<std::string>& item_ids,
                                                                 std::chrono::milliseconds sample_interval,
                                                                 std::chrono::milliseconds upload_interval,
-                                                                const SampleHandler& handler, const RequestOptions& options,
+                                                                const SampleHandler& handler, const RequestOptions& request_options,
                                                                 Completion<Client::SamplingChannel> done) {
     if (t_reregistering) return done;
     if (!watch_device(dev)) log.warn("client: {} cannot be watched: its channels will not be registered again", dev);
     auto record = std::make_shared<StandingChannel>(
-        StandingChannel{dev, ids, sample_interval, upload_interval, handler, options, {}});
+        StandingChannel{dev, item_ids, sample_interval, upload_interval, handler, request_options, {}});
     return [this, record, done = std::move(done)](Result<Client::SamplingChannel> channel) {
         if (channel) {
             std::lock_guard<std::mutex> lock(model_cache.mutex);
