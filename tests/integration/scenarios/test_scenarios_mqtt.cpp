@@ -104,7 +104,7 @@ std::size_t count_on(std::vector<Message>& inbox, std::mutex& mutex, const std::
 
 }  // namespace
 
-TEST_CASE("8.3.3 scenario 2: the application's link fails after its request; the adapter answers, the response waits for it") {
+TEST_CASE("8.3.3 scenario 2: the application's link fails after its request, the adapter answers, the response waits for it") {
     Rig rig;
     auto adapter = rig.start_adapter();
     std::mutex mutex;
@@ -147,7 +147,7 @@ TEST_CASE("8.3.3 scenario 2: the application's link fails after its request; the
     app->stop(0ms);
 }
 
-TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops); afterwards the adapter registers again and queued requests are answered") {
+TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops), afterwards the adapter registers again and queued requests are answered") {
     MosquittoOptions persistent;
     persistent.persistent = true;
     Rig rig(persistent);

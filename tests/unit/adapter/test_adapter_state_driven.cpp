@@ -126,7 +126,7 @@ TEST_CASE("adapter driven: before the first connection responses are kept, then 
     CHECK(version < response);
 }
 
-TEST_CASE("adapter driven: normal answers at once (69); a lost link keeps answers until it is back (70, 79, 81)") {
+TEST_CASE("adapter driven: normal answers at once (69), a lost link keeps answers until it is back (70, 79, 81)") {
     Driven d;
     d.set_link(LinkState::connected);
     d.query("q1");
@@ -163,7 +163,7 @@ TEST_CASE("adapter driven: a response the link refuses moves to request state an
     REQUIRE(eventually([&] { return d.adapter->state() == AdapterState::normal; }));
 }
 
-TEST_CASE("adapter driven: request state and a lost link keep the responses; reconnection sends them (75, 76)") {
+TEST_CASE("adapter driven: request state and a lost link keep the responses, reconnection sends them (75, 76)") {
     Driven d;
     d.set_link(LinkState::connected);
     d.refuse(true);

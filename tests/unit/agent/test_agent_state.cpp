@@ -102,7 +102,7 @@ TEST_CASE("agent table: a link row lands where the state derived from presence i
         }
 }
 
-TEST_CASE("agent driven: stats name the state; a response for an offline application is held (42)") {
+TEST_CASE("agent driven: stats name the state, a response for an offline application is held (42)") {
     AgentFixture f;
     CHECK(f.agent->stats().state == "normal");
     auto mill = f.peer("mill-1", offline_will("mill-1"));
