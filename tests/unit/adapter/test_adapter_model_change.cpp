@@ -48,6 +48,7 @@ TEST_CASE("replace_model validates, swaps, persists and announces the new versio
     Json model = test_model();
     model["devices"][0]["version"] = "1.1.0";
     model["devices"][0]["dataItems"].push_back(Json{{"id", "temp"}, {"type", "TEMPERATURE"}, {"value", 21.5}});
+    (void)f.app->wait("Probe/Version/test-dev");  // the one of the connection, first
     const auto versions = f.app->on("Probe/Version/test-dev").size();
     auto replaced = f.adapter->replace_model(model.dump());
     REQUIRE(replaced.ok());
@@ -63,6 +64,7 @@ TEST_CASE("replace_model refuses an invalid model with every problem, and nothin
     Json model = test_model();
     model["devices"][0]["dataItems"].push_back(Json{{"id", "pos"}, {"type", "POSITION"}});  // duplicate id
     model["devices"][0]["configs"][2]["sampleInterval"] = -5;
+    (void)f.app->wait("Probe/Version/test-dev");  // the one of the connection, first
     const auto versions = f.app->on("Probe/Version/test-dev").size();
     auto replaced = f.adapter->replace_model(model.dump());
     REQUIRE_FALSE(replaced.ok());

@@ -5,6 +5,7 @@
 #include "adapter_fixture.hpp"
 
 #include <deque>
+#include <fstream>
 
 using namespace nclink;
 using namespace nclink::test;
