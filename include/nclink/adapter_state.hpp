@@ -1,4 +1,4 @@
-// The adapter state machine of the NC-Link state-machine text (seed 004,
+// The adapter state machine of the NC-Link state-machine text (docs/state-machines.md,
 // items 64-82): initial, normal, request, disconnected. The table is data
 // (src/adapter/adapter_state.cpp): one row per state and event, naming the
 // next state, the actions and the item of the text it follows. The adapter
@@ -56,7 +56,7 @@ struct NCLINK_API AdapterTableRow {
     AdapterEvent event;
     AdapterState next;
     unsigned actions;
-    const char* source;  ///< the item of seed 004 (or the clause) the row follows, "nclink" for additions
+    const char* source;  ///< the item of the state-machine text (or the clause) the row follows, "nclink" for additions
 };
 
 /// The whole table: every state x event pair exactly once. Pure data.

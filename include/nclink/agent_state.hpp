@@ -1,4 +1,4 @@
-// The agent state machine of the NC-Link state-machine text (seed 004, items
+// The agent state machine of the NC-Link state-machine text (docs/state-machines.md, items
 // 28-63): initial, normal, application down, adapter down, both down. The
 // agent keeps one such state for every pair of an application and an
 // adapter that talk through it, derived from who is online (8.2.16); the
@@ -55,7 +55,7 @@ struct NCLINK_API AgentTableRow {
     AgentEvent event;
     AgentState next;
     unsigned actions;
-    const char* source;  ///< the item of seed 004 the row follows, or why nclink differs
+    const char* source;  ///< the item of the state-machine text the row follows, or why nclink differs
 };
 
 struct NCLINK_API AgentTable {

@@ -3,7 +3,7 @@
 //   adapter.cpp           the public facade and the lifecycle (start/stop,
 //                         model load, driver open, transport, features)
 //   adapter_link.cpp      the link: online state, registration, Probe/Version,
-//                         the seed-004 state machine, application liveness
+//                         the state-machine state machine, application liveness
 //   adapter_requests.cpp  request intake: filters (retain, dedup), routing to
 //                         a worker or the driver's worker, answers
 //   adapter_probe_set.cpp Probe/Set: a new model validated, persisted, swapped
@@ -82,7 +82,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     // ---- state (mutex)
     mutable std::mutex mutex;
     AdapterState state = AdapterState::initial;
-    detail::ResponseCache responses{config.offline_buffer_bytes};  // seed 004 items 75, 79: kept while the link will not take them
+    detail::ResponseCache responses{config.offline_buffer_bytes};  // state-machine text items 75, 79: kept while the link will not take them
     std::vector<ModelListener> listeners;
     bool started = false;
     bool stopped = false;
@@ -107,7 +107,7 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- the link (adapter_link.cpp)
     void on_link(LinkState link, std::string_view detail);  ///< transport thread; never blocks
-    /// Runs the seed-004 table: takes the row of (state, event), moves to
+    /// Runs the state-machine table: takes the row of (state, event), moves to
     /// its next state and performs its actions. `response` is the response
     /// at hand for request_handled/response_failed. Any thread.
     void fire(AdapterEvent event, std::vector<Message> response = {});

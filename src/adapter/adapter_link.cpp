@@ -1,6 +1,6 @@
 // The adapter's link to the broker and the other terminals: the retained
 // online state (8.2.16), registration with an agent (8.2.1/8.2.2),
-// Probe/Version (8.2.5), the seed-004 state machine, and application
+// Probe/Version (8.2.5), the state-machine state machine, and application
 // liveness (8.2.18.3).
 #include "adapter/adapter_impl.hpp"
 

@@ -125,7 +125,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                 }
             }
             // Requests of features this adapter does not run: never
-            // silence, always an answer (WIRE.md).
+            // silence, always an answer (docs/wire.md "Error answers").
             ++rejected;
             reply = make_error_reply(topic.kind, peek_message_id(payload), dev,
                                      make_error(ErrorCode::unavailable, "not supported by this adapter"));
@@ -150,7 +150,7 @@ void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply)
     std::vector<Message> response;
     for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
         response.push_back(Message{topic, payload, 1, false});
-    // Sent, or kept for later: the state machine's row decides (seed 004 69, 74, 79).
+    // Sent, or kept for later: the state machine's row decides (the state-machine text 69, 74, 79).
     fire(AdapterEvent::request_handled, std::move(response));
 }
 

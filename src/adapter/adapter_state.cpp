@@ -1,4 +1,4 @@
-// The adapter state machine as data: seed 004 items 64-82, one row per state
+// The adapter state machine as data: state-machine text items 64-82, one row per state
 // and event. Rows the text has no item for say why they exist ("nclink", or
 // "cannot happen" where the adapter's start order rules the event out).
 // docs/standard-coverage.md lists each row.

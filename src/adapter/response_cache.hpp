@@ -1,4 +1,4 @@
-// Responses the adapter keeps while the link will not take them (seed 004
+// Responses the adapter keeps while the link will not take them (the state-machine text
 // items 75, 79: "cache the response DTU"; 76, 81: "send the cached
 // responses"). Bounded by bytes, the same budget as the transport's offline
 // buffer (AdapterConfig::offline_buffer_bytes): past it the oldest go first

@@ -10,7 +10,7 @@ using namespace agent_detail;
 void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.retained) {
         ++counters.retained;
-        return;  // WIRE.md: never act on a replayed request
+        return;  // docs/wire.md: never act on a replayed (retained) request
     }
     if (topic.ex && *topic.ex == config.agent_id) return;  // our own model fetch
     if (topic.ex) alive(*topic.ex, Kind::application, out);
@@ -78,7 +78,7 @@ void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& o
     const AgentState pair = pair_state(topic.ex, topic.dev);
     if (agent_transition(pair, AgentEvent::response_received).actions & agent_action_hold_response) {
         // The broker keeps it in the application's session (QoS 1) until it
-        // is back (seed 004 42, 58; 8.3.2): counted, nothing to send now.
+        // is back (the state-machine text 42, 58; 8.3.2): counted, nothing to send now.
         ++counters.held;
         log.debug("agent: {} -> {} is {}: {} held for the application", topic.ex.value_or(""), topic.dev,
                   to_string(pair), to_string(topic.kind));

@@ -174,7 +174,7 @@ struct NCLINK_LOCAL Agent::Impl {
 
     void on_response(const ParsedTopic& topic, const Message& m, Out& out);
 
-    // The seed-004 state of the pair (application `ex`, adapter `dev`) from
+    // The state-machine state of the pair (application `ex`, adapter `dev`) from
     // who is online now; "unknown" counts as online (nothing said otherwise).
     AgentState pair_state(const std::optional<std::string>& ex, const std::string& dev) const {
         if (!started_serving) return AgentState::initial;

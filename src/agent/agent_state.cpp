@@ -1,4 +1,4 @@
-// The agent state machine as data: seed 004 items 30-63, one row per state
+// The agent state machine as data: state-machine text items 30-63, one row per state
 // and event. In nclink the broker carries every DTU; the agent decides what
 // happens to a request whose adapter is unreachable and watches the rest.
 #include <nclink/agent_state.hpp>

@@ -1,4 +1,4 @@
-// The adapter state machine, row by row (seed 004 items 66-82, and the rows
+// The adapter state machine, row by row (state-machine text items 66-82, and the rows
 // nclink adds): every state x event pair of the table is checked here, and
 // the rows are checked to drive the adapter in test_adapter_state_driven.cpp.
 #include <nclink/adapter_state.hpp>

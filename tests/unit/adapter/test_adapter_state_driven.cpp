@@ -1,4 +1,4 @@
-// The seed-004 table drives the adapter: what goes out, and in which order,
+// The state-machine table drives the adapter: what goes out, and in which order,
 // follows the row of (state, event). A scripted transport lets the test take
 // the link down and refuse publishes while requests still arrive, which a
 // real broker cannot arrange.

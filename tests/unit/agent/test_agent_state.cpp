@@ -1,4 +1,4 @@
-// The agent state machine (seed 004 items 28-63): every row of the table,
+// The agent state machine (state-machine text items 28-63): every row of the table,
 // its agreement with the state derived from who is online, and the rows
 // driving the agent (a request held for an unreachable adapter, a response
 // held for an offline application).
