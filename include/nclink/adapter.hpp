@@ -91,6 +91,27 @@ public:
 
     void add_model_listener(ModelListener listener);
 
+    /// Replaces the model at run time (a new tool, an added axis): `model_json`
+    /// is a whole model file's text. It is validated exactly as at start (and
+    /// as Probe/Set, 8.2.9.3: fatal problems, and conformance problems when
+    /// strict, refuse it with every problem listed; nothing changes then),
+    /// persisted, and swapped in atomically: a request is answered entirely
+    /// from the old model or entirely from the new one. Then Probe/Version is
+    /// announced (8.2.5.3; when the link is down, on reconnection), model
+    /// sample channels are re-planned, and event registrations and dynamic
+    /// channels whose items no longer resolve are released, each owner told
+    /// with 401 (docs/wire.md). Returns the new model's version.
+    /// Errors: 412 invalid model, 401 the configured device is not in it,
+    /// 202 before start() or after stop(). Thread-safe; serialized with
+    /// Probe/Set and itself.
+    Result<std::string> replace_model(const std::string& model_json);
+    /// The same, from a JSON Patch (RFC 6902: add/remove/replace/move/copy/test
+    /// operations) applied to the current model as Probe/Query returns it,
+    /// e.g. [{"op":"add","path":"/devices/0/components/-","value":{...}}].
+    /// Errors: 405 `patch` is not an array of operations, 413 an operation
+    /// does not apply (bad path, failed test), then as replace_model().
+    Result<std::string> patch_model(const Json& patch);
+
     /// Push-mode handle of a model sample channel listed in
     /// SamplingConfig::push_channels (docs/sampling.md). Call after start();
     /// the handle's push() is wait-free and safe from a real-time thread.

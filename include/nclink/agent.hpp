@@ -124,6 +124,8 @@ struct NCLINK_API AgentStats {
     std::uint64_t malformed = 0;             ///< undecodable DTUs (answered NG where there is a topic to answer on)
     std::uint64_t ignored_retained = 0;      ///< requests ignored for their retain flag
     std::size_t pending = 0;                 ///< requests waiting for the adapter's answer now
+    std::uint64_t held_responses = 0;        ///< responses for an offline application (its session keeps them; the state-machine text 42, 58)
+    std::string state = "initial";           ///< "initial" before start, then "normal" (the state-machine text item 31; pairs: include/nclink/agent_state.hpp)
     TransportStats transport;
 };
 

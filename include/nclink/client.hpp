@@ -287,6 +287,33 @@ public:
     std::size_t event_registrations() const;
     // ==== end of events ===============================================================
 
+    // ==== model cache (8.2.5.3, 8.2.7.3, 8.3.6; src/client/client_model_cache.cpp, docs/client.md) ====
+    /// Gets each model the cache fetched for a followed device (dispatch thread).
+    using ModelHandler = std::function<void(const std::string& dev, const Json& model)>;
+    /// Follows `dev`'s model: probes it now, and again whenever the adapter
+    /// announces (Probe/Version) a version other than the cached one (8.2.7.3:
+    /// "the version differs from the cached model's: fetch it again").
+    /// `on_model` gets every model fetched. Idempotent per device (a second
+    /// call replaces `on_model`). Thread-safe.
+    Result<void> follow_model(const std::string& dev, ModelHandler on_model = {});
+    /// The cached model of a followed device (nullopt: not fetched yet).
+    std::optional<Json> cached_model(const std::string& dev) const;
+    /// Its version ("" when none is cached).
+    std::string cached_model_version(const std::string& dev) const;
+    /// Probes made because a version changed, and registrations made again
+    /// after an adapter restart (see register_event/register_sampling).
+    std::uint64_t model_reprobes() const;
+    std::uint64_t reregistrations() const;
+    // Event registrations and dynamic sample channels this client makes are
+    // standing: when their adapter goes offline and then announces its
+    // version again (a restart, or a reconnection: 8.3.6), the client sends
+    // Unregister for the old id (401 after a restart: nothing to remove) and
+    // registers again with the same callback, without the application doing
+    // anything. The ids the application got keep working in
+    // unregister_event()/unregister_sampling(). A registration the adapter
+    // refuses when made again (its item gone from the model: 401) is dropped.
+    // ==== end of model cache ==========================================================
+
     // ---- introspection -----------------------------------------------------------
     const std::string& ex_cid() const noexcept;
     LinkState link_state() const;

@@ -11,6 +11,9 @@
 #include <nclink/driver_plugin_loader.hpp>
 #include <nclink/mqtt_transport.hpp>
 
+#include <nclink/model_version.hpp>
+
+#include <filesystem>
 #include <random>
 
 namespace nclink {
@@ -72,14 +75,52 @@ Result<void> Adapter::Impl::start() {
 }
 
 
+namespace {
+
+/// The first device's version of a model file, "" when it cannot be read.
+std::string device_version_of(const LoadResult& loaded, const std::string& device_id) {
+    if (!loaded.model || loaded.model->devices().empty()) return {};
+    const Device* device = device_id.empty() ? &loaded.model->devices().front() : loaded.model->device(device_id);
+    return device ? device->version : std::string();
+}
+
+}  // namespace
+
+// Which model to serve: the one a Probe/Set or replace_model() persisted
+// (it is the current one for this device), unless the vendor ships a model
+// with a newer version (a firmware update): then the shipped one wins and
+// replaces the persisted file. Equal, older, or versions that cannot be
+// ordered keep the persisted one. The log says which was used and why.
 Result<LoadResult> Adapter::Impl::load_model() {
-    std::string path = host.persisted_model_path();
-    if (!path.empty())
-        logger.info("using the model of the last Probe/Set, {}", path);
-    else
-        path = config.model_path;
-    if (path.empty()) return make_error(ErrorCode::parameter_missing, "no model file configured");
-    LoadResult loaded = load_model_file(path);
+    std::string path = config.model_path;
+    const std::string persisted = host.persisted_model_path();
+    LoadResult loaded;
+    bool adopt_shipped = false;
+    if (!persisted.empty()) {
+        LoadResult kept = load_model_file(persisted);
+        LoadResult shipped = config.model_path.empty() ? LoadResult{} : load_model_file(config.model_path);
+        const std::string kept_version = device_version_of(kept, config.device_id);
+        const std::string shipped_version = device_version_of(shipped, config.device_id);
+        const auto order = compare_model_versions(shipped_version, kept_version);
+        if (shipped.model && (!kept.model || (order && *order > 0))) {
+            logger.info("using the shipped model {} (version {}): newer than the persisted {} (version {})",
+                        config.model_path, shipped_version, persisted, kept_version.empty() ? "?" : kept_version);
+            loaded = std::move(shipped);
+            adopt_shipped = true;
+        } else {
+            logger.info("using the persisted model {} (version {}) of the last model change{}", persisted,
+                        kept_version,
+                        shipped.model ? fmt::format("; the shipped {} has version {}", config.model_path,
+                                                    shipped_version)
+                                      : std::string());
+            path = persisted;
+            loaded = std::move(kept);
+        }
+    } else {
+        if (path.empty()) return make_error(ErrorCode::parameter_missing, "no model file configured");
+        loaded = load_model_file(path);
+        logger.info("using the model {} (version {})", path, device_version_of(loaded, config.device_id));
+    }
     for (const auto& p : loaded.problems) {
         const auto level = p.severity == Severity::warning ? LogLevel::debug : LogLevel::warn;
         logger.log(level, "{}:{}: {}: {}", path, p.pointer.empty() ? "/" : p.pointer, to_string(p.severity), p.message);
@@ -88,6 +129,12 @@ Result<LoadResult> Adapter::Impl::load_model() {
     if (!refused.empty() || !loaded.model)
         return make_error(ErrorCode::syntax_error,
                           fmt::format("model {} refused{}: {}", path, config.strict ? " (strict)" : "", refused));
+    if (adopt_shipped) {
+        // The persisted file is stale from now on: remove it so the next
+        // start does not weigh it again.
+        std::error_code ec;
+        std::filesystem::remove(persisted, ec);
+    }
     return loaded;
 }
 

@@ -3,7 +3,7 @@
 //   adapter.cpp           the public facade and the lifecycle (start/stop,
 //                         model load, driver open, transport, features)
 //   adapter_link.cpp      the link: online state, registration, Probe/Version,
-//                         the seed-004 state machine, application liveness
+//                         the state-machine state machine, application liveness
 //   adapter_requests.cpp  request intake: filters (retain, dedup), routing to
 //                         a worker or the driver's worker, answers
 //   adapter_probe_set.cpp Probe/Set: a new model validated, persisted, swapped
@@ -15,6 +15,7 @@
 #include "adapter/dedup_window.hpp"
 #include "adapter/model_host.hpp"
 #include "adapter/registration.hpp"
+#include "adapter/response_cache.hpp"
 #include "core/deadline_watchdog.hpp"
 #include "core/executor.hpp"
 #include "driver/driver_runner.hpp"
@@ -83,6 +84,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     // ---- state (mutex)
     mutable std::mutex mutex;
     AdapterState state = AdapterState::initial;
+    detail::ResponseCache responses{config.offline_buffer_bytes};  // state-machine text items 75, 79: kept while the link will not take them
     std::vector<ModelListener> listeners;
     bool started = false;
     bool stopped = false;
@@ -107,7 +109,11 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- the link (adapter_link.cpp)
     void on_link(LinkState link, std::string_view detail);  ///< transport thread; never blocks
-    void fire(AdapterEvent event);
+    /// Runs the state-machine table: takes the row of (state, event), moves to
+    /// its next state and performs its actions. `response` is the response
+    /// at hand for request_handled/response_failed. Any thread.
+    void fire(AdapterEvent event, std::vector<Message> response = {});
+    void flush_responses();
     std::string next_msg_id();
     void send_registration();
     void publish_version();
@@ -130,6 +136,11 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- Probe/Set (adapter_probe_set.cpp)
     ProbeSetResponse probe_set(const ProbeSetRequest& request);
+    /// Validates, persists and swaps in a whole model (Probe/Set and
+    /// Adapter::replace_model/patch_model); returns its version. `origin`
+    /// names the caller in logs.
+    Result<std::string> adopt_model(const std::string& text, std::string_view origin);
+    std::mutex model_change_mutex;  // one model change at a time
 };
 
 }  // namespace nclink

@@ -1,29 +1,82 @@
 // The adapter's link to the broker and the other terminals: the retained
 // online state (8.2.16), registration with an agent (8.2.1/8.2.2),
-// Probe/Version (8.2.5), the seed-004 state machine, and application
+// Probe/Version (8.2.5), the state-machine state machine, and application
 // liveness (8.2.18.3).
 #include "adapter/adapter_impl.hpp"
 
 namespace nclink {
 
-// Thread: transport callback/supervisor thread. Never blocks.
+// Thread: transport callback/supervisor thread. Never blocks. What a
+// reconnection announces (state, registration, version) and when the kept
+// responses go is the table's row, not code here.
 void Adapter::Impl::on_link(LinkState link, std::string_view) {
-    if (link == LinkState::connected) {
-        (void)transport->publish(state_message("online"));
-        send_registration();
-        publish_version();
+    if (link == LinkState::connected)
         fire(AdapterEvent::link_restored);
-    } else if (link == LinkState::disconnected) {
+    else if (link == LinkState::disconnected)
         fire(AdapterEvent::link_lost);
-    }
     for (auto& feature : features) feature->on_link(link);
 }
 
-void Adapter::Impl::fire(AdapterEvent event) {
+// The row is taken and the response kept under the state mutex, so a
+// response handled while the link comes back is either kept before the
+// flush takes the cache or sent after the state is normal again: never
+// stranded in the cache.
+void Adapter::Impl::fire(AdapterEvent event, std::vector<Message> response) {
+    unsigned actions = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        const AdapterState before = state;
+        const auto t = adapter_transition(before, event);
+        actions = t.actions;
+        state = t.next;
+        if (t.next != before)
+            logger.info("adapter state: {} -> {} ({})", to_string(before), to_string(t.next), to_string(event));
+        if (actions & action_cache_response)
+            for (auto& m : response) responses.keep(std::move(m));
+    }
+    // In the row's order: who we are first, then what was kept (8.3.6: the
+    // adapter registers again before anything else goes out).
+    if (actions & action_announce_online) (void)transport->publish(state_message("online"));
+    if (actions & action_register) send_registration();
+    if (actions & action_announce_version) publish_version();
+    if (actions & action_send_response) {
+        std::vector<Message> failed;
+        for (auto& m : response)
+            if (!transport->publish(m).ok()) failed.push_back(std::move(m));
+        if (!failed.empty()) fire(AdapterEvent::response_failed, std::move(failed));
+    }
+    if (actions & action_flush_cached) flush_responses();
+}
+
+// Sends what was kept, oldest first. A response the link refuses again is
+// kept again (unless it can never fit: larger than the whole buffer), and
+// the state stays `request`; once all went, `cache_flushed` returns the
+// adapter to `normal`.
+void Adapter::Impl::flush_responses() {
+    std::vector<Message> kept;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        kept = responses.take_all();
+    }
+    std::vector<Message> failed;
+    for (auto& m : kept) {
+        auto sent = transport->publish(m);
+        if (sent.ok()) continue;
+        if (sent.error().code == ErrorCode::memory_configured) {
+            logger.warn("response on {} dropped: larger than the offline buffer", m.topic);
+            continue;
+        }
+        failed.push_back(std::move(m));
+    }
+    if (failed.empty()) {
+        fire(AdapterEvent::cache_flushed);
+        return;
+    }
     std::lock_guard<std::mutex> lock(mutex);
-    const auto t = adapter_transition(state, event);
-    if (t.next != state) logger.info("adapter state: {} -> {} ({})", to_string(state), to_string(t.next), to_string(event));
-    state = t.next;
+    // Back in front of anything kept meanwhile, in the original order.
+    auto newer = responses.take_all();
+    for (auto& m : failed) responses.keep(std::move(m));
+    for (auto& m : newer) responses.keep(std::move(m));
 }
 
 std::string Adapter::Impl::next_msg_id() { return msg_id_prefix + std::to_string(++msg_counter); }
@@ -64,6 +117,7 @@ void Adapter::Impl::housekeep() {
                        config.register_timeout.count(), tick.gave_up.count());
         if (tick.resend) send_registration();
         for (const auto& ex : applications->expire(now)) application_gone(ex, "silent for the application lease");
+        if (transport->state() == LinkState::connected) fire(AdapterEvent::retry_due);
         lock.lock();
         if (housekeeping_stopping) break;
         housekeeping_wake.wait_for(lock, std::chrono::milliseconds(50));

@@ -156,10 +156,11 @@ void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply)
 }
 
 void Adapter::Impl::respond_text(const ParsedTopic& request_topic, const std::string& payload) {
-    bool ok = true;
+    std::vector<Message> response;
     for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
-        ok = transport->publish(Message{topic, payload, 1, false}).ok() && ok;
-    fire(ok ? AdapterEvent::request_answered : AdapterEvent::request_answer_failed);
+        response.push_back(Message{topic, payload, 1, false});
+    // Sent, or kept for later: the state machine's row decides (the state-machine text 69, 74, 79).
+    fire(AdapterEvent::request_handled, std::move(response));
 }
 
 

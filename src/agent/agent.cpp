@@ -34,6 +34,12 @@ Result<void> Agent::Impl::start() {
         log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id,
                  registrar->all().size(), models.all().size(),
                  store.enabled() ? config.state_dir : std::string("(not persisted)"));
+        // Seed 004 item 31: the registrations were checked (read) above; the
+        // pairs leave `initial` and follow who is online from now on.
+        const auto row = agent_transition(AgentState::initial, AgentEvent::initialized);
+        started_serving = row.next != AgentState::initial;
+        log.info("agent {}: state {} -> {} (initialized)", config.agent_id, to_string(AgentState::initial),
+                 to_string(row.next));
     }
     if (!transport) {
         auto made = make_mqtt_transport(mqtt_options(), log);
@@ -147,7 +153,9 @@ AgentStats Agent::stats() const {
     {
         std::lock_guard<std::mutex> lock(impl_->mutex);
         s.pending = impl_->pending.size();
+        s.state = std::string(to_string(impl_->started_serving ? AgentState::normal : AgentState::initial));
     }
+    s.held_responses = c.held;
     if (impl_->transport) s.transport = impl_->transport->stats();
     return s;
 }

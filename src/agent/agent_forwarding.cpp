@@ -25,7 +25,11 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
             reply_all(out, topic, marked(*answer));
         return;
     }
-    if (presence.status(dev) == Status::offline) {
+    const AgentState pair = pair_state(topic.ex, dev);
+    const auto row = agent_transition(pair, AgentEvent::request_received);
+    if (row.actions & agent_action_hold_request) {
+        log.debug("agent: {} -> {} is {}: {} answered in the adapter's place", ex, dev, to_string(pair),
+                  to_string(topic.kind));
         const CachedModel* cached = models.find(dev);
         if (topic.kind == TopicKind::probe_query_request && cached && cached->model) {
             ProbeQueryResponse response;
@@ -42,6 +46,7 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
         answer_unreachable(topic.kind, m.topic, dev, topic.ex, msg_id, out);
         return;
     }
+    if (!(row.actions & agent_action_forward_request)) return;  // before initialization: not ours yet
     Forwarded request;
     request.kind = topic.kind;
     request.dev = dev;
@@ -70,6 +75,14 @@ void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& o
         }
     }
     alive(topic.dev, Kind::adapter, out);
+    const AgentState pair = pair_state(topic.ex, topic.dev);
+    if (agent_transition(pair, AgentEvent::response_received).actions & agent_action_hold_response) {
+        // The broker keeps it in the application's session (QoS 1) until it
+        // is back (the state-machine text 42, 58; 8.3.2): counted, nothing to send now.
+        ++counters.held;
+        log.debug("agent: {} -> {} is {}: {} held for the application", topic.ex.value_or(""), topic.dev,
+                  to_string(pair), to_string(topic.kind));
+    }
     if (!id.empty()) (void)pending.answered(topic.kind, topic.dev, topic.ex, id);
 }
 

@@ -25,6 +25,7 @@
 #include "agent/terminal_id.hpp"
 
 #include <nclink/agent.hpp>
+#include <nclink/agent_state.hpp>
 #include <nclink/dtu.hpp>
 #include <nclink/topics.hpp>
 
@@ -60,7 +61,7 @@ struct NCLINK_LOCAL Agent::Impl {
     using Status = agent_detail::Status;
     struct Counters {
         std::atomic<std::uint64_t> registrations{0}, refused{0}, discoveries{0}, versions{0}, fetched{0}, cached{0},
-            unreachable{0}, timeouts{0}, denied{0}, notifications{0}, malformed{0}, retained{0};
+            unreachable{0}, timeouts{0}, denied{0}, notifications{0}, malformed{0}, retained{0}, held{0};
     };
     using Out = std::vector<Message>;
 
@@ -172,6 +173,15 @@ struct NCLINK_LOCAL Agent::Impl {
     void on_request(const ParsedTopic& topic, const Message& m, Out& out);
 
     void on_response(const ParsedTopic& topic, const Message& m, Out& out);
+
+    // The state-machine state of the pair (application `ex`, adapter `dev`) from
+    // who is online now; "unknown" counts as online (nothing said otherwise).
+    AgentState pair_state(const std::optional<std::string>& ex, const std::string& dev) const {
+        if (!started_serving) return AgentState::initial;
+        const bool app = !ex || presence.status(*ex) != Status::offline;
+        return agent_state_of(app, presence.status(dev) != Status::offline);
+    }
+    bool started_serving = false;  // the `initialized` row (31) was taken
 
     static bool from_agent(const std::string& payload);
 

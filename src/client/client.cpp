@@ -55,7 +55,7 @@ Result<std::unique_ptr<Client>> Client::create(MqttOptions mqtt, ClientOptions o
     return create(std::move(transport).value(), std::move(options));
 }
 
-Client::Client(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Client::Client(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) { impl_->owner = this; }
 
 Client::~Client() {
     if (impl_) impl_->stop();

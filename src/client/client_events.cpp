@@ -122,6 +122,7 @@ private:
 
 void Client::register_event_async(const std::string& dev, EventRegistration registration, EventHandler on_event,
                                   Completion<std::string> done, RequestOptions options) {
+    done = impl_->stand_event(dev, registration, on_event, options, std::move(done));  // client_model_cache.cpp
     EventRegisterRequest request;
     request.guid = dev;
     request.id = std::move(registration.id);
@@ -145,8 +146,9 @@ Result<std::string> Client::register_event(const std::string& dev, EventRegistra
     });
 }
 
-void Client::unregister_event_async(const std::string& dev, const std::string& event_id, Completion<void> done,
+void Client::unregister_event_async(const std::string& dev, const std::string& given_id, Completion<void> done,
                                     RequestOptions options) {
+    const std::string event_id = impl_->unstand_event(dev, given_id);  // the id after a re-registration
     // No callback after this call, whatever the adapter answers.
     impl_->event_routes.remove(dev, event_id);
     EventUnregisterRequest request;

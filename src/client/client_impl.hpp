@@ -16,6 +16,7 @@
 #include "client/responders.hpp"
 #include "client/subscriptions.hpp"
 #include "client/client_events.hpp"
+#include "client/client_model_cache.hpp"
 
 #include <nclink/client.hpp>
 #include <nclink/topics.hpp>
@@ -72,6 +73,8 @@ struct NCLINK_LOCAL Client::Impl {
     bool ever_connected = false;
     client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
     client_detail::EventRoutes event_routes;  // client_events.cpp
+    client_detail::ModelCacheState model_cache;  // client_model_cache.cpp
+    Client* owner = nullptr;  // the facade, for the cache's own requests (set once, by Client's constructor)
     client_detail::Dispatcher dispatcher;  // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
@@ -155,6 +158,28 @@ struct NCLINK_LOCAL Client::Impl {
         }
         fail_request(id, std::move(submitted).error());
     }
+
+    // ---- model cache and standing registrations (client_model_cache.cpp) ----
+    /// Records a registration being made (unless the cache itself makes it
+    /// again); returns `done` wrapped to note the id the adapter gives.
+    Completion<std::string> stand_event(const std::string& dev, const Client::EventRegistration& registration,
+                                        const Client::EventHandler& handler, const RequestOptions& request_options,
+                                        Completion<std::string> done);
+    Completion<Client::SamplingChannel> stand_channel(const std::string& dev, const std::vector<std::string>& item_ids,
+                                                      std::chrono::milliseconds sample_interval,
+                                                      std::chrono::milliseconds upload_interval,
+                                                      const SampleHandler& handler, const RequestOptions& request_options,
+                                                      Completion<Client::SamplingChannel> done);
+    /// The application unregisters: forgets the record; returns the id (or
+    /// channel) the adapter knows now.
+    std::string unstand_event(const std::string& dev, const std::string& event_id);
+    Client::SamplingChannel unstand_channel(const Client::SamplingChannel& channel);
+    /// Subscribes the device's Notify/State and Probe/Version once.
+    Result<void> watch_device(const std::string& dev);
+    void on_device_version(const std::string& dev, const ProbeVersionRequest& version);  ///< dispatch thread
+    void on_device_state(const std::string& dev, const NotifyState& state);            ///< dispatch thread
+    void reprobe(const std::string& dev);
+    void reregister(const std::string& dev);
 
     // Fails a pending request whose publish failed; on the dispatch thread when it runs.
     void fail_request(const std::string& id, Error error);

@@ -83,6 +83,8 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
                                      std::chrono::milliseconds sample_interval,
                                      std::chrono::milliseconds upload_interval, SampleHandler handler,
                                      Completion<SamplingChannel> done, RequestOptions options) {
+    done = impl_->stand_channel(dev, ids, sample_interval, upload_interval, handler, options,
+                                std::move(done));  // client_model_cache.cpp
     if (!client_detail::valid_level(dev)) {
         if (done) done(make_error(ErrorCode::value_type, "register_sampling: bad device id"));
         return;
@@ -132,7 +134,8 @@ Result<Client::SamplingChannel> Client::register_sampling(const std::string& dev
     });
 }
 
-void Client::unregister_sampling_async(const SamplingChannel& channel, Completion<void> done, RequestOptions options) {
+void Client::unregister_sampling_async(const SamplingChannel& given, Completion<void> done, RequestOptions options) {
+    const SamplingChannel channel = impl_->unstand_channel(given);  // the channel after a re-registration
     if (channel.subscription != 0) (void)unsubscribe(channel.subscription);
     if (!client_detail::valid_level(channel.dev)) {
         if (done) done(make_error(ErrorCode::value_type, "unregister_sampling: bad device id"));

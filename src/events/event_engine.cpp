@@ -43,11 +43,13 @@ std::vector<std::string> EventEngine::remove_owner(const std::string& owner) {
     return ids;
 }
 
-std::vector<std::string> EventEngine::retain_items(const std::function<bool(const EventSpec&)>& keep) {
+std::vector<std::string> EventEngine::retain_items(const std::function<bool(const EventSpec&)>& keep,
+                                                   std::vector<std::optional<std::string>>* owners) {
     std::vector<std::string> ids;
     for (auto it = entries_.begin(); it != entries_.end();) {
         if (!keep(it->second.spec)) {
             ids.push_back(it->first);
+            if (owners) owners->push_back(it->second.owner);
             it = entries_.erase(it);
             ++released_;
         } else {

@@ -50,7 +50,9 @@ public:
     std::vector<std::string> remove_owner(const std::string& owner);
     /// Releases the registrations whose item `keep` no longer accepts (a new
     /// model without the item, or with another datatype); returns their ids.
-    std::vector<std::string> retain_items(const std::function<bool(const EventSpec&)>& keep);
+    /// `owners`, when given, receives the owner of each, in the same order.
+    std::vector<std::string> retain_items(const std::function<bool(const EventSpec&)>& keep,
+                                          std::vector<std::optional<std::string>>* owners = nullptr);
 
     /// Starts a registration with the item's whole value at registration
     /// (std::nullopt when it could not be read: the first value observed
@@ -66,6 +68,7 @@ public:
     std::set<std::string> watched_items() const;
 
     std::size_t size() const noexcept { return entries_.size(); }
+
     bool contains(const std::string& event_id) const { return entries_.count(event_id) != 0; }
     std::uint64_t fired() const noexcept { return fired_; }
     /// Released by unregister, owner gone, model change or a once trigger.

@@ -53,18 +53,37 @@ public:
         set_tap(false);
     }
 
+    // A registration whose item the new model lost (or retyped) no longer
+    // resolves: it is released and its owner told so with the answer a new
+    // registration of it would get, 401 Node not exists (table 19), as an
+    // unsolicited Register/Event/Response carrying the event id (docs/wire.md).
     void on_model(std::shared_ptr<const ModelState> state) override {
-        std::vector<std::string> released;
+        std::vector<std::pair<std::string, std::optional<std::string>>> released;
         {
             std::lock_guard<std::mutex> lock(engine_mutex_);
-            released = engine_.retain_items([&](const EventSpec& spec) {
-                const DataObject* item = state->item(spec.item);
-                return item != nullptr && item->kind == spec.kind;
-            });
+            std::vector<std::optional<std::string>> owners;
+            const auto ids = engine_.retain_items(
+                [&](const EventSpec& spec) {
+                    const DataObject* item = state->item(spec.item);
+                    return item != nullptr && item->kind == spec.kind;
+                },
+                &owners);
+            for (std::size_t i = 0; i < ids.size(); ++i) released.emplace_back(ids[i], owners[i]);
             watched_changed();
         }
-        for (const auto& id : released)
-            host_.logger.info("event {} released: its item is gone from the new model (or changed datatype)", id);
+        for (const auto& [id, owner] : released) {
+            host_.logger.info("event {} released: its item is gone from the new model (or changed datatype); "
+                              "told {} (401)", id, owner.value_or("every application"));
+            EventRegisterResponse response;
+            response.guid = host_.dev;
+            response.id = id;
+            response.status = ResponseStatus::failure(ErrorCode::node_not_exists);
+            ParsedTopic request;
+            request.kind = TopicKind::event_register_request;
+            request.dev = host_.dev;
+            request.ex = owner;
+            host_.respond(request, to_json(response));
+        }
     }
 
     void on_application_gone(const std::string& ex) override {

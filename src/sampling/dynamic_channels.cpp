@@ -97,6 +97,7 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
         return refuse(response, added.error().code);
     }
     owners_[id] = *topic.ex;
+    items_[id] = request.ids;
     ++registered_;
     host_.logger.info("dynamic channel {} for {}: {} item(s), sample {} ms, upload {} ms", id, *topic.ex,
                       request.ids.size(), request.sample_interval, request.upload_interval);
@@ -119,10 +120,48 @@ Json DynamicChannels::unregister_channel(const ParsedTopic& topic, const SampleU
         return refuse(response, ErrorCode::permission_denied);
     }
     engine_.remove_channel(request.id);
+    items_.erase(request.id);
     owners_.erase(it);
     ++unregistered_;
     host_.logger.info("dynamic channel {} of {} unregistered", request.id, *topic.ex);
     return to_json(response);
+}
+
+void DynamicChannels::on_model(const std::shared_ptr<const ModelState>& state) {
+    if (!state) return;
+    std::vector<std::pair<std::string, std::string>> released;  // channel, owner
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto it = items_.begin(); it != items_.end();) {
+            bool resolves = true;
+            for (const auto& id : it->second) {
+                const DataObject* item = state->item(id);
+                if (!item || item->config) resolves = false;
+            }
+            if (resolves) {
+                ++it;
+                continue;
+            }
+            engine_.remove_channel(it->first);
+            released.emplace_back(it->first, owners_[it->first]);
+            owners_.erase(it->first);
+            ++released_;
+            it = items_.erase(it);
+        }
+    }
+    for (const auto& [channel, owner] : released) {
+        host_.logger.info("dynamic channel {} of {} released: an item of it is gone from the new model (401)", channel,
+                          owner);
+        SampleRegisterResponse response;
+        response.guid = host_.dev;
+        response.id = channel;
+        response.status = ResponseStatus::failure(ErrorCode::node_not_exists);
+        ParsedTopic request;
+        request.kind = TopicKind::sample_register_request;
+        request.dev = host_.dev;
+        request.ex = owner;
+        host_.respond(request, to_json(response));
+    }
 }
 
 void DynamicChannels::on_application_gone(const std::string& ex_cid) {
@@ -132,6 +171,7 @@ void DynamicChannels::on_application_gone(const std::string& ex_cid) {
             engine_.remove_channel(it->first);
             host_.logger.info("dynamic channel {} released: {} is gone", it->first, ex_cid);
             ++released_;
+            items_.erase(it->first);
             it = owners_.erase(it);
         } else {
             ++it;

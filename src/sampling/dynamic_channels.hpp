@@ -46,6 +46,10 @@ public:
     bool handles(TopicKind kind) const override;
     void handle(const ParsedTopic& topic, const std::string& payload) override;
     void on_application_gone(const std::string& ex_cid) override;
+    /// A new model: channels naming an item it no longer has are released and
+    /// their owner told with an unsolicited Register/Sample/Response 401
+    /// carrying the channel id (docs/wire.md).
+    void on_model(const std::shared_ptr<const ModelState>& state) override;
     Json stats() const override;
 
     /// Channel ids owned by `ex_cid` (for tests and `nclink stats`).
@@ -60,6 +64,7 @@ private:
 
     mutable std::mutex mutex_;
     std::map<std::string, std::string> owners_;  // channel id -> ex_cid
+    std::map<std::string, std::vector<std::string>> items_;  // channel id -> its data item ids
     std::uint64_t next_id_ = 1;
     std::uint64_t registered_ = 0, unregistered_ = 0, released_ = 0, refused_ = 0;
 };

@@ -14,6 +14,10 @@ int run_stats(const Args& args);  // cmd_stats.cpp
 extern const char* const stats_usage;
 int run_sample(const Args& args);  // cmd_sample.cpp
 extern const char* const sample_usage;
+int run_discovery(const Args& args);  // cmd_discovery.cpp
+extern const char* const discovery_usage;
+int run_probe_set(const Args& args);  // cmd_probe_set.cpp
+extern const char* const probe_set_usage;
 }  // namespace nclink::cli
 
 namespace {
@@ -25,7 +29,9 @@ const Command kCommands[] = {
      &nclink::cli::run_validate, nclink::cli::validate_usage},
     {"map", "write a model as MTConnect Devices or OPC UA NodeSet2 XML (GB/T 39561.3)",
      &nclink::cli::run_map, nclink::cli::map_usage},
+    {"discovery", "list the adapters the agent knows (Discovery)", &nclink::cli::run_discovery, nclink::cli::discovery_usage},
     {"probe", "print a device's model (Probe/Query) as a tree", &nclink::cli::run_probe, nclink::cli::probe_usage},
+    {"probe-set", "replace a device's model with a model file (Probe/Set)", &nclink::cli::run_probe_set, nclink::cli::probe_set_usage},
     {"query", "query data items: ID[:PARAMS]...", &nclink::cli::run_query, nclink::cli::query_usage},
     {"set", "set data items: ID=VALUE... or ID:PARAMS...", &nclink::cli::run_set, nclink::cli::set_usage},
     {"watch", "print a device's samples as a rolling table", &nclink::cli::run_watch, nclink::cli::watch_usage},

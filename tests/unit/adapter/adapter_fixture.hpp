@@ -159,7 +159,7 @@ struct AdapterFixture {
     }
     void start() {
         config.broker_url = mosquitto.url();  // the adapter's own MQTT transport, will and all
-        adapter = std::make_unique<Adapter>(config, driver);
+        adapter = std::make_unique<Adapter>(config, driver, logger);
         adapter->use_clock(clock);
 #else
     std::unique_ptr<Transport> app_transport() {
@@ -168,7 +168,7 @@ struct AdapterFixture {
         return make_loopback_transport(broker, o);
     }
     void start() {
-        adapter = std::make_unique<Adapter>(config, driver);
+        adapter = std::make_unique<Adapter>(config, driver, logger);
         LoopbackOptions o;
         o.client_id = "adapter";
         o.last_will = Message{"Notify/State/test-dev", R"({"tid":"test-dev","state":"offline"})", 1, true};
@@ -190,6 +190,7 @@ struct AdapterFixture {
     }
 
     AdapterConfig config;
+    Logger logger;  ///< the adapter's, from the next start()
 #ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
     MosquittoBroker mosquitto;
 #endif
