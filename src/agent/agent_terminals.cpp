@@ -180,10 +180,13 @@ void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out
 // happens. Asked once per online period.
 void Agent::Impl::learn_kind(const std::string& tid, Out& out) {
     if (!publishable_level(tid) || !kind_probes.insert(tid).second) return;
+    if (const auto* cached = models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
     ProbeQueryRequest query;
     const std::string id = config.agent_id + "-kind-" + std::to_string(++msg_counter);
     query.msg_id = Json(id);
     query.guid = tid;
+    // Also the model fetch: a Probe/Version arriving meanwhile waits for this answer.
+    models.fetching(tid, id, clock->now() + config.request_timeout);
     log.debug("agent: {} is online but of unknown kind: asking it for its model", tid);
     out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
 }
