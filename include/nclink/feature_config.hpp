@@ -13,7 +13,7 @@
 
 namespace nclink {
 
-/// Sample channels (issue 4). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
+/// Sample channels (6.2.6, 8.2.15). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
 struct NCLINK_API SamplingConfig {
     bool enabled = true;                       ///< "enabled": run the model's sample channels
     std::size_t max_dynamic_channels = 16;     ///< "max_dynamic_channels": more answers 415
@@ -62,7 +62,7 @@ struct NCLINK_API SamplingConfig {
     std::size_t spool_disk_bytes = 0;
 };
 
-/// Events (issue 5). JSON: "events": {...}. Keys: src/events/events_config.cpp.
+/// Events (8.2.27-8.2.31). JSON: "events": {...}. Keys: src/events/events_config.cpp.
 struct NCLINK_API EventsConfig {
     std::size_t max_events = 64;                   ///< "max_events": registrations of all applications; more answers 416 (0 = none)
     /// "poll_interval_ms": how often watched items that no running sample
@@ -76,7 +76,7 @@ struct NCLINK_API EventsConfig {
     int qos = 1;
 };
 
-/// Methods (issue 5). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
+/// Methods (8.2.32-8.2.36). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
 struct NCLINK_API MethodsConfig {
     /// "max_running": method runs at once (running or paused); one more Method/Call
     /// answers 417. 0 refuses every call. Each run has its own thread.

@@ -80,7 +80,7 @@ TEST_CASE("dynamic channel is registered answered in both spellings and publishe
     CHECK(reply["@id"] == "r1");
     const std::string channel = reply["id"].get<std::string>();
     CHECK(channel.size() <= 16);
-    // The standard's misprinted response topic gets the same answer (WIRE.md).
+    // The standard's misprinted response topic gets the same answer (docs/wire.md).
     REQUIRE(eventually([&] { return !f.app->on("Reigster/Sample/Response/test-dev/app").empty(); }));
     CHECK(Json::parse(f.app->on("Reigster/Sample/Response/test-dev/app")[0].payload) == reply);
 
