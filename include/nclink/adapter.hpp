@@ -42,6 +42,10 @@ struct NCLINK_API AdapterStats {
     /// items they belonged to.
     std::uint64_t values_refused = 0;
     std::uint64_t values_refused_items = 0;
+    /// Applications judged offline (GB/T 41970 3.22: silent for the
+    /// application lease, or their Notify/State offline) whose events and
+    /// dynamic channels were released (docs/delivery.md, "Liveness").
+    std::uint64_t applications_released = 0;
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;
@@ -51,7 +55,8 @@ struct NCLINK_API AdapterStats {
 };
 
 /// The statistics as one JSON object (what the `nclink_stats` data item and
-/// `nclink stats` show; docs/sampling.md).
+/// `nclink stats` show; docs/sampling.md). Its "drops" object sums every
+/// loss by cause (docs/delivery.md, "Counted drops").
 NCLINK_API Json to_json(const AdapterStats& stats);
 
 /// Called after a Probe/Set replaced the model (on a request worker). Later

@@ -60,6 +60,18 @@ struct NCLINK_API ClientOptions {
     std::size_t max_queued_requests = 1024;
     /// How long stop() lets the transport flush what is still buffered.
     std::chrono::milliseconds stop_flush_timeout{500};
+    /// Liveness (GB/T 41970 3.22): an adapter releases the events and dynamic
+    /// channels of an application it has not heard from for its application
+    /// lease (adapter default 300 s). While this client holds a registration
+    /// at an adapter it queries one registered item there at this interval,
+    /// and at once after every reconnect, so the registration lives as long
+    /// as the client. Keep it well below the adapter's lease (a third or
+    /// less). 0 = off (docs/delivery.md, "Liveness").
+    std::chrono::milliseconds keepalive_interval{60000};
+    /// Sample and Event DTUs remembered per stream to hand each to the
+    /// handlers once (QoS 1 repeats a DTU whose acknowledgement a broken
+    /// link lost; docs/delivery.md). 0 = no de-duplication.
+    std::size_t duplicate_memory = 4096;
     /// Called on the dispatch thread when the link changes state.
     std::function<void(LinkState)> on_link_state;
     Logger logger;
@@ -94,6 +106,8 @@ struct NCLINK_API ClientStats {
     std::uint64_t notifications = 0;        ///< state and version notifications handed to handlers
     std::uint64_t queued = 0;               ///< requests made while disconnected (held, sent on reconnect)
     std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks (client_events.cpp)
+    std::uint64_t duplicates = 0;           ///< Sample/Event DTUs received again and not handed on (QoS 1 repeats)
+    std::uint64_t keepalives = 0;           ///< liveness Queries sent (ClientOptions::keepalive_interval)
 };
 
 using SubscriptionId = std::uint64_t;
@@ -111,7 +125,11 @@ public:
     /// A client over `transport` (not yet started; the client sets its handlers).
     /// Fails with parameter_missing when ex_cid is empty or transport is null.
     static Result<std::unique_ptr<Client>> create(std::unique_ptr<Transport> transport, ClientOptions options);
-    /// A client over MQTT; an empty mqtt.client_id becomes ex_cid.
+    /// A client over MQTT; an empty mqtt.client_id becomes ex_cid. For a
+    /// persistent session (what the adapter publishes at QoS 1 while the
+    /// application is away is queued by the broker and delivered when it
+    /// connects again) set mqtt.clean_session = false and keep the client id
+    /// the same from run to run (docs/delivery.md).
     static Result<std::unique_ptr<Client>> create(MqttOptions mqtt, ClientOptions options);
 
     ~Client();  ///< stop()s
@@ -229,9 +247,10 @@ public:
     /// channel, or the Error of the adapter's NG (401 unknown id, 411 bad
     /// intervals, 415 no dynamic channel left, ...); on any failure the
     /// handler's subscription is removed again. options.private_info
-    /// {"qos": 1} asks for QoS 1 Sample DTUs (default QoS 0). The adapter
+    /// {"qos": 0} asks for QoS 0 Sample DTUs (default QoS 1). The adapter
     /// releases the channel when this application sends it no DTU for its
-    /// application lease, or goes offline. Thread-safe.
+    /// application lease (the client's keep-alive prevents that while the
+    /// client runs), or goes offline. Thread-safe.
     void register_sampling_async(const std::string& dev, std::vector<std::string> ids,
                                  std::chrono::milliseconds sample_interval, std::chrono::milliseconds upload_interval,
                                  SampleHandler handler, Completion<SamplingChannel> done, RequestOptions options = {});
@@ -271,7 +290,9 @@ public:
     /// already matches (it arrives after `done`). A once registration's
     /// callback goes with its first event. Both callbacks run on the dispatch
     /// thread. Thread-safe. The adapter releases the events of an application
-    /// it has not heard from for its application lease (docs/events.md).
+    /// it has not heard from for its application lease; the client's
+    /// keep-alive (ClientOptions::keepalive_interval) keeps them while the
+    /// client runs (docs/events.md, docs/delivery.md).
     void register_event_async(const std::string& dev, EventRegistration registration, EventHandler on_event,
                               Completion<std::string> done, RequestOptions options = {});
     /// Blocking form (not from a callback): the event id.

@@ -20,8 +20,12 @@ struct NCLINK_API SamplingConfig {
     /// "push_channels": model channels whose rows the firmware pushes
     /// (Adapter::push_channel) instead of the SDK reading the driver.
     std::vector<std::string> push_channels;
-    /// "qos": MQTT QoS (0 or 1) of the model channels' Sample DTUs (docs/wire.md "Transport").
-    int qos = 0;
+    /// "qos": MQTT QoS (0 or 1) of the Sample DTUs of the model channels, and
+    /// the default of dynamic channels (a Register/Sample may ask for 0 with
+    /// privateInfo {"qos": 0}). QoS 1: nothing lost on the adapter's link to
+    /// the broker (docs/delivery.md); QoS 0 DTUs in flight when the link
+    /// breaks are gone.
+    int qos = 1;
     /// "channel_qos": per model channel overrides of "qos", {"ch_fast": 1}.
     std::map<std::string, int> channel_qos;
     /// "full_policy": "drop_oldest" (default) or "block" when the uploader
@@ -68,6 +72,8 @@ struct NCLINK_API EventsConfig {
     /// "max_queued_values": values (sample rows, pushes) waiting for the events
     /// thread at most; beyond it new ones are dropped and counted.
     std::size_t max_queued_values = 65536;
+    /// "qos": MQTT QoS (0 or 1) of Event DTUs (docs/delivery.md).
+    int qos = 1;
 };
 
 /// Methods (8.2.32-8.2.36). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.

@@ -13,6 +13,7 @@
 
 #include "adapter/application_tracker.hpp"
 #include "adapter/dedup_window.hpp"
+#include "adapter/drop_reporter.hpp"
 #include "adapter/model_host.hpp"
 #include "adapter/registration.hpp"
 #include "adapter/response_cache.hpp"
@@ -95,9 +96,10 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::condition_variable housekeeping_wake;
     bool housekeeping_stopping = false;
     std::thread housekeeping;
+    detail::DropReporter drop_reporter{logger};  // housekeeping thread only
 
     std::atomic<std::uint64_t> requests{0}, ignored_retained{0}, ignored_duplicates{0}, rejected{0}, msg_counter{0},
-        affine_timeouts{0};
+        affine_timeouts{0}, applications_released{0};
 
     // ---- lifecycle (adapter.cpp), owner thread
     Result<void> start();

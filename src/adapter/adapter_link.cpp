@@ -105,6 +105,7 @@ void Adapter::Impl::publish_version() {
 // no agent answers). Releases what silent applications registered. Polls the
 // injected clock every 50 ms, so tests drive it with a ManualClock.
 void Adapter::Impl::housekeep() {
+    auto last_drop_check = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(housekeeping_mutex);
     while (!housekeeping_stopping) {
         const auto now = clock->now();
@@ -116,8 +117,14 @@ void Adapter::Impl::housekeep() {
                        "no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
                        config.register_timeout.count(), tick.gave_up.count());
         if (tick.resend) send_registration();
-        for (const auto& ex : applications->expire(now)) application_gone(ex, "silent for the application lease");
+        for (const auto& ex : applications->expire(now)) application_gone(ex, fmt::format("no DTU from it for the application lease of {} ms", config.application_lease.count()));
         if (transport->state() == LinkState::connected) fire(AdapterEvent::retry_due);
+        // Once a second (real time: the statistics are not cheap): every
+        // loss logged once per burst (drop_reporter.hpp).
+        if (const auto real = std::chrono::steady_clock::now(); real - last_drop_check >= std::chrono::seconds(1)) {
+            last_drop_check = real;
+            if (features_ready.load(std::memory_order_acquire)) drop_reporter.observe(to_json(self->stats())["drops"]);
+        }
         lock.lock();
         if (housekeeping_stopping) break;
         housekeeping_wake.wait_for(lock, std::chrono::milliseconds(50));
@@ -138,8 +145,15 @@ void Adapter::Impl::on_register_response(const std::string& payload) {
     housekeeping_wake.notify_all();
 }
 
+// 3.22: the application is offline for this adapter. Said in the log and
+// counted (AdapterStats::applications_released). Not on the wire: the
+// standard's place for a terminal's state, Notify/State (8.2.16), is the
+// agent's to publish, and every other adapter would release that
+// application's registrations on it although it may still talk to them
+// (docs/delivery.md, "Liveness").
 void Adapter::Impl::application_gone(const std::string& ex, std::string_view why) {
-    logger.info("application {} is gone ({}): releasing its channels and events", ex, why);
+    ++applications_released;
+    logger.info("application {} is offline ({}): releasing its dynamic channels and events", ex, why);
     for (auto& feature : features) feature->on_application_gone(ex);
 }
 

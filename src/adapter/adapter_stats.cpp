@@ -11,6 +11,7 @@ AdapterStats Adapter::stats() const {
     s.ignored_duplicates = impl_->ignored_duplicates;
     s.rejected = impl_->rejected;
     s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
+    s.applications_released = impl_->applications_released;
     s.registered = impl_->registration.registered();
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
@@ -20,9 +21,42 @@ AdapterStats Adapter::stats() const {
     return s;
 }
 
+namespace {
+
+std::uint64_t counter(const Json& object, std::initializer_list<const char*> path) {
+    const Json* at = &object;
+    for (const char* key : path) {
+        if (!at->is_object()) return 0;
+        const auto it = at->find(key);
+        if (it == at->end()) return 0;
+        at = &*it;
+    }
+    return at->is_number_unsigned() || at->is_number_integer() ? at->get<std::uint64_t>() : 0;
+}
+
+// Every place a DTU or a value can be lost, by cause, summed from the
+// counters of the transport and the features (docs/delivery.md, "Counted
+// drops"). Each is also logged, once per burst, where it happens.
+Json drops_by_cause(const AdapterStats& s) {
+    std::uint64_t ring_full = 0;
+    if (const auto it = s.features.find("sampling"); it != s.features.end() && it->is_object())
+        if (const auto channels = it->find("channels"); channels != it->end() && channels->is_array())
+            for (const auto& c : *channels) ring_full += counter(c, {"drops"});
+    return Json{{"offline_buffer_full", s.transport.dropped},
+                {"sample_ring_full", ring_full},
+                {"sample_spool_full", counter(s.features, {"sampling", "spool", "dropped"})},
+                {"sample_publish_refused", counter(s.features, {"sampling", "publish_errors"})},
+                {"event_values_queue_full", counter(s.features, {"events", "dropped_values"})},
+                {"events_publish_refused", counter(s.features, {"events", "publish_errors"})}};
+}
+
+}  // namespace
+
 Json to_json(const AdapterStats& s) {
     const auto& t = s.transport;
     return Json{{"requests", s.requests},
+                {"applications_released", s.applications_released},
+                {"drops", drops_by_cause(s)},
                 {"ignored_retained", s.ignored_retained},
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},

@@ -82,6 +82,7 @@ struct NCLINK_LOCAL Agent::Impl {
     bool registry_dirty = false;
     std::set<std::string> models_dirty;
     std::uint64_t msg_counter = 0;
+    std::set<std::string> kind_probes;  // online terminals of unknown kind asked with a Probe/Query
 
     std::mutex lifecycle;
     bool started = false;
@@ -148,6 +149,7 @@ struct NCLINK_LOCAL Agent::Impl {
     void on_version(const ParsedTopic& topic, const Message& m, Out& out);
 
     void fetch_model(const std::string& dev, Out& out);
+    void learn_kind(const std::string& tid, Out& out);
 
     void on_version_response(const ParsedTopic& topic, const Message& m, Out&);
 

@@ -77,14 +77,26 @@ void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& 
     response.msg_id = request->msg_id;
     response.guid = ex;
     std::vector<DeviceListEntry> list;
-    for (const auto& [tid, registration] : registrar->all()) {
-        const Kind kind = presence.kind(tid) != Kind::unknown ? presence.kind(tid) : registration.kind;
-        if (kind != Kind::adapter || rights_of(config.access, ex, tid) == access_none) continue;
+    const auto add = [&](const std::string& tid) {
         DeviceListEntry entry;
         entry.guid = tid;
         entry.status = to_wire(presence.status(tid));
         entry.last_alive_time_stamp = std::to_string(presence.last_alive_s(tid));
         list.push_back(std::move(entry));
+    };
+    for (const auto& [tid, registration] : registrar->all()) {
+        const Kind kind = presence.kind(tid) != Kind::unknown ? presence.kind(tid) : registration.kind;
+        if (kind != Kind::adapter || rights_of(config.access, ex, tid) == access_none) continue;
+        add(tid);
+    }
+    // Online adapters the agent has not seen register: after a restart
+    // without its state directory they are known from their retained
+    // Notify/State and their traffic only (learn_kind()).
+    for (const auto& tid : presence.known()) {
+        if (presence.kind(tid) != Kind::adapter || presence.status(tid) != Status::online) continue;
+        if (registrar->all().count(tid) || rights_of(config.access, ex, tid) == access_none) continue;
+        if (!config.registration.open && !config.registration.terminals.count(tid)) continue;  // never allowed in
+        add(tid);
     }
     if (!list.empty()) response.device_list = std::move(list);  // null: no accessible adapter (table 24)
     ++counters.discoveries;
@@ -150,7 +162,33 @@ void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out
         registry_dirty = true;
         log.info("agent: {} is {}{}", tid, notify->state, m.retained ? " (retained state)" : "");
     }
-    if (status == Status::offline) unreachable_for(tid, out);
+    if (status == Status::offline) {
+        kind_probes.erase(tid);
+        unreachable_for(tid, out);
+    } else if (presence.kind(tid) == Kind::unknown) {
+        learn_kind(tid, out);
+    }
+}
+
+// An online terminal the agent knows nothing of: typically an adapter whose
+// retained Notify/State the agent finds when it starts without its state
+// directory. Discovery must list it at once (8.2.3: the adapters online or
+// registered), but a Notify/State does not say whether its terminal is an
+// adapter or an application. A Probe/Query does: an adapter answers it
+// (and the answer fills the model cache, which the agent needs for an
+// offline adapter anyway); an application does not, and nothing else
+// happens. Asked once per online period.
+void Agent::Impl::learn_kind(const std::string& tid, Out& out) {
+    if (!publishable_level(tid) || !kind_probes.insert(tid).second) return;
+    if (const auto* cached = models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
+    ProbeQueryRequest query;
+    const std::string id = config.agent_id + "-kind-" + std::to_string(++msg_counter);
+    query.msg_id = Json(id);
+    query.guid = tid;
+    // Also the model fetch: a Probe/Version arriving meanwhile waits for this answer.
+    models.fetching(tid, id, clock->now() + config.request_timeout);
+    log.debug("agent: {} is online but of unknown kind: asking it for its model", tid);
+    out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
 }
 
 // 8.3.5: the adapter went away while requests to it were waiting.

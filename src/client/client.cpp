@@ -214,6 +214,8 @@ ClientStats Client::stats() const {
     s.notifications = c.notifications;
     s.queued = c.queued;
     s.events = c.events;
+    s.duplicates = c.duplicates;
+    s.keepalives = c.keepalives;
     return s;
 }
 

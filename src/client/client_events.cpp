@@ -133,8 +133,13 @@ void Client::register_event_async(const std::string& dev, EventRegistration regi
     std::string trigger = request.trigger_type;
     for (auto& c : trigger) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const bool once = trigger == "once";  // the adapter releases it after its first event
+    // On OK the registration is kept alive (client_liveness.cpp) by querying its item.
+    Completion<std::string> kept = [impl = impl_.get(), dev, item = request.id, done = std::move(done)](Result<std::string> id) {
+        if (id) impl->keep_alive.hold(dev, "event:" + id.value(), item, client_detail::KeepAlive::Clock::now());
+        if (done) done(std::move(id));
+    };
     auto responder = std::make_shared<client_detail::RegisterEventResponder>(
-        impl_->event_routes, dev, once, std::move(on_event), std::move(done));
+        impl_->event_routes, dev, once, std::move(on_event), std::move(kept));
     impl_->send(TopicKind::event_register_response, topics::event_register_request(dev, ex_cid()), std::move(request),
                                        std::move(responder), options);
 }
@@ -151,6 +156,7 @@ void Client::unregister_event_async(const std::string& dev, const std::string& g
     const std::string event_id = impl_->unstand_event(dev, given_id);  // the id after a re-registration
     // No callback after this call, whatever the adapter answers.
     impl_->event_routes.remove(dev, event_id);
+    impl_->keep_alive.release(dev, "event:" + event_id);
     EventUnregisterRequest request;
     request.guid = dev;
     request.id = event_id;

@@ -95,6 +95,10 @@ void Client::Impl::on_link(LinkState state, std::string_view detail) {
         if (state == LinkState::connected) ever_connected = true;
     }
     link_changed.notify_all();
+    if (state == LinkState::connected) {
+        keep_alive.all_due(Clock::now());  // the outage may have eaten most of the adapter's lease
+        dispatcher.poke();
+    }
     log.debug("client {}: link {} ({})", options.ex_cid, to_string(state), detail);
     if (options.on_link_state)
         dispatcher.post([this, state] { safely(log, [&] { options.on_link_state(state); }); });
@@ -108,6 +112,8 @@ void Client::Impl::handle_message(const Message& m) {
         return;
     }
     if (parsed->kind == TopicKind::event) {  // client_events.cpp
+        if (const MessageId id = peek_message_id(m.payload); id && !first_delivery("E/" + parsed->dev, id->dump()))
+            return;  // a QoS 1 repeat (client_liveness.cpp)
         const auto delivery = event_routes.deliver(parsed->dev, m.payload, log);
         ++(delivery == client_detail::EventRoutes::Delivery::delivered  ? counters.events
            : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
@@ -177,6 +183,8 @@ void Client::Impl::handle_notification(const ParsedTopic& topic, const Message& 
                 return;
             }
             if (dtu->guid.empty()) dtu->guid = topic.dev;
+            if (!first_delivery(m.topic, dtu->id + "@" + std::to_string(dtu->begin_time)))
+                return;  // a QoS 1 repeat (client_liveness.cpp)
             deliver_to<SampleHandler>(subs, *dtu, counters.samples);
             break;
         }

@@ -17,6 +17,8 @@
 #include "client/subscriptions.hpp"
 #include "client/client_events.hpp"
 #include "client/client_model_cache.hpp"
+#include "client/duplicate_filter.hpp"
+#include "client/keep_alive.hpp"
 
 #include <nclink/client.hpp>
 #include <nclink/topics.hpp>
@@ -53,7 +55,7 @@ struct NCLINK_LOCAL Client::Impl {
     using Clock = client_detail::Clock;
     struct Counters {
         std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0},
-            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0};
+            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0};
     };
 
     ClientOptions options;
@@ -75,6 +77,8 @@ struct NCLINK_LOCAL Client::Impl {
     client_detail::EventRoutes event_routes;  // client_events.cpp
     client_detail::ModelCacheState model_cache;  // client_model_cache.cpp
     Client* owner = nullptr;  // the facade, for the cache's own requests (set once, by Client's constructor)
+    client_detail::KeepAlive keep_alive;       // client_liveness.cpp
+    client_detail::DuplicateFilter duplicates;  // dispatch thread only
     client_detail::Dispatcher dispatcher;  // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
@@ -87,9 +91,14 @@ struct NCLINK_LOCAL Client::Impl {
                       [this] { return pending.size() > 0; },
                       [this](Message m) { return transport->publish(std::move(m)); }},
                   options.max_queued_requests),
+          keep_alive(options.keepalive_interval),
+          duplicates(options.duplicate_memory),
           dispatcher(client_detail::Dispatcher::Hooks{
-              [this] { return pending.next_deadline(); },
-              [this](Clock::time_point now) { expire(now); },
+              [this] { return next_wake(); },
+              [this](Clock::time_point now) {
+                  expire(now);
+                  send_keepalives(now);
+              },
               [this] { fail_all(); },
               [this](const char* what) { log.error("client: a callback threw: {}", what); },
           }) {}
@@ -124,6 +133,13 @@ struct NCLINK_LOCAL Client::Impl {
     }
 
     void expire(Clock::time_point now);
+
+    // ---- liveness and de-duplication (client_liveness.cpp) ----
+    std::optional<Clock::time_point> next_wake() const;
+    void send_keepalives(Clock::time_point now);  ///< dispatch thread
+    /// False for a Sample/Event DTU already handed on (counted): Samples by
+    /// topic and beginTime, Events by device and @id.
+    bool first_delivery(const std::string& stream, const std::string& key);
 
     void fail_all();
 

@@ -107,17 +107,20 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
     request.guid = dev;
     request.sample_interval = static_cast<double>(sample_interval.count());
     request.upload_interval = static_cast<double>(upload_interval.count());
+    const std::string first_item = ids.empty() ? std::string() : ids.front();
     request.ids = std::move(ids);
     // The client outlives its pending requests (stop() fails them first), so
     // `this` is safe in the completion.
     auto responder = std::make_shared<client_detail::RegisterSamplingResponder>(
-        [this, channel, subscription, dev, done = std::move(done)](Result<std::string> id) {
+        [this, channel, subscription, dev, first_item, done = std::move(done)](Result<std::string> id) {
             if (!id) {
                 (void)unsubscribe(subscription);
                 if (done) done(std::move(id).error());
                 return;
             }
             *channel = id.value();
+            // Kept alive from now on (client_liveness.cpp) by querying its first item.
+            impl_->keep_alive.hold(dev, "sample:" + id.value(), first_item, client_detail::KeepAlive::Clock::now());
             if (done) done(SamplingChannel{dev, std::move(id).value(), subscription});
         });
     impl_->send(TopicKind::sample_register_response, topics::sample_register_request(dev, ex_cid()), std::move(request),
@@ -137,6 +140,7 @@ Result<Client::SamplingChannel> Client::register_sampling(const std::string& dev
 void Client::unregister_sampling_async(const SamplingChannel& given, Completion<void> done, RequestOptions options) {
     const SamplingChannel channel = impl_->unstand_channel(given);  // the channel after a re-registration
     if (channel.subscription != 0) (void)unsubscribe(channel.subscription);
+    impl_->keep_alive.release(channel.dev, "sample:" + channel.id);
     if (!client_detail::valid_level(channel.dev)) {
         if (done) done(make_error(ErrorCode::value_type, "unregister_sampling: bad device id"));
         return;

@@ -107,6 +107,7 @@ public:
                     {"fired", engine_.fired()},
                     {"released", engine_.released()},
                     {"polls", polls_.load()},
+                    {"publish_errors", publish_errors_.load()},
                     {"dropped_values", inbox_->dropped()}};
     }
 
@@ -316,8 +317,14 @@ private:
             event.dtu.guid = host_.dev;
             const auto topic = topics::event(host_.dev, event.owner ? std::optional<std::string_view>(*event.owner)
                                                                      : std::nullopt);
-            if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), 1, false}); !sent)
-                host_.logger.warn("event {} not published: {}", event.dtu.id, sent.error().describe());
+            if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), host_.events.qos, false}); !sent) {
+                // Logged once per burst: the first refusal after a success.
+                if (publish_errors_++ == publish_errors_at_last_success_)
+                    host_.logger.warn("event {} not published: {} (further refusals counted in events.publish_errors)",
+                                      event.dtu.id, sent.error().describe());
+            } else {
+                publish_errors_at_last_success_ = publish_errors_.load();
+            }
         }
     }
 
@@ -353,6 +360,8 @@ private:
     EventEngine engine_;                      // engine_mutex_
     std::optional<std::uint64_t> tap_handle_;  // engine_mutex_
     std::atomic<std::uint64_t> polls_{0};
+    std::atomic<std::uint64_t> publish_errors_{0};
+    std::atomic<std::uint64_t> publish_errors_at_last_success_{0};  // refused by the transport (after stop, larger than its buffer)
     std::thread thread_;
 };
 

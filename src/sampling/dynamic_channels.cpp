@@ -16,11 +16,11 @@ Json refuse(SampleUnregisterResponse response, ErrorCode code) {
 }
 
 /// QoS of the channel's Sample DTUs: privateInfo {"qos": 0|1} of the request
-/// (an nclink extension; docs/wire.md "Transport": the Sample QoS default).
-int requested_qos(const std::optional<Json>& private_info) {
-    if (!private_info || !private_info->is_object()) return 0;
+/// (an nclink extension), else the adapter's sampling.qos (docs/delivery.md).
+int requested_qos(const std::optional<Json>& private_info, int fallback) {
+    if (!private_info || !private_info->is_object()) return fallback;
     auto it = private_info->find("qos");
-    if (it == private_info->end() || !it->is_number_integer()) return 0;
+    if (it == private_info->end() || !it->is_number_integer()) return fallback;
     return it->get<int>() >= 1 ? 1 : 0;
 }
 
@@ -78,7 +78,7 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
     spec.sample_interval_ms = request.sample_interval;
     spec.upload_interval_ms = request.upload_interval;
     spec.owner_ex = *topic.ex;
-    spec.qos = requested_qos(request.private_info);
+    spec.qos = requested_qos(request.private_info, host_.sampling.qos);
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (owners_.size() >= host_.sampling.max_dynamic_channels) {

@@ -65,7 +65,9 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
          << "allow_anonymous " << (options.password_file.empty() ? "true" : "false") << "\n";
     if (!options.acl_file.empty()) conf << "acl_file " << options.acl_file << "\n";
     if (!options.password_file.empty()) conf << "password_file " << options.password_file << "\n";
-    if (options.persistent)
+    if (options.persistent && options.save_every_change)
+        conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_on_changes true\nautosave_interval 1\n";
+    else if (options.persistent)
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
     else
         conf << "persistence false\n";
@@ -109,6 +111,15 @@ void MosquittoBroker::start() {
         if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("mosquitto did not start");
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
+}
+
+void MosquittoBroker::crash() {
+    if (pid_ <= 0) return;
+    ::kill(pid_, SIGKILL);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    while (port_accepts(port_)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 void MosquittoBroker::stop() {

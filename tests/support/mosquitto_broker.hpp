@@ -12,6 +12,10 @@ struct MosquittoOptions {
     /// Keep sessions and queued QoS 1 messages across restart() (saved on
     /// SIGTERM into the broker's scratch directory).
     bool persistent = false;
+    /// With `persistent`: also save after every change (autosave_on_changes,
+    /// autosave_interval 1), so sessions and queued messages survive a
+    /// kill -9 too (crash(); docs/delivery.md).
+    bool save_every_change = false;
     int port = 0;         ///< 0 = pick a free one
     bool start = true;    ///< false: construct stopped, call start() later
     /// mosquitto acl_file to enforce ("" = none). Without a password_file
@@ -29,6 +33,8 @@ public:
     MosquittoBroker& operator=(const MosquittoBroker&) = delete;
 
     void stop();
+    /// kill -9: no shutdown save, no clean goodbye to the clients.
+    void crash();
     void start();
     void restart() { stop(); start(); }
     bool running() const { return pid_ > 0; }

@@ -73,10 +73,11 @@ bool parse_device_command(const Args& args, const OptionSpec& spec, const char* 
     return false;
 }
 
-std::unique_ptr<Client> connect_client(const CliOptions& options) {
+std::unique_ptr<Client> connect_client(const CliOptions& options, const std::function<void(Client&)>& before_start) {
     MqttOptions mqtt;
     mqtt.broker_url = options.broker;
     mqtt.client_id = options.client_id;
+    mqtt.clean_session = !options.persistent;
     mqtt.connect_timeout = options.timeout;
     ClientOptions client_options;
     client_options.ex_cid = options.client_id;
@@ -85,6 +86,7 @@ std::unique_ptr<Client> connect_client(const CliOptions& options) {
     auto client = Client::create(std::move(mqtt), std::move(client_options));
     if (!client) throw std::runtime_error(client.error().describe());
     auto c = std::move(client).value();
+    if (before_start) before_start(*c);
     if (auto started = c->start(); !started) throw std::runtime_error(started.error().describe());
     if (!c->wait_connected(options.timeout))
         throw std::runtime_error("cannot reach the broker at " + options.broker);

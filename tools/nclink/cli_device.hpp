@@ -8,6 +8,7 @@
 #include <nclink/client.hpp>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,8 +40,11 @@ bool parse_device_command(const Args& args, const OptionSpec& spec, const char* 
 
 /// A started, connected client; registration is sent but not waited for
 /// (without an agent nobody answers). Throws std::runtime_error when the
-/// broker cannot be reached within the timeout (exit 1).
-std::unique_ptr<Client> connect_client(const CliOptions& options);
+/// broker cannot be reached within the timeout (exit 1). `before_start`
+/// subscribes what must be in place when the link comes up: with
+/// --persistent the broker delivers what it kept right after connecting.
+std::unique_ptr<Client> connect_client(const CliOptions& options,
+                                       const std::function<void(Client&)>& before_start = {});
 
 /// Set by SIGINT/SIGTERM once install_interrupt_handler() ran.
 bool interrupted();

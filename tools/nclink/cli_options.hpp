@@ -23,6 +23,8 @@ namespace nclink::cli {
     "  --client-id ID    this application's terminal id (default nclink-cli-<pid>)\n" \
     "  --timeout MS      per-request timeout and broker connect timeout (default 2000)\n" \
     "  --json            machine-readable output\n" \
+    "  --persistent      keep the broker session (clean_session=false) under --client-id:\n" \
+    "                    QoS 1 DTUs sent while this command is not running arrive at its next run\n" \
     "exit status: 0 success, 1 an NG or timeout answer (or no broker), 2 usage error\n"
 
 struct CliOptions {
@@ -31,6 +33,7 @@ struct CliOptions {
     std::string client_id;  ///< empty = nclink-cli-<pid>, filled in by the caller
     std::chrono::milliseconds timeout{2000};
     bool json = false;
+    bool persistent = false;  ///< --persistent: clean_session=false (needs --client-id)
     bool help = false;
     std::set<std::string> flags;                 ///< command-specific flags given ("--follow")
     std::map<std::string, std::string> values;  ///< command-specific valued options ("--count" -> "5")
@@ -107,12 +110,16 @@ inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {
         if (has_value) throw UsageError{name + " takes no value"};
         if (name == "--json") {
             out.json = true;
+        } else if (name == "--persistent") {
+            out.persistent = true;
         } else if (spec.flags.count(name) > 0) {
             out.flags.insert(name);
         } else {
             throw UsageError{"unknown option " + arg};
         }
     }
+    if (out.persistent && out.client_id.empty())
+        throw UsageError{"--persistent needs --client-id (the broker keeps the session under it)"};
     return out;
 }
 

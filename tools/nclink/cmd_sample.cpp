@@ -23,7 +23,7 @@ const char* const sample_usage =
     "  column per ID. A row the adapter replayed after an outage of its broker\n"
     "  link is flagged with '*'. Ctrl-C (or --count rows) unregisters the channel.\n"
     "  --count N         stop after N rows\n"
-    "  --qos 0|1         QoS of the channel's Sample DTUs (default 0)\n"
+    "  --qos 0|1         QoS of the channel's Sample DTUs (default: the adapter's sampling.qos, 1)\n"
     "  --keepalive-ms N  send a small Query every N ms so the adapter keeps the\n"
     "                    channel (its application lease; default 60000, 0 = never)\n"
     "  --json            one Sample DTU per line, as received\n"
@@ -81,15 +81,15 @@ int run_sample(const Args& args) {
     const auto upload_ms = value_of("--upload-ms");
     if (!sample_ms || !upload_ms) throw UsageError{"--sample-ms and --upload-ms are required"};
     const std::uint64_t count = value_of("--count").value_or(0);
-    const std::uint64_t qos = value_of("--qos").value_or(0);
-    if (qos > 1) throw UsageError{"--qos must be 0 or 1"};
+    const auto qos = value_of("--qos");
+    if (qos && *qos > 1) throw UsageError{"--qos must be 0 or 1"};
     const auto keepalive = std::chrono::milliseconds(value_of("--keepalive-ms").value_or(60000));
 
     install_interrupt_handler();
     Inbox<SampleDtu> inbox;  // outlives the client (its dispatch thread pushes)
     auto client = connect_client(options);
     RequestOptions request;
-    if (qos == 1) request.private_info = Json{{"qos", 1}};
+    if (qos) request.private_info = Json{{"qos", *qos}};
     auto channel = client->register_sampling(
         options.device, options.positionals, std::chrono::milliseconds(*sample_ms), std::chrono::milliseconds(*upload_ms),
         [&](const SampleDtu& dtu) { inbox.push(dtu); }, request);

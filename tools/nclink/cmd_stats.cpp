@@ -16,7 +16,8 @@ int run_stats(const Args& args);
 const char* const stats_usage =
     "usage: nclink stats --device GUID [--item ID] [options]\n"
     "  Prints the adapter's statistics: requests, link, and per sample channel\n"
-    "  rows sampled/published, overruns, drops and lateness. Read with a Query of\n"
+    "  rows sampled/published, overruns, drops and lateness; every drop by cause\n"
+    "  (docs/delivery.md). Read with a Query of\n"
     "  the data item ID (default nclink_stats, see sampling.stats_item).\n"
     "  --json prints the whole statistics object.\n"
     NCLINK_CLI_GLOBAL_OPTIONS;
@@ -34,6 +35,14 @@ void print_summary(const Json& stats) {
     if (const auto t = stats.find("transport"); t != stats.end())
         std::printf("transport: published %llu, dropped %llu, buffered %llu\n", static_cast<unsigned long long>(num(*t, "published")),
                     static_cast<unsigned long long>(num(*t, "dropped")), static_cast<unsigned long long>(num(*t, "buffered")));
+    if (const auto d = stats.find("drops"); d != stats.end() && d->is_object()) {
+        // Every loss by cause (docs/delivery.md, "Counted drops").
+        std::string line;
+        for (const auto& [cause, count] : d->items())
+            line += fmt::format("{}{} {}", line.empty() ? "" : ", ", cause, count.is_number() ? count.get<std::uint64_t>() : 0);
+        std::printf("drops: %s\n", line.c_str());
+    }
+    std::printf("applications released: %llu\n", static_cast<unsigned long long>(num(stats, "applications_released")));
     const Json sampling = stats.value("features", Json::object()).value("sampling", Json::object());
     const Json channels = sampling.value("channels", Json::array());
     if (channels.empty()) {

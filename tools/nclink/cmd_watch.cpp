@@ -88,8 +88,10 @@ int run_watch(const Args& args) {
     // Before the client: its dispatch thread pushes into the inbox until the
     // client is destroyed, so the inbox must outlive it.
     Inbox<SampleDtu> inbox;
-    auto client = connect_client(options);
-    auto sub = client->subscribe_samples(options.device, [&](const SampleDtu& s) { inbox.push(s); }, channel);
+    Result<SubscriptionId> sub = make_error(ErrorCode::unavailable, "not subscribed");
+    auto client = connect_client(options, [&](Client& c) {
+        sub = c.subscribe_samples(options.device, [&](const SampleDtu& s) { inbox.push(s); }, channel);
+    });
     if (!sub) {
         std::fprintf(stderr, "nclink watch: %s\n", sub.error().describe().c_str());
         return 1;

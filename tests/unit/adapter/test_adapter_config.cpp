@@ -97,6 +97,15 @@ TEST_CASE("sampling qos channel_qos max_dtu_bytes and overrun_log_interval_ms ar
     CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"channel_qos", Json::array({1})}}}}).ok());
     CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"max_dtu_bytes", -1}}}}).ok());
     const AdapterConfig defaults;
-    CHECK(defaults.sampling.qos == 0);
+    CHECK(defaults.sampling.qos == 1);
     CHECK(defaults.sampling.max_dtu_bytes == 1u << 20);
+}
+
+TEST_CASE("events qos is read and checked, default 1") {
+    auto read = adapter_config_from_json(Json{{"events", {{"qos", 0}}}});
+    REQUIRE(read.ok());
+    CHECK(read->events.qos == 0);
+    CHECK_FALSE(adapter_config_from_json(Json{{"events", {{"qos", 2}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"events", {{"qos", "1"}}}}).ok());
+    CHECK(AdapterConfig{}.events.qos == 1);
 }

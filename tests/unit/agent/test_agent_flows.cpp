@@ -2,6 +2,7 @@
 #include "unit/agent/agent_fixture.hpp"
 
 #include <fstream>
+#include <thread>
 
 using namespace nclink;
 using namespace nclink::test;
@@ -374,4 +375,33 @@ TEST_CASE("malformed discovery and state DTUs are answered or counted and the ag
     f.app->send(topics::notify_state("mill-1"), R"({"tid":"mill-1","state":"sideways"})");
     REQUIRE(eventually([&] { return f.agent->stats().malformed == 2; }));
     CHECK(f.register_as(*f.app, "mes", "r")["code"] == "OK");
+}
+
+TEST_CASE("discovery: an agent started without its state lists an online adapter from its retained state") {
+    AgentFixture f({}, false);
+    // Before the agent: an adapter with its retained online state, and an
+    // application whose retained state an earlier agent announced.
+    auto adapter = f.peer("mill-1", offline_will("mill-1"));
+    adapter->subscribe(topics::probe_query_request("mill-1", "+"));
+    f.announce(*adapter, "mill-1");
+    f.announce(*f.app, "some-app");
+    f.start_agent();
+    // The state does not say what kind of terminal: the agent asks for the
+    // model; an adapter answers, an application does not.
+    const std::string probe_topic = topics::probe_query_request("mill-1", f.config.agent_id);
+    const Json probe = adapter->wait(probe_topic);
+    CHECK(f.app->on(topics::probe_query_request("some-app", f.config.agent_id)).size() == 1);
+    adapter->send(topics::probe_query_response("mill-1", f.config.agent_id),
+                  Json{{"@id", probe["@id"]}, {"guid", "mill-1"}, {"code", "OK"}, {"probe", {{"id", "m"}}}}.dump());
+    REQUIRE(eventually([&] { return kind_of(*f.agent, "mill-1") == "adapter"; }));
+    const Json list = f.app_wait_after(*f.app, topics::discovery_request("viewer"), topics::discovery_response("viewer"),
+                                       Json{{"@id", "d"}, {"guid", "viewer"}});
+    REQUIRE(list["deviceList"].is_array());
+    REQUIRE(list["deviceList"].size() == 1);
+    CHECK(list["deviceList"][0]["guid"] == "mill-1");
+    CHECK(list["deviceList"][0]["status"] == "online");
+    // Asked once per online period.
+    f.announce(*adapter, "mill-1");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK(adapter->on(probe_topic).size() == 1);
 }

@@ -237,15 +237,15 @@ TEST_CASE("dynamic channels of a silent application are released after the lease
     CHECK(f.dynamic_stats()["owners"].begin().value() == "chatty");
 }
 
-TEST_CASE("dynamic channel may ask for QoS 1 Sample DTUs through privateInfo") {
+TEST_CASE("dynamic channel Sample DTUs default to QoS 1 and may ask for QoS 0 through privateInfo") {
     DynamicFixture f;
-    const Json reply = f.register_sampling(ids({"pos"}), 10, 10, "app", Json{{"privateInfo", {{"qos", 1}}}});
+    const Json reply = f.register_sampling(ids({"pos"}), 10, 10, "app", Json{{"privateInfo", {{"qos", 0}}}});
     REQUIRE(reply["code"] == "OK");
     const std::string topic = topics::dynamic_sample(kDev, "app", reply["id"].get<std::string>());
     f.wait_sample(topic);
-    CHECK(f.app->on(topic)[0].qos == 1);  // the loopback delivers min(publish, subscription) QoS
+    CHECK(f.app->on(topic)[0].qos == 0);  // the loopback delivers min(publish, subscription) QoS
     const Json plain = f.register_sampling(ids({"pos"}), 10, 10);
     const std::string plain_topic = topics::dynamic_sample(kDev, "app", plain["id"].get<std::string>());
     f.wait_sample(plain_topic);
-    CHECK(f.app->on(plain_topic)[0].qos == 0);  // the request asked for no QoS: the configured default
+    CHECK(f.app->on(plain_topic)[0].qos == 1);  // sampling.qos, default 1
 }

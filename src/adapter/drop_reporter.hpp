@@ -1,0 +1,55 @@
+// Overload is never silent (docs/delivery.md, "Counted drops"): every loss
+// is counted by cause, and logged once per burst. The counters live where
+// the losses happen (transport, rings, spool, events); this looks at their
+// sums, the "drops" object of the statistics, once a second on the
+// housekeeping thread: the first growth of a cause starts a burst (a warning),
+// a second with no growth ends it (the burst's total at info).
+// Pure bookkeeping; not thread-safe (one caller).
+#pragma once
+
+#include <nclink/json.hpp>
+#include <nclink/log.hpp>
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace nclink::detail {
+
+class DropReporter {
+public:
+    explicit DropReporter(const Logger& logger) : logger_(logger) {}
+
+    /// `drops`: cause -> count so far (counts only grow).
+    void observe(const Json& drops) {
+        if (!drops.is_object()) return;
+        for (const auto& [cause, value] : drops.items()) {
+            if (!value.is_number_unsigned() && !value.is_number_integer()) continue;
+            const auto count = value.get<std::uint64_t>();
+            auto& s = causes_[cause];
+            if (count > s.last) {
+                if (!s.in_burst) {
+                    logger_.warn("dropping ({}): {} so far; counted in the statistics' drops.{} (docs/delivery.md)",
+                                 cause, count, cause);
+                    s.in_burst = true;
+                    s.burst_start = s.last;
+                }
+            } else if (s.in_burst) {
+                logger_.info("drops ({}) stopped: {} in this burst, {} in all", cause, count - s.burst_start, count);
+                s.in_burst = false;
+            }
+            s.last = count;
+        }
+    }
+
+private:
+    struct Cause {
+        std::uint64_t last = 0;
+        std::uint64_t burst_start = 0;
+        bool in_burst = false;
+    };
+    const Logger& logger_;
+    std::map<std::string, Cause> causes_;
+};
+
+}  // namespace nclink::detail
