@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace nclink {
 
@@ -40,6 +41,29 @@ struct NCLINK_API MqttOptions {
     /// ~0.5 ms. On by default; see src/transport/tcp_nodelay.cpp for how.
     bool tcp_nodelay = true;
 };
+
+/// Round trips through the broker, measured on a short-lived connection of
+/// its own: a message published to a private topic this connection
+/// subscribes to, timed until it comes back, at QoS 0 and at QoS 1.
+struct NCLINK_API BrokerRoundTrip {
+    std::vector<std::chrono::microseconds> qos0;
+    std::vector<std::chrono::microseconds> qos1;
+};
+
+/// Measures `samples` round trips at each QoS after one warm-up message. The
+/// connection uses `options` with "-rtt" appended to the client id and no
+/// last will. Fails with ErrorCode::unavailable when the broker cannot be
+/// reached, or a message does not come back, within `timeout`. Blocks the
+/// caller; call it before serving, not from a handler.
+NCLINK_API Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int samples = 3,
+                                                             std::chrono::milliseconds timeout = std::chrono::seconds(3));
+
+/// One line naming the broker setting `set_tcp_nodelay true` when the
+/// measurement shows the broker's Nagle delay (QoS 1 round trips tens of
+/// milliseconds slower than QoS 0 ones: a QoS 1 delivery is two small writes
+/// from the broker, the second held back until the first is acknowledged,
+/// docs/performance.md); empty when it does not. Pure: no I/O.
+NCLINK_API std::string broker_delay_warning(const BrokerRoundTrip& measured);
 
 /// Creates an MQTT transport. Fails with ErrorCode::parameter_missing /
 /// value_type for unusable options (no client id, bad URL).
