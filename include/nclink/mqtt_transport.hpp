@@ -42,26 +42,27 @@ struct NCLINK_API MqttOptions {
     bool tcp_nodelay = true;
 };
 
-/// Round trips through the broker, measured on a short-lived connection of
-/// its own: a message published to a private topic this connection
-/// subscribes to, timed until it comes back, at QoS 0 and at QoS 1.
+/// Round trips through the broker, measured on two short-lived connections
+/// of its own: `direct`, a QoS 0 message one connection publishes to itself
+/// (one hop each way); `relayed`, a QoS 1 request from the first connection
+/// that the second answers, as an NC-Link request and its response travel.
 struct NCLINK_API BrokerRoundTrip {
-    std::vector<std::chrono::microseconds> qos0;
-    std::vector<std::chrono::microseconds> qos1;
+    std::vector<std::chrono::microseconds> direct;
+    std::vector<std::chrono::microseconds> relayed;
 };
 
-/// Measures `samples` round trips at each QoS after one warm-up message. The
-/// connection uses `options` with "-rtt" appended to the client id and no
-/// last will. Fails with ErrorCode::unavailable when the broker cannot be
-/// reached, or a message does not come back, within `timeout`. Blocks the
-/// caller; call it before serving, not from a handler.
+/// Measures `samples` round trips of each kind after a warm-up. The
+/// connections use `options` with "-rtt-a" / "-rtt-b" appended to the client
+/// id and no last will. Fails with ErrorCode::unavailable when the broker
+/// cannot be reached, or a message does not come back, within `timeout`.
+/// Blocks the caller; call it before serving, not from a handler.
 NCLINK_API Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int samples = 3,
                                                              std::chrono::milliseconds timeout = std::chrono::seconds(3));
 
 /// One line naming the broker setting `set_tcp_nodelay true` when the
-/// measurement shows the broker's Nagle delay (QoS 1 round trips tens of
-/// milliseconds slower than QoS 0 ones: a QoS 1 delivery is two small writes
-/// from the broker, the second held back until the first is acknowledged,
+/// measurement shows the broker's Nagle delay: the relayed round trip tens of
+/// milliseconds longer than two direct ones (the broker holds its answer back
+/// until the peer acknowledges the previous packet, which the peer delays,
 /// docs/performance.md); empty when it does not. Pure: no I/O.
 NCLINK_API std::string broker_delay_warning(const BrokerRoundTrip& measured);
 

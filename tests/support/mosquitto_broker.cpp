@@ -75,8 +75,8 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
         if (!shipped) throw std::runtime_error("tools/mosquitto/nclink.conf not found");
         conf << shipped.rdbuf() << "\n";
     }
-    conf << "max_queued_messages 100000\n"  // tests burst harder than a plant
-         << "log_dest none\n";
+    if (options.large_queues) conf << "max_queued_messages 100000\n";  // tests burst harder than a plant
+    conf << "log_dest none\n";
     conf.close();
     if (options.start) start();
 }

@@ -23,6 +23,9 @@ struct MosquittoOptions {
     /// settings nclink ships for a plant's broker. false = mosquitto's
     /// defaults (a broker that delays small packets).
     bool shipped_settings = true;
+    /// max_queued_messages 100000 over the shipped limit (tests burst
+    /// harder than a plant); false = exactly what a plant's broker has.
+    bool large_queues = true;
 };
 
 class MosquittoBroker {
