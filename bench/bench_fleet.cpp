@@ -27,6 +27,7 @@
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <random>
@@ -179,7 +180,7 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     mo.client_id = "bench-fleet-app";
     auto app = Client::create(mo, co).value();
     (void)app->start();
-    app->wait_connected(10s);
+    (void)app->wait_connected(10s);
     std::this_thread::sleep_for(2s);  // let the upload rhythm settle
 
     // Discovery of every machine, the median of 5.

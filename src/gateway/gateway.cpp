@@ -40,14 +40,14 @@ struct NCLINK_LOCAL Gateway::Impl {
             // each other off the broker: refuse before connecting.
             if (!guid.empty() && guid_owner.count(guid))
                 return make_error(ErrorCode::keys_of_arguments,
-                                  fmt::format("GUID '{}' is already served by machine '{}'", guid, guid_owner[guid]));
+                                  fmt::format("GUID '{}' is already served by machine '{}'", guid, guid_owner.at(guid)));
             reserved.insert(id);
             if (!guid.empty()) guid_owner[guid] = id;
         }
         auto release = [&](const std::string& dev) {
             std::lock_guard<std::mutex> lock(mutex);
             reserved.erase(id);
-            if (!dev.empty() && guid_owner[dev] == id) guid_owner.erase(dev);
+            if (auto it = guid_owner.find(dev); it != guid_owner.end() && it->second == id) guid_owner.erase(it);
         };
         std::shared_ptr<Driver> driver;
         if (machine.adapter.driver_plugin.empty()) {
@@ -76,7 +76,7 @@ struct NCLINK_LOCAL Gateway::Impl {
         if (guid.empty()) {
             // The GUID came from the model: checked only now.
             if (guid_owner.count(dev)) {
-                const std::string owner = guid_owner[dev];
+                const std::string owner = guid_owner.at(dev);
                 lock.unlock();
                 adapter->stop(std::chrono::milliseconds(0));
                 return make_error(ErrorCode::keys_of_arguments,
