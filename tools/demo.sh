@@ -3,7 +3,8 @@
 #   tools/demo.sh            # build, start mosquitto + nclink-sim, show NC-Link data, stop
 #   tools/demo.sh --follow   # ... then keep printing the machine every second until Ctrl-C
 # Installs what it needs (tools/install-deps.sh), builds into build/, and starts
-# its own mosquitto on a free 127.0.0.1 port (TCP_NODELAY on), so it never
+# its own mosquitto on a free 127.0.0.1 port with the settings nclink ships
+# for a plant's broker (tools/mosquitto/nclink.conf), so it never
 # touches a broker already running on this machine.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -47,9 +48,9 @@ mosquitto_bin=$(command -v mosquitto || echo /usr/sbin/mosquitto)
 cat > "$work/mosquitto.conf" <<CONF
 listener $port 127.0.0.1
 allow_anonymous true
-set_tcp_nodelay true
 persistence false
 CONF
+cat tools/mosquitto/nclink.conf >> "$work/mosquitto.conf"  # set_tcp_nodelay true, ...
 say "starting mosquitto on $broker"
 "$mosquitto_bin" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
 pids+=($!)

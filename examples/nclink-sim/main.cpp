@@ -6,7 +6,10 @@
 //   nclink-sim [--broker URL] [--model FILE] [--guid GUID] [--config FILE]
 //              [--plugin SO] [--persistence DIR] [--seed N] [--strict]
 //              [--log-level LEVEL]
+//   nclink-sim --machines N [...]    N simulated machines in one gateway process
+//   nclink-sim --gateway FILE [...]  the machines a gateway file lists (SIGHUP re-reads it)
 #include <nclink/adapter.hpp>
+#include <nclink/gateway.hpp>
 #include <nclink/model.hpp>
 #include "sim/sim_driver.hpp"
 
@@ -14,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <string>
 
 namespace {
@@ -28,12 +32,20 @@ const char* kUsage = R"(usage: nclink-sim [options]
   --seed N            seed of the simulation (default 1)
   --strict            refuse models with conformance problems
   --log-level LEVEL   trace, debug, info (default), warn, error, off
+  --machines N        simulate N machines in one process (gateway mode, docs/gateway.md): models
+                      alternate between the mill and the standard's appendix B machine (or all
+                      --model), GUIDs <guid>-0000... (--guid is the prefix, default "sim"),
+                      seeds --seed + i; --config gives the settings every machine shares
+  --gateway FILE      serve the machines a gateway file lists (docs/gateway.md); SIGHUP re-reads
+                      it and adds or removes machines without touching the others
   --help)";
 
 struct Options {
     nclink::AdapterConfig config;
     std::string config_file;
     std::uint64_t seed = 1;
+    std::size_t machines = 0;
+    std::string gateway_file;
     bool model_given = false, broker_given = false, guid_given = false, strict_given = false,
          persistence_given = false, plugin_given = false, level_given = false;
     std::string model, broker, guid, plugin, persistence;
@@ -70,6 +82,11 @@ Options parse(int argc, char** argv) {
             o.persistence = value(), o.persistence_given = true;
         } else if (arg == "--seed") {
             o.seed = std::strtoull(value().c_str(), nullptr, 10);
+        } else if (arg == "--machines") {
+            o.machines = std::strtoull(value().c_str(), nullptr, 10);
+            if (o.machines == 0) usage_error("--machines needs a positive number");
+        } else if (arg == "--gateway") {
+            o.gateway_file = value();
         } else if (arg == "--strict") {
             o.strict_given = true;
         } else if (arg == "--log-level") {
@@ -83,12 +100,81 @@ Options parse(int argc, char** argv) {
     return o;
 }
 
-std::string default_model() {
+std::string default_model(const char* name = "sim-mill.json") {
     for (const std::string dir : {NCLINK_SOURCE_MODELS_DIR, NCLINK_INSTALLED_MODELS_DIR}) {
-        const auto path = std::filesystem::path(dir) / "sim-mill.json";
+        const auto path = std::filesystem::path(dir) / name;
         if (std::filesystem::exists(path)) return path.string();
     }
-    return "sim-mill.json";
+    return name;
+}
+
+// The linked simulator for a machine: its model file, its seed.
+nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(const nclink::MachineConfig& machine) {
+    const auto loaded = nclink::load_model_file(machine.adapter.model_path);
+    if (!loaded.model)
+        return nclink::make_error(nclink::ErrorCode::syntax_error, machine.adapter.model_path + " cannot be simulated");
+    nclink::SimOptions sim;
+    const auto& dc = machine.adapter.driver_config;
+    if (dc.is_object() && dc.contains("seed") && dc["seed"].is_number_unsigned()) sim.seed = dc["seed"].get<std::uint64_t>();
+    sim.device = machine.adapter.device_id;
+    auto created = nclink::SimDriver::create(loaded.model, sim);
+    if (!created) return std::move(created).error();
+    return std::shared_ptr<nclink::Driver>(std::move(created).value());
+}
+
+// Gateway mode: many simulated machines in this process until a signal.
+int run_gateway(Options& o, const nclink::AdapterConfig& shared, sigset_t& signals, const nclink::Logger& logger) {
+    nclink::GatewayConfig gateway;
+    if (!o.gateway_file.empty()) {
+        auto loaded = nclink::load_gateway_config(o.gateway_file);
+        if (!loaded) {
+            std::fprintf(stderr, "nclink-sim: %s\n", loaded.error().message.c_str());
+            return 2;
+        }
+        gateway = std::move(loaded).value();
+    } else {
+        const std::string prefix = o.guid_given ? o.guid : "sim";
+        const std::string models[] = {default_model("sim-mill.json"), default_model("appendix-b-corrected.json")};
+        for (std::size_t i = 0; i < o.machines; ++i) {
+            nclink::MachineConfig m;
+            m.adapter = shared;
+            m.adapter.model_path = o.model_given ? o.model : models[i % 2];
+            m.adapter.dev_uuid = fmt::format("{}-{:04d}", prefix, i);
+            m.adapter.device_id.clear();
+            m.adapter.driver_config = nclink::Json{{"seed", o.seed + i}};
+            if (!m.adapter.driver_plugin.empty()) m.adapter.driver_config["model"] = m.adapter.model_path;
+            m.id = m.adapter.dev_uuid;
+            gateway.machines.push_back(std::move(m));
+        }
+    }
+    nclink::Gateway gw(gateway, &sim_driver, logger);
+    if (auto started = gw.start(); !started) logger.warn("nclink-sim: {}", started.error().message);
+    logger.info("nclink-sim: {} machine(s) serving (Ctrl-C to stop)", gw.machines().size());
+    sigaddset(&signals, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    for (;;) {
+        int signal_number = 0;
+        sigwait(&signals, &signal_number);
+        if (signal_number != SIGHUP) break;
+        if (o.gateway_file.empty()) continue;
+        // Re-read the file: machines no longer listed go, new ones come; the
+        // others are not touched (a changed entry needs a remove and an add).
+        auto loaded = nclink::load_gateway_config(o.gateway_file);
+        if (!loaded) {
+            logger.error("nclink-sim: {} not re-read: {}", o.gateway_file, loaded.error().message);
+            continue;
+        }
+        std::set<std::string> wanted;
+        for (const auto& m : loaded->machines) wanted.insert(m.id);
+        for (const auto& m : gw.machines())
+            if (!wanted.count(m.id)) (void)gw.remove_machine(m.id);
+        for (auto& m : loaded->machines)
+            if (!gw.machine(m.id))
+                if (auto added = gw.add_machine(m); !added) logger.error("nclink-sim: {}", added.error().message);
+        logger.info("nclink-sim: {} re-read, {} machine(s) serving", o.gateway_file, gw.machines().size());
+    }
+    gw.stop();
+    return 0;
 }
 
 }  // namespace
@@ -124,7 +210,9 @@ int main(int argc, char** argv) {
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
+    if (o.machines > 0 || !o.gateway_file.empty()) sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    if (o.machines > 0 || !o.gateway_file.empty()) return run_gateway(o, config, signals, logger);
 
     std::shared_ptr<nclink::Driver> driver;
     if (config.driver_plugin.empty()) {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace nclink {
 
@@ -40,6 +41,30 @@ struct NCLINK_API MqttOptions {
     /// ~0.5 ms. On by default; see src/transport/tcp_nodelay.cpp for how.
     bool tcp_nodelay = true;
 };
+
+/// Round trips through the broker, measured on two short-lived connections
+/// of its own: `direct`, a QoS 0 message one connection publishes to itself
+/// (one hop each way); `relayed`, a QoS 1 request from the first connection
+/// that the second answers, as an NC-Link request and its response travel.
+struct NCLINK_API BrokerRoundTrip {
+    std::vector<std::chrono::microseconds> direct;
+    std::vector<std::chrono::microseconds> relayed;
+};
+
+/// Measures `samples` round trips of each kind after a warm-up. The
+/// connections use `options` with "-rtt-a" / "-rtt-b" appended to the client
+/// id and no last will. Fails with ErrorCode::unavailable when the broker
+/// cannot be reached, or a message does not come back, within `timeout`.
+/// Blocks the caller; call it before serving, not from a handler.
+NCLINK_API Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int samples = 3,
+                                                             std::chrono::milliseconds timeout = std::chrono::seconds(3));
+
+/// One line naming the broker setting `set_tcp_nodelay true` when the
+/// measurement shows the broker's Nagle delay: the relayed round trip tens of
+/// milliseconds longer than two direct ones (the broker holds its answer back
+/// until the peer acknowledges the previous packet, which the peer delays,
+/// docs/performance.md); empty when it does not. Pure: no I/O.
+NCLINK_API std::string broker_delay_warning(const BrokerRoundTrip& measured);
 
 /// Creates an MQTT transport. Fails with ErrorCode::parameter_missing /
 /// value_type for unusable options (no client id, bad URL).

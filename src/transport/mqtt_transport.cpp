@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 namespace nclink {
@@ -163,7 +164,9 @@ private:
         for (const auto& [qos, filters] : by_qos) subscribe_now(filters, qos);
         ++connects_;
         set_state(LinkState::connected, options_.broker_url);
-        outbox_.link_up();
+        // MQTT 5: the supervisor opens the outbox once it has read the
+        // broker's Receive Maximum from the CONNACK (see supervise()).
+        if (options_.mqtt_version < 5) outbox_.link_up();
     }
 
     // Thread: paho callback thread.
@@ -188,6 +191,17 @@ private:
         state_ = next;
         logger_.info("mqtt: {} ({})", to_string(next), detail);
         if (on_state_) on_state_(next, detail);
+    }
+
+    // The CONNACK's Receive Maximum (MQTT 5, 3.2.2.3.3); absent = 65535.
+    static std::optional<std::size_t> broker_receive_maximum(mqtt::token& token) {
+        try {
+            const auto props = token.get_connect_response().get_properties();
+            if (!props.contains(mqtt::property::RECEIVE_MAXIMUM)) return std::nullopt;
+            return static_cast<std::size_t>(mqtt::get<uint16_t>(props, mqtt::property::RECEIVE_MAXIMUM));
+        } catch (const std::exception&) {
+            return std::nullopt;
+        }
     }
 
     mqtt::connect_options connect_options() const {
@@ -232,14 +246,28 @@ private:
                 lock.unlock();
                 set_state(LinkState::connecting, options_.broker_url);
                 bool ok = false;
+                std::optional<std::size_t> receive_maximum;
                 try {
-                    ok = client_.connect(opts)->wait_for(options_.connect_timeout + milliseconds(500));
+                    auto token = client_.connect(opts);
+                    ok = token->wait_for(options_.connect_timeout + milliseconds(500));
                     if (!ok) logger_.warn("mqtt: connect to {} timed out (retry in {} ms)", options_.broker_url, delay.count());
+                    if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
                 } catch (const mqtt::exception& e) {
                     logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, e.what(),
                                  delay.count());
                 }
                 ok = ok && client_.is_connected();  // paho call: before taking mutex_
+                if (ok && options_.mqtt_version >= 5) {
+                    // paho keeps QoS 1 messages beyond the broker's Receive
+                    // Maximum in its own queue and sends them only when woken
+                    // (a new publish, or once a second): more in flight than
+                    // the broker allows turns a burst into a trickle and the
+                    // terminal seems dead. Never hand paho more than it may send.
+                    outbox_.set_window(receive_maximum.value_or(65535));
+                    if (receive_maximum && *receive_maximum < options_.outbox.max_in_flight)
+                        logger_.debug("mqtt: the broker allows {} unacknowledged messages", *receive_maximum);
+                    outbox_.link_up();
+                }
                 lock.lock();
                 if (!ok) {
                     if (state_ != LinkState::connected) {

@@ -5,7 +5,7 @@
 namespace nclink::detail {
 
 Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger)
-    : limits_(limits), send_(std::move(send)), logger_(std::move(logger)) {
+    : limits_(limits), send_(std::move(send)), logger_(std::move(logger)), window_(limits.max_in_flight) {
     thread_ = std::thread([this] { run(); });
 }
 
@@ -51,7 +51,7 @@ Result<void> Outbox::push(Message message) {
 }
 
 bool Outbox::can_send_locked() const {
-    return link_up_ && !stopping_ && in_flight_ < limits_.max_in_flight &&
+    return link_up_ && !stopping_ && in_flight_ < window_ &&
            std::chrono::steady_clock::now() >= paused_until_;
 }
 
@@ -95,6 +95,14 @@ void Outbox::link_up() {
         paused_until_ = {};
         if (drop_burst_ > 1) logger_.warn("offline buffer dropped {} messages in total so far", dropped_);
         drop_burst_ = 0;
+    }
+    wake_.notify_all();
+}
+
+void Outbox::set_window(std::size_t max_in_flight) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        window_ = std::max<std::size_t>(1, std::min(max_in_flight, limits_.max_in_flight));
     }
     wake_.notify_all();
 }

@@ -40,6 +40,10 @@ public:
     Result<void> push(Message message);
 
     void link_up();
+    /// Lowers (or restores, up to the configured limit) how many messages may
+    /// be unacknowledged at once: the broker's MQTT 5 Receive Maximum
+    /// (3.3.4.9), which the client library enforces by holding messages back.
+    void set_window(std::size_t max_in_flight);
     /// Unacknowledged messages go back to waiting, in their original order.
     void link_down();
 
@@ -80,6 +84,7 @@ private:
     std::deque<Entry> entries_;
     std::size_t bytes_ = 0;
     std::size_t in_flight_ = 0;
+    std::size_t window_;  // min(limits_.max_in_flight, the broker's Receive Maximum)
     std::uint64_t next_attempt_ = 1;
     bool link_up_ = false;
     std::chrono::steady_clock::time_point paused_until_{};

@@ -71,10 +71,14 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
     else
         conf << "persistence false\n";
-    conf
-         << "set_tcp_nodelay true\n"
-         << "max_queued_messages 100000\n"
-         << "log_dest none\n";
+    // The settings nclink ships for a plant's broker, as a user would add them.
+    if (options.shipped_settings) {
+        std::ifstream shipped(std::string(NCLINK_SOURCE_DIR) + "/tools/mosquitto/nclink.conf");
+        if (!shipped) throw std::runtime_error("tools/mosquitto/nclink.conf not found");
+        conf << shipped.rdbuf() << "\n";
+    }
+    if (options.large_queues) conf << "max_queued_messages 100000\n";  // tests burst harder than a plant
+    conf << "log_dest none\n";
     conf.close();
     if (options.start) start();
 }

@@ -1,5 +1,5 @@
 // A real mosquitto for integration tests: started on a free 127.0.0.1 port
-// with TCP_NODELAY, no persistence; stopped (SIGTERM, then SIGKILL) on
+// with the settings nclink ships (tools/mosquitto/nclink.conf), no persistence; stopped (SIGTERM, then SIGKILL) on
 // destruction. restart() keeps the port so clients can reconnect.
 #pragma once
 
@@ -23,6 +23,13 @@ struct MosquittoOptions {
     std::string acl_file;
     /// mosquitto password_file ("" = none); when set, anonymous clients are refused.
     std::string password_file;
+    /// Include tools/mosquitto/nclink.conf (set_tcp_nodelay true, ...), the
+    /// settings nclink ships for a plant's broker. false = mosquitto's
+    /// defaults (a broker that delays small packets).
+    bool shipped_settings = true;
+    /// max_queued_messages 100000 over the shipped limit (tests burst
+    /// harder than a plant); false = exactly what a plant's broker has.
+    bool large_queues = true;
 };
 
 class MosquittoBroker {

@@ -5,6 +5,7 @@
 //   nclink-agent [--config FILE] --write-mosquitto-acl FILE
 #include <nclink/log.hpp>
 #include <nclink/agent.hpp>
+#include <nclink/mqtt_transport.hpp>
 
 #include <csignal>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <iostream>
 #include <optional>
 #include <pthread.h>
+#include <unistd.h>
 #include <string>
 
 namespace {
@@ -97,6 +99,24 @@ int main(int argc, char** argv) {
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     nclink::Logger logger(nclink::stderr_sink(), config.log_level);
+    {
+        // Every answer through a broker without TCP_NODELAY is 40-90 ms late;
+        // the agent cannot change the broker but can say which setting to
+        // change (docs/performance.md).
+        nclink::MqttOptions probe;
+        probe.broker_url = config.broker_url;
+        probe.client_id = (config.client_id.empty() ? config.agent_id : config.client_id) + "-" + std::to_string(::getpid());
+        probe.username = config.username;
+        probe.password = config.password;
+        probe.tls = config.tls;
+        probe.mqtt_version = config.mqtt_version;
+        if (auto trip = nclink::measure_broker_round_trip(probe, 3)) {
+            if (const std::string warning = nclink::broker_delay_warning(*trip); !warning.empty())
+                logger.warn("nclink-agent: {}", warning);
+        } else {
+            logger.warn("nclink-agent: broker round trip not measured: {}", trip.error().describe());
+        }
+    }
     nclink::Agent agent(config, logger);
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());

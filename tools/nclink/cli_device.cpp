@@ -1,6 +1,8 @@
 // Shared plumbing of the device subcommands; see cli_device.hpp.
 #include "cli_device.hpp"
 
+#include <nclink/mqtt_transport.hpp>
+
 #include <nclink/log.hpp>
 
 #include <unistd.h>
@@ -79,6 +81,12 @@ std::unique_ptr<Client> connect_client(const CliOptions& options, const std::fun
     mqtt.client_id = options.client_id;
     mqtt.clean_session = !options.persistent;
     mqtt.connect_timeout = options.timeout;
+    // A broker without TCP_NODELAY makes every answer 40-90 ms late: say so
+    // once, naming the setting (docs/performance.md). An unreachable broker
+    // is reported by the connect below.
+    if (auto trip = measure_broker_round_trip(mqtt, 2, options.timeout))
+        if (const std::string warning = broker_delay_warning(*trip); !warning.empty())
+            std::fprintf(stderr, "nclink: warning: %s\n", warning.c_str());
     ClientOptions client_options;
     client_options.ex_cid = options.client_id;
     client_options.default_timeout = options.timeout;

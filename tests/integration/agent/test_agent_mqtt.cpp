@@ -14,15 +14,37 @@
 
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <thread>
+
+extern char** environ;
 
 using namespace nclink;
 using namespace nclink::test;
 using namespace std::chrono_literals;
 
 namespace {
+
+/// Starts a program with its output discarded; its pid, or -1.
+pid_t spawn_program(const std::vector<std::string>& args) {
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    for (int fd : {0, 1, 2}) posix_spawn_file_actions_addopen(&actions, fd, "/dev/null", O_RDWR, 0);
+    pid_t pid = -1;
+    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
+    posix_spawn_file_actions_destroy(&actions);
+    return pid;
+}
 
 AgentConfig agent_config(const MosquittoBroker& broker, const std::string& name = "agent-a") {
     AgentConfig c;
@@ -246,4 +268,44 @@ TEST_CASE("broker ACL from the agent's configuration keeps denied requests from 
     viewer->stop();
     mes->stop();
     std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("two agents on shared subscriptions: one killed and registrations and discovery stay correct") {
+    MosquittoBroker broker;
+    // The first agent is a real nclink-agent process, so it can die abruptly.
+    const std::string binary = std::string(NCLINK_BINARY_DIR) + "/bin/nclink-agent";
+    const pid_t killed = spawn_program({binary, "--broker", broker.url(), "--log-level", "warn"});
+    REQUIRE(killed > 0);
+    auto survivor = start_agent(agent_config(broker, "agent-b"));
+    Peer app(broker, "app", {"Register/Response/+", "Discovery/Response/+"});
+    std::this_thread::sleep_for(1500ms);  // the process has connected and subscribed
+    auto register_terminals = [&](int from, int to) {
+        for (int i = from; i < to; ++i) {
+            const std::string tid = "t" + std::to_string(i);
+            app.send("Register/Request", Json{{"@id", "r" + tid}, {"cli_uuid", tid}});
+            app.send("Probe/Version/" + tid, Json{{"@id", "v" + tid}, {"version", "1"}});
+        }
+        return eventually([&] {
+            for (int i = from; i < to; ++i)
+                if (app.on("Register/Response/t" + std::to_string(i)).empty()) return false;
+            return true;
+        }, 20s);
+    };
+    REQUIRE(register_terminals(0, 8));
+    const auto before = survivor->stats().registrations;
+    CHECK(before < 8);  // the process answered some of them
+
+    ::kill(killed, SIGKILL);
+    int status = 0;
+    ::waitpid(killed, &status, 0);
+
+    REQUIRE(register_terminals(8, 16));
+    CHECK(survivor->stats().registrations == before + 8);  // all new ones by the survivor
+    for (int i = 0; i < 4; ++i) app.send("Discovery/Request/app", Json{{"@id", "d" + std::to_string(i)}, {"guid", "app"}});
+    REQUIRE(eventually([&] { return app.on("Discovery/Response/app").size() == 4; }, 20s));
+    const Json last = app.on("Discovery/Response/app").back();
+    REQUIRE(last.contains("deviceList"));
+    std::set<std::string> listed;
+    for (const auto& entry : last["deviceList"]) listed.insert(entry["guid"].get<std::string>());
+    CHECK(listed.size() == 16);  // also those the dead agent registered: the survivor watched its answers
 }

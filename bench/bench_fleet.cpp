@@ -1,0 +1,268 @@
+// The fleet benchmark: N simulated machines x 10 points sampled every 100 ms
+// and uploaded every second (bench/fleet-machine.json), in ONE gateway
+// process (nclink-sim --machines N), one mosquitto with the settings nclink
+// ships, nclink-agent, and an application subscribed to every channel.
+// Reports, per N: points/s delivered against produced, gateway and agent
+// CPU % and RSS, time until every machine is online, Discovery time, Query
+// p50/p99 to a random machine under that load, and the time for every
+// machine to come back online after a broker restart.
+//
+//   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 20] [--queries 200]
+//
+// A program, not a test: the figures depend on the box (docs/performance.md).
+#include <nclink/client.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/topics.hpp>
+
+#include "bench_util.hpp"
+#include "support/mosquitto_broker.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+using namespace nclink;
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    pid_t pid = -1;
+    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
+    posix_spawn_file_actions_destroy(&actions);
+    return pid;
+}
+
+void finish(pid_t pid) {
+    if (pid <= 0) return;
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    for (int i = 0; i < 300; ++i) {
+        if (::waitpid(pid, &status, WNOHANG) == pid) return;
+        std::this_thread::sleep_for(100ms);
+    }
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+}
+
+// CPU seconds (user + system) and resident MB of a process.
+struct Usage {
+    double cpu_s = 0;
+    double rss_mb = 0;
+    int threads = 0;
+};
+Usage usage(pid_t pid) {
+    Usage u;
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+    const auto close = text.rfind(')');
+    if (close != std::string::npos) {
+        std::istringstream fields(text.substr(close + 2));
+        std::vector<std::string> f;
+        for (std::string s; fields >> s;) f.push_back(s);
+        // fields after the name: state(0) ... utime(11) stime(12) ... num_threads(17)
+        if (f.size() > 17) {
+            const double tick = static_cast<double>(::sysconf(_SC_CLK_TCK));
+            u.cpu_s = (std::stod(f[11]) + std::stod(f[12])) / tick;
+            u.threads = std::stoi(f[17]);
+        }
+    }
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("VmRSS:", 0) == 0) u.rss_mb = std::stod(line.substr(6)) / 1024.0;
+    return u;
+}
+
+// The application's view of every Sample and Notify/State on the broker.
+struct Watcher {
+    std::atomic<std::uint64_t> points{0}, samples{0};
+    std::mutex mutex;
+    std::map<std::string, std::pair<std::string, Clock::time_point>> state;  // tid -> last state, when
+    std::unique_ptr<Transport> transport;
+
+    explicit Watcher(const std::string& url) {
+        MqttOptions o;
+        o.broker_url = url;
+        o.client_id = "bench-fleet-watcher";
+        transport = make_mqtt_transport(o).value();
+        transport->set_message_handler([this](const Message& m) {
+            const auto topic = parse_topic(m.topic);
+            if (!topic) return;
+            if (topic->kind == TopicKind::sample) {
+                auto dtu = decode<SampleDtu>(m.payload);
+                if (!dtu) return;
+                std::uint64_t n = 0;
+                for (const auto& column : dtu->data) n += column.is_array() ? column.size() : 1;
+                points += n;
+                ++samples;
+            } else if (topic->kind == TopicKind::notify_state && !m.payload.empty()) {
+                auto n = decode<NotifyState>(m.payload);
+                if (!n) return;
+                std::lock_guard<std::mutex> lock(mutex);
+                state[topic->dev] = {n->state, Clock::now()};
+            }
+        });
+        (void)transport->subscribe({"Sample/#", topics::notify_state("+")}, 0);
+        (void)transport->start();
+    }
+    ~Watcher() { transport->stop(0ms); }
+
+    // Machines whose last state is online and came after `since`.
+    std::size_t online_since(const std::string& prefix, Clock::time_point since) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::size_t n = 0;
+        for (const auto& [tid, s] : state)
+            if (tid.rfind(prefix, 0) == 0 && s.first == "online" && s.second >= since) ++n;
+        return n;
+    }
+};
+
+struct Row {
+    std::size_t machines = 0;
+    double produced = 0, delivered = 0;
+    Usage gw, agent;
+    double gw_cpu = 0, agent_cpu = 0;
+    double all_online_s = 0, discovery_ms = 0, query_p50 = 0, query_p99 = 0, restart_s = 0;
+    std::size_t discovered = 0, query_failures = 0;
+};
+
+Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src) {
+    Row row;
+    row.machines = machines;
+    nclink::test::MosquittoBroker broker;
+    const std::string url = broker.url();
+    const std::string prefix = "fleet";
+    const pid_t agent = spawn({bin + "/bin/nclink-agent", "--broker", url, "--log-level", "warn"}, "/tmp/bench_fleet_agent.log");
+    Watcher watcher(url);
+    std::this_thread::sleep_for(500ms);
+    const auto t0 = Clock::now();
+    const pid_t gw = spawn({bin + "/bin/nclink-sim", "--machines", std::to_string(machines), "--model",
+                            src + "/bench/fleet-machine.json", "--guid", prefix, "--broker", url, "--log-level", "warn"},
+                           "/tmp/bench_fleet_gateway.log");
+    while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600)
+        std::this_thread::sleep_for(50ms);
+    row.all_online_s = seconds_since(t0);
+
+    ClientOptions co;
+    co.ex_cid = "bench-fleet-app";
+    co.default_timeout = 10s;
+    MqttOptions mo;
+    mo.broker_url = url;
+    mo.client_id = "bench-fleet-app";
+    auto app = Client::create(mo, co).value();
+    (void)app->start();
+    (void)app->wait_connected(10s);
+    std::this_thread::sleep_for(2s);  // let the upload rhythm settle
+
+    // Discovery of every machine, the median of 5.
+    std::vector<double> discovery;
+    for (int i = 0; i < 5; ++i) {
+        const auto t = Clock::now();
+        auto list = app->discover();
+        discovery.push_back(seconds_since(t) * 1000);
+        if (list) row.discovered = list->size();
+    }
+    row.discovery_ms = bench::median(discovery);
+
+    // The measured window: points delivered, CPU, queries to random machines.
+    const Usage gw0 = usage(gw), agent0 = usage(agent);
+    const std::uint64_t points0 = watcher.points;
+    const auto w0 = Clock::now();
+    std::mt19937 random(7);
+    std::vector<double> query_ms;
+    const auto pause = std::chrono::duration<double>(seconds / static_cast<double>(queries + 1));
+    while (seconds_since(w0) < seconds) {
+        const std::string dev = fmt::format("{}-{:04d}", prefix, random() % machines);
+        const auto t = Clock::now();
+        auto values = app->query(dev, {QueryItem{"spindle_speed", std::nullopt}});
+        if (values && !values->empty() && (*values)[0].status.ok)
+            query_ms.push_back(seconds_since(t) * 1000);
+        else
+            ++row.query_failures;
+        std::this_thread::sleep_for(pause);
+    }
+    const double window = seconds_since(w0);
+    const std::uint64_t points1 = watcher.points;
+    row.gw = usage(gw);
+    row.agent = usage(agent);
+    row.gw_cpu = (row.gw.cpu_s - gw0.cpu_s) / window * 100;
+    row.agent_cpu = (row.agent.cpu_s - agent0.cpu_s) / window * 100;
+    row.delivered = static_cast<double>(points1 - points0) / window;
+    row.produced = static_cast<double>(machines) * 10 * 10;  // 10 points every 100 ms
+    row.query_p50 = bench::percentile(query_ms, 50);
+    row.query_p99 = bench::percentile(query_ms, 99);
+
+    // Broker restart: until every machine has announced itself online again.
+    const auto r0 = Clock::now();
+    broker.restart();
+    while (watcher.online_since(prefix, r0) < machines && seconds_since(r0) < 600) std::this_thread::sleep_for(50ms);
+    row.restart_s = seconds_since(r0);
+
+    app->stop();
+    finish(gw);
+    finish(agent);
+    return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::size_t> sizes = {100, 300, 1000};
+    double seconds = 20;
+    std::size_t queries = 200;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const std::string arg = argv[i], value = argv[i + 1];
+        if (arg == "--machines") {
+            sizes.clear();
+            std::stringstream list(value);
+            for (std::string n; std::getline(list, n, ',');) sizes.push_back(std::stoul(n));
+        } else if (arg == "--seconds") {
+            seconds = std::stod(value);
+        } else if (arg == "--queries") {
+            queries = std::stoul(value);
+        }
+    }
+    std::printf("| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
+                "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
+                "| online again after broker restart s |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (std::size_t n : sizes) {
+        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR);
+        std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.1f |\n",
+                    r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
+                    r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb,
+                    r.all_online_s, r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures,
+                    r.restart_s);
+        std::fflush(stdout);
+    }
+    return 0;
+}

@@ -1,0 +1,199 @@
+// Many machines in one process (docs/gateway.md). Each machine is a whole
+// adapter with its own connection (so its own last will) and terminal id;
+// the gateway keeps the list, starts them a few at a time (connecting is
+// what takes time) and adds or removes one without touching the others.
+#include <nclink/gateway.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+namespace nclink {
+
+struct NCLINK_LOCAL Gateway::Impl {
+    GatewayConfig config;
+    MachineDriverFactory drivers;
+    Logger logger;
+
+    mutable std::mutex mutex;
+    std::map<std::string, std::shared_ptr<Adapter>> running;  // by machine id
+    std::map<std::string, std::string> guid_owner;           // dev_uuid -> machine id
+    std::set<std::string> reserved;                          // ids being started or stopped
+    bool started = false;
+    bool stopped = false;
+
+    Impl(GatewayConfig c, MachineDriverFactory d, Logger l)
+        : config(std::move(c)), drivers(std::move(d)), logger(std::move(l)) {}
+
+    Result<void> add(MachineConfig machine) {
+        const std::string id = machine.id;
+        const std::string guid = machine.adapter.dev_uuid;
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (stopped) return make_error(ErrorCode::unavailable, "gateway stopped");
+            if (running.count(id) || reserved.count(id))
+                return make_error(ErrorCode::keys_of_arguments, fmt::format("machine '{}' is already served", id));
+            // Two adapters with one GUID would share a client id and push
+            // each other off the broker: refuse before connecting.
+            if (!guid.empty() && guid_owner.count(guid))
+                return make_error(ErrorCode::keys_of_arguments,
+                                  fmt::format("GUID '{}' is already served by machine '{}'", guid, guid_owner.at(guid)));
+            reserved.insert(id);
+            if (!guid.empty()) guid_owner[guid] = id;
+        }
+        auto release = [&](const std::string& dev) {
+            std::lock_guard<std::mutex> lock(mutex);
+            reserved.erase(id);
+            if (auto it = guid_owner.find(dev); it != guid_owner.end() && it->second == id) guid_owner.erase(it);
+        };
+        std::shared_ptr<Driver> driver;
+        if (machine.adapter.driver_plugin.empty()) {
+            if (!drivers) {
+                release(guid);
+                return make_error(ErrorCode::parameter_missing,
+                                  fmt::format("machine '{}': no driver plugin configured and no driver factory", id));
+            }
+            auto made = drivers(machine);
+            if (!made || !made.value()) {
+                release(guid);
+                return make_error(made ? ErrorCode::parameter_missing : made.error().code,
+                                  fmt::format("machine '{}': {}", id, made ? "no driver" : made.error().message));
+            }
+            driver = std::move(made).value();
+        }
+        auto adapter = std::make_shared<Adapter>(machine.adapter, std::move(driver), logger);
+        if (auto r = adapter->start(); !r) {
+            adapter->stop(std::chrono::milliseconds(0));
+            release(guid);
+            return make_error(r.error().code, fmt::format("machine '{}': {}", id, r.error().message));
+        }
+        const std::string dev = adapter->dev_uuid();
+        std::unique_lock<std::mutex> lock(mutex);
+        reserved.erase(id);
+        if (guid.empty()) {
+            // The GUID came from the model: checked only now.
+            if (guid_owner.count(dev)) {
+                const std::string owner = guid_owner.at(dev);
+                lock.unlock();
+                adapter->stop(std::chrono::milliseconds(0));
+                return make_error(ErrorCode::keys_of_arguments,
+                                  fmt::format("machine '{}': GUID '{}' is already served by machine '{}'", id, dev, owner));
+            }
+            guid_owner[dev] = id;
+        }
+        running[id] = std::move(adapter);
+        logger.info("gateway: machine {} serving as {}", id, dev);
+        return ok_result();
+    }
+
+    Result<void> remove(const std::string& id, std::chrono::milliseconds flush) {
+        std::shared_ptr<Adapter> adapter;
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            const auto it = running.find(id);
+            if (it == running.end())
+                return make_error(ErrorCode::node_not_exists, fmt::format("no machine '{}'", id));
+            adapter = it->second;
+            running.erase(it);
+            reserved.insert(id);  // not added again until its connection is closed
+        }
+        adapter->stop(flush);  // publishes its offline state, closes its connection
+        std::lock_guard<std::mutex> lock(mutex);
+        reserved.erase(id);
+        for (auto it = guid_owner.begin(); it != guid_owner.end();)
+            it = it->second == id ? guid_owner.erase(it) : std::next(it);
+        logger.info("gateway: machine {} removed", id);
+        return ok_result();
+    }
+
+    // Runs `work` over the items on up to `threads` threads.
+    template <class T, class Work>
+    static void in_parallel(std::vector<T>& items, std::size_t threads, Work&& work) {
+        std::atomic<std::size_t> next{0};
+        auto run = [&] {
+            for (std::size_t i = next++; i < items.size(); i = next++) work(items[i]);
+        };
+        std::vector<std::thread> pool;
+        for (std::size_t t = 1; t < std::min(threads, items.size()); ++t) pool.emplace_back(run);
+        run();
+        for (auto& t : pool) t.join();
+    }
+};
+
+Gateway::Gateway(GatewayConfig config, MachineDriverFactory drivers, Logger logger)
+    : impl_(std::make_unique<Impl>(std::move(config), std::move(drivers), std::move(logger))) {}
+
+Gateway::~Gateway() { stop(std::chrono::milliseconds(0)); }
+
+Result<void> Gateway::start() {
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        if (impl_->started) return make_error(ErrorCode::unavailable, "gateway already started");
+        impl_->started = true;
+    }
+    std::vector<MachineConfig> machines = impl_->config.machines;
+    std::mutex errors_mutex;
+    std::vector<std::string> errors;
+    const std::size_t threads = impl_->config.start_threads ? impl_->config.start_threads : 4;
+    Impl::in_parallel(machines, threads, [&](MachineConfig& m) {
+        if (auto r = impl_->add(std::move(m)); !r) {
+            impl_->logger.error("gateway: {}", r.error().message);
+            std::lock_guard<std::mutex> lock(errors_mutex);
+            errors.push_back(r.error().message);
+        }
+    });
+    impl_->logger.info("gateway: {} of {} machine(s) serving", machines.size() - errors.size(), machines.size());
+    if (errors.empty()) return ok_result();
+    std::string all;
+    for (const auto& e : errors) all += (all.empty() ? "" : "; ") + e;
+    return make_error(ErrorCode::unavailable, fmt::format("{} machine(s) not started: {}", errors.size(), all));
+}
+
+void Gateway::stop(std::chrono::milliseconds flush_timeout) {
+    std::vector<std::shared_ptr<Adapter>> adapters;
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        if (impl_->stopped) return;
+        impl_->stopped = true;
+        for (auto& [id, adapter] : impl_->running) adapters.push_back(adapter);
+        impl_->running.clear();
+        impl_->guid_owner.clear();
+    }
+    const std::size_t threads = impl_->config.start_threads ? impl_->config.start_threads : 4;
+    Impl::in_parallel(adapters, threads, [&](std::shared_ptr<Adapter>& a) { a->stop(flush_timeout); });
+}
+
+Result<void> Gateway::add_machine(MachineConfig machine) { return impl_->add(std::move(machine)); }
+
+Result<void> Gateway::remove_machine(const std::string& id, std::chrono::milliseconds flush_timeout) {
+    return impl_->remove(id, flush_timeout);
+}
+
+std::vector<MachineInfo> Gateway::machines() const {
+    std::vector<std::pair<std::string, std::shared_ptr<Adapter>>> copy;
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        copy.assign(impl_->running.begin(), impl_->running.end());
+    }
+    std::vector<MachineInfo> out;
+    for (const auto& [id, adapter] : copy) {
+        MachineInfo info;
+        info.id = id;
+        info.dev_uuid = adapter->dev_uuid();
+        info.state = adapter->state();
+        info.registered = adapter->stats().registered;
+        out.push_back(std::move(info));
+    }
+    return out;
+}
+
+std::shared_ptr<Adapter> Gateway::machine(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    const auto it = impl_->running.find(id);
+    return it == impl_->running.end() ? nullptr : it->second;
+}
+
+}  // namespace nclink

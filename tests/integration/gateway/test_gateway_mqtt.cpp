@@ -1,0 +1,115 @@
+// Gateway mode against a real mosquitto: many machines in one process, each
+// its own terminal (own GUID, own connection, own state), one removed and
+// added back at run time while the others keep serving.
+#include <nclink/client.hpp>
+#include <nclink/gateway.hpp>
+
+#include "support/inbox.hpp"
+#include "support/mosquitto_broker.hpp"
+#include "support/rig.hpp"
+#include "support/wait.hpp"
+#include "unit/adapter/adapter_fixture.hpp"  // FakeDriver, test_model_path
+
+#include <catch2/catch.hpp>
+
+using namespace nclink;
+using namespace nclink::test;
+using namespace std::chrono_literals;
+
+namespace {
+
+MachineConfig machine(const MosquittoBroker& broker, int i) {
+    MachineConfig m;
+    m.adapter.broker_url = broker.url();
+    m.adapter.model_path = test_model_path();
+    m.adapter.dev_uuid = fmt::format("gw-{:02d}", i);
+    m.adapter.register_timeout = 300ms;
+    m.id = m.adapter.dev_uuid;
+    return m;
+}
+
+MachineDriverFactory fake_drivers() {
+    return [](const MachineConfig&) -> Result<std::shared_ptr<Driver>> { return std::shared_ptr<Driver>(std::make_shared<FakeDriver>()); };
+}
+
+bool answers(Client& client, const std::string& guid) {
+    auto values = client.query(guid, {QueryItem{"pos", std::nullopt}});
+    return values.ok() && values->size() == 1 && (*values)[0].status.ok;
+}
+
+std::optional<std::string> retained_state(Inbox& inbox, const std::string& guid) {
+    std::lock_guard<std::mutex> lock(inbox.mutex);
+    std::optional<std::string> last;
+    for (const auto& m : inbox.messages)
+        if (m.topic == topics::notify_state(guid) && !m.payload.empty())
+            if (auto n = decode<NotifyState>(m.payload)) last = n->state;
+    return last;
+}
+
+}  // namespace
+
+TEST_CASE("gateway: 20 machines each answer Query as their own GUID and one removed goes offline alone") {
+    MosquittoBroker broker;
+    GatewayConfig config;
+    for (int i = 0; i < 20; ++i) config.machines.push_back(machine(broker, i));
+    Gateway gateway(config, fake_drivers());
+    REQUIRE(gateway.start().ok());
+    REQUIRE(gateway.machines().size() == 20);
+    REQUIRE(eventually([&] {
+        for (const auto& m : gateway.machines())
+            if (m.state != AdapterState::normal) return false;
+        return true;
+    }, 60s));
+
+    auto client = started_client(broker.url(), "gw-app", 10s);
+    for (int i = 0; i < 20; ++i) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));
+
+    // Every machine's state as the broker keeps it (retained Notify/State).
+    MqttOptions o;
+    o.broker_url = broker.url();
+    o.client_id = "gw-watcher";
+    auto watcher = make_mqtt_transport(o).value();
+    Inbox inbox;
+    inbox.attach(*watcher);
+    REQUIRE(watcher->subscribe({topics::notify_state("+")}, 1).ok());
+    REQUIRE(watcher->start().ok());
+    REQUIRE(eventually([&] { return retained_state(inbox, "gw-19") == std::optional<std::string>("online"); }, 20s));
+
+    REQUIRE(gateway.remove_machine("gw-07").ok());
+    CHECK(gateway.machines().size() == 19);
+    CHECK_FALSE(gateway.machine("gw-07"));
+    REQUIRE(eventually([&] { return retained_state(inbox, "gw-07") == std::optional<std::string>("offline"); }, 20s));
+    CHECK(retained_state(inbox, "gw-06") == std::optional<std::string>("online"));
+    for (int i : {0, 6, 8, 19}) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));
+    CHECK_FALSE(gateway.remove_machine("gw-07").ok());  // 401: gone already
+
+    // Back at run time; a second machine with its GUID is refused.
+    REQUIRE(gateway.add_machine(machine(broker, 7)).ok());
+    auto twin = machine(broker, 7);
+    twin.id = "twin";
+    const auto refused = gateway.add_machine(twin);
+    REQUIRE_FALSE(refused.ok());
+    CHECK(refused.error().code == ErrorCode::keys_of_arguments);
+    REQUIRE(eventually([&] { return retained_state(inbox, "gw-07") == std::optional<std::string>("online"); }, 20s));
+    CHECK(eventually([&] { return answers(*client, "gw-07"); }, 20s));
+
+    gateway.stop();
+    CHECK(eventually([&] { return retained_state(inbox, "gw-19") == std::optional<std::string>("offline"); }, 20s));
+    watcher->stop();
+}
+
+TEST_CASE("gateway: a machine that cannot start is named and the others serve") {
+    MosquittoBroker broker;
+    GatewayConfig config;
+    config.machines.push_back(machine(broker, 0));
+    auto broken = machine(broker, 1);
+    broken.adapter.model_path = "/nonexistent/model.json";
+    config.machines.push_back(broken);
+    Gateway gateway(config, fake_drivers());
+    const auto started = gateway.start();
+    REQUIRE_FALSE(started.ok());
+    CHECK(started.error().message.find("gw-01") != std::string::npos);
+    REQUIRE(gateway.machines().size() == 1);
+    auto client = started_client(broker.url(), "gw-app2", 10s);
+    CHECK(eventually([&] { return answers(*client, "gw-00"); }, 20s));
+}
