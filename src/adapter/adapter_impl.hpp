@@ -105,7 +105,8 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- the link (adapter_link.cpp)
     void on_link(LinkState link, std::string_view detail);  ///< transport thread; never blocks
-    void fire(AdapterEvent event);
+    /// before_first_connect: the transition at start(), logged at debug only.
+    void fire(AdapterEvent event, bool before_first_connect = false);
     std::string next_msg_id();
     void send_registration();
     void publish_version();

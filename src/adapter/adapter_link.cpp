@@ -19,10 +19,15 @@ void Adapter::Impl::on_link(LinkState link, std::string_view) {
     for (auto& feature : features) feature->on_link(link);
 }
 
-void Adapter::Impl::fire(AdapterEvent event) {
+void Adapter::Impl::fire(AdapterEvent event, bool before_first_connect) {
     std::lock_guard<std::mutex> lock(mutex);
     const auto t = adapter_transition(state, event);
-    if (t.next != state) logger.info("adapter state: {} -> {} ({})", to_string(state), to_string(t.next), to_string(event));
+    // The state machine starts disconnected until the first connection
+    // (seed-004 item 70 taken at start): not a lost link worth a line.
+    if (before_first_connect)
+        logger.debug("adapter state: {} -> {} (waiting for the first connection)", to_string(state), to_string(t.next));
+    else if (t.next != state)
+        logger.info("adapter state: {} -> {} ({})", to_string(state), to_string(t.next), to_string(event));
     state = t.next;
 }
 
