@@ -31,8 +31,8 @@ for src in "$work"/*; do
     [ -e "$src" ] || continue
     case "$src" in
         *.ignore) skipped=$((skipped + 1)); continue ;;
-        *.cpp) cmd=("$cxx" -std=c++17 -Wall -Wextra -Werror -fsyntax-only -include "$prelude/prelude.hpp" -I"$include" "$src") ;;
-        *.c) cmd=("$cc" -x c -std=c11 -Wall -Wextra -Werror -fsyntax-only -include "$prelude/prelude.h" -I"$include" "$src") ;;
+        *.cpp) cmd=("$cxx" -std=c++17 -Wall -Wextra -Werror -fsyntax-only -include "$prelude/prelude.hpp" -I"$include" -I"$include/../drivers" "$src") ;;
+        *.c) cmd=("$cc" -x c -std=c11 -Wall -Wextra -Werror -fsyntax-only -include "$prelude/prelude.h" -I"$include" -I"$include/../drivers" "$src") ;;
     esac
     compiled=$((compiled + 1))
     if ! out=$("${cmd[@]}" 2>&1); then
