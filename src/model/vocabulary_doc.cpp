@@ -36,7 +36,7 @@ std::string vocabulary_markdown() {
         "Every `type` and `units` that `nclink validate` (and the adapter, when it loads a model)\n"
         "knows as standard. A type or unit **not** listed here is a *custom* one: the standard\n"
         "allows extensions, so the validator reports it as a warning only, with the nearest\n"
-        "standard name as a hint (`data type \"SPINDLE_RPM\" is not in tables 10, 12, 13 (did you\n"
+        "standard name as a hint (`data type \"SPINDLE_SPED\" is not in tables 10, 12, 13 (did you\n"
         "mean SPINDLE_SPEED?)`). A known misspelling of a standard type (section \"Spellings\n"
         "taken as standard types\") is a conformance problem instead: `--strict` refuses it.\n\n"
         "Values: *number*, *string*, *Boolean* (JSON true/false), *list* and *dict* (a JSON array\n"

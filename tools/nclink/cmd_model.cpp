@@ -88,9 +88,8 @@ int run_model(const Args& args) {
     if (!id_given) o.id = o.kind == MachineKind::lathe ? "lathe" : o.kind == MachineKind::machining_center ? "mc" : "machine";
     auto model = make_starter_model(o);
     if (!model) throw UsageError{model.error().message};
-    const std::string text = model->dump(2) + "\n";
     // Validated on creation: a starter model the SDK would refuse is a bug.
-    const LoadResult checked = parse_model(text);
+    const LoadResult checked = parse_model(model->dump());
     bool clean = checked.ok();
     for (const auto& p : checked.problems) {
         std::fprintf(stderr, "nclink model new: %s: %s: %s\n", p.pointer.c_str(), std::string(to_string(p.severity)).c_str(),
@@ -98,6 +97,8 @@ int run_model(const Args& args) {
         clean = false;
     }
     if (!clean) return 1;
+    // Written back by the SDK: chapter 6's attribute order (id, name, type...).
+    const std::string text = serialize_model(*checked.model);
     if (out.empty()) {
         std::fputs(text.c_str(), stdout);
         return 0;
