@@ -71,7 +71,7 @@ struct NCLINK_LOCAL Client::Impl {
     std::condition_variable link_changed;
     LinkState link = LinkState::disconnected;
     bool ever_connected = false;
-    client_detail::ClientStateMachine machine;  // seed 004; the send path goes through it
+    client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
     client_detail::EventRoutes event_routes;  // client_events.cpp
     // The last Notify/State seen per terminal (on the dispatch thread, from
     // any state subscription), so a request that times out can name a
