@@ -31,7 +31,11 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/nclinkConfig.cmake
 # Relocatable: the prefix is found relative to the .pc file itself.
 file(RELATIVE_PATH NCLINK_PC_TO_PREFIX /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
 configure_file(cmake/nclink.pc.in ${CMAKE_CURRENT_BINARY_DIR}/nclink.pc @ONLY)
-install(FILES ${CMAKE_CURRENT_BINARY_DIR}/nclink.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+configure_file(cmake/nclink-static.pc.in ${CMAKE_CURRENT_BINARY_DIR}/nclink-static.pc @ONLY)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/nclink.pc ${CMAKE_CURRENT_BINARY_DIR}/nclink-static.pc
+        DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+# The template project a vendor copies (docs/porting-guide.md).
+install(DIRECTORY examples/adapter-template/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nclink/adapter-template)
 
 install(DIRECTORY models/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nclink/models
         FILES_MATCHING PATTERN "*.json" PATTERN "invalid" EXCLUDE)

@@ -68,6 +68,11 @@ NCLINK_API std::string broker_delay_warning(const BrokerRoundTrip& measured);
 
 /// Creates an MQTT transport. Fails with ErrorCode::parameter_missing /
 /// value_type for unusable options (no client id, bad URL).
+/// Whether `url` is a broker URL make_mqtt_transport() can use; else a
+/// value_type error saying what is wrong and showing the expected form
+/// ("SCHEME://HOST[:PORT]"). Checks the text only, connects nowhere.
+NCLINK_API Result<void> check_broker_url(const std::string& url);
+
 NCLINK_API Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger = {});
 
 }  // namespace nclink

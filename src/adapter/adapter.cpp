@@ -14,6 +14,9 @@
 #include <nclink/model_version.hpp>
 
 #include <filesystem>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <random>
 
 namespace nclink {
@@ -26,6 +29,10 @@ Result<void> Adapter::Impl::start() {
         if (started) return make_error(ErrorCode::unavailable, "adapter already started");
         started = true;
     }
+    // What can be checked without the machine is checked before the driver's
+    // open(): a start that fails later leaves an opened driver unclosed.
+    if (!transport)
+        if (auto usable = check_broker_url(config.broker_url); !usable) return usable;
     auto loaded = load_model();
     if (!loaded) return std::move(loaded).error();
 
@@ -69,7 +76,7 @@ Result<void> Adapter::Impl::start() {
     if (auto subscribed = transport->subscribe(subscriptions, 1); !subscribed) return subscribed;
     if (auto made = make_features(); !made) return made;
     fire(AdapterEvent::initialized);
-    fire(AdapterEvent::link_lost);  // not connected yet: requests' answers wait for the link
+    fire(AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
     housekeeping = std::thread([this] { housekeep(); });
     return transport->start();
 }
@@ -118,10 +125,20 @@ Result<LoadResult> Adapter::Impl::load_model() {
         }
     } else {
         if (path.empty()) return make_error(ErrorCode::parameter_missing, "no model file configured");
+        // A file that is not there is not a model with a syntax error: say so
+        // with the system's reason, once (the caller logs the error).
+        if (std::FILE* f = std::fopen(path.c_str(), "rb"); !f) {
+            const int why = errno;
+            return make_error(ErrorCode::unavailable, fmt::format("cannot read the model file {}: {}", path, std::strerror(why)));
+        } else {
+            std::fclose(f);
+        }
         loaded = load_model_file(path);
         logger.info("using the model {} (version {})", path, device_version_of(loaded, config.device_id));
     }
     for (const auto& p : loaded.problems) {
+        // What refuses the model is part of the error the caller reports.
+        if (p.severity == Severity::fatal || (config.strict && p.severity == Severity::conformance)) continue;
         const auto level = p.severity == Severity::warning ? LogLevel::debug : LogLevel::warn;
         logger.log(level, "{}:{}: {}: {}", path, p.pointer.empty() ? "/" : p.pointer, to_string(p.severity), p.message);
     }

@@ -29,7 +29,11 @@ void Adapter::Impl::fire(AdapterEvent event, std::vector<Message> response) {
         const auto t = adapter_transition(before, event);
         actions = t.actions;
         state = t.next;
-        if (t.next != before)
+        // The machine starts disconnected until the first connection (the
+        // adapter state machine's initial row): not a lost link worth a line.
+        if (before == AdapterState::initial && event == AdapterEvent::link_lost)
+            logger.debug("adapter state: {} -> {} (waiting for the first connection)", to_string(before), to_string(t.next));
+        else if (t.next != before)
             logger.info("adapter state: {} -> {} ({})", to_string(before), to_string(t.next), to_string(event));
         if (actions & action_cache_response)
             for (auto& m : response) responses.keep(std::move(m));

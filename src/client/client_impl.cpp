@@ -4,6 +4,8 @@
 #include "client/client_impl.hpp"
 #include "client/client_methods.hpp"
 
+#include <fmt/format.h>
+
 namespace nclink {
 
 using client_detail::safely;
@@ -189,13 +191,17 @@ void Client::Impl::handle_notification(const ParsedTopic& topic, const Message& 
             break;
         }
         case TopicKind::notify_state: {
-            if (m.payload.empty()) return;  // a cleared retained state
+            if (m.payload.empty()) {  // a cleared retained state
+                known_states.erase(topic.dev);
+                return;
+            }
             auto dtu = decode<NotifyState>(m.payload);
             if (!dtu) {
                 ++counters.malformed;
                 return;
             }
             if (dtu->tid.empty()) dtu->tid = topic.dev;
+            known_states[topic.dev] = dtu->state;
             deliver_to<StateHandler>(subs, *dtu, counters.notifications);
             break;
         }
@@ -218,7 +224,12 @@ void Client::Impl::expire(Clock::time_point now) {
         ++counters.timeouts;
         log.debug("client: request {} timed out", request.id);
         safely(log, [&] {
-            request.responder->fail(make_error(ErrorCode::timeout, "no response to " + request.id + " in time"));
+            std::string message = "no response to " + request.id + " in time";
+            // What the broker retained of the terminal says why, when known.
+            if (const auto it = known_states.find(request.dev); it != known_states.end() && it->second != "online")
+                message += fmt::format(" (device {} is {}: its retained Notify/State/{} says so)", request.dev,
+                                       it->second, request.dev);
+            request.responder->fail(make_error(ErrorCode::timeout, message));
         });
     }
 }

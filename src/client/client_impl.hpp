@@ -26,6 +26,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -79,6 +80,10 @@ struct NCLINK_LOCAL Client::Impl {
     Client* owner = nullptr;  // the facade, for the cache's own requests (set once, by Client's constructor)
     client_detail::KeepAlive keep_alive;       // client_liveness.cpp
     client_detail::DuplicateFilter duplicates;  // dispatch thread only
+    // The last Notify/State seen per terminal (on the dispatch thread, from
+    // any state subscription), so a request that times out can name a
+    // retained "offline" (8.2.16) instead of only "no response".
+    std::map<std::string, std::string> known_states;  // dispatch thread only
     client_detail::Dispatcher dispatcher;  // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
@@ -155,14 +160,17 @@ struct NCLINK_LOCAL Client::Impl {
         request.msg_id = Json(id);
         if (request_options.private_info) request.private_info = request_options.private_info;
         const auto timeout = request_options.timeout.value_or(options.default_timeout);
-        if (!pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout, responder})) {
+        const auto parsed_topic = parse_topic(topic);
+        const std::string dev = parsed_topic ? parsed_topic->dev : std::string();
+        if (!pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout, responder, dev})) {
             client_detail::safely(log, [&] { responder->fail(make_error(ErrorCode::unavailable, "client stopped")); });
             return;
         }
         dispatcher.poke();  // its deadline may be the nearest now
         auto submitted = machine.submit(id, Message{std::move(topic), encode(request), 1, false}, [&] {
             return pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout,
-                                              client_detail::track_completion(responder, [this] { machine.completed(); })});
+                                              client_detail::track_completion(responder, [this] { machine.completed(); }),
+                                              dev});
         });
         if (submitted) {
             ++(*submitted == client_detail::ClientStateMachine::Outcome::queued ? counters.queued : counters.requests);

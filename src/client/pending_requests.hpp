@@ -41,6 +41,9 @@ struct PendingRequest {
     TopicKind response_kind = TopicKind::query_response;
     Clock::time_point deadline;
     std::shared_ptr<Responder> responder;
+    /// The terminal the request went to (its topic's dev), so a timeout can
+    /// say what is known of it.
+    std::string dev = {};
 };
 
 class PendingRequests {

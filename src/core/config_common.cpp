@@ -1,5 +1,7 @@
 #include "core/config_common.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -7,8 +9,13 @@
 namespace nclink::detail {
 
 Result<Json> read_config_file(const std::string& path) {
+    errno = 0;
     std::ifstream in(path);
-    if (!in) return make_error(ErrorCode::unavailable, fmt::format("cannot read configuration file {}", path));
+    if (!in) {
+        const int why = errno;
+        return make_error(ErrorCode::unavailable, fmt::format("cannot read configuration file {}: {}", path,
+                                                              why != 0 ? std::strerror(why) : "cannot open it"));
+    }
     std::stringstream text;
     text << in.rdbuf();
     Json json = Json::parse(text.str(), nullptr, false);
@@ -18,9 +25,17 @@ Result<Json> read_config_file(const std::string& path) {
 }
 
 void resolve_against(const std::string& config_path, std::string& p) {
-    // Paths inside the file are relative to the file, not to where the program runs.
+    // Paths inside the file are relative to the file, not to where the program
+    // runs (docs/configuration.md). A file named without a directory
+    // ("adapter.json") lives in the current one: the result is made absolute
+    // so that it still names a file when handed to dlopen(), which searches
+    // the library path for a name without a slash ("acme-lathe.so").
     if (p.empty() || !std::filesystem::path(p).is_relative()) return;
-    p = (std::filesystem::path(config_path).parent_path() / p).lexically_normal().string();
+    std::filesystem::path dir = std::filesystem::path(config_path).parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(dir / p, ec);
+    p = (ec ? dir / p : absolute).lexically_normal().string();
 }
 
 Result<void> read_log_level(ConfigReader& top, LogLevel& out) {

@@ -4,6 +4,8 @@
 // agent); each section reads its own keys with one reader.
 #pragma once
 
+#include "core/nearest.hpp"
+
 #include <nclink/error.hpp>
 #include <nclink/json.hpp>
 #include <nclink/result.hpp>
@@ -12,6 +14,8 @@
 
 #include <set>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace nclink::detail {
 
@@ -57,9 +61,15 @@ public:
         return it == object_.end() || it->is_null() ? nullptr : &*it;
     }
     Result<void> no_unknown_keys() const {
-        for (auto it = object_.begin(); it != object_.end(); ++it)
-            if (!seen_.count(it.key()))
-                return make_error(ErrorCode::keys_of_arguments, fmt::format("configuration: unknown key {}{}", where_, it.key()));
+        for (auto it = object_.begin(); it != object_.end(); ++it) {
+            if (seen_.count(it.key())) continue;
+            // A typo ("broker.uri") names the key it most likely meant.
+            const std::vector<std::string_view> known(seen_.begin(), seen_.end());
+            const auto hint = nearest_name(it.key(), known);
+            return make_error(ErrorCode::keys_of_arguments,
+                              fmt::format("configuration: unknown key {}{}{}", where_, it.key(),
+                                          hint ? fmt::format(" (did you mean {}{}?)", where_, *hint) : std::string()));
+        }
         return ok_result();
     }
 

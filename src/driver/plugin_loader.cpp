@@ -2,6 +2,7 @@
 #include <nclink/driver_plugin_loader.hpp>
 
 #include <dlfcn.h>
+#include <filesystem>
 #include <fmt/format.h>
 
 namespace nclink {
@@ -113,6 +114,17 @@ private:
 }  // namespace
 
 Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, const Json& config, Logger logger) {
+    // A path with a directory names a file: say plainly when it is not
+    // there (dlerror()'s "cannot open shared object file" does not say where
+    // it looked). A bare name is searched on the library path by dlopen().
+    if (path.find('/') != std::string::npos) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec))
+            return make_error(ErrorCode::unavailable,
+                              fmt::format("driver plugin {} does not exist (a relative driver.plugin is resolved "
+                                          "against the directory of the configuration file)",
+                                          path));
+    }
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
         const char* why = ::dlerror();

@@ -380,9 +380,10 @@ void Reader::read_device(const Json& obj, const std::string& ptr, const std::str
         // A misspelt standard type (case, known abbreviation) deviates from
         // chapter 7: conformance. A type of its own is an extension the
         // standard allows: warning.
+        const auto near = hint ? hint : nearest_device_type(device.type);
         problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
                           fmt::format("device type \"{}\" is not in table 7{}", device.type,
-                                      hint ? " (did you mean " + *hint + "?)" : ""));
+                                      near ? " (did you mean " + *near + "?)" : ""));
     }
     device.description = read_string(obj, ptr, "description");
     device.number = read_string(obj, ptr, "number");
@@ -448,10 +449,11 @@ void Reader::read_component(const Json& obj, const std::string& ptr, const std::
         // A misspelt standard type (case, known abbreviation) deviates from
         // chapter 7: conformance. A type of its own is an extension the
         // standard allows: warning.
+        const auto near = hint ? hint : nearest_component_type(component.type);
         problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
                           fmt::format("component type \"{}\" is not in table 8{}",
                                       component.type,
-                                      hint ? " (did you mean " + *hint + "?)" : ""));
+                                      near ? " (did you mean " + *near + "?)" : ""));
     }
     component.description = read_string(obj, ptr, "description");
     component.number = read_string(obj, ptr, "number");
@@ -526,9 +528,10 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
         // A misspelt standard type (case, known abbreviation) deviates from
         // chapter 7: conformance. A type of its own is an extension the
         // standard allows: warning.
+        const auto near = hint ? hint : nearest_data_type(data.type);
         problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
                           fmt::format("data type \"{}\" is not in tables 10, 12, 13{}", data.type,
-                                      hint ? " (did you mean " + *hint + "?)" : ""));
+                                      near ? " (did you mean " + *near + "?)" : ""));
     }
     data.description = read_string(obj, ptr, "description");
     data.source = read_string(obj, ptr, "source");
@@ -540,10 +543,12 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
                                               data.source, *why));
     }
     data.units = read_string(obj, ptr, "units");
-    if (!data.units.empty() && !is_known_unit(data.units))
+    if (!data.units.empty() && !is_known_unit(data.units)) {
+        const auto near = nearest_unit(data.units);
         problems_.warning(pointer_append(ptr, "units"),
-                          fmt::format("units \"{}\" are not in tables 10/11 or appendix A",
-                                      data.units));
+                          fmt::format("units \"{}\" are not in tables 10/11 or appendix A{} (docs/vocabulary.md)",
+                                      data.units, near ? " (did you mean " + *near + "?)" : ""));
+    }
 
     // datatype: chapter 6 spells it `datatype` with "list"/"dict"; HNC files
     // and appendix B write `dataType` with "LIST"/"DICT".

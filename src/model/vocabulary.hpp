@@ -19,4 +19,12 @@ std::optional<std::string> suggest_data_type(std::string_view type);
 std::optional<std::string> suggest_device_type(std::string_view type);
 std::optional<std::string> suggest_component_type(std::string_view type);
 
+/// For a type or unit of its own (an extension the standard allows): the
+/// standard name it may have meant, by a known common name ("rpm", "SPINDLE")
+/// or by spelling distance, for a "did you mean" hint. Looser than suggest_*.
+std::optional<std::string> nearest_data_type(std::string_view type);
+std::optional<std::string> nearest_device_type(std::string_view type);
+std::optional<std::string> nearest_component_type(std::string_view type);
+std::optional<std::string> nearest_unit(std::string_view units);
+
 }  // namespace nclink::model_detail

@@ -314,8 +314,7 @@ Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logg
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     std::string host, scheme;
     int port = 0;
-    if (!detail::parse_broker_url(options.broker_url, host, port, scheme))
-        return make_error(ErrorCode::value_type, fmt::format("unusable broker URL '{}'", options.broker_url));
+    if (!detail::parse_broker_url(options.broker_url, host, port, scheme)) return check_broker_url(options.broker_url).error();
     if ((scheme == "ssl" || scheme == "mqtts" || scheme == "wss") && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
     try {

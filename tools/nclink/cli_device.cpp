@@ -98,6 +98,9 @@ std::unique_ptr<Client> connect_client(const CliOptions& options, const std::fun
     if (auto started = c->start(); !started) throw std::runtime_error(started.error().describe());
     if (!c->wait_connected(options.timeout))
         throw std::runtime_error("cannot reach the broker at " + options.broker);
+    // The device's retained state, so a request that times out says when the
+    // device is offline rather than only "no response".
+    if (!options.device.empty()) (void)c->subscribe_state(options.device, [](const NotifyState&) {});
     // Registration is an agent feature: send it, do not wait for it.
     c->register_async([](Result<RegisterOutcome> outcome) {
         if (outcome.ok() && outcome->kind == RegisterOutcome::Kind::refused)

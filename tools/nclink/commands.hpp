@@ -26,5 +26,9 @@ int run_validate(const Args& args);
 extern const char* const validate_usage;
 int run_map(const Args& args);  // cmd_map.cpp
 extern const char* const map_usage;
+int run_model(const Args& args);  // cmd_model.cpp
+extern const char* const model_usage;
+int run_vocabulary(const Args& args);  // cmd_model.cpp
+extern const char* const vocabulary_usage;
 
 }  // namespace nclink::cli

@@ -69,6 +69,40 @@ TEST_CASE("configuration mistakes are reported, not ignored") {
     CHECK_FALSE(load_adapter_config("/nonexistent/adapter.json").ok());
 }
 
+TEST_CASE("a configuration named without a directory resolves its paths against the current one") {
+    const auto dir = std::filesystem::temp_directory_path() / "nclink-config-bare-name";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "adapter.json") << R"({"model": "lathe.json", "driver": {"plugin": "./acme-lathe.so"},
+                                               "persistence_dir": "state"})";
+    const auto before = std::filesystem::current_path();
+    std::filesystem::current_path(dir);
+    auto loaded = load_adapter_config("adapter.json");
+    std::filesystem::current_path(before);
+    REQUIRE(loaded.ok());
+    // Absolute, so dlopen() opens that file instead of searching the library path.
+    const auto canonical = std::filesystem::canonical(dir);
+    CHECK(loaded->driver_plugin == (canonical / "acme-lathe.so").string());
+    CHECK(loaded->model_path == (canonical / "lathe.json").string());
+    CHECK(loaded->persistence_dir == (canonical / "state").string());
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("configuration errors say what was meant: nearest key, system reason, URL form") {
+    auto typo = adapter_config_from_json(Json{{"broker", {{"uri", "tcp://x"}}}});
+    REQUIRE_FALSE(typo.ok());
+    CHECK(typo.error().message == "configuration: unknown key broker.uri (did you mean broker.url?)");
+    auto top = adapter_config_from_json(Json{{"modle", "x.json"}});
+    REQUIRE_FALSE(top.ok());
+    CHECK_THAT(top.error().message, Catch::Contains("(did you mean model?)"));
+    auto far = adapter_config_from_json(Json{{"completely_unrelated", 1}});
+    REQUIRE_FALSE(far.ok());
+    CHECK_THAT(far.error().message, !Catch::Contains("did you mean"));
+
+    auto missing = load_adapter_config("/nonexistent/adapter.json");
+    REQUIRE_FALSE(missing.ok());
+    CHECK(missing.error().message == "cannot read configuration file /nonexistent/adapter.json: No such file or directory");
+}
+
 TEST_CASE("code overrides a loaded configuration, defaults are documented values") {
     AdapterConfig base;
     CHECK(base.broker_url == "tcp://127.0.0.1:1883");

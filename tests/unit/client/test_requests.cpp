@@ -118,6 +118,28 @@ TEST_CASE("a silent adapter makes the request time out") {
     CHECK(probe.error().code == ErrorCode::timeout);
 }
 
+TEST_CASE("a request to a device whose retained state is offline says so when it times out") {
+    LoopbackBroker broker;
+    // What a dead adapter leaves behind: its last will, retained.
+    LoopbackOptions o;
+    o.client_id = "dead-adapter";
+    auto dead = make_loopback_transport(broker, o);
+    REQUIRE(dead->start().ok());
+    REQUIRE(dead->publish(Message{"Notify/State/dev1", R"({"tid":"dev1","state":"offline"})", 1, true}).ok());
+    dead->stop(0ms);
+
+    auto client = make_client(broker, "app1", 100ms);
+    std::atomic<bool> seen{false};
+    REQUIRE(client->subscribe_state("dev1", [&](const NotifyState&) { seen = true; }).ok());
+    REQUIRE(eventually([&] { return seen.load(); }));
+    auto result = client->query("dev1", items({"a"}));
+    REQUIRE_FALSE(result.ok());
+    CHECK(result.error().code == ErrorCode::timeout);
+    INFO(result.error().message);
+    CHECK(result.error().message.find("device dev1 is offline") != std::string::npos);
+    CHECK(result.error().message.find("retained Notify/State/dev1") != std::string::npos);
+}
+
 TEST_CASE("a response after the timeout is dropped and counted") {
     LoopbackBroker broker;
     std::mutex mutex;

@@ -1,0 +1,6 @@
+/* Declares the controller API (hal_*) the guides' C examples call. Included
+ * before every C block of the docs by check_doc_blocks.sh. */
+#pragma once
+int hal_open(void);
+void hal_close(int handle);
+int hal_spindle_rpm(void);
