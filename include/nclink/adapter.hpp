@@ -37,6 +37,9 @@ struct NCLINK_API AdapterStats {
     std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
     std::uint64_t rejected = 0;             ///< requests answered NG as a whole (malformed)
     std::uint64_t driver_timeouts = 0;
+    /// Driver::link() now: while disconnected, driver items answer 202
+    /// "machine disconnected: <reason>" without a driver call.
+    MachineLinkStatus machine_link;
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;

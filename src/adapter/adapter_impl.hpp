@@ -78,6 +78,9 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::atomic<bool> features_ready{false};  // set once `features` is complete and started
     std::unique_ptr<detail::ApplicationTracker> applications;
 
+    // ---- Probe/Set: one at a time, so binds and installs come in one order
+    std::mutex probe_set_mutex;
+
     // ---- state (mutex)
     mutable std::mutex mutex;
     AdapterState state = AdapterState::initial;
@@ -126,6 +129,9 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- Probe/Set (adapter_probe_set.cpp)
     ProbeSetResponse probe_set(const ProbeSetRequest& request);
+    /// Binds the model in force again (after a Probe/Set that was bound but
+    /// not installed) and installs that copy.
+    void rebind_current();
 };
 
 }  // namespace nclink

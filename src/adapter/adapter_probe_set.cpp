@@ -3,10 +3,12 @@
 // Probe/Version, and handed to the features and listeners.
 #include "adapter/adapter_impl.hpp"
 #include "adapter/request_handlers.hpp"
+#include "protocol/driver_failure.hpp"
 
 namespace nclink {
 
 ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
+    std::lock_guard<std::mutex> serial(probe_set_mutex);
     auto response = make_reply<ProbeSetResponse>(request, dev);
     const std::string text = request.probe.is_string() ? request.probe.get<std::string>()
                                                        : request.probe.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -25,8 +27,18 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
     const std::string new_dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
     if (new_dev != dev)
         logger.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev);
+    // The driver sees the new model before it is persisted: a driver that
+    // refuses it (or is too busy to be asked) leaves the old one in force.
+    if (auto bound = detail::ModelHost::bind(*built.value(), *runner); !bound) {
+        logger.info("Probe/Set refused by the driver's bind(): {}", bound.error().describe());
+        const auto failure = detail::driver_failure(bound.error());
+        response.status = failure.status;
+        response.private_info = failure.private_info;
+        return response;
+    }
     if (auto persisted = host.persist_model(serialize_model(*built.value()->model)); !persisted) {
         response.status = ResponseStatus(persisted.error());
+        rebind_current();  // the driver was bound to the model that is not installed
         return response;
     }
     host.install(built.value());
@@ -40,6 +52,19 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
     for (auto& listener : to_call) listener(built.value()->model);
     publish_version();
     return response;
+}
+
+void Adapter::Impl::rebind_current() {
+    const auto current = host.current();
+    if (!current) return;
+    // A copy of the model in force with fresh handles: snapshots still held
+    // elsewhere keep working (the runner re-resolves their refs by id).
+    auto again = std::make_shared<detail::ModelState>(*current);
+    if (auto bound = detail::ModelHost::bind(*again, *runner); !bound) {
+        logger.error("could not bind the model in force again: {}", bound.error().describe());
+        return;
+    }
+    host.install(std::move(again));
 }
 
 }  // namespace nclink

@@ -11,6 +11,7 @@ AdapterStats Adapter::stats() const {
     s.ignored_duplicates = impl_->ignored_duplicates;
     s.rejected = impl_->rejected;
     s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
+    if (impl_->runner) s.machine_link = impl_->runner->link();
     s.registered = impl_->registration.registered();
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
@@ -25,6 +26,7 @@ Json to_json(const AdapterStats& s) {
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},
                 {"driver_timeouts", s.driver_timeouts},
+                {"machine_link", {{"state", std::string(to_string(s.machine_link.state))}, {"reason", s.machine_link.reason}}},
                 {"registered", s.registered},
                 {"state", std::string(to_string(s.state))},
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},

@@ -4,6 +4,8 @@
 // the model meanwhile.
 #pragma once
 
+#include "driver/point_table.hpp"
+
 #include <nclink/model.hpp>
 #include <nclink/value_store.hpp>
 
@@ -22,11 +24,20 @@ struct ModelState {
     std::shared_ptr<ValueStore> store;         ///< SDK-held items (fixed values, unclaimed configs)
     std::shared_ptr<const std::string> probe_text;  ///< the model as sent in Probe/Query (cached)
     std::shared_ptr<const Json> probe_json;
+    /// What the driver's bind() answered for this model: every data item the
+    /// driver is asked about and every METHOD, with its handle (driver.hpp).
+    /// Null only in tests that build a state by hand.
+    std::shared_ptr<const PointTable> points;
 
     /// True when `id` is answered from the store rather than the driver.
     bool sdk_held(const std::string& id) const { return store && store->contains(id); }
     /// A data object of this adapter's device (or of the root configs).
     const DataObject* item(const std::string& id) const;
+    /// The driver's ref of `id` with its handle; a ref without handle
+    /// ({id, kind, no_handle}) when the binding does not have it.
+    PointRef point(const std::string& id, DataKind kind) const;
+    /// The binding's generation, to hand the runner with refs from point().
+    std::uint64_t generation() const { return points ? points->generation() : unbound; }
 };
 
 /// Where the current snapshot comes from (the adapter's model host).
