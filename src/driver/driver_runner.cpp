@@ -73,9 +73,11 @@ Error not_served_error(const std::string& id) {
 }
 
 // What the driver gets for points prepared against `generation`: the points
-// themselves (identity) when they are current and all served, else a copy
-// re-resolved against the current table without the points it does not
-// serve; slots[k] is the caller's index of points[k].
+// themselves (identity) when they are current, else a copy re-resolved
+// against the current table without the points it does not serve; slots[k]
+// is the caller's index of points[k]. Current points are passed as they are,
+// without a scan per read: every caller leaves not_served points out when it
+// plans (request handlers, sample lanes, event polls).
 struct CallPlan {
     bool identity = true;
     std::vector<PointRef> points;
@@ -84,7 +86,7 @@ struct CallPlan {
 
 void plan_call(const std::vector<PointRef>& in, std::uint64_t generation, const PointTable* table, CallPlan& plan) {
     const bool stale = table != nullptr && generation != table->generation();
-    if (!stale && std::none_of(in.begin(), in.end(), [](const PointRef& p) { return p.handle == not_served; })) {
+    if (!stale) {
         plan.identity = true;
         return;
     }

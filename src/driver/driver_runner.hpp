@@ -10,9 +10,11 @@
 //   202 "machine disconnected: <reason>" (typed reads null) and writes 202,
 //   without a driver call;
 // - the binding (driver.hpp, "Handles"): points prepared against an earlier
-//   bind() than the current one are re-resolved by id (not found: 202), and
-//   not_served points are answered 202 without reaching the driver. Points
-//   prepared against the current binding pass untouched (no copy, no lookup).
+//   bind() than the current one (or by hand, `unbound`) are re-resolved by
+//   id, and those the binding does not serve (or no longer has) answer 202
+//   without reaching the driver. Points prepared against the current binding
+//   pass untouched (no copy, no lookup); callers leave its not_served points
+//   out when they plan.
 #pragma once
 
 #include "driver/point_table.hpp"

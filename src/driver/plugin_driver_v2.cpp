@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 namespace nclink::detail {
@@ -301,7 +303,7 @@ private:
 Result<std::shared_ptr<Driver>> make_plugin_driver_v2(std::shared_ptr<void> library, const nclink_driver_descriptor& given,
                                                       const std::string& path, const Json& config, Logger logger) {
     // Fields beyond the plugin's struct_size stay null (driver_plugin.h, "Versions").
-    constexpr std::size_t required = offsetof(nclink_driver_descriptor, read) + sizeof(given.read);
+    constexpr std::size_t required = offsetof(nclink_driver_descriptor, read) + sizeof(nclink_driver_descriptor::read);
     if (given.struct_size < required)
         return make_error(ErrorCode::value_type,
                           fmt::format("{}: driver descriptor struct_size {} is too small for ABI version {} (at least {})",

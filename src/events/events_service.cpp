@@ -182,7 +182,9 @@ private:
             if (value) return std::move(value).value();
             return std::nullopt;
         }
-        auto read = host_.driver.read({state.point(spec.item, spec.kind)}, state.generation());
+        PointRef point = state.point(spec.item, spec.kind);
+        if (point.handle == not_served) return std::nullopt;  // the driver does not serve it
+        auto read = host_.driver.read({std::move(point)}, state.generation());
         if (!read.empty() && read.front().ok()) return std::move(read.front()).value();
         return std::nullopt;
     }

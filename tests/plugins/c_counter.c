@@ -13,6 +13,8 @@
  * - methods: "count" reports progress and returns {"counted": 3};
  * - link(): disconnected with a reason when the configuration says
  *   {"link_down": true};
+ * - {"vendor_id": "<id>"} in the configuration binds that id as "vendor"
+ *   (so a model's item can fail with the vendor's code in adapter tests);
  * - the configuration string logged with nclink_logf. */
 #include <nclink/driver_plugin.h>
 #include <nclink/driver_plugin_helpers.h>
@@ -30,6 +32,7 @@ typedef struct counter {
     int64_t written;
     int link_down;
     long binds;
+    char vendor_id[64];
     const nclink_host* host;
 } counter;
 
@@ -60,6 +63,14 @@ static int create(const char* config_json, const nclink_host* host, void** insta
         free(c);
         return NCLINK_E_VALUE_TYPE;
     }
+    {
+        const char* vendor = nclink_json_member(config_json, "vendor_id");
+        if (vendor != NULL && !nclink_json_read_string(vendor, c->vendor_id, sizeof c->vendor_id, NULL)) {
+            nclink_put_text(reason, "vendor_id must be a string of at most 63 bytes");
+            free(c);
+            return NCLINK_E_VALUE_TYPE;
+        }
+    }
     nclink_logf(host, NCLINK_LOG_INFO, "%s", config_json);
     *instance = c;
     return NCLINK_OK;
@@ -75,6 +86,8 @@ static int bind(void* self, const nclink_bind_request* request, const nclink_tex
     for (i = 0; i < request->count; ++i) {
         if (strcmp(request->ids[i], "hidden") == 0)
             request->handles[i] = NCLINK_NOT_SERVED;
+        else if (c->vendor_id[0] != '\0' && strcmp(request->ids[i], c->vendor_id) == 0)
+            request->handles[i] = P_VENDOR;
         else
             request->handles[i] = (uint64_t)point_of_id(request->ids[i]);
     }
