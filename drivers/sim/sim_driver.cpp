@@ -86,7 +86,7 @@ struct SimDriver::Impl {
     std::optional<Error> broken;
     const Device* device = nullptr;
     std::vector<Item> items;
-    std::unordered_map<std::string, std::size_t> index;
+    std::unordered_map<std::string, std::size_t> index;  // used by bind() and for points without a handle
     std::optional<sim::MillProfile> profile;
     std::unique_ptr<sim::MillMachine> mill;
     std::uint64_t stream = 0;
@@ -385,6 +385,41 @@ Result<void> SimDriver::open(const DriverContext& context) {
     return ok_result();
 }
 
+// Handles (driver.hpp, "Handles"): a data item's handle is its row in
+// impl_->items; a method's is method_handle_base plus its MillMethod. Ids
+// are looked up in bind() only; a point without a handle (a driver called
+// directly, before any bind) falls back to the id index.
+namespace {
+constexpr PointHandle method_handle_base = PointHandle{1} << 32;
+}  // namespace
+
+Result<void> SimDriver::bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    for (std::size_t i = 0; i < points.size() && i < handles.size(); ++i) {
+        if (points[i].method) {
+            if (!impl_->profile) continue;
+            const auto m = impl_->profile->methods.find(points[i].id);
+            if (m != impl_->profile->methods.end())
+                handles[i] = method_handle_base + static_cast<PointHandle>(m->second);
+            continue;
+        }
+        // Not simulated: left by id, so the read answers 401 as before.
+        const auto it = impl_->index.find(points[i].id);
+        if (it != impl_->index.end()) handles[i] = it->second;
+    }
+    return ok_result();
+}
+
+// The row in impl_->items of `point`, if simulated. Call with the mutex held.
+static std::optional<std::size_t> row_of(const std::unordered_map<std::string, std::size_t>& index,
+                                         std::size_t rows, const PointRef& point) {
+    if (point.handle < rows) return static_cast<std::size_t>(point.handle);
+    if (point.handle != no_handle) return std::nullopt;
+    const auto it = index.find(point.id);
+    if (it == index.end()) return std::nullopt;
+    return it->second;
+}
+
 void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     results.resize(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
@@ -394,12 +429,12 @@ void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Jso
     }
     impl_->advance();
     for (std::size_t i = 0; i < points.size(); ++i) {
-        auto it = impl_->index.find(points[i].id);
-        if (it == impl_->index.end()) {
+        const std::optional<std::size_t> row = row_of(impl_->index, impl_->items.size(), points[i]);
+        if (!row) {
             results[i] = make_error(ErrorCode::node_not_exists, "no simulated data object '" + points[i].id + "'");
             continue;
         }
-        results[i] = impl_->value_of(impl_->items[it->second]);
+        results[i] = impl_->value_of(impl_->items[*row]);
     }
 }
 
@@ -411,9 +446,9 @@ bool SimDriver::read_samples(const std::vector<PointRef>& points, SampleValue* o
     texts.clear();
     texts.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
-        auto it = impl_->index.find(points[i].id);
-        if (it == impl_->index.end()) continue;  // null: not a simulated item
-        const Json value = impl_->value_of(impl_->items[it->second]);
+        const std::optional<std::size_t> row = row_of(impl_->index, impl_->items.size(), points[i]);
+        if (!row) continue;  // null: not a simulated item
+        const Json value = impl_->value_of(impl_->items[*row]);
         switch (value.type()) {
             case Json::value_t::boolean: out[i] = SampleValue::boolean(value.get<bool>()); break;
             case Json::value_t::number_integer: out[i] = SampleValue::int64(value.get<std::int64_t>()); break;
@@ -438,10 +473,10 @@ Result<void> SimDriver::write(const WriteRequest& request) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
     impl_->advance();
-    auto it = impl_->index.find(request.id);
-    if (it == impl_->index.end())
-        return make_error(ErrorCode::node_not_exists, "no simulated data object '" + request.id + "'");
-    Item& item = impl_->items[it->second];
+    const std::optional<std::size_t> row =
+        row_of(impl_->index, impl_->items.size(), PointRef{request.id, request.kind, request.handle});
+    if (!row) return make_error(ErrorCode::node_not_exists, "no simulated data object '" + request.id + "'");
+    Item& item = impl_->items[*row];
     // A driver-level caller may give only the whole new value.
     Json params = request.params;
     if ((params.is_null() || (params.is_object() && params.empty())) && !request.new_value.is_null())
@@ -455,14 +490,24 @@ Result<void> SimDriver::write(const WriteRequest& request) {
 }
 
 Result<Json> SimDriver::call_method(const std::string& method_id, const Json& args, MethodControl& control) {
+    return run_method(PointRef{method_id, DataKind::single, no_handle}, args, control);
+}
+
+Result<Json> SimDriver::run_method(const PointRef& point, const Json& args, MethodControl& control) {
+    const std::string& method_id = point.id;
     std::unique_lock<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
-    if (!impl_->model->method(method_id))
-        return make_error(ErrorCode::node_not_exists, "model has no method '" + method_id + "'");
     std::optional<MillMethod> method;
-    if (impl_->profile) {
-        auto m = impl_->profile->methods.find(method_id);
-        if (m != impl_->profile->methods.end()) method = m->second;
+    if (point.handle >= method_handle_base && point.handle <= method_handle_base + static_cast<PointHandle>(MillMethod::program_transfer) &&
+        impl_->profile) {
+        method = static_cast<MillMethod>(point.handle - method_handle_base);
+    } else {
+        if (!impl_->model->method(method_id))
+            return make_error(ErrorCode::node_not_exists, "model has no method '" + method_id + "'");
+        if (impl_->profile) {
+            auto m = impl_->profile->methods.find(method_id);
+            if (m != impl_->profile->methods.end()) method = m->second;
+        }
     }
     if (!method) return make_error(ErrorCode::unavailable, "the simulator does not implement method '" + method_id + "'");
     impl_->advance();
@@ -505,9 +550,10 @@ bool SimDriver::claims(std::string_view id) const {
     return object && object->config && !object->value.has_value() && impl_->index.count(std::string(id)) != 0;
 }
 
-MachineLink SimDriver::link() const {
+MachineLinkStatus SimDriver::link() const {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    return impl_->broken ? MachineLink::disconnected : MachineLink::connected;
+    if (impl_->broken) return {MachineLink::disconnected, impl_->broken->message};
+    return {MachineLink::connected, {}};
 }
 
 bool SimDriver::is_mill() const {

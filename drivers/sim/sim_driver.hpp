@@ -65,6 +65,9 @@ public:
 
     DriverInfo info() const override;
     Result<void> open(const DriverContext& context) override;
+    /// A handle per simulated item (its row) and per mill method; items the
+    /// simulator does not know stay by id (their reads answer 401).
+    Result<void> bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) override;
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override;
     /// The typed read sample channels use (a reference for vendors: the
     /// same values as read(), texts lent from a buffer kept until the next
@@ -80,10 +83,12 @@ public:
     /// docs/simulator.md). Other models: Unavailable for methods of the
     /// model, Node not exists for unknown ids.
     Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override;
+    /// call_method() dispatched on the handle bind() gave the method.
+    Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) override;
     /// True for configuration objects without a fixed value in the model (the
     /// simulator has them: tool table, parameters...); fixed values stay the SDK's.
     bool claims(std::string_view id) const override;
-    MachineLink link() const override;
+    MachineLinkStatus link() const override;
 
     /// True when the device is simulated as the mill (sim-mill.json).
     bool is_mill() const;

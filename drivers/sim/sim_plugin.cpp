@@ -1,4 +1,5 @@
-// nclink-sim.so: the simulator as a driver plugin. A plugin driver is default
+// nclink-sim.so: the simulator as a driver plugin (ABI version 2: handles
+// from bind(), typed sample reads and link() cross the boundary). A plugin driver is default
 // constructed, so the model and options come from its open() configuration:
 //   {"model": "models/sim-mill.json", "seed": 1, "list_size": 64,
 //    "device": "mill", "autostart": true, "program_dir": "/var/nc/prog",
@@ -47,9 +48,21 @@ public:
         if (sim_) sim_->close();
     }
 
+    nclink::Result<void> bind(const std::vector<nclink::BindPoint>& points, std::vector<nclink::PointHandle>& handles) override {
+        return sim_ ? sim_->bind(points, handles) : nclink::ok_result();
+    }
+
     void read(const std::vector<nclink::PointRef>& points, std::vector<nclink::Result<nclink::Json>>& results) override {
         if (sim_) sim_->read(points, results);
     }
+
+    bool read_samples(const std::vector<nclink::PointRef>& points, nclink::SampleValue* out) override {
+        return sim_ && sim_->read_samples(points, out);
+    }
+
+    bool claims(std::string_view id) const override { return sim_ && sim_->claims(id); }
+
+    nclink::MachineLinkStatus link() const override { return sim_ ? sim_->link() : nclink::MachineLinkStatus{}; }
 
     nclink::Result<void> write(const nclink::WriteRequest& request) override {
         if (!sim_) return nclink::make_error(nclink::ErrorCode::unavailable, "nclink-sim is not open");
@@ -60,6 +73,12 @@ public:
                                              nclink::MethodControl& control) override {
         if (!sim_) return nclink::make_error(nclink::ErrorCode::unavailable, "nclink-sim is not open");
         return sim_->call_method(method_id, args, control);
+    }
+
+    nclink::Result<nclink::Json> run_method(const nclink::PointRef& method, const nclink::Json& args,
+                                            nclink::MethodControl& control) override {
+        if (!sim_) return nclink::make_error(nclink::ErrorCode::unavailable, "nclink-sim is not open");
+        return sim_->run_method(method, args, control);
     }
 
 private:

@@ -46,6 +46,9 @@ struct NCLINK_API AdapterStats {
     /// application lease, or their Notify/State offline) whose events and
     /// dynamic channels were released (docs/delivery.md, "Liveness").
     std::uint64_t applications_released = 0;
+    /// Driver::link() now: while disconnected, driver items answer 202
+    /// "machine disconnected: <reason>" without a driver call.
+    MachineLinkStatus machine_link;
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;

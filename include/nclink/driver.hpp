@@ -1,7 +1,42 @@
 // The vendor interface: how nclink reads and writes machine points and runs
-// methods. A vendor implements a Driver (C++) or a plugin (C ABI,
-// driver_plugin.h) and the SDK does the rest: model, Query/Set semantics,
+// methods. A vendor implements a Driver (C++) or writes a plugin (C ABI,
+// driver_plugin.h); the SDK does the rest: model, Query/Set semantics,
 // sampling, events, MQTT.
+//
+// Handles (bind)
+// - bind() is called once per installed model: at start() and after every
+//   model change (Probe/Set), with every point the driver is asked about:
+//   each data item the SDK does not hold itself, and each METHOD. The driver
+//   answers a handle per point: a number of its own (an index into its
+//   table, say), no_handle (identify it by id, today's behaviour, the
+//   default), or not_served (the SDK then answers the point 202 Unavailable
+//   without calling the driver). From then on every PointRef the driver gets
+//   (read(), read_samples(), WriteRequest, run_method()) carries that handle.
+//   Ids are resolved to handles once per model, never per read.
+// - Once bind() returned, no call passes a handle of an earlier bind(): a
+//   call that was prepared against the previous model is re-resolved by id
+//   (points the new model does not have answer 202 without a driver call).
+// - An error from bind() refuses the model: start() fails with it, or the
+//   Probe/Set is answered with its code (the model in force stays).
+//
+// Errors and reasons (docs/porting-guide.md §5, docs/wire.md "Vendor errors")
+// - Every failure the driver reports (a read of one point, a write, a method,
+//   open(), bind()) is an Error: a table-19 code and the vendor's reason in
+//   `message`. Both reach the wire: `error`/`reason` from the code, the
+//   vendor's words in the item's privateInfo {"message": ...}. A vendor code
+//   below 0 (vendor_error(), table 19 leaves those to the user) goes on the
+//   wire as is with the vendor's words as `reason`; a positive code table 19
+//   does not define is answered 202 with "vendor error <n>: ..." as message.
+//
+// The machine link (link())
+// - link() says whether the machine (the CNC behind the driver) is reachable.
+//   While it answers disconnected, the SDK calls neither read() nor
+//   read_samples() nor write(): items answer 202 Unavailable with privateInfo
+//   "machine disconnected: <reason>", sample values are null, and
+//   AdapterStats::machine_link shows the state and reason. It is asked before
+//   every batch (a Query, a Set item, a sampling tick, an events poll), so it
+//   must be cheap (an atomic, no machine I/O), thread-safe, and never block.
+//   Default: unknown (the SDK calls the driver as usual).
 //
 // Threading contract
 // - The SDK never calls a driver from an MQTT callback thread.
@@ -11,7 +46,13 @@
 //   default they are serialized (one worker): the driver needs no locking of
 //   its own for them. A driver whose info().concurrent is true gets
 //   two workers and may be called from both at once.
-// - call_method() runs on a method thread of its own, one per accepted
+// - bind() runs on the thread installing the model (the start() thread, or
+//   the request worker accepting a Probe/Set), exclusively: no read(),
+//   read_samples() or write() runs meanwhile, also on a concurrent driver
+//   (run_method() may: methods keep running across a model change). It waits
+//   at most driver_timeout for a running call to finish, else the model is
+//   refused with Timeout (203).
+// - call_method()/run_method() runs on a method thread of its own, one per accepted
 //   Method/Call (at most AdapterConfig::methods.max_running at once). It
 //   overlaps read() and write() — a program transfer or a cycle must not stop
 //   Query, Set and sampling — and other call_method() calls, whatever
@@ -20,12 +61,13 @@
 //   never across a long wait). There is no deadline: a method runs until it
 //   returns; it should call control.checkpoint() between steps so "stop",
 //   "resume" and "cancel" take effect (docs/methods.md).
-// - open() runs on the thread calling Adapter::start(), before any other call;
-//   close() on the thread calling Adapter::stop(), after the last one (not
-//   called when start() fails after open(), nor when a stuck worker had to be
-//   abandoned at shutdown).
-// - info() and claims() may be called from any SDK thread at any time, also
-//   while read() runs: answer them from constant data.
+// - open() runs on the thread calling Adapter::start(), before any other call
+//   (bind() comes right after it); close() on the thread calling
+//   Adapter::stop(), after the last one (not called when start() fails after
+//   open(), nor when a stuck worker had to be abandoned at shutdown).
+// - info(), claims() and link() may be called from any SDK thread at any
+//   time, also while read() runs: answer them from constant data (link():
+//   from an atomic the driver keeps up to date).
 // - read() and write() have a deadline (AdapterConfig::driver_timeout, default
 //   1000 ms). A call that overruns it answers Timeout (203) for its items; the
 //   SDK does not wait for the driver to return, but it does not start a second
@@ -48,12 +90,16 @@
 #include <nclink/result.hpp>
 #include <nclink/sample_value.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace nclink {
+
+struct DataObject;  // model.hpp
+struct Method;      // model.hpp
 
 struct NCLINK_API DriverInfo {
     std::string name = "driver";
@@ -65,6 +111,23 @@ struct NCLINK_API DriverInfo {
 /// What the machine link looks like from the driver's side.
 enum class MachineLink { unknown, connected, disconnected };
 
+/// "unknown", "connected", "disconnected".
+constexpr std::string_view to_string(MachineLink link) noexcept {
+    switch (link) {
+        case MachineLink::connected: return "connected";
+        case MachineLink::disconnected: return "disconnected";
+        default: return "unknown";
+    }
+}
+
+/// link(): the state and, when disconnected, why (the vendor's words: "CNC
+/// cable unplugged", "controller in E-stop"), shown in the statistics and in
+/// the privateInfo of the items answered 202 meanwhile.
+struct NCLINK_API MachineLinkStatus {
+    MachineLink state = MachineLink::unknown;
+    std::string reason;
+};
+
 /// Handed to open(). `config` is the driver's section of the adapter
 /// configuration (or the plugin's config string parsed), `null` if none.
 struct NCLINK_API DriverContext {
@@ -72,16 +135,49 @@ struct NCLINK_API DriverContext {
     Logger logger;
 };
 
-/// One point of a read: the model's data-item id and its data type.
+/// The driver's own number for a point, chosen in bind(): opaque to the SDK
+/// (an index into the driver's table is the usual choice).
+using PointHandle = std::uint64_t;
+/// bind() answer: the driver has no handle for the point and identifies it
+/// by `id` (the default: drivers that ignore handles keep working).
+inline constexpr PointHandle no_handle = ~PointHandle{0};
+/// bind() answer: the driver does not serve the point. The SDK answers it
+/// 202 Unavailable itself (null in samples) and never passes it to the driver.
+inline constexpr PointHandle not_served = ~PointHandle{0} - 1;
+
+/// One point the SDK asks bind() about, with what the model says of it. The
+/// strings are copies; `object`/`method_object` point into the model being
+/// installed (include <nclink/model.hpp> to use them) and are valid during
+/// bind() only; they are null for a plugin (driver_plugin.h passes the
+/// strings).
+struct NCLINK_API BindPoint {
+    std::string id;
+    DataKind kind = DataKind::single;  ///< the model's `datatype`
+    bool method = false;               ///< a METHOD object (run_method()), not a data item
+    std::string type;                  ///< the model's `type` ("POSITION", "STATUS", "METHOD"...)
+    std::string name;
+    std::string units;
+    std::string path;                  ///< component path, "/MACHINE/AXIS@X/POSITION" (docs/model.md)
+    bool setable = false;
+    bool config = false;               ///< listed in a `configs` array (a claimed config object)
+    const DataObject* object = nullptr;       ///< the whole data object (null for methods)
+    const Method* method_object = nullptr;    ///< the whole METHOD object (null for data items)
+};
+
+/// One point of a read: the model's data-item id, its data type and the
+/// handle bind() gave it (no_handle when the driver gave none).
 struct NCLINK_API PointRef {
     std::string id;
     DataKind kind = DataKind::single;
+    PointHandle handle = no_handle;
 };
 
 /// A Set on one item, after the SDK validated it against the model.
 struct NCLINK_API WriteRequest {
     std::string id;
     DataKind kind = DataKind::single;
+    /// What bind() answered for the item (no_handle when the driver gave none).
+    PointHandle handle = no_handle;
     /// The item's `params` from the Set DTU, as sent (operation, key, index,
     /// offset, length, value...). Drivers with granular writes use this.
     Json params;
@@ -121,6 +217,18 @@ public:
         return ok_result();
     }
     virtual void close() {}
+
+    /// The points of a newly installed model (see "Handles" above):
+    /// `handles[i]` answers `points[i]` and arrives as no_handle. Set an
+    /// entry to a number of the driver's own (any value but no_handle and
+    /// not_served), or to not_served. An error refuses the model (its code
+    /// and message reach the Probe/Set answer, or fail start()). A throw is
+    /// caught and refuses the model (202). Default: every point by id.
+    virtual Result<void> bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) {
+        (void)points;
+        (void)handles;
+        return ok_result();
+    }
 
     /// Required. Reads the current value of every point: results[i] answers
     /// points[i]. An item the machine cannot give now answers Unavailable
@@ -169,14 +277,24 @@ public:
     /// object's declared args (defaults filled in). Returns the method's
     /// `return` value (null = none), or a table-19 error: the Method/Result is
     /// then "error" with that code, the message going to its privateInfo.
-    /// Default: Unavailable (202), a driver without methods.
+    /// Default: Unavailable (202), a driver without methods. The SDK calls
+    /// run_method(), which calls this unless overridden.
     virtual Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) {
         (void)args;
         (void)control;
         return make_error(ErrorCode::unavailable, "driver '" + info().name + "' does not implement method " + method_id);
     }
 
-    virtual MachineLink link() const { return MachineLink::unknown; }
+    /// What the SDK calls for a Method/Call: `method` carries the METHOD's id
+    /// and the handle bind() gave it. Override this instead of call_method()
+    /// to dispatch on the handle. Default: call_method(method.id, ...).
+    virtual Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) {
+        return call_method(method.id, args, control);
+    }
+
+    /// The machine link (see "The machine link" above): cheap, thread-safe,
+    /// never blocking. Default: unknown.
+    virtual MachineLinkStatus link() const { return {}; }
 };
 
 /// For the simplest drivers: implement read_one() only.

@@ -120,6 +120,9 @@ struct NCLINK_API QueryResult {
     ResponseStatus status;
     std::optional<Json> params;  ///< the request's params echoed
     std::optional<Json> values;  ///< on OK: always an array
+    /// On NG from the driver: {"message": the vendor's reason} (docs/wire.md,
+    /// "Vendor errors"); sent as the entry's "privateInfo".
+    std::optional<Json> private_info;
 };
 struct NCLINK_API QueryResponse {
     MessageId msg_id;
@@ -150,6 +153,8 @@ struct NCLINK_API SetResult {
     std::string id;
     ResponseStatus status;
     std::optional<Json> params;
+    /// On NG from the driver: {"message": the vendor's reason}, as for QueryResult.
+    std::optional<Json> private_info;
 };
 struct NCLINK_API SetResponse {
     MessageId msg_id;

@@ -73,4 +73,12 @@ inline Error make_error(ErrorCode code, std::string message = {}) {
     return Error{code, std::move(message)};
 }
 
+/// A vendor's own error: table 19 leaves the codes below 0 and their reasons
+/// to the user. `code` < 0 goes on the wire unchanged with `reason` as its
+/// `reason`; any other code table 19 does not define is answered 202
+/// Unavailable, its number kept in the text (docs/wire.md, "Vendor errors").
+inline Error vendor_error(int code, std::string reason) {
+    return Error{static_cast<ErrorCode>(code), std::move(reason)};
+}
+
 }  // namespace nclink

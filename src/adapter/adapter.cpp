@@ -48,17 +48,20 @@ Result<void> Adapter::Impl::start() {
     if (auto opened = driver->open(DriverContext{config.driver_config, logger}); !opened)
         return make_error(opened.error().code, "driver failed to open: " + opened.error().message);
 
-    auto built = host.build(loaded.value(), config.device_id, *driver);
-    if (!built) return std::move(built).error();
-    host.install(built.value());
-    dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
-    msg_id_prefix = fmt::format("{}-{:x}-", dev, std::random_device{}());
-    logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s))", dev,
-                built.value()->device->id, built.value()->device->version, built.value()->store->size());
-
     DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
     runner = std::make_unique<DriverRunner>(driver, runner_options, logger);
+
+    auto built = host.build(loaded.value(), config.device_id, *driver);
+    if (!built) return std::move(built).error();
+    if (auto bound = detail::ModelHost::bind(*built.value(), *runner); !bound)
+        return make_error(bound.error().code, "driver refused the model in bind(): " + bound.error().message);
+    host.install(built.value());
+    dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
+    msg_id_prefix = fmt::format("{}-{:x}-", dev, std::random_device{}());
+    logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s), {} driver point(s))", dev,
+                built.value()->device->id, built.value()->device->version, built.value()->store->size(),
+                built.value()->points->points().size());
     executor = std::make_unique<detail::Executor>(config.request_threads);
     watchdog = std::make_unique<detail::DeadlineWatchdog>();
     dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);

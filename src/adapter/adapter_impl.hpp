@@ -142,7 +142,10 @@ struct NCLINK_LOCAL Adapter::Impl {
     /// Adapter::replace_model/patch_model); returns its version. `origin`
     /// names the caller in logs.
     Result<std::string> adopt_model(const std::string& text, std::string_view origin);
-    std::mutex model_change_mutex;  // one model change at a time
+    std::mutex model_change_mutex;  // one model change at a time: binds and installs come in one order
+    /// Binds the model in force again (after a Probe/Set that was bound but
+    /// not installed) and installs that copy.
+    void rebind_current();
 };
 
 }  // namespace nclink

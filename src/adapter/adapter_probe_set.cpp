@@ -6,6 +6,7 @@
 // registrations that no longer resolve released) and listeners.
 #include "adapter/adapter_impl.hpp"
 #include "adapter/request_handlers.hpp"
+#include "protocol/driver_failure.hpp"
 
 namespace nclink {
 
@@ -25,9 +26,17 @@ Result<std::string> Adapter::Impl::adopt_model(const std::string& text, std::str
     const std::string new_dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
     if (new_dev != dev)
         logger.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev);
+    // The driver sees the new model before it is persisted: a driver that
+    // refuses it (or is too busy to be asked) leaves the old one in force.
+    if (auto bound = detail::ModelHost::bind(*built.value(), *runner); !bound) {
+        logger.info("{} refused by the driver's bind(): {}", origin, bound.error().describe());
+        return std::move(bound).error();
+    }
     // The text as sent: a restart serves (Probe/Query) the very model the application set.
-    if (auto persisted = host.persist_model(*built.value()->probe_text); !persisted)
+    if (auto persisted = host.persist_model(*built.value()->probe_text); !persisted) {
+        rebind_current();  // the driver was bound to the model that is not installed
         return std::move(persisted).error();
+    }
     const std::string old_version = host.current() ? host.current()->device->version : std::string();
     host.install(built.value());
     const std::string version = built.value()->device->version;
@@ -60,7 +69,12 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
             response.status = ResponseStatus::failure(ErrorCode::syntax_error);
             response.private_info = Json{{"problems", e.message}};
         } else {
-            response.status = ResponseStatus(e);
+            // The driver's refusal (bind()) or a persistence failure: the
+            // table-19 status, the words in privateInfo (docs/wire.md,
+            // "Vendor errors").
+            const auto failure = detail::driver_failure(e);
+            response.status = failure.status;
+            response.private_info = failure.private_info;
         }
     }
     return response;
@@ -81,6 +95,19 @@ Result<std::string> Adapter::patch_model(const Json& patch) {
         return make_error(ErrorCode::keys_of_arguments, std::string("the patch does not apply: ") + e.what());
     }
     return impl_->adopt_model(patched.dump(), "Adapter::patch_model");
+}
+
+void Adapter::Impl::rebind_current() {
+    const auto current = host.current();
+    if (!current) return;
+    // A copy of the model in force with fresh handles: snapshots still held
+    // elsewhere keep working (the runner re-resolves their refs by id).
+    auto again = std::make_shared<detail::ModelState>(*current);
+    if (auto bound = detail::ModelHost::bind(*again, *runner); !bound) {
+        logger.error("could not bind the model in force again: {}", bound.error().describe());
+        return;
+    }
+    host.install(std::move(again));
 }
 
 }  // namespace nclink

@@ -12,6 +12,7 @@ AdapterStats Adapter::stats() const {
     s.rejected = impl_->rejected;
     s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
     s.applications_released = impl_->applications_released;
+    if (impl_->runner) s.machine_link = impl_->runner->link();
     s.registered = impl_->registration.registered();
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
@@ -61,6 +62,7 @@ Json to_json(const AdapterStats& s) {
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},
                 {"driver_timeouts", s.driver_timeouts},
+                {"machine_link", {{"state", std::string(to_string(s.machine_link.state))}, {"reason", s.machine_link.reason}}},
                 {"registered", s.registered},
                 {"state", std::string(to_string(s.state))},
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},

@@ -10,8 +10,8 @@ namespace nclink::detail {
 ModelHost::ModelHost(std::string persistence_dir, Logger logger)
     : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
 
-Result<std::shared_ptr<const ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
-                                                           const Driver& driver) const {
+Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
+                                                     const Driver& driver) const {
     if (!loaded.model) return make_error(ErrorCode::syntax_error, "the model has fatal problems");
     auto state = std::make_shared<ModelState>();
     state->model = loaded.model;
@@ -58,7 +58,44 @@ Result<std::shared_ptr<const ModelState>> ModelHost::build(const LoadResult& loa
             model_to_json(*state->model).dump(-1, ' ', false, Json::error_handler_t::replace));
     }
     state->rules = std::make_shared<const ValueRules>(*state->model);
-    return std::shared_ptr<const ModelState>(std::move(state));
+    return state;
+}
+
+Result<void> ModelHost::bind(ModelState& state, DriverRunner& runner) {
+    std::vector<BindPoint> points;
+    const Model& model = *state.model;
+    for (const auto& object : model.data_objects()) {
+        if (!object.device_id.empty() && object.device_id != state.device->id) continue;
+        if (state.sdk_held(object.id)) continue;
+        BindPoint p;
+        p.id = object.id;
+        p.kind = object.kind;
+        p.type = object.type;
+        p.name = object.name;
+        p.units = object.units;
+        const ObjectInfo* info = model.find(object.id);
+        p.path = info ? info->path : std::string();
+        p.setable = object.setable;
+        p.config = object.config;
+        p.object = &object;
+        points.push_back(std::move(p));
+    }
+    for (const auto& method : model.methods()) {
+        const ObjectInfo* info = model.find(method.id);
+        if (info && !info->device_id.empty() && info->device_id != state.device->id) continue;
+        BindPoint p;
+        p.id = method.id;
+        p.method = true;
+        p.type = "METHOD";
+        p.name = method.name;
+        p.path = info ? info->path : std::string();
+        p.method_object = &method;
+        points.push_back(std::move(p));
+    }
+    auto table = runner.bind(points);
+    if (!table) return std::move(table).error();
+    state.points = std::move(table).value();
+    return ok_result();
 }
 
 std::shared_ptr<const ModelState> ModelHost::current() const {

@@ -4,6 +4,7 @@
 // rename), so a crash never leaves a half-written model or value file.
 #pragma once
 
+#include "driver/driver_runner.hpp"
 #include "feature/model_state.hpp"
 
 #include <nclink/driver.hpp>
@@ -24,8 +25,14 @@ public:
     /// Builds the state for `loaded` (device `device_id`, "" = first): fills
     /// the store with fixed values and unclaimed configs, restoring persisted
     /// values of settable ones. Errors: 401 when the device is not in the model.
-    Result<std::shared_ptr<const ModelState>> build(const LoadResult& loaded, const std::string& device_id,
-                                                    const Driver& driver) const;
+    /// The state is not bound yet (bind()).
+    Result<std::shared_ptr<ModelState>> build(const LoadResult& loaded, const std::string& device_id,
+                                              const Driver& driver) const;
+    /// Asks the driver for its handles (Driver::bind) for every point of
+    /// `state` it is asked about: the data items of the device (and of the
+    /// root configs) that the store does not hold, and the METHODs. Sets
+    /// state.points; the driver's error (or 203 when busy) otherwise.
+    static Result<void> bind(ModelState& state, DriverRunner& runner);
 
     std::shared_ptr<const ModelState> current() const override;
     void install(std::shared_ptr<const ModelState> state);

@@ -1,4 +1,5 @@
 #include "adapter/request_handlers.hpp"
+#include "protocol/driver_failure.hpp"
 
 namespace nclink::detail {
 namespace {
@@ -36,6 +37,17 @@ std::optional<Json> echo_params(const Json& params) {
     out.erase("values");
     if (out.empty()) return std::nullopt;
     return out;
+}
+
+Error not_served(const std::string& id) { return make_error(ErrorCode::unavailable, "the driver does not serve " + id); }
+
+// A failure of the driver's call (its own, or the SDK's about that call:
+// timeout, machine disconnected): status and vendor text (docs/wire.md).
+template <class Item>
+void put_driver_failure(Item& item, const Error& error) {
+    auto failure = driver_failure(error);
+    item.status = std::move(failure.status);
+    item.private_info = std::move(failure.private_info);
 }
 
 }  // namespace
@@ -84,20 +96,25 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
                 result.status = ResponseStatus(values.error());
             continue;
         }
-        points.push_back(PointRef{item.id, object->kind});
+        PointRef point = context.state.point(item.id, object->kind);
+        if (point.handle == nclink::not_served) {
+            put_driver_failure(result, not_served(item.id));
+            continue;
+        }
+        points.push_back(std::move(point));
         driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind});
     }
 
     if (!points.empty()) {
         auto read = context.driver_expired
                         ? std::vector<Result<Json>>(points.size(), Result<Json>(*context.driver_expired))
-                        : context.driver.read(points);
+                        : context.driver.read(points, context.state.generation());
         for (std::size_t k = 0; k < driver_items.size(); ++k) {
             QueryResult& result = response.values[driver_items[k].slot];
             if (context.values) context.values->screen(context.state, result.id, read[k], "query");
             if (!read[k].ok()) {
                 context.logger.debug("query {}: {}", result.id, read[k].error().describe());
-                result.status = ResponseStatus(read[k].error());
+                put_driver_failure(result, read[k].error());
                 continue;
             }
             auto values = evaluate(driver_items[k].params, read[k].value(), driver_items[k].kind);
@@ -159,7 +176,12 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             result.status = ResponseStatus(parsed.error());
             continue;
         }
-        points.push_back(PointRef{item.id, object->kind});
+        PointRef point = context.state.point(item.id, object->kind);
+        if (point.handle == nclink::not_served) {
+            put_driver_failure(result, not_served(item.id));
+            continue;
+        }
+        points.push_back(std::move(point));
         driver_items.push_back(DriverItem{i, std::move(parsed).value(), object, params});
     }
 
@@ -167,7 +189,8 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         // Read current values once, so the operation is checked against the
         // machine's value (out of range, unknown key...) before anything is
         // written, and drivers that write whole items get the new value.
-        auto current = context.driver.read(points);
+        const std::uint64_t generation = context.state.generation();
+        auto current = context.driver.read(points, generation);
         for (std::size_t k = 0; k < driver_items.size(); ++k) {
             const DriverItem& d = driver_items[k];
             SetResult& result = response.results[d.slot];
@@ -175,6 +198,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             WriteRequest write;
             write.id = item.id;
             write.kind = d.object->kind;
+            write.handle = points[k].handle;
             write.params = d.raw;
             if (current[k].ok()) {
                 Json next = current[k].value();
@@ -194,10 +218,10 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
                 }
                 write.new_value = std::move(next);
             }
-            auto written = context.driver.write(write);
+            auto written = context.driver.write(write, generation);
             if (!written) {
                 context.logger.debug("set {}: {}", item.id, written.error().describe());
-                result.status = ResponseStatus(written.error());
+                put_driver_failure(result, written.error());
             }
         }
     }

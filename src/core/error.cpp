@@ -78,8 +78,9 @@ std::optional<ErrorCode> error_code_from_reason(std::string_view text) noexcept 
 }
 
 std::string Error::describe() const {
-    if (message.empty()) return fmt::format("{} {}", to_int(code), reason(code));
-    return fmt::format("{} {}: {}", to_int(code), reason(code), message);
+    const std::string_view what = to_int(code) < 0 ? std::string_view("vendor error") : reason(code);
+    if (message.empty()) return fmt::format("{} {}", to_int(code), what);
+    return fmt::format("{} {}: {}", to_int(code), what, message);
 }
 
 }  // namespace nclink

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <optional>
 
 namespace nclink::detail {
 namespace {
@@ -51,7 +52,107 @@ void call_read(Driver& driver, const std::vector<PointRef>& points, std::vector<
     }
 }
 
+// The machine link, asked before every call: a throw counts as unknown.
+MachineLinkStatus ask_link(const Driver& driver) {
+    try {
+        return driver.link();
+    } catch (...) {
+        return {};
+    }
+}
+
+std::optional<Error> disconnected(const Driver& driver) {
+    const MachineLinkStatus link = ask_link(driver);
+    if (link.state != MachineLink::disconnected) return std::nullopt;
+    return make_error(ErrorCode::unavailable,
+                      link.reason.empty() ? std::string("machine disconnected") : "machine disconnected: " + link.reason);
+}
+
+Error not_served_error(const std::string& id) {
+    return make_error(ErrorCode::unavailable, "the driver does not serve " + id);
+}
+
+// What the driver gets for points prepared against `generation`: the points
+// themselves (identity) when they are current, else a copy re-resolved
+// against the current table without the points it does not serve; slots[k]
+// is the caller's index of points[k]. Current points are passed as they are,
+// without a scan per read: every caller leaves not_served points out when it
+// plans (request handlers, sample lanes, event polls).
+struct CallPlan {
+    bool identity = true;
+    std::vector<PointRef> points;
+    std::vector<std::size_t> slots;
+};
+
+void plan_call(const std::vector<PointRef>& in, std::uint64_t generation, const PointTable* table, CallPlan& plan) {
+    const bool stale = table != nullptr && generation != table->generation();
+    if (!stale) {
+        plan.identity = true;
+        return;
+    }
+    plan.identity = false;
+    plan.points.clear();
+    plan.slots.clear();
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        PointHandle handle = in[i].handle;
+        if (stale) {
+            const PointRef* now = table->find(in[i].id);
+            handle = now ? now->handle : not_served;  // gone from the model: the driver never saw it bound
+        }
+        if (handle == not_served) continue;
+        plan.points.push_back(PointRef{in[i].id, in[i].kind, handle});
+        plan.slots.push_back(i);
+    }
+}
+
 }  // namespace
+
+void DriverRunner::read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
+                               std::uint64_t generation, std::vector<Result<Json>>& results) {
+    results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    if (queue.closed.load(std::memory_order_acquire)) {
+        for (auto& r : results) r = make_error(ErrorCode::unavailable, "driver stopped");
+        return;
+    }
+    if (auto down = disconnected(driver)) {
+        for (auto& r : results) r = *down;
+        return;
+    }
+    CallPlan plan;
+    plan_call(points, generation, queue.table.get(), plan);
+    if (plan.identity) {
+        call_read(driver, points, results);
+        return;
+    }
+    for (std::size_t i = 0; i < points.size(); ++i) results[i] = not_served_error(points[i].id);
+    if (plan.points.empty()) return;
+    std::vector<Result<Json>> some(plan.points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    call_read(driver, plan.points, some);
+    for (std::size_t k = 0; k < plan.slots.size() && k < some.size(); ++k) results[plan.slots[k]] = std::move(some[k]);
+}
+
+Result<void> DriverRunner::write_locked(Driver& driver, const Queue& queue, const WriteRequest& request,
+                                        std::uint64_t generation) {
+    if (queue.closed.load(std::memory_order_acquire)) return make_error(ErrorCode::unavailable, "driver stopped");
+    if (auto down = disconnected(driver)) return *down;
+    const PointTable* table = queue.table.get();
+    const WriteRequest* call = &request;
+    WriteRequest resolved;
+    if (table != nullptr && generation != table->generation()) {
+        const PointRef* now = table->find(request.id);
+        if (!now || now->handle == not_served) return not_served_error(request.id);
+        resolved = request;
+        resolved.handle = now->handle;
+        call = &resolved;
+    } else if (request.handle == not_served) {
+        return not_served_error(request.id);
+    }
+    try {
+        return driver.write(*call);
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
+    }
+}
 
 DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger)
     : driver_(std::move(driver)), options_(options), logger_(std::move(logger)), name_(driver_->info().name) {
@@ -100,25 +201,27 @@ bool DriverRunner::post(std::function<void(Driver&)> task) {
     return true;
 }
 
-std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points) {
-    return read(points, options_.call_timeout);
+std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::uint64_t generation) {
+    return read(points, options_.call_timeout, generation);
 }
 
-std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout) {
+std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout,
+                                             std::uint64_t generation) {
     using Results = std::vector<Result<Json>>;
     if (tls_worker_of == queue_.get()) {
         // On the driver's own worker (a driver-affine request): call in place.
         // `this` is not touched after the call, so an abandoned worker that
         // returns late from a stuck driver finds nothing destroyed under it.
         const std::shared_ptr<Driver> driver = driver_;
-        Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-        call_read(*driver, points, results);
+        const std::shared_ptr<Queue> queue = queue_;
+        Results results;
+        read_locked(*driver, *queue, points, generation, results);
         return results;
     }
     auto pending = std::make_shared<Pending<Results>>();
-    const bool queued = post([pending, points](Driver& driver) {
-        Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-        call_read(driver, points, results);
+    const bool queued = post([pending, points, generation, queue = queue_](Driver& driver) {
+        Results results;
+        read_locked(driver, *queue, points, generation, results);
         pending->finish(std::move(results));
     });
     if (!queued) return Results(points.size(), Result<Json>(make_error(ErrorCode::unavailable, "driver stopped")));
@@ -156,51 +259,86 @@ bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
 }
 
 void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
-                               std::chrono::nanoseconds wait) {
-    results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-    const bool called = call_direct(wait, [&] {
-        if (queue_->closed.load(std::memory_order_acquire)) {
-            for (auto& r : results) r = make_error(ErrorCode::unavailable, "driver stopped");
-            return;
-        }
-        try {
-            driver_->read(points, results);
-        } catch (const std::exception& e) {
-            for (auto& r : results) r = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
-        }
-    });
-    if (!called)
-        for (auto& r : results) r = make_error(ErrorCode::timeout, "driver busy with another call");
+                               std::chrono::nanoseconds wait, std::uint64_t generation) {
+    const bool called = call_direct(wait, [&] { read_locked(*driver_, *queue_, points, generation, results); });
+    if (!called) results.assign(points.size(), Result<Json>(make_error(ErrorCode::timeout, "driver busy with another call")));
 }
 
 DriverRunner::TypedRead DriverRunner::read_samples_direct(const std::vector<PointRef>& points, SampleValue* out,
-                                                          std::chrono::nanoseconds wait) {
+                                                          std::chrono::nanoseconds wait, std::uint64_t generation) {
     std::fill(out, out + points.size(), SampleValue::null());
     bool supported = true;
+    const auto typed_read = [&](const std::vector<PointRef>& some, SampleValue* into) {
+        try {
+            supported = driver_->read_samples(some, into);
+        } catch (...) {
+            std::fill(into, into + some.size(), SampleValue::null());  // a half-written row is not trusted
+        }
+    };
     const bool called = call_direct(wait, [&] {
         if (queue_->closed.load(std::memory_order_acquire)) return;
-        try {
-            supported = driver_->read_samples(points, out);
-        } catch (...) {
-            std::fill(out, out + points.size(), SampleValue::null());  // a half-written row is not trusted
+        if (disconnected(*driver_)) return;  // the row stays null
+        CallPlan plan;
+        plan_call(points, generation, queue_->table.get(), plan);
+        if (plan.identity) {
+            typed_read(points, out);
+            return;
         }
+        if (plan.points.empty()) return;
+        std::vector<SampleValue> some(plan.points.size());
+        typed_read(plan.points, some.data());
+        if (!supported) return;
+        for (std::size_t k = 0; k < plan.slots.size(); ++k) out[plan.slots[k]] = some[k];
     });
     if (!called) return TypedRead::busy;
     return supported ? TypedRead::done : TypedRead::unsupported;
 }
 
-Result<void> DriverRunner::write(const WriteRequest& request) {
+Result<std::shared_ptr<const PointTable>> DriverRunner::bind(const std::vector<BindPoint>& points) {
+    // Exclusive whatever info().concurrent says: no read may straddle two
+    // bindings.
+    std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
+    if (!calls.try_lock_for(options_.call_timeout)) {
+        count_timeout();
+        return make_error(ErrorCode::timeout, fmt::format("driver busy: bind() could not start within {} ms",
+                                                          options_.call_timeout.count()));
+    }
+    if (queue_->closed.load(std::memory_order_acquire)) return make_error(ErrorCode::unavailable, "driver stopped");
+    std::vector<PointHandle> handles(points.size(), no_handle);
+    Result<void> bound = ok_result();
+    try {
+        bound = driver_->bind(points, handles);
+    } catch (const std::exception& e) {
+        bound = make_error(ErrorCode::unavailable, std::string("driver threw in bind(): ") + e.what());
+    }
+    if (!bound) return std::move(bound).error();
+    handles.resize(points.size(), no_handle);  // a driver that shrank the vector
+    std::vector<PointRef> refs;
+    refs.reserve(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) refs.push_back(PointRef{points[i].id, points[i].kind, handles[i]});
+    std::lock_guard<std::mutex> table_lock(queue_->table_mutex);
+    auto table = std::make_shared<const PointTable>(++queue_->generations, std::move(refs));
+    queue_->table = table;
+    return table;
+}
+
+PointRef DriverRunner::current_ref(const std::string& id) const {
+    std::lock_guard<std::mutex> lock(queue_->table_mutex);
+    if (queue_->table)
+        if (const PointRef* ref = queue_->table->find(id)) return *ref;
+    return PointRef{id, DataKind::single, no_handle};
+}
+
+MachineLinkStatus DriverRunner::link() const { return ask_link(*driver_); }
+
+Result<void> DriverRunner::write(const WriteRequest& request, std::uint64_t generation) {
     struct Outcome {
         Result<void> result = make_error(ErrorCode::unavailable);
     };
     auto pending = std::make_shared<Pending<Outcome>>();
-    const bool queued = post([pending, request](Driver& driver) {
+    const bool queued = post([pending, request, generation, queue = queue_](Driver& driver) {
         Outcome outcome;
-        try {
-            outcome.result = driver.write(request);
-        } catch (const std::exception& e) {
-            outcome.result = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
-        }
+        outcome.result = write_locked(driver, *queue, request, generation);
         pending->finish(std::move(outcome));
     });
     if (!queued) return make_error(ErrorCode::unavailable, "driver stopped");

@@ -4,7 +4,20 @@
 // Timeout (203) and its late result is discarded. A slow driver therefore
 // never blocks MQTT keep-alive, other devices, or the caller beyond the
 // deadline.
+//
+// Every call into the driver also gets, inside the serialization lock:
+// - the machine link: while Driver::link() says disconnected, reads answer
+//   202 "machine disconnected: <reason>" (typed reads null) and writes 202,
+//   without a driver call;
+// - the binding (driver.hpp, "Handles"): points prepared against an earlier
+//   bind() than the current one (or by hand, `unbound`) are re-resolved by
+//   id, and those the binding does not serve (or no longer has) answer 202
+//   without reaching the driver. Points prepared against the current binding
+//   pass untouched (no copy, no lookup); callers leave its not_served points
+//   out when they plan.
 #pragma once
+
+#include "driver/point_table.hpp"
 
 #include <nclink/driver.hpp>
 
@@ -33,12 +46,26 @@ public:
     DriverRunner(const DriverRunner&) = delete;
     DriverRunner& operator=(const DriverRunner&) = delete;
 
-    /// Thread-safe. One result per point, in order. Called from a task
-    /// running on this runner's own worker (a driver-affine task, see post()),
-    /// the driver is called in place without a deadline: whoever posted the
-    /// task watches its deadline (the adapter's Query path does).
-    std::vector<Result<Json>> read(const std::vector<PointRef>& points);
-    std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout);
+    /// Calls Driver::bind() for the points of a model being installed, on
+    /// the calling thread, exclusively (no other driver call runs meanwhile,
+    /// also on a concurrent driver; waits at most call_timeout for running
+    /// calls, else 203). On success the new table becomes the current
+    /// binding. A driver error (or throw: 202) is returned unchanged.
+    /// Thread-safe.
+    Result<std::shared_ptr<const PointTable>> bind(const std::vector<BindPoint>& points);
+    /// The current binding's ref of `id` (a METHOD, for run_method()), or an
+    /// unbound ref {id, single, no_handle} when there is none. Thread-safe.
+    PointRef current_ref(const std::string& id) const;
+
+    /// Thread-safe. One result per point, in order. `generation`: the
+    /// PointTable the points come from (unbound for hand-made refs). Called
+    /// from a task running on this runner's own worker (a driver-affine
+    /// task, see post()), the driver is called in place without a deadline:
+    /// whoever posted the task watches its deadline (the adapter's Query path
+    /// does).
+    std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::uint64_t generation = unbound);
+    std::vector<Result<Json>> read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout,
+                                   std::uint64_t generation = unbound);
     /// Reads on the CALLING thread (no hand-off to a worker: the sampling
     /// path, where a thread wake-up per tick costs more than the read).
     /// Still serialized with the workers' calls on a serialized driver: waits
@@ -46,7 +73,7 @@ public:
     /// for every point. The driver call itself cannot be interrupted, so use
     /// it only where a hanging read may stall the caller. Thread-safe.
     void read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
-                     std::chrono::nanoseconds wait);
+                     std::chrono::nanoseconds wait, std::uint64_t generation = unbound);
     enum class TypedRead { done, unsupported, busy };
     /// The typed form of read_direct() (Driver::read_samples): `out` is set
     /// to nulls first. `unsupported` when the driver does not implement it
@@ -54,9 +81,10 @@ public:
     /// finish within `wait` (counted as a timeout; `out` stays null). A throw
     /// leaves `out` null. Text values in `out` borrow the driver's storage
     /// until the next read_samples_direct(). Thread-safe.
-    TypedRead read_samples_direct(const std::vector<PointRef>& points, SampleValue* out, std::chrono::nanoseconds wait);
-    /// Thread-safe.
-    Result<void> write(const WriteRequest& request);
+    TypedRead read_samples_direct(const std::vector<PointRef>& points, SampleValue* out, std::chrono::nanoseconds wait,
+                                  std::uint64_t generation = unbound);
+    /// Thread-safe. `request.handle` from the PointTable of `generation`.
+    Result<void> write(const WriteRequest& request, std::uint64_t generation = unbound);
     /// Queues `task` on a worker without waiting (long-running work such as
     /// methods). Thread-safe. False after stop().
     bool post(std::function<void(Driver&)> task);
@@ -74,6 +102,8 @@ public:
     /// at shutdown never holds a dangling driver.
     std::shared_ptr<Driver> shared_driver() const { return driver_; }
     std::uint64_t timeouts() const;
+    /// Driver::link(), a throw taken as unknown. Thread-safe.
+    MachineLinkStatus link() const;
 
 private:
     // Owned jointly by the runner and its workers, so a worker abandoned in a
@@ -92,8 +122,19 @@ private:
         bool concurrent = false;
         std::atomic<bool> closed{false};
         std::uint64_t timeouts = 0;
+        // The current binding: written under `calls` held exclusively (and
+        // table_mutex), read by driver calls under `calls` (and by
+        // current_ref() under table_mutex).
+        std::shared_ptr<const PointTable> table;
+        mutable std::mutex table_mutex;
+        std::uint64_t generations = 0;
     };
     static void work(const std::shared_ptr<Queue>& queue);
+    // The bodies of the calls, run under the calls lock (see the top).
+    static void read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
+                            std::uint64_t generation, std::vector<Result<Json>>& results);
+    static Result<void> write_locked(Driver& driver, const Queue& queue, const WriteRequest& request,
+                                     std::uint64_t generation);
     /// Runs `call` on the calling thread, serialized with the workers' calls;
     /// false (and a counted timeout) when the lock was not had within `wait`.
     template <typename Call>

@@ -202,7 +202,9 @@ private:
             if (value) return std::move(value).value();
             return std::nullopt;
         }
-        auto read = host_.driver.read({PointRef{spec.item, spec.kind}});
+        PointRef point = state.point(spec.item, spec.kind);
+        if (point.handle == not_served) return std::nullopt;  // the driver does not serve it
+        auto read = host_.driver.read({std::move(point)}, state.generation());
         if (!read.empty()) host_.values.screen(state, spec.item, read.front(), "event read");
         if (!read.empty() && read.front().ok()) return std::move(read.front()).value();
         return std::nullopt;
@@ -270,27 +272,49 @@ private:
         publish(fired);
     }
 
-    // One poll round: every watched item that the sample stream does not bring.
-    void poll() {
+    // What a poll reads, resolved to the driver's handles once per model and
+    // per change of the watched items (never per poll). Events thread only.
+    struct PollPlan {
+        std::shared_ptr<const ModelState> state;
+        std::uint64_t watched_version = 0;
+        std::vector<PointRef> driver_points;  // with their handles; not_served left out
+        std::vector<std::string> store_ids;
+    };
+
+    void refresh_poll_plan(const std::shared_ptr<const ModelState>& state) {
+        const std::uint64_t version = watched_version_.load(std::memory_order_acquire);
+        if (plan_.state == state && plan_.watched_version == version) return;
         std::map<std::string, DataKind> items;
         {
             std::lock_guard<std::mutex> lock(engine_mutex_);
             items = engine_.active_items();
         }
+        plan_ = PollPlan{state, version, {}, {}};
+        for (const auto& [id, kind] : items) {
+            if (state->sdk_held(id)) {
+                plan_.store_ids.push_back(id);
+                continue;
+            }
+            PointRef point = state->point(id, kind);
+            if (point.handle != not_served) plan_.driver_points.push_back(std::move(point));
+        }
+    }
+
+    // One poll round: every watched item that the sample stream does not bring.
+    void poll() {
         const auto state = host_.model.current();
+        refresh_poll_plan(state);
         std::vector<PointRef> points;
         std::vector<std::pair<std::string, Json>> values;
         const std::int64_t now_ms = host_.clock->wall_ms();
-        for (const auto& [id, kind] : items) {
+        for (const auto& id : plan_.store_ids) {
             if (host_.sample_tap.sampled(id)) continue;
-            if (state->sdk_held(id)) {
-                if (auto value = state->store->get(id)) values.emplace_back(id, std::move(value).value());
-                continue;
-            }
-            points.push_back(PointRef{id, kind});
+            if (auto value = state->store->get(id)) values.emplace_back(id, std::move(value).value());
         }
+        for (const auto& point : plan_.driver_points)
+            if (!host_.sample_tap.sampled(point.id)) points.push_back(point);
         if (!points.empty()) {
-            auto read = host_.driver.read(points, host_.driver_timeout);
+            auto read = host_.driver.read(points, host_.driver_timeout, state->generation());
             for (std::size_t i = 0; i < points.size() && i < read.size(); ++i) {
                 host_.values.screen(*state, points[i].id, read[i], "event poll");  // chapter 7
                 if (read[i].ok()) values.emplace_back(points[i].id, std::move(read[i]).value());
@@ -334,6 +358,7 @@ private:
     // the stream; the tap is only watched while some event exists, so an
     // adapter without events costs the sampling path nothing.
     void watched_changed() {
+        watched_version_.fetch_add(1, std::memory_order_acq_rel);
         auto items = engine_.watched_items();
         set_tap(!items.empty());
         inbox_->set_watched(std::move(items));
@@ -362,6 +387,8 @@ private:
     std::atomic<std::uint64_t> polls_{0};
     std::atomic<std::uint64_t> publish_errors_{0};
     std::atomic<std::uint64_t> publish_errors_at_last_success_{0};  // refused by the transport (after stop, larger than its buffer)
+    std::atomic<std::uint64_t> watched_version_{1};  // bumped by watched_changed()
+    PollPlan plan_;                                   // events thread only
     std::thread thread_;
 };
 

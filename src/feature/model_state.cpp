@@ -10,4 +10,10 @@ const DataObject* ModelState::item(const std::string& id) const {
     return object;
 }
 
+PointRef ModelState::point(const std::string& id, DataKind kind) const {
+    if (points)
+        if (const PointRef* ref = points->find(id)) return *ref;
+    return PointRef{id, kind, no_handle};
+}
+
 }  // namespace nclink::detail

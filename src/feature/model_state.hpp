@@ -4,6 +4,8 @@
 // the model meanwhile.
 #pragma once
 
+#include "driver/point_table.hpp"
+
 #include <nclink/model.hpp>
 #include <nclink/value_rules.hpp>
 #include <nclink/value_store.hpp>
@@ -26,11 +28,20 @@ struct ModelState {
     std::shared_ptr<const std::string> probe_text;
     /// Chapter 7's rule of every data object (value_guard.hpp checks driver values against them).
     std::shared_ptr<const ValueRules> rules;
+    /// What the driver's bind() answered for this model: every data item the
+    /// driver is asked about and every METHOD, with its handle (driver.hpp).
+    /// Null only in tests that build a state by hand.
+    std::shared_ptr<const PointTable> points;
 
     /// True when `id` is answered from the store rather than the driver.
     bool sdk_held(const std::string& id) const { return store && store->contains(id); }
     /// A data object of this adapter's device (or of the root configs).
     const DataObject* item(const std::string& id) const;
+    /// The driver's ref of `id` with its handle; a ref without handle
+    /// ({id, kind, no_handle}) when the binding does not have it.
+    PointRef point(const std::string& id, DataKind kind) const;
+    /// The binding's generation, to hand the runner with refs from point().
+    std::uint64_t generation() const { return points ? points->generation() : unbound; }
 };
 
 /// Where the current snapshot comes from (the adapter's model host).

@@ -1,4 +1,5 @@
 #include "methods/method_table.hpp"
+#include "protocol/driver_failure.hpp"
 
 #include <fmt/format.h>
 
@@ -35,7 +36,7 @@ MethodTable::~MethodTable() {
         if (entry.thread.joinable()) entry.thread.detach();
 }
 
-Result<std::shared_ptr<MethodRun>> MethodTable::start(const std::string& method_id, const ParsedTopic& call_topic,
+Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, const ParsedTopic& call_topic,
                                                       const MessageId& call_id, Json args,
                                                       std::shared_ptr<Driver> driver) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -44,6 +45,7 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const std::string& method_
         return make_error(ErrorCode::insufficient_method,
                           fmt::format("{} method run(s) under way, the limit (methods.max_running)", active_));
     const std::uint64_t serial = ++serial_;
+    const std::string& method_id = method.id;
     auto run = std::make_shared<MethodRun>(serial, method_id, call_topic, call_id, std::move(args));
     run->set_phase_listener([weak = weak_from_this()](MethodRun& r) {
         if (auto table = weak.lock()) table->publish_status(r);
@@ -55,8 +57,8 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const std::string& method_
     ++accepted_;
     publish_status(*run);  // "waiting": the call is accepted (8.2.22.3)
     try {
-        entry.thread = std::thread([self = shared_from_this(), run, driver = std::move(driver)] {
-            self->execute(run, *driver);
+        entry.thread = std::thread([self = shared_from_this(), run, method, driver = std::move(driver)] {
+            self->execute(run, method, *driver);
         });
     } catch (const std::system_error& e) {
         // No thread for it: the run never starts. It was announced, so it is
@@ -69,11 +71,11 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const std::string& method_
     return run;
 }
 
-void MethodTable::execute(const std::shared_ptr<MethodRun>& run, Driver& driver) {
+void MethodTable::execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver) {
     run->begin();
     Result<Json> outcome = make_error(ErrorCode::unavailable);
     try {
-        outcome = driver.call_method(run->method_id, run->args, *run);
+        outcome = driver.run_method(method, run->args, *run);
     } catch (const std::exception& e) {
         outcome = make_error(ErrorCode::unavailable, std::string("driver threw: ") + e.what());
     } catch (...) {
@@ -97,10 +99,12 @@ MethodResult MethodTable::result_of(const MethodRun& run, const Result<Json>& ou
         if (!outcome.value().is_null()) result.return_value = outcome.value();
     } else {
         result.result = "error";
-        result.status = ResponseStatus(outcome.error());
         // The reason stays the table-19 string; the driver's own words go in
-        // privateInfo, the implementation's part of the DTU (table 45).
-        if (!outcome.error().message.empty()) result.private_info = Json{{"message", outcome.error().message}};
+        // privateInfo, the implementation's part of the DTU (table 45); a
+        // vendor code follows docs/wire.md, "Vendor errors".
+        auto failure = driver_failure(outcome.error());
+        result.status = std::move(failure.status);
+        result.private_info = std::move(failure.private_info);
     }
     return result;
 }

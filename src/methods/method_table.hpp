@@ -49,7 +49,8 @@ public:
     /// Admits an accepted call: 417 when max_running runs are under way, 202
     /// once shutting down. Publishes Method/Status "waiting" (the acceptance,
     /// 8.2.22.3), then starts the method thread, which calls the driver.
-    Result<std::shared_ptr<MethodRun>> start(const std::string& method_id, const ParsedTopic& call_topic,
+    /// `method` carries the handle the driver's bind() gave the METHOD.
+    Result<std::shared_ptr<MethodRun>> start(const PointRef& method, const ParsedTopic& call_topic,
                                              const MessageId& call_id, Json args, std::shared_ptr<Driver> driver);
     /// The runs of `method_id` not finished yet, oldest first.
     std::vector<std::shared_ptr<MethodRun>> running(const std::string& method_id) const;
@@ -76,7 +77,7 @@ private:
 
     MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock);
 
-    void execute(const std::shared_ptr<MethodRun>& run, Driver& driver);
+    void execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver);
     MethodResult result_of(const MethodRun& run, const Result<Json>& outcome) const;
     void finish(std::uint64_t serial);
     void ticker();

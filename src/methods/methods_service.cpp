@@ -104,7 +104,14 @@ private:
         if (!method) return refuse(make_error(ErrorCode::node_not_exists, "the model has no method " + call->id));
         auto args = check_method_args(*method, call->args);
         if (!args) return refuse(args.error());
-        auto started = table_->start(call->id, topic, call->msg_id, std::move(args).value(), host_.driver.shared_driver());
+        // The handle from the driver's current binding (driver.hpp, "Handles").
+        const PointRef ref = host_.driver.current_ref(call->id);
+        if (ref.handle == not_served)
+            return refuse(make_error(ErrorCode::unavailable, "the driver does not serve method " + call->id));
+        if (const MachineLinkStatus link = host_.driver.link(); link.state == MachineLink::disconnected)
+            return refuse(make_error(ErrorCode::unavailable, link.reason.empty() ? std::string("machine disconnected")
+                                                                                 : "machine disconnected: " + link.reason));
+        auto started = table_->start(ref, topic, call->msg_id, std::move(args).value(), host_.driver.shared_driver());
         if (!started) return refuse(started.error());
     }
 

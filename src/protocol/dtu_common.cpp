@@ -14,8 +14,19 @@ namespace nclink {
 ResponseStatus::ResponseStatus(const Error& failure) {
     if (failure.code == ErrorCode::success) return;
     ok = false;
-    reason = std::string(nclink::reason(failure.code));
-    error = to_int(failure.code);
+    const int number = to_int(failure.code);
+    if (error_code_from_int(number)) {
+        reason = std::string(nclink::reason(failure.code));
+        error = number;
+    } else if (number < 0) {
+        // Table 19: codes below 0 and their reasons are the user's (a vendor's).
+        reason = failure.message.empty() ? fmt::format("vendor error {}", number) : failure.message;
+        error = number;
+    } else {
+        // A positive code table 19 does not define: docs/wire.md, "Vendor errors".
+        reason = std::string(nclink::reason(ErrorCode::unavailable));
+        error = to_int(ErrorCode::unavailable);
+    }
 }
 
 ResponseStatus ResponseStatus::failure(std::string reason_text, std::optional<int> error_number) {

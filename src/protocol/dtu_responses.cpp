@@ -102,12 +102,13 @@ QueryResponse read(const Json& dtu, Tag<QueryResponse>) {
     if (!out.status || r.has("values")) {
         for (const Json& entry : r.require_array("values")) {
             Reader e(expect_object(entry, ErrorCode::value_type, "values entry"),
-                     {"id", "code", "reason", "error", "params", "values"}, "values entry");
+                     {"id", "code", "reason", "error", "params", "values", "privateInfo"}, "values entry");
             QueryResult result;
             result.id = e.require_string("id");
             result.status = e.status();
             result.params = e.optional_any("params");
             result.values = e.optional_any("values");
+            result.private_info = e.private_info();
             out.values.push_back(std::move(result));
         }
     }
@@ -126,11 +127,12 @@ SetResponse read(const Json& dtu, Tag<SetResponse>) {
     if (!out.status || r.has(key)) {
         for (const Json& entry : r.require_array(key)) {
             Reader e(expect_object(entry, ErrorCode::value_type, "results entry"),
-                     {"id", "code", "reason", "error", "params"}, "results entry");
+                     {"id", "code", "reason", "error", "params", "privateInfo"}, "results entry");
             SetResult result;
             result.id = e.require_string("id");
             result.status = e.status();
             result.params = e.optional_any("params");
+            result.private_info = e.private_info();
             out.results.push_back(std::move(result));
         }
     }
@@ -272,6 +274,7 @@ Json to_json(const QueryResponse& dtu) {
         put_status(entry, result.status);
         put_if(entry, "params", result.params);
         put_if(entry, "values", result.values);
+        put_if(entry, "privateInfo", result.private_info);
         values.push_back(std::move(entry));
     }
     out["values"] = std::move(values);
@@ -288,6 +291,7 @@ Json to_json(const SetResponse& dtu) {
         Json entry = {{"id", result.id}};
         put_status(entry, result.status);
         put_if(entry, "params", result.params);
+        put_if(entry, "privateInfo", result.private_info);
         results.push_back(std::move(entry));
     }
     out["results"] = std::move(results);

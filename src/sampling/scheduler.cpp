@@ -71,18 +71,26 @@ void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model,
     lane.driver_columns.clear();
     lane.store_ids.clear();
     lane.store_columns.clear();
+    lane.null_columns.clear();
     lane.typed = true;  // a new model may come with a new driver behaviour: ask again
+    // Ids are resolved to the driver's handles here, once per model.
+    lane.generation = model ? model->generation() : unbound;
     const auto& points = lane.core->spec().points;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (model && model->sdk_held(points[i].id)) {
             lane.store_ids.push_back(points[i].id);
             lane.store_columns.push_back(i);
-        } else {
-            lane.driver_points.push_back(points[i]);
-            lane.driver_columns.push_back(i);
+            continue;
         }
+        PointRef point = model ? model->point(points[i].id, points[i].kind) : points[i];
+        if (point.handle == not_served) {
+            lane.null_columns.push_back(i);
+            continue;
+        }
+        lane.driver_points.push_back(std::move(point));
+        lane.driver_columns.push_back(i);
     }
-    lane.identity_columns = lane.store_ids.empty();
+    lane.identity_columns = lane.store_ids.empty() && lane.null_columns.empty();
 }
 
 Clock::Steady Scheduler::poll() {
@@ -163,7 +171,8 @@ bool Scheduler::produce_read_row(Lane& lane, std::uint64_t k) {
     ChannelCore& core = *lane.core;
     SampleValue* row = core.ring().try_begin();
     if (row == nullptr) return core.ring().policy() != FullPolicy::block;
-    std::uint64_t nulls = 0;
+    std::uint64_t nulls = lane.null_columns.size();
+    for (const std::size_t column : lane.null_columns) row[column] = SampleValue::null();
     if (!lane.driver_points.empty()) nulls += read_driver_columns(lane, row);
     for (std::size_t i = 0; i < lane.store_ids.size(); ++i) {
         SampleValue& slot = row[lane.store_columns[i]];
@@ -219,7 +228,7 @@ std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
             lane.samples.resize(n);
             out = lane.samples.data();
         }
-        const auto outcome = driver->read_samples_direct(lane.driver_points, out, wait);
+        const auto outcome = driver->read_samples_direct(lane.driver_points, out, wait, lane.generation);
         if (outcome == DriverRunner::TypedRead::unsupported) {
             lane.typed = false;  // asked once per plan; read() from now on
         } else {
@@ -235,10 +244,11 @@ std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
         }
     }
     if (direct) {
-        driver->read_direct(lane.driver_points, lane.results, wait);
+        driver->read_direct(lane.driver_points, lane.results, wait, lane.generation);
     } else {
         lane.results = driver->read(lane.driver_points,
-                                    std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)));
+                                    std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)),
+                                    lane.generation);
     }
     for (std::size_t i = 0; i < n; ++i) {
         SampleValue& slot = row[lane.driver_columns[i]];

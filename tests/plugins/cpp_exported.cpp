@@ -15,9 +15,19 @@ public:
         return nclink::ok_result();
     }
 
+    nclink::Result<void> bind(const std::vector<nclink::BindPoint>& points, std::vector<nclink::PointHandle>& handles) override {
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (points[i].id == "h") handles[i] = 7;
+        return nclink::ok_result();
+    }
+
     void read(const std::vector<nclink::PointRef>& points, std::vector<nclink::Result<nclink::Json>>& results) override {
         for (std::size_t i = 0; i < points.size(); ++i) {
-            if (points[i].kind == nclink::DataKind::list)
+            if (points[i].id == "h")
+                results[i] = nclink::Json(points[i].handle);
+            else if (points[i].id == "vendor")
+                results[i] = nclink::vendor_error(-3, "coolant low");
+            else if (points[i].kind == nclink::DataKind::list)
                 results[i] = nclink::Json::array({1, 2, 3});
             else
                 results[i] = nclink::Json(prefix_ + points[i].id);
@@ -34,6 +44,8 @@ public:
         control.progress(100);
         return nclink::Json{{"method", id}, {"args", args}};
     }
+
+    nclink::MachineLinkStatus link() const override { return {nclink::MachineLink::disconnected, "E-stop"}; }
 
 private:
     std::string prefix_;

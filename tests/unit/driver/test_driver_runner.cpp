@@ -225,3 +225,82 @@ TEST_CASE("typed direct reads: done, unsupported, busy behind a running call, re
     CHECK(plain_runner.read_samples_direct(points({"a"}), out, std::chrono::milliseconds(100)) ==
           DriverRunner::TypedRead::unsupported);
 }
+
+namespace {
+
+// Answers each point with the handle it got; bind numbers points from 10 up
+// (a second bind from 20), "gone" not served.
+class HandleEcho final : public Driver {
+public:
+    Result<void> bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) override {
+        ++binds;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            handles[i] = points[i].id == "gone" ? not_served : static_cast<PointHandle>(binds * 10 + i);
+        return ok_result();
+    }
+    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
+        calls += points.size();
+        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(points[i].handle);
+    }
+    MachineLinkStatus link() const override {
+        if (down) return {MachineLink::disconnected, "cable"};
+        return {};
+    }
+    int binds = 0;
+    std::size_t calls = 0;
+    std::atomic<bool> down{false};
+};
+
+std::vector<BindPoint> bind_points(std::initializer_list<const char*> ids) {
+    std::vector<BindPoint> out;
+    for (const char* id : ids) {
+        BindPoint p;
+        p.id = id;
+        out.push_back(p);
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("points of an earlier bind are re-resolved by id, not served ones never reach the driver") {
+    auto driver = std::make_shared<HandleEcho>();
+    DriverRunner runner(driver, {}, Logger());
+    auto first = runner.bind(bind_points({"a", "b", "gone"}));
+    REQUIRE(first.ok());
+    const auto& table = *first.value();
+    std::vector<PointRef> refs{*table.find("a"), *table.find("b")};
+    auto now = runner.read(refs, table.generation());
+    CHECK(now[0].value() == 10);
+    CHECK(now[1].value() == 11);
+    // A new model: "b" gone from it, "a" renumbered.
+    auto second = runner.bind(bind_points({"b2", "a"}));
+    REQUIRE(second.ok());
+    CHECK(second.value()->generation() > table.generation());
+    auto stale = runner.read(refs, table.generation());
+    CHECK(stale[0].value() == 21);  // the current handle of "a"
+    REQUIRE_FALSE(stale[1].ok());
+    CHECK(stale[1].error().code == ErrorCode::unavailable);
+    const std::size_t calls = driver->calls;
+    // A hand-made ref (no generation) is resolved by id too.
+    auto gone = runner.read({PointRef{"gone", DataKind::single}});
+    CHECK_FALSE(gone[0].ok());
+    CHECK(driver->calls == calls);  // not called for it
+    CHECK(runner.current_ref("a").handle == 21);
+}
+
+TEST_CASE("while the machine link is down the runner answers 202 with the reason, without a driver call") {
+    auto driver = std::make_shared<HandleEcho>();
+    DriverRunner runner(driver, {}, Logger());
+    driver->down = true;
+    auto read = runner.read(points({"a"}));
+    REQUIRE_FALSE(read[0].ok());
+    CHECK(read[0].error().code == ErrorCode::unavailable);
+    CHECK(read[0].error().message == "machine disconnected: cable");
+    WriteRequest w;
+    w.id = "a";
+    CHECK(runner.write(w).error().message == "machine disconnected: cable");
+    CHECK(driver->calls == 0);
+    CHECK(runner.link().state == MachineLink::disconnected);
+    runner.stop(std::chrono::milliseconds(1000));
+}

@@ -1,5 +1,6 @@
 // nclink-sim.so loads through the plugin ABI and serves the model it is given.
 #include <nclink/driver_plugin_loader.hpp>
+#include <nclink/sample_value.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -68,4 +69,38 @@ TEST_CASE("the plugin refuses a missing or broken model") {
     CHECK(missing.error().message.find("does-not-exist.json") != std::string::npos);
     auto bad_seed = load_driver_plugin(plugin_path(), Json{{"model", model_path("sim-mill.json")}, {"seed", "x"}});
     REQUIRE_FALSE(bad_seed.ok());
+}
+
+TEST_CASE("the plugin binds handles and serves reads, typed samples and methods by them") {
+    auto loaded = load_driver_plugin(plugin_path(), Json{{"model", model_path("sim-mill.json")}, {"seed", 3}});
+    REQUIRE(loaded.ok());
+    auto driver = loaded.value();
+    std::vector<BindPoint> bind(4);
+    bind[0].id = "x_position";
+    bind[1].id = "status";
+    bind[2].id = "nope";
+    bind[3].id = "feed_hold";
+    bind[3].method = true;
+    std::vector<PointHandle> handles(bind.size(), no_handle);
+    REQUIRE(driver->bind(bind, handles).ok());
+    CHECK(handles[0] != no_handle);
+    CHECK(handles[1] != no_handle);
+    CHECK(handles[2] == no_handle);  // not simulated: left by id, read answers 401
+    CHECK(handles[3] != no_handle);
+    // The handle decides, not the id: the id is only the fallback.
+    std::vector<PointRef> points{{"renamed", DataKind::single, handles[1]}, {"nope", DataKind::single, handles[2]}};
+    std::vector<Result<Json>> results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+    driver->read(points, results);
+    CHECK(results[0].value() == "running");
+    CHECK(results[1].error().code == ErrorCode::node_not_exists);
+    std::vector<SampleValue> row(points.size());
+    REQUIRE(driver->read_samples(points, row.data()));  // typed through the ABI
+    CHECK(row[0].kind() == SampleValue::Kind::text);
+    CHECK(row[0].as_text() == "running");
+    CHECK(row[1].kind() == SampleValue::Kind::null);
+    Control control;
+    auto held = driver->run_method(PointRef{"not-its-id", DataKind::single, handles[3]}, Json::object(), control);
+    REQUIRE(held.ok());
+    CHECK(held.value()["status"] == "holding");
+    CHECK(driver->link().state == MachineLink::connected);
 }
