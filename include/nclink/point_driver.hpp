@@ -113,6 +113,10 @@ public:
     DriverInfo info() const override { return info_; }
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override;
     Result<void> write(const WriteRequest& request) override;
+    /// Gives each declared point its index as handle (reads and writes skip
+    /// the id lookup); other ids keep no_handle. A subclass that overrides
+    /// bind() calls this one and leaves the declared points' handles alone.
+    Result<void> bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) override;
     /// A declared point is the driver's, also when the model gives it a
     /// fixed value or lists it in configs.
     bool claims(std::string_view id) const override;
@@ -128,6 +132,7 @@ private:
     };
     Point add(Entry entry);
     const Entry* find(const std::string& id) const;
+    const Entry* find(const PointRef& point) const;
 
     DriverInfo info_;
     std::vector<Entry> entries_;

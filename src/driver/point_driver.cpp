@@ -94,9 +94,23 @@ const PointDriver::Entry* PointDriver::find(const std::string& id) const {
 
 bool PointDriver::claims(std::string_view id) const { return by_id_.count(std::string(id)) > 0; }
 
+Result<void> PointDriver::bind(const std::vector<BindPoint>& points, std::vector<PointHandle>& handles) {
+    // A declared point's handle is its index: reads skip the id lookup. Ids
+    // not declared keep no_handle, so a subclass that serves more ids in its
+    // own read()/write() still sees them by id.
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (auto it = by_id_.find(points[i].id); it != by_id_.end()) handles[i] = it->second;
+    return ok_result();
+}
+
+const PointDriver::Entry* PointDriver::find(const PointRef& point) const {
+    if (point.handle < entries_.size()) return &entries_[point.handle];
+    return find(point.id);
+}
+
 void PointDriver::read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
     for (std::size_t i = 0; i < points.size(); ++i) {
-        const Entry* e = find(points[i].id);
+        const Entry* e = find(points[i]);
         if (!e) {
             results[i] = make_error(ErrorCode::unavailable,
                                     fmt::format("driver '{}' declares no point '{}'", info_.name, points[i].id));
@@ -113,7 +127,7 @@ void PointDriver::read(const std::vector<PointRef>& points, std::vector<Result<J
 }
 
 Result<void> PointDriver::write(const WriteRequest& request) {
-    const Entry* e = find(request.id);
+    const Entry* e = request.handle < entries_.size() ? &entries_[request.handle] : find(request.id);
     if (!e) return make_error(ErrorCode::unavailable, fmt::format("driver '{}' declares no point '{}'", info_.name, request.id));
     if (!e->set) return make_error(ErrorCode::permission_denied, fmt::format("point '{}' is read-only", request.id));
     if (request.new_value.is_null())

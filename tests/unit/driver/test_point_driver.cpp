@@ -120,3 +120,35 @@ TEST_CASE("a PointValue is updated by the firmware while the SDK reads it") {
     firmware.join();
     CHECK(*read(d, {"count"})[0] == 2000);
 }
+
+TEST_CASE("bind gives declared points their index as handle; reads and writes use it") {
+    PointDriver d({"lathe", "1"});
+    int written = 0;
+    d.point("a", [] { return 1; });
+    d.point("b", [] { return 2; },
+            [&](const Json& v) {
+                written = v.get<int>();
+                return ok_result();
+            });
+    std::vector<BindPoint> points(3);
+    points[0].id = "b";
+    points[1].id = "other";  // not declared: left to a subclass, by id
+    points[2].id = "a";
+    std::vector<PointHandle> handles(points.size(), no_handle);
+    REQUIRE(d.bind(points, handles));
+    CHECK(handles == std::vector<PointHandle>{1, no_handle, 0});
+
+    // The handle wins over the id: a read by handle needs no lookup.
+    std::vector<PointRef> refs{PointRef{"ignored", DataKind::single, 1}, PointRef{"a", DataKind::single, no_handle}};
+    std::vector<Result<Json>> results(refs.size(), make_error(ErrorCode::unavailable, "unread"));
+    d.read(refs, results);
+    CHECK(*results[0] == 2);
+    CHECK(*results[1] == 1);
+
+    WriteRequest w;
+    w.id = "ignored";
+    w.handle = 1;
+    w.new_value = 7;
+    REQUIRE(d.write(w));
+    CHECK(written == 7);
+}
