@@ -1,7 +1,9 @@
 // SimDriver: the generic per-type simulation for every data object, with the
 // mill profile layered on top when the model is sim-mill.json. Time advances
-// lazily to clock->now() on each call, under one mutex.
+// lazily to clock->now() on each call, under one mutex. What a Set does to
+// the simulation is in sim_commit.cpp.
 #include "sim/sim_driver.hpp"
+#include "sim_driver_impl.hpp"
 
 #include "mill_kinematics.hpp"
 #include "mill_profile.hpp"
@@ -28,20 +30,8 @@ namespace {
 
 using sim::MillMethod;
 using sim::MillRole;
-
-struct Item {
-    const DataObject* object = nullptr;
-    sim::ItemTraits traits;
-    sim::Generator generator;
-    std::optional<MillRole> role;
-    /// The value lives in `stored` (lists, dicts, fixed values): Sets change it.
-    bool use_stored = false;
-    Json stored;
-    /// A Set on a computed single value holds it here (mill: until reset).
-    std::optional<Json> pinned;
-    /// WARNING items show the alarm state.
-    bool alarm = false;
-};
+using sim_detail::as_count;
+using Item = sim_detail::Item;
 
 std::string parent_type(const Model& model, const std::string& id) {
     const ObjectInfo* info = model.find(id);
@@ -67,55 +57,7 @@ bool under_rotary_axis(const Model& model, const std::string& id) {
     return false;
 }
 
-std::optional<std::int64_t> as_count(const Json& v) {
-    if (v.is_number_integer() && v.get<std::int64_t>() >= 0) return v.get<std::int64_t>();
-    if (v.is_number_unsigned()) return static_cast<std::int64_t>(v.get<std::uint64_t>());
-    if (v.is_string()) {
-        const auto& s = v.get_ref<const std::string&>();
-        if (s.empty() || s.size() > 18 || s.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
-        return std::stoll(s);
-    }
-    return std::nullopt;
-}
-
 }  // namespace
-
-struct SimDriver::Impl {
-    std::shared_ptr<const Model> model;
-    SimOptions options;
-    std::optional<Error> broken;
-    const Device* device = nullptr;
-    std::vector<Item> items;
-    std::unordered_map<std::string, std::size_t> index;  // used by bind() and for points without a handle
-    std::optional<sim::MillProfile> profile;
-    std::unique_ptr<sim::MillMachine> mill;
-    std::uint64_t stream = 0;
-
-    Clock::Steady start{};
-    Clock::Steady last{};
-    double t = 0;  // simulated seconds since construction
-    std::int64_t wall_ms = 0;
-
-    std::vector<Json> alarms;  // raised explicitly (API, Set), oldest first
-    std::int64_t suppressed_slot = std::numeric_limits<std::int64_t>::min();
-    bool emergency = false;
-
-    mutable std::mutex mutex;
-    /// Texts lent by read_samples(), valid until its next call (reserved per
-    /// call, so no element moves while views into it are out).
-    std::vector<std::string> lent_texts;
-
-    void build();
-    void advance();
-    Json value_of(const Item& item) const;
-    Json alarm_value(const Item& item) const;
-    Result<void> commit(Item& item, Json value);
-    Result<void> commit_mill(Item& item, MillRole role, Json value);
-    Result<void> commit_alarms(const Item& item, const Json& value);
-    void add_alarm(const std::string& number, const std::string& text);
-    void suppress_spontaneous();
-    void release_mill_pins();
-};
 
 void SimDriver::Impl::build() {
     if (!options.clock) options.clock = std::make_shared<SystemClock>();
@@ -231,116 +173,6 @@ void SimDriver::Impl::release_mill_pins() {
     for (Item& item : items)
         if (item.role) item.pinned.reset();
 }
-
-Result<void> SimDriver::Impl::commit_alarms(const Item& item, const Json& value) {
-    std::vector<Json> next;
-    auto take = [&](const Json& a) -> Result<void> {
-        if (a.is_null() || (a.is_object() && a.empty())) return ok_result();
-        if (!a.is_object()) return make_error(ErrorCode::value_type, "a WARNING is an object {number, text, emerge_time}");
-        Json w = a;
-        if (!w.contains("number")) w["number"] = "0";
-        if (!w.contains("text")) w["text"] = "";
-        if (!w.contains("emerge_time")) w["emerge_time"] = wall_ms;
-        next.push_back(std::move(w));
-        return ok_result();
-    };
-    if (item.object->kind == DataKind::single) {
-        auto r = take(value);
-        if (!r.ok()) return r;
-    } else {
-        for (const auto& a : value) {
-            auto r = take(a);
-            if (!r.ok()) return r;
-        }
-    }
-    const bool raised = next.size() > alarms.size();
-    alarms = std::move(next);
-    suppress_spontaneous();
-    if (raised && mill) mill->feed_hold();
-    return ok_result();
-}
-
-Result<void> SimDriver::Impl::commit_mill(Item& item, MillRole role, Json value) {
-    switch (role) {
-        case MillRole::feed_override:
-            if (!value.is_number()) return make_error(ErrorCode::value_type, "feed override is a number (percent)");
-            return mill->set_feed_override(value.get<double>());
-        case MillRole::spindle_override:
-            if (!value.is_number()) return make_error(ErrorCode::value_type, "spindle override is a number (percent)");
-            return mill->set_spindle_override(value.get<double>());
-        case MillRole::status: {
-            const std::string s = value.is_string() ? value.get<std::string>() : std::string();
-            if (s == "running") {
-                if (emergency) return make_error(ErrorCode::permission_denied, "emergency stop is active");
-                return mill->cycle_start();
-            }
-            if (s == "holding") {
-                mill->feed_hold();
-                return ok_result();
-            }
-            if (s == "free") {
-                mill->reset();
-                return ok_result();
-            }
-            return make_error(ErrorCode::out_of_range, "status must be running, free or holding");
-        }
-        case MillRole::work_mode: {
-            const std::string s = value.is_string() ? value.get<std::string>() : std::string();
-            if (s != "manual" && s != "auto") return make_error(ErrorCode::out_of_range, "work mode must be manual or auto");
-            mill->set_manual(s == "manual");
-            return ok_result();
-        }
-        case MillRole::part_count: {
-            auto n = as_count(value);
-            if (!n) return make_error(ErrorCode::value_type, "part count is a non-negative integer string");
-            mill->set_part_count(*n);
-            return ok_result();
-        }
-        case MillRole::program:
-            if (!value.is_string()) return make_error(ErrorCode::value_type, "program name is a string");
-            mill->set_program_name(value.get<std::string>());
-            return ok_result();
-        case MillRole::emergency_stop:
-            if (!value.is_boolean()) return make_error(ErrorCode::value_type, "emergency stop is a boolean");
-            emergency = value.get<bool>();
-            if (emergency) {
-                mill->reset();
-                add_alarm("9000", "emergency stop");
-            }
-            return ok_result();
-        case MillRole::warning: return commit_alarms(item, value);
-        default:
-            // Computed outputs (positions, loads, ...): held at the written
-            // value until the reset method.
-            item.pinned = std::move(value);
-            return ok_result();
-    }
-}
-
-Result<void> SimDriver::Impl::commit(Item& item, Json value) {
-    if (item.use_stored) {
-        item.stored = std::move(value);
-        return ok_result();
-    }
-    if (item.role) return commit_mill(item, *item.role, std::move(value));
-    if (item.alarm) return commit_alarms(item, value);
-    if (item.generator.shape == sim::Shape::counter) {
-        auto n = as_count(value);
-        if (!n) return make_error(ErrorCode::value_type, "a counter is a non-negative integer string");
-        item.generator.base = static_cast<double>(*n);
-        item.generator.origin = t;
-        return ok_result();
-    }
-    if (item.generator.shape == sim::Shape::ramp && value.is_number()) {
-        item.generator.base = value.get<double>();
-        item.generator.origin = t;
-        return ok_result();
-    }
-    item.pinned = std::move(value);
-    return ok_result();
-}
-
-// ------------------------------------------------------------------ API --
 
 SimDriver::SimDriver(std::shared_ptr<const Model> model, SimOptions options) : impl_(std::make_unique<Impl>()) {
     impl_->model = std::move(model);

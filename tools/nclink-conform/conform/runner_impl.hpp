@@ -94,6 +94,10 @@ public:
 
 /// Problems joined with "; ".
 std::string join(const Problems& problems);
+/// Why an item that changes the machine was skipped.
+inline constexpr const char* needs_write = "skipped: needs --allow-write (this item changes the machine, then restores it)";
+/// True when the captured message's topic is of `kind`.
+bool is_topic(const Captured& c, TopicKind kind);
 /// A captured Sample DTU of a model channel of `dev`: its channel id.
 std::optional<std::string> model_channel_of(const Captured& c, const std::string& dev);
 

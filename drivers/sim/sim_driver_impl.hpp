@@ -1,0 +1,94 @@
+// The simulator's state, shared by sim_driver.cpp (reads, time, methods)
+// and sim_commit.cpp (what a Set does). Internal to drivers/sim.
+#pragma once
+
+#include "sim/sim_driver.hpp"
+
+#include "mill_kinematics.hpp"
+#include "mill_profile.hpp"
+#include "value_generators.hpp"
+
+#include <nclink/clock.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace nclink {
+namespace sim_detail {
+
+using sim::MillMethod;
+using sim::MillRole;
+
+struct Item {
+    const DataObject* object = nullptr;
+    sim::ItemTraits traits;
+    sim::Generator generator;
+    std::optional<MillRole> role;
+    /// The value lives in `stored` (lists, dicts, fixed values): Sets change it.
+    bool use_stored = false;
+    Json stored;
+    /// A Set on a computed single value holds it here (mill: until reset).
+    std::optional<Json> pinned;
+    /// WARNING items show the alarm state.
+    bool alarm = false;
+};
+
+/// A count given as a number or a decimal string (part counts, tool numbers).
+inline std::optional<std::int64_t> as_count(const Json& v) {
+    if (v.is_number_integer() && v.get<std::int64_t>() >= 0) return v.get<std::int64_t>();
+    if (v.is_number_unsigned()) return static_cast<std::int64_t>(v.get<std::uint64_t>());
+    if (v.is_string()) {
+        const auto& s = v.get_ref<const std::string&>();
+        if (s.empty() || s.size() > 18 || s.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+        return std::stoll(s);
+    }
+    return std::nullopt;
+}
+
+}  // namespace sim_detail
+
+struct SimDriver::Impl {
+    using Item = sim_detail::Item;
+    std::shared_ptr<const Model> model;
+    SimOptions options;
+    std::optional<Error> broken;
+    const Device* device = nullptr;
+    std::vector<Item> items;
+    std::unordered_map<std::string, std::size_t> index;  // used by bind() and for points without a handle
+    std::optional<sim::MillProfile> profile;
+    std::unique_ptr<sim::MillMachine> mill;
+    std::uint64_t stream = 0;
+
+    Clock::Steady start{};
+    Clock::Steady last{};
+    double t = 0;  // simulated seconds since construction
+    std::int64_t wall_ms = 0;
+
+    std::vector<Json> alarms;  // raised explicitly (API, Set), oldest first
+    std::int64_t suppressed_slot = std::numeric_limits<std::int64_t>::min();
+    bool emergency = false;
+
+    mutable std::mutex mutex;
+    /// Texts lent by read_samples(), valid until its next call (reserved per
+    /// call, so no element moves while views into it are out).
+    std::vector<std::string> lent_texts;
+
+    void build();
+    void advance();
+    Json value_of(const Item& item) const;
+    Json alarm_value(const Item& item) const;
+    Result<void> commit(Item& item, Json value);
+    Result<void> commit_mill(Item& item, sim::MillRole role, Json value);
+    Result<void> commit_alarms(const Item& item, const Json& value);
+    void add_alarm(const std::string& number, const std::string& text);
+    void suppress_spontaneous();
+    void release_mill_pins();
+};
+
+}  // namespace nclink
