@@ -121,7 +121,7 @@ TEST_CASE("a PointValue is updated by the firmware while the SDK reads it") {
     CHECK(*read(d, {"count"})[0] == 2000);
 }
 
-TEST_CASE("bind gives declared points their index as handle; reads and writes use it") {
+TEST_CASE("bind gives declared points their index as handle, and reads and writes use it") {
     PointDriver d({"lathe", "1"});
     int written = 0;
     d.point("a", [] { return 1; });
