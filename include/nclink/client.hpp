@@ -94,6 +94,7 @@ struct NCLINK_API ClientStats {
     std::uint64_t notifications = 0;        ///< state and version notifications handed to handlers
     std::uint64_t queued = 0;               ///< requests made while disconnected (held, sent on reconnect)
     std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks (client_events.cpp)
+    TransportStats transport;               ///< the broker connection (last_error: why it does not connect)
 };
 
 using SubscriptionId = std::uint64_t;
