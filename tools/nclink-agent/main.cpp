@@ -6,6 +6,7 @@
 #include <nclink/log.hpp>
 #include <nclink/agent.hpp>
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <pthread.h>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -101,6 +103,17 @@ int main(int argc, char** argv) {
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());
         return 1;
+    }
+    // A broker that refuses us (credentials, a certificate) will go on
+    // refusing: say why and exit. An unreachable one is waited for.
+    for (int i = 0; i < 200 && agent.stats().transport.connects == 0; ++i) {
+        const auto link = agent.stats().transport;
+        if (link.refused) {
+            std::cerr << "nclink-agent: cannot connect to " << config.broker_url << ": " << link.last_error << "\n";
+            agent.stop();
+            return 1;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     logger.info("nclink-agent: serving on {} (share group '{}'); SIGINT/SIGTERM stops", config.broker_url,
                 config.share_group);
