@@ -37,6 +37,9 @@ struct NCLINK_API AdapterStats {
     std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
     std::uint64_t rejected = 0;             ///< requests answered NG as a whole (malformed)
     std::uint64_t driver_timeouts = 0;
+    std::uint64_t shed = 0;                 ///< requests dropped unanswered: max_pending_requests were pending
+    std::uint64_t oversized = 0;            ///< requests answered 404 unread: above max_request_bytes
+    std::size_t pending_requests = 0;       ///< requests waiting or being handled now
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;

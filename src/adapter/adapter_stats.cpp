@@ -11,6 +11,11 @@ AdapterStats Adapter::stats() const {
     s.ignored_duplicates = impl_->ignored_duplicates;
     s.rejected = impl_->rejected;
     s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
+    if (impl_->gate) {
+        s.shed = impl_->gate->shed();
+        s.oversized = impl_->gate->oversized();
+        s.pending_requests = impl_->gate->pending();
+    }
     s.registered = impl_->registration.registered();
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
@@ -25,6 +30,9 @@ Json to_json(const AdapterStats& s) {
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},
                 {"driver_timeouts", s.driver_timeouts},
+                {"shed", s.shed},
+                {"oversized", s.oversized},
+                {"pending_requests", s.pending_requests},
                 {"registered", s.registered},
                 {"state", std::string(to_string(s.state))},
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},

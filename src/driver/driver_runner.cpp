@@ -10,6 +10,13 @@ namespace {
 // task already running on the driver's worker calls the driver directly
 // instead of queueing behind itself.
 thread_local const void* tls_worker_of = nullptr;
+// The exclusive hold on `calls` of the task running on this worker (a
+// serialized driver), so an in-place read can let sampling in between chunks.
+thread_local std::unique_lock<std::shared_timed_mutex>* tls_exclusive_call = nullptr;
+
+// Points read per driver call by an in-place (request) read before sampling
+// may cut in: a 10,000-item Query must not hold the driver for its whole read.
+constexpr std::size_t kReadChunk = 64;
 
 // The state one waiting caller shares with its task. The task may finish
 // after the caller gave up; the shared_ptr keeps the state alive for it.
@@ -76,13 +83,23 @@ void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
             std::shared_lock<std::shared_timed_mutex> call(queue->calls);
             task();
         } else {
+            yield_to_priority(*queue);
             std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+            tls_exclusive_call = &call;
             task();
+            tls_exclusive_call = nullptr;
         }
         lock.lock();
     }
     --queue->running_workers;
     queue->exited.notify_all();
+}
+
+void DriverRunner::yield_to_priority(const Queue& queue) {
+    // Bounded: a sampler that keeps the driver busy cannot stop requests.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(5);
+    while (queue.priority_waiters.load(std::memory_order_acquire) > 0 && std::chrono::steady_clock::now() < until)
+        std::this_thread::yield();
 }
 
 void DriverRunner::count_timeout() {
@@ -112,7 +129,27 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         // returns late from a stuck driver finds nothing destroyed under it.
         const std::shared_ptr<Driver> driver = driver_;
         Results results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-        call_read(*driver, points, results);
+        std::unique_lock<std::shared_timed_mutex>* hold = tls_exclusive_call;
+        if (hold == nullptr || points.size() <= kReadChunk) {
+            call_read(*driver, points, results);
+            return results;
+        }
+        // In chunks, letting a waiting sampler in between them.
+        Queue& queue = *queue_;
+        std::vector<PointRef> chunk;
+        Results chunk_results;
+        for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
+            const std::size_t end = std::min(points.size(), at + kReadChunk);
+            chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
+            chunk_results.assign(chunk.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+            call_read(*driver, chunk, chunk_results);
+            std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
+            if (end < points.size() && queue.priority_waiters.load(std::memory_order_acquire) > 0) {
+                hold->unlock();
+                yield_to_priority(queue);
+                hold->lock();
+            }
+        }
         return results;
     }
     auto pending = std::make_shared<Pending<Results>>();
@@ -148,6 +185,11 @@ bool call_locked(std::shared_timed_mutex& calls, std::chrono::nanoseconds wait, 
 
 template <typename Call>
 bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
+    queue_->priority_waiters.fetch_add(1, std::memory_order_acq_rel);
+    struct Done {
+        std::atomic<int>& waiters;
+        ~Done() { waiters.fetch_sub(1, std::memory_order_acq_rel); }
+    } done{queue_->priority_waiters};
     const bool called = queue_->concurrent
                             ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
                             : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);
