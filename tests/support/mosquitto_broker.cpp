@@ -69,6 +69,7 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
     else
         conf << "persistence false\n";
+    conf << options.extra_config << "\n";
     conf
          << "set_tcp_nodelay true\n"
          << "max_queued_messages 100000\n"

@@ -19,6 +19,9 @@ struct MosquittoOptions {
     std::string acl_file;
     /// mosquitto password_file ("" = none); when set, anonymous clients are refused.
     std::string password_file;
+    /// Appended to the configuration as is: more listeners (TLS, see
+    /// support/test_pki.hpp), each with its own options.
+    std::string extra_config;
 };
 
 class MosquittoBroker {
