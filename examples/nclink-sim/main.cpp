@@ -160,8 +160,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 200 && adapter.stats().transport.connects == 0; ++i) {
         const auto link = adapter.stats().transport;
         if (link.refused) {
-            std::fprintf(stderr, "nclink-sim: cannot connect to %s: %s\n", config.broker_url.c_str(), link.last_error.c_str());
             adapter.stop(std::chrono::milliseconds(0));
+            std::fprintf(stderr, "nclink-sim: cannot connect to %s: %s\n", config.broker_url.c_str(), link.last_error.c_str());
             return 1;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));

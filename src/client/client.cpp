@@ -76,7 +76,12 @@ Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
     }
     if (need_start)
         if (auto r = start(); !r) return std::move(r).error();
-    if (!wait_connected(timeout)) {
+    // Connected, or refused (credentials, a certificate: no use waiting on).
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!wait_connected(std::chrono::milliseconds(20)) && !impl_->transport->stats().refused &&
+           std::chrono::steady_clock::now() < deadline) {
+    }
+    if (!wait_connected(std::chrono::milliseconds(0))) {
         const TransportStats link = impl_->transport->stats();
         if (link.refused) return make_error(ErrorCode::permission_denied, "cannot connect to the broker: " + link.last_error);
         return make_error(ErrorCode::timeout, "no connection to the broker within " + std::to_string(timeout.count()) +

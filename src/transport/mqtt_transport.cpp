@@ -238,7 +238,10 @@ private:
         const int rc = e.get_return_code();
         const int reason = e.get_reason_code();
         if (rc == 4 || reason == 0x86) return connect_failed("the broker refused the user name or password", true, delay);
-        if (rc == 5 || reason == 0x87) return connect_failed("the broker refused the connection: not authorized", true, delay);
+        // mosquitto answers a wrong password with this one too.
+        if (rc == 5 || reason == 0x87)
+            return connect_failed("the broker refused the connection: not authorized (user name, password or certificate)",
+                                  true, delay);
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
         if (options_.tls) {
             if (auto problem = detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
@@ -249,13 +252,13 @@ private:
     }
 
     void connect_failed(const std::string& why, bool refused, milliseconds delay) {
-        ++connect_failures_;
-        {
-            std::lock_guard<std::mutex> lock(failure_mutex_);
-            last_error_ = why;
-            refused_ = refused;
-        }
+        // Logged before it is published: a program that exits on a refusal
+        // prints its own line last.
         logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, why, delay.count());
+        ++connect_failures_;
+        std::lock_guard<std::mutex> lock(failure_mutex_);
+        last_error_ = why;
+        refused_ = refused;
     }
 
     // Thread: supervisor. Connects, and reconnects with exponential backoff

@@ -109,8 +109,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 200 && agent.stats().transport.connects == 0; ++i) {
         const auto link = agent.stats().transport;
         if (link.refused) {
-            std::cerr << "nclink-agent: cannot connect to " << config.broker_url << ": " << link.last_error << "\n";
             agent.stop();
+            std::cerr << "nclink-agent: cannot connect to " << config.broker_url << ": " << link.last_error << "\n";
             return 1;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -107,7 +107,9 @@ std::unique_ptr<Client> connect_client(const CliOptions& options) {
     ClientOptions client_options;
     client_options.ex_cid = options.client_id;
     client_options.default_timeout = options.timeout;
-    client_options.logger = Logger(stderr_sink(), LogLevel::warn);
+    // error, not warn: a refused connection is told once, in the line below,
+    // not also by the transport's retry warnings.
+    client_options.logger = Logger(stderr_sink(), LogLevel::error);
     auto client = Client::create(std::move(mqtt), std::move(client_options));
     if (!client) throw std::runtime_error(client.error().describe());
     auto c = std::move(client).value();

@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 using namespace nclink;
 using namespace nclink::test;
 using namespace std::chrono_literals;
@@ -36,16 +38,20 @@ TEST_CASE("requests beyond max_pending_requests are shed and counted while the d
     c.max_pending_requests = 4;
     c.driver_timeout = 5000ms;
     AdapterFixture f(c);
-    f.driver->delay = 400ms;
+    f.driver->delay = 1000ms;
     for (int i = 0; i < 20; ++i)
         f.app->send(topics::query_request("test-dev", "app"),
                     Json{{"@id", "burst-" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
-    REQUIRE(eventually([&] { return f.adapter->stats().shed + f.adapter->stats().pending_requests == 20; }));
-    const auto shed = f.adapter->stats().shed;
-    CHECK(shed >= 16);  // at most 4 pending at once
+    std::size_t most_pending = 0;
+    REQUIRE(eventually([&] {
+        most_pending = std::max(most_pending, f.adapter->stats().pending_requests);
+        return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 20;
+    }, 30s));
     f.driver->delay = 0ms;
-    // Every request that was not shed is answered; then the adapter serves again.
-    REQUIRE(eventually([&] { return f.app->on(topics::query_response("test-dev", "app")).size() == 20 - shed; }, 20s));
+    const auto shed = f.adapter->stats().shed;
+    CHECK(shed >= 10);           // 20 arrive while the first reads for a second
+    CHECK(most_pending <= 4);    // the bound held
+    // Every request that was not shed was answered; the adapter serves again.
     CHECK(f.adapter->stats().pending_requests == 0);
     CHECK(f.query(Json::array({"pos"}))["code"] == "OK");
     CHECK(to_json(f.adapter->stats())["shed"] == shed);
