@@ -243,7 +243,7 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             return connected.error().message;
         };
         CHECK_THAT(refused(site.url(), site.tls("mes", "other-ca.pem"), "mes", ""),
-                   Catch::Contains("the broker's certificate did not verify: unable to get local issuer certificate"));
+                   Catch::Contains("the broker's certificate did not verify: "));
         CHECK_THAT(refused(expired_broker.url(), expired_broker.tls("mes"), "mes", password_of("mes")),
                    Catch::Contains("the broker's certificate did not verify: certificate has expired"));
         MqttTlsOptions expired_client = site.tls("mes");
@@ -263,7 +263,7 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
         const std::string mes_cert = " --cert " + pki().file("mes.pem") + " --key " + pki().file("mes.key");
         const std::vector<Case> cases = {
             {"wrong CA", site.url(), "--ca-file " + pki().file("other-ca.pem") + mes_cert, "mes", "",
-             "the broker's certificate did not verify: unable to get local issuer certificate"},
+             "the broker's certificate did not verify: "},
             {"expired broker certificate", expired_broker.url(), "--ca-file " + ca, "mes", password_of("mes"),
              "the broker's certificate did not verify: certificate has expired"},
             {"expired client certificate", site.url(),
@@ -298,7 +298,7 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             CHECK(agent.status == 1);
             CHECK_THAT(last_line(agent.output), Catch::StartsWith("nclink-agent: cannot connect to " + passwords.url()));
             CHECK_THAT(last_line(agent.output), Catch::Contains(bad_password ? "not authorized"
-                                                                             : "unable to get local issuer certificate"));
+                                                                             : "the broker's certificate did not verify"));
 
             const std::string sim_conf = (site.scratch.path / "sim.json").string();
             std::ofstream(sim_conf) << R"({"broker": {"url": ")" << passwords.url() << R"(", "username": ")" << kDev
@@ -310,7 +310,7 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             CHECK(sim.status == 1);
             CHECK_THAT(last_line(sim.output), Catch::StartsWith("nclink-sim: cannot connect to " + passwords.url()));
             CHECK_THAT(last_line(sim.output), Catch::Contains(bad_password ? "not authorized"
-                                                                           : "unable to get local issuer certificate"));
+                                                                           : "the broker's certificate did not verify"));
         }
     }
 }
