@@ -252,10 +252,6 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
     }
 
     SECTION("the CLI, nclink-agent and nclink-sim exit with the reason") {
-        if (!built("nclink") || !built("nclink-agent") || !built("nclink-sim")) {
-            WARN("bin/nclink, bin/nclink-agent or bin/nclink-sim not built: program exits not tested");
-            return;
-        }
         Site passwords(false);
         struct Case {
             std::string what, broker, tls_args, user, password, expect;
@@ -273,6 +269,10 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
              "the broker refused the connection: not authorized"},
         };
         for (const auto& c : cases) {
+            if (!built("nclink")) {
+                WARN("bin/nclink not built (target nclink_cli): its exits not tested");
+                break;
+            }
             INFO(c.what);
             const std::string pw_file = (site.scratch.path / "cli-password").string();
             std::ofstream(pw_file) << c.password << "\n";
@@ -288,6 +288,10 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
 
         // The agent and the adapter program with a bad password, and with a wrong CA.
         for (const bool bad_password : {true, false}) {
+            if (!built("nclink-agent") || !built("nclink-sim")) {
+                WARN("bin/nclink-agent or bin/nclink-sim not built: their exits not tested");
+                break;
+            }
             INFO((bad_password ? "bad password" : "wrong CA"));
             const std::string tls = Json{{"ca_file", pki().file(bad_password ? "ca.pem" : "other-ca.pem")}}.dump();
             const std::string agent_conf = (site.scratch.path / "agent.json").string();
