@@ -2,6 +2,7 @@
 
 #include "support/mosquitto_broker.hpp"
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -51,6 +52,8 @@ TestPki::TestPki(const std::vector<std::string>& client_names) {
     char pattern[] = "/tmp/nclink-pki-XXXXXX";
     if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
     dir_ = pattern;
+    // mosquitto started as root reads its files as user mosquitto.
+    ::chmod(dir_.c_str(), 0755);
     std::string command = "bash " + shell_quoted(std::string(NCLINK_TEST_SUPPORT_DIR) + "/make-test-pki.sh") + " " + shell_quoted(dir_);
     for (const auto& name : client_names) command += " " + shell_quoted(name);
     const Command made = run_command(command);
@@ -70,6 +73,7 @@ std::string TestPki::password_file(const std::map<std::string, std::string>& use
         const Command added = run_command("mosquitto_passwd -b " + shell_quoted(path) + " " + shell_quoted(user) + " " + shell_quoted(password));
         if (added.status != 0) throw std::runtime_error("mosquitto_passwd failed: " + added.output);
     }
+    ::chmod(path.c_str(), 0644);  // mosquitto_passwd leaves it 0600; the broker reads it as user mosquitto
     return path;
 }
 
