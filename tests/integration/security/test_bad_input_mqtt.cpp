@@ -123,8 +123,8 @@ TEST_CASE("a 16 MB request is answered 404 unread and retained junk on request t
     auto adapter = started_adapter(c, sim_for(c.model_path));
     REQUIRE(eventually([&] { return adapter->stats().ignored_retained >= 2; }));
 
-    Inbox replies;
     auto app = flood_transport(broker.url(), "big-app");
+    Inbox replies;  // after the transport: destroyed first, it stops the transport it is attached to
     replies.attach(*app);
     REQUIRE(app->subscribe({topics::set_response(kDev, "big-app")}, 1).ok());
     REQUIRE(app->start().ok());
