@@ -10,12 +10,14 @@ packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
           libssl-dev openssl
           mosquitto mosquitto-clients
-          libcpp-httplib-dev libxml2-dev libxml2-utils)
+          libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge (src/http);
 # libxml2-dev: the bridge's XPath (MTConnect path=); libxml2-utils: xmllint,
 # which the bridge's tests validate MTConnect documents with.
 # libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
 # openssl: the TLS tests make their certificates with it.
+# curl: the demo asks nclink-bridge for /current as a MTConnect client would.
+# libmodbus-dev: the Modbus TCP driver (drivers/modbus) and its test PLC.
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 # Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.
