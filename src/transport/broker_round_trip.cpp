@@ -106,6 +106,12 @@ Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int sampl
             (void)a->publish(Message{topic_b, tag, 1, false});
             if (wait_for(tag, milliseconds(200))) break;
         } else {
+            // A broker that refused the connection (credentials, a
+            // certificate) will go on refusing: no use waiting out `timeout`
+            // (the caller reports the refusal itself, docs/security.md).
+            if (const TransportStats s = a->stats(); s.refused)
+                return make_error(ErrorCode::unavailable,
+                                  fmt::format("cannot connect to {}: {}", options.broker_url, s.last_error));
             std::this_thread::sleep_for(milliseconds(10));
         }
         if (std::chrono::steady_clock::now() > deadline)
