@@ -130,6 +130,9 @@ std::string mosquitto_acl(const AgentConfig& config) {
         "read " + topics::probe_version("+"),
     };
     for (const auto& l : own) out << "pattern " << l << "\n";
+    // The broker round-trip check every nclink program runs at start
+    // (docs/performance.md): its own two connections, under its user name.
+    out << "pattern readwrite nclink-rtt/%u/#\n";
 
     out << "# ... as an adapter: announce, answer, sample.\n";
     out << "pattern write " << topics::probe_version("%u") << "\n";

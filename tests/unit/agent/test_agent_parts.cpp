@@ -257,6 +257,8 @@ TEST_CASE("mosquitto ACL: agents get everything and adapters only the requests t
     has("pattern read Register/Response/%u");
     // both spellings of the event/sampling registrations
     has("pattern write Reigster/Event/Request/+/%u");
+    // the broker round-trip check every program runs at start, under its user name
+    has("pattern readwrite nclink-rtt/%u/#");
     CHECK(acl.find("pattern read Set/Request/%u/+") == std::string::npos);
 }
 
