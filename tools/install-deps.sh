@@ -8,11 +8,14 @@ here=$(cd "$(dirname "$0")" && pwd)
 
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
+          libssl-dev openssl
           mosquitto mosquitto-clients
           libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge (src/http);
 # libxml2-dev: the bridge's XPath (MTConnect path=); libxml2-utils: xmllint,
 # which the bridge's tests validate MTConnect documents with.
+# libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
+# openssl: the TLS tests make their certificates with it.
 # curl: the demo asks nclink-bridge for /current as a MTConnect client would.
 # libmodbus-dev: the Modbus TCP driver (drivers/modbus) and its test PLC.
 # abigail-tools: abidw/abidiff for the ABI check against the last release (tools/check-abi.sh).

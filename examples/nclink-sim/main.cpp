@@ -13,12 +13,14 @@
 #include <nclink/model.hpp>
 #include "sim/sim_driver.hpp"
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -239,6 +241,18 @@ int main(int argc, char** argv) {
     if (auto started = adapter.start(); !started) {
         logger.error("nclink-sim: {}", started.error().message);
         return 1;
+    }
+    // A broker that refuses us (credentials, a certificate) will go on
+    // refusing: say why and exit. An unreachable one is waited for (the
+    // adapter buffers meanwhile).
+    for (int i = 0; i < 200 && adapter.stats().transport.connects == 0; ++i) {
+        const auto link = adapter.stats().transport;
+        if (link.refused) {
+            adapter.stop(std::chrono::milliseconds(0));
+            std::fprintf(stderr, "nclink-sim: cannot connect to %s: %s\n", config.broker_url.c_str(), link.last_error.c_str());
+            return 1;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     logger.info("nclink-sim: answering as {} (Ctrl-C to stop)", adapter.dev_uuid());
 

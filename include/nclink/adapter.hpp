@@ -49,6 +49,9 @@ struct NCLINK_API AdapterStats {
     /// Driver::link() now: while disconnected, driver items answer 202
     /// "machine disconnected: <reason>" without a driver call.
     MachineLinkStatus machine_link;
+    std::uint64_t shed = 0;                 ///< requests dropped unanswered: max_pending_requests were pending
+    std::uint64_t oversized = 0;            ///< requests answered 404 unread: above max_request_bytes
+    std::size_t pending_requests = 0;       ///< requests waiting or being handled now
     bool registered = false;                ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;

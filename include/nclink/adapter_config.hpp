@@ -50,6 +50,13 @@ struct NCLINK_API AdapterConfig {
 
     // --- behaviour ---
     std::size_t request_threads = 2;     ///< "request_threads": workers handling requests
+    /// "max_pending_requests": requests waiting or being handled at most;
+    /// beyond it requests are shed (dropped, counted as "shed") so a flood
+    /// neither queues without bound nor starves sampling (docs/security.md).
+    std::size_t max_pending_requests = 256;
+    /// "max_request_bytes": a larger request payload is answered 404 unread
+    /// (0 = no limit).
+    std::size_t max_request_bytes = 1u << 20;
     std::chrono::milliseconds driver_timeout{1000};   ///< "driver_timeout_ms": deadline of one driver call (then 203)
     std::chrono::milliseconds register_timeout{3000}; ///< "register_timeout_ms": wait for Register/Response before retrying
     std::chrono::milliseconds register_retry_max{60000}; ///< "register_retry_max_ms": retry interval cap

@@ -40,6 +40,15 @@ struct NCLINK_API TransportStats {
     std::size_t buffered_bytes = 0;
     std::size_t in_flight = 0;           ///< handed to the connection, not yet acknowledged
     int tcp_nodelay_sockets = 0;         ///< sockets TCP_NODELAY was applied to at the last connect (MQTT)
+    std::uint64_t connect_failures = 0;  ///< connection attempts that failed
+    /// Why the last connection attempt failed, one line ("" once connected):
+    /// e.g. "the broker refused the user name or password", "the broker's
+    /// certificate did not verify: certificate has expired".
+    std::string last_error;
+    /// The last attempt was refused (credentials, authorisation, a
+    /// certificate): retrying will not help until the configuration changes.
+    /// Programs exit on it at start (docs/security.md).
+    bool refused = false;
 };
 
 /// Called for every message matching a subscription.

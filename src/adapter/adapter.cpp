@@ -64,6 +64,7 @@ Result<void> Adapter::Impl::start() {
                 built.value()->points->points().size());
     executor = std::make_unique<detail::Executor>(config.request_threads);
     watchdog = std::make_unique<detail::DeadlineWatchdog>();
+    gate = std::make_shared<detail::RequestGate>(config.max_pending_requests, config.max_request_bytes, logger);
     dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);
     applications = std::make_unique<detail::ApplicationTracker>(config.application_lease);
 

@@ -32,6 +32,8 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(top.duration("dedup_window_ms", c.dedup_window));
     NCLINK_TRY(top.count("dedup_capacity", c.dedup_capacity));
     NCLINK_TRY(top.count("request_threads", c.request_threads));
+    NCLINK_TRY(top.count("max_pending_requests", c.max_pending_requests));
+    NCLINK_TRY(top.count("max_request_bytes", c.max_request_bytes));
     NCLINK_TRY(top.duration("driver_timeout_ms", c.driver_timeout));
     NCLINK_TRY(top.duration("register_timeout_ms", c.register_timeout));
     NCLINK_TRY(top.duration("register_retry_max_ms", c.register_retry_max));

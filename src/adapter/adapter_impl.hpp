@@ -17,6 +17,7 @@
 #include "adapter/model_host.hpp"
 #include "adapter/registration.hpp"
 #include "adapter/response_cache.hpp"
+#include "adapter/request_gate.hpp"
 #include "core/deadline_watchdog.hpp"
 #include "core/executor.hpp"
 #include "driver/driver_runner.hpp"
@@ -68,6 +69,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::unique_ptr<detail::DriverRunner> runner;
     std::unique_ptr<detail::Executor> executor;
     std::unique_ptr<detail::DedupWindow> dedup;
+    std::shared_ptr<detail::RequestGate> gate;  // bounded request intake (request_gate.hpp)
     std::unique_ptr<detail::DeadlineWatchdog> watchdog;
     std::shared_ptr<Lifetime> lifetime = std::make_shared<Lifetime>();
     /// Chapter 7 checks of driver values (shared: a driver-affine task may outlive the adapter).
@@ -126,7 +128,8 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- requests (adapter_requests.cpp)
     void on_message(const Message& message);  ///< transport thread; never blocks
-    bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload);
+    bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
+                                std::shared_ptr<detail::RequestGate::Ticket> ticket);
     void handle(const ParsedTopic& topic, const std::string& payload);
     void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
                 const Error* driver_expired = nullptr);

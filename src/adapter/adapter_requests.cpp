@@ -45,6 +45,18 @@ void Adapter::Impl::on_message(const Message& message) {
         logger.warn("ignoring retained request on {}", message.topic);
         return;
     }
+    // Admitted before anything parses the payload: a flood is shed here, on
+    // the transport thread, at the cost of a counter (request_gate.hpp).
+    auto admission = gate->admit(message.payload.size());
+    if (admission.verdict == detail::RequestGate::Verdict::shed) return;
+    if (admission.verdict == detail::RequestGate::Verdict::oversized) {
+        ++rejected;
+        if (auto reply = make_error_reply(parsed->kind, std::nullopt, dev,
+                                          make_error(ErrorCode::memory_configured,
+                                                     fmt::format("request larger than {} bytes", config.max_request_bytes))))
+            respond(*parsed, *reply);
+        return;
+    }
     const MessageId msg_id = peek_message_id(message.payload);
     if (msg_id) {
         const std::string key = fmt::format("{}|{}|{}", to_string(parsed->kind), parsed->ex.value_or(""), msg_id->dump());
@@ -54,8 +66,11 @@ void Adapter::Impl::on_message(const Message& message) {
             return;
         }
     }
-    if (parsed->kind == TopicKind::query_request && dispatch_driver_affine(*parsed, message.payload)) return;
-    executor->post([this, topic = *parsed, payload = message.payload] { handle(topic, payload); });
+    if (parsed->kind == TopicKind::query_request && dispatch_driver_affine(*parsed, message.payload, admission.ticket))
+        return;
+    executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket)] {
+        handle(topic, payload);
+    });
 }
 
 // A Query runs on the driver's own worker, which reads in place: one
@@ -66,9 +81,12 @@ void Adapter::Impl::on_message(const Message& message) {
 // for the driver's items. Whichever comes first answers; the other is
 // dropped. Reads are idempotent, so the late duplicate work is harmless;
 // Set stays on the request workers, where a write is never repeated.
-bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload) {
+bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
+                                           std::shared_ptr<detail::RequestGate::Ticket> ticket) {
     auto claim = std::make_shared<detail::AnswerClaim>();
-    const bool posted = runner->post([this, life = lifetime, claim, topic, payload](Driver&) {
+    // The ticket goes with the driver's task only: the watchdog's callback
+    // lives until the deadline even when the driver answered long before.
+    const bool posted = runner->post([this, life = lifetime, claim, topic, payload, ticket](Driver&) {
         handle(topic, payload, Affine{claim.get(), life.get()});
     });
     if (!posted) return false;

@@ -13,6 +13,11 @@ AdapterStats Adapter::stats() const {
     s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
     s.applications_released = impl_->applications_released;
     if (impl_->runner) s.machine_link = impl_->runner->link();
+    if (impl_->gate) {
+        s.shed = impl_->gate->shed();
+        s.oversized = impl_->gate->oversized();
+        s.pending_requests = impl_->gate->pending();
+    }
     s.registered = impl_->registration.registered();
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
@@ -63,6 +68,9 @@ Json to_json(const AdapterStats& s) {
                 {"rejected", s.rejected},
                 {"driver_timeouts", s.driver_timeouts},
                 {"machine_link", {{"state", std::string(to_string(s.machine_link.state))}, {"reason", s.machine_link.reason}}},
+                {"shed", s.shed},
+                {"oversized", s.oversized},
+                {"pending_requests", s.pending_requests},
                 {"registered", s.registered},
                 {"state", std::string(to_string(s.state))},
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},

@@ -17,11 +17,16 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
     const std::string& dev = topic.dev;
     const std::string ex = topic.ex.value_or("");
     const MessageId msg_id = peek_message_id(m.payload);
-    if (!allowed(config.access, ex, dev, *required_right(topic.kind))) {
+    // With a closed allowlist registration is required (8.2.1): a terminal
+    // that did not register is refused as one without the right.
+    const bool unregistered = !config.registration.open && !registrar->registered(ex);
+    if (unregistered || !allowed(config.access, ex, dev, *required_right(topic.kind))) {
         ++counters.denied;
-        log.info("agent: {} from '{}' to {} denied (301)", to_string(topic.kind), ex, dev);
+        log.info("agent: {} from '{}' to {} denied (301{})", to_string(topic.kind), ex, dev,
+                 unregistered ? ", not registered" : "");
         if (auto answer = make_error_reply(topic.kind, msg_id, dev,
-                                           make_error(ErrorCode::permission_denied, "access control")))
+                                           make_error(ErrorCode::permission_denied,
+                                                      unregistered ? "not registered" : "access control")))
             reply_all(out, topic, marked(*answer));
         return;
     }

@@ -48,7 +48,23 @@ const unsigned each_right[] = {access_read, access_set, access_method};
 }  // namespace
 
 std::string mosquitto_acl(const AgentConfig& config) {
-    const AccessPolicy& policy = config.access;
+    // With a closed allowlist only listed terminals may register, and the
+    // agent refuses the requests of the others (301): the broker does too,
+    // so the rights of applications not listed become none, and the
+    // default rights go to the listed applications by name instead of to
+    // every user ("+").
+    const bool closed = !config.registration.open;
+    auto listed = [&](const std::string& ex) { return config.registration.terminals.count(ex) != 0; };
+    AccessPolicy policy = config.access;
+    if (closed)
+        for (auto& [ex, entries] : policy.applications)
+            if (!listed(ex))
+                for (auto& [dev, rights] : entries) rights = access_none;
+    std::vector<std::string> default_users;  // who gets default_rights: "+", or the listed applications
+    if (!closed) default_users.push_back("+");
+    else
+        for (const auto& [tid, entry] : config.registration.terminals)
+            if (entry.kind != "adapter" && policy.applications.count(tid) == 0) default_users.push_back(tid);
     std::set<std::string> adapters;  // adapters named anywhere in the configuration
     for (const auto& [ex, entries] : policy.applications)
         for (const auto& [dev, rights] : entries)
@@ -84,6 +100,11 @@ std::string mosquitto_acl(const AgentConfig& config) {
             out << "topic deny Sample/+/+\n";
         out << "\n";
     }
+    if (closed && (policy.default_rights & access_read)) {
+        for (const auto& ex : default_users)
+            out << "# Application " << ex << " (registration allowlist): model Sample topics by default.\n"
+                << "user " << ex << "\ntopic read Sample/+/+\n\n";
+    }
 
     for (const auto& dev : adapters) {
         out << "# Adapter " << dev << ": requests only from applications allowed to make them.\n"
@@ -93,7 +114,8 @@ std::string mosquitto_acl(const AgentConfig& config) {
             for (unsigned right : each_right)
                 lines(out, "topic", (rights & right) ? "read" : "deny", topics_for(right, dev, ex));
         }
-        lines(out, "topic", "read", topics_for(policy.default_rights, dev, "+"));
+        for (const auto& ex : default_users) lines(out, "topic", "read", topics_for(policy.default_rights, dev, ex));
+        if (closed) lines(out, "topic", "read", topics_for(access_read, dev, config.agent_id));  // its model fetches
         out << "\n";
     }
 
@@ -108,6 +130,9 @@ std::string mosquitto_acl(const AgentConfig& config) {
         "read " + topics::probe_version("+"),
     };
     for (const auto& l : own) out << "pattern " << l << "\n";
+    // The broker round-trip check every nclink program runs at start
+    // (docs/performance.md): its own two connections, under its user name.
+    out << "pattern readwrite nclink-rtt/%u/#\n";
 
     out << "# ... as an adapter: announce, answer, sample.\n";
     out << "pattern write " << topics::probe_version("%u") << "\n";
@@ -139,7 +164,8 @@ std::string mosquitto_acl(const AgentConfig& config) {
             if (!by_default && granted) lines(out, "pattern", "read", topics_for(right, "%u", ex));
         }
     }
-    lines(out, "pattern", "read", topics_for(policy.default_rights, "%u", "+"));
+    for (const auto& ex : default_users) lines(out, "pattern", "read", topics_for(policy.default_rights, "%u", ex));
+    if (closed) lines(out, "pattern", "read", topics_for(access_read, "%u", config.agent_id));
 
     out << "# ... as an application: requests under its own id only (the agent answers\n"
            "# 301 for those it may not make), and the answers to them.\n";
@@ -155,7 +181,7 @@ std::string mosquitto_acl(const AgentConfig& config) {
     }
     out << "pattern read " << topics::event("+", "%u") << "\n"
         << "pattern read " << topics::dynamic_sample("+", "%u", "+") << "\n";
-    if (policy.default_rights & access_read) out << "pattern read Sample/+/+\n";
+    if (!closed && (policy.default_rights & access_read)) out << "pattern read Sample/+/+\n";
     return out.str();
 }
 

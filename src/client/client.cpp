@@ -76,9 +76,17 @@ Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
     }
     if (need_start)
         if (auto r = start(); !r) return std::move(r).error();
-    if (!wait_connected(timeout))
-        return make_error(ErrorCode::timeout, "no connection to the broker within " +
-                                                  std::to_string(timeout.count()) + " ms");
+    // Connected, or refused (credentials, a certificate: no use waiting on).
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (!wait_connected(std::chrono::milliseconds(20)) && !impl_->transport->stats().refused &&
+           std::chrono::steady_clock::now() < deadline) {
+    }
+    if (!wait_connected(std::chrono::milliseconds(0))) {
+        const TransportStats link = impl_->transport->stats();
+        if (link.refused) return make_error(ErrorCode::permission_denied, "cannot connect to the broker: " + link.last_error);
+        return make_error(ErrorCode::timeout, "no connection to the broker within " + std::to_string(timeout.count()) +
+                                                  " ms" + (link.last_error.empty() ? "" : ": " + link.last_error));
+    }
     return register_terminal();
 }
 
@@ -213,6 +221,7 @@ ClientStats Client::stats() const {
     s.samples = c.samples;
     s.notifications = c.notifications;
     s.queued = c.queued;
+    if (impl_->transport) s.transport = impl_->transport->stats();
     s.events = c.events;
     s.duplicates = c.duplicates;
     s.keepalives = c.keepalives;

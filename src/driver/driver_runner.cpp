@@ -11,6 +11,13 @@ namespace {
 // task already running on the driver's worker calls the driver directly
 // instead of queueing behind itself.
 thread_local const void* tls_worker_of = nullptr;
+// The exclusive hold on `calls` of the task running on this worker (a
+// serialized driver), so an in-place read can let sampling in between chunks.
+thread_local std::unique_lock<std::shared_timed_mutex>* tls_exclusive_call = nullptr;
+
+// Points read per driver call by an in-place (request) read before sampling
+// may cut in: a 10,000-item Query must not hold the driver for its whole read.
+constexpr std::size_t kReadChunk = 64;
 
 // The state one waiting caller shares with its task. The task may finish
 // after the caller gave up; the shared_ptr keeps the state alive for it.
@@ -177,13 +184,23 @@ void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
             std::shared_lock<std::shared_timed_mutex> call(queue->calls);
             task();
         } else {
+            yield_to_priority(*queue);
             std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+            tls_exclusive_call = &call;
             task();
+            tls_exclusive_call = nullptr;
         }
         lock.lock();
     }
     --queue->running_workers;
     queue->exited.notify_all();
+}
+
+void DriverRunner::yield_to_priority(const Queue& queue) {
+    // Bounded: a sampler that keeps the driver busy cannot stop requests.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(5);
+    while (queue.priority_waiters.load(std::memory_order_acquire) > 0 && std::chrono::steady_clock::now() < until)
+        std::this_thread::yield();
 }
 
 void DriverRunner::count_timeout() {
@@ -215,7 +232,28 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         const std::shared_ptr<Driver> driver = driver_;
         const std::shared_ptr<Queue> queue = queue_;
         Results results;
-        read_locked(*driver, *queue, points, generation, results);
+        std::unique_lock<std::shared_timed_mutex>* hold = tls_exclusive_call;
+        if (hold == nullptr || points.size() <= kReadChunk) {
+            read_locked(*driver, *queue, points, generation, results);
+            return results;
+        }
+        // In chunks, letting a waiting sampler in between them. Each chunk
+        // goes through read_locked() under the re-taken lock, so a bind()
+        // that got in between re-resolves the rest against its new table.
+        results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+        std::vector<PointRef> chunk;
+        Results chunk_results;
+        for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
+            const std::size_t end = std::min(points.size(), at + kReadChunk);
+            chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
+            read_locked(*driver, *queue, chunk, generation, chunk_results);
+            std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
+            if (end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
+                hold->unlock();
+                yield_to_priority(*queue);
+                hold->lock();
+            }
+        }
         return results;
     }
     auto pending = std::make_shared<Pending<Results>>();
@@ -251,6 +289,11 @@ bool call_locked(std::shared_timed_mutex& calls, std::chrono::nanoseconds wait, 
 
 template <typename Call>
 bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
+    queue_->priority_waiters.fetch_add(1, std::memory_order_acq_rel);
+    struct Done {
+        std::atomic<int>& waiters;
+        ~Done() { waiters.fetch_sub(1, std::memory_order_acq_rel); }
+    } done{queue_->priority_waiters};
     const bool called = queue_->concurrent
                             ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
                             : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);

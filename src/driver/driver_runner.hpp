@@ -121,6 +121,11 @@ private:
         std::shared_timed_mutex calls;
         bool concurrent = false;
         std::atomic<bool> closed{false};
+        // Sampling deadlines come first: callers of read_direct() /
+        // read_samples_direct() waiting for `calls` now. A worker lets them
+        // in before its next task, and between the chunks of an in-place
+        // read (a flood of requests must not starve sampling).
+        std::atomic<int> priority_waiters{0};
         std::uint64_t timeouts = 0;
         // The current binding: written under `calls` held exclusively (and
         // table_mutex), read by driver calls under `calls` (and by
@@ -135,6 +140,8 @@ private:
                             std::uint64_t generation, std::vector<Result<Json>>& results);
     static Result<void> write_locked(Driver& driver, const Queue& queue, const WriteRequest& request,
                                      std::uint64_t generation);
+    /// Waits (bounded) while a sampling read waits for `calls`.
+    static void yield_to_priority(const Queue& queue);
     /// Runs `call` on the calling thread, serialized with the workers' calls;
     /// false (and a counted timeout) when the lock was not had within `wait`.
     template <typename Call>

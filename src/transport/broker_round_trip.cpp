@@ -60,8 +60,12 @@ Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int sampl
     options.last_will.reset();
     options.clean_session = true;
     const std::string base = options.client_id;
-    const std::string topic_a = "nclink-rtt/" + base + "/a";  // answers and direct messages come back here
-    const std::string topic_b = "nclink-rtt/" + base + "/b";  // requests to the second connection
+    // Under the user name when there is one: the ACL nclink-agent generates
+    // grants each user nclink-rtt/<user>/# (docs/security.md), so the check
+    // also runs on a locked-down broker.
+    const std::string prefix = "nclink-rtt/" + (options.username.empty() ? base : options.username + "/" + base);
+    const std::string topic_a = prefix + "/a";  // answers and direct messages come back here
+    const std::string topic_b = prefix + "/b";  // requests to the second connection
     MqttOptions oa = options, ob = options;
     oa.client_id = base + "-rtt-a";
     ob.client_id = base + "-rtt-b";
@@ -106,6 +110,12 @@ Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int sampl
             (void)a->publish(Message{topic_b, tag, 1, false});
             if (wait_for(tag, milliseconds(200))) break;
         } else {
+            // A broker that refused the connection (credentials, a
+            // certificate) will go on refusing: no use waiting out `timeout`
+            // (the caller reports the refusal itself, docs/security.md).
+            if (const TransportStats s = a->stats(); s.refused)
+                return make_error(ErrorCode::unavailable,
+                                  fmt::format("cannot connect to {}: {}", options.broker_url, s.last_error));
             std::this_thread::sleep_for(milliseconds(10));
         }
         if (std::chrono::steady_clock::now() > deadline)

@@ -2,6 +2,7 @@
 
 #include "transport/outbox.hpp"
 #include "transport/tcp_nodelay.hpp"
+#include "transport/tls_check.hpp"
 
 #include <mqtt/async_client.h>
 
@@ -115,6 +116,10 @@ public:
         s.received = received_;
         s.connects = connects_;
         s.tcp_nodelay_sockets = nodelay_sockets_;
+        s.connect_failures = connect_failures_;
+        std::lock_guard<std::mutex> lock(failure_mutex_);
+        s.last_error = last_error_;
+        s.refused = refused_;
         return s;
     }
 
@@ -163,6 +168,11 @@ private:
         }
         for (const auto& [qos, filters] : by_qos) subscribe_now(filters, qos);
         ++connects_;
+        {
+            std::lock_guard<std::mutex> lock(failure_mutex_);
+            last_error_.clear();
+            refused_ = false;
+        }
         set_state(LinkState::connected, options_.broker_url);
         // MQTT 5: the supervisor opens the outbox once it has read the
         // broker's Receive Maximum from the CONNACK (see supervise()).
@@ -235,6 +245,36 @@ private:
         return builder.finalize();
     }
 
+    // Thread: supervisor. Names the cause of a failed attempt: the broker's
+    // CONNACK code (3.1.1) or reason code (5) when it answered, else for TLS
+    // what a handshake of our own says (tls_check.hpp).
+    void connect_failed(const mqtt::exception& e, milliseconds delay) {
+        const int rc = e.get_return_code();
+        const int reason = e.get_reason_code();
+        if (rc == 4 || reason == 0x86) return connect_failed("the broker refused the user name or password", true, delay);
+        // mosquitto answers a wrong password with this one too.
+        if (rc == 5 || reason == 0x87)
+            return connect_failed("the broker refused the connection: not authorized (user name, password or certificate)",
+                                  true, delay);
+        if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
+        if (options_.tls) {
+            if (auto problem = detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
+            if (auto problem = detail::tls_handshake_problem(host_, port_, *options_.tls, options_.connect_timeout))
+                return connect_failed(*problem, true, delay);
+        }
+        connect_failed(e.what(), false, delay);
+    }
+
+    void connect_failed(const std::string& why, bool refused, milliseconds delay) {
+        // Logged before it is published: a program that exits on a refusal
+        // prints its own line last.
+        logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, why, delay.count());
+        ++connect_failures_;
+        std::lock_guard<std::mutex> lock(failure_mutex_);
+        last_error_ = why;
+        refused_ = refused;
+    }
+
     // Thread: supervisor. Connects, and reconnects with exponential backoff
     // whenever the link is lost, until stop().
     void supervise() {
@@ -250,11 +290,11 @@ private:
                 try {
                     auto token = client_.connect(opts);
                     ok = token->wait_for(options_.connect_timeout + milliseconds(500));
-                    if (!ok) logger_.warn("mqtt: connect to {} timed out (retry in {} ms)", options_.broker_url, delay.count());
+                    if (!ok) connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()),
+                                            false, delay);
                     if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
                 } catch (const mqtt::exception& e) {
-                    logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, e.what(),
-                                 delay.count());
+                    connect_failed(e, delay);
                 }
                 ok = ok && client_.is_connected();  // paho call: before taking mutex_
                 if (ok && options_.mqtt_version >= 5) {
@@ -306,6 +346,10 @@ private:
     std::atomic<std::uint64_t> received_{0};
     std::atomic<std::uint64_t> connects_{0};
     std::atomic<int> nodelay_sockets_{0};
+    std::atomic<std::uint64_t> connect_failures_{0};
+    mutable std::mutex failure_mutex_;  // last_error_, refused_
+    std::string last_error_;
+    bool refused_ = false;
 };
 
 }  // namespace

@@ -79,6 +79,8 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
     }
     if (options.large_queues) conf << "max_queued_messages 100000\n";  // tests burst harder than a plant
     conf << "log_dest none\n";
+    // Last: more listeners (TLS) whose own options follow their listener line.
+    conf << options.extra_config << "\n";
     conf.close();
     if (options.start) start();
 }

@@ -30,6 +30,9 @@ struct MosquittoOptions {
     /// max_queued_messages 100000 over the shipped limit (tests burst
     /// harder than a plant); false = exactly what a plant's broker has.
     bool large_queues = true;
+    /// Appended to the configuration as is, last: more listeners (TLS, see
+    /// support/test_pki.hpp), each with its own options.
+    std::string extra_config;
 };
 
 class MosquittoBroker {

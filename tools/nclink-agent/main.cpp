@@ -7,6 +7,7 @@
 #include <nclink/agent.hpp>
 #include <nclink/mqtt_transport.hpp>
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include <pthread.h>
 #include <unistd.h>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -121,6 +123,17 @@ int main(int argc, char** argv) {
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());
         return 1;
+    }
+    // A broker that refuses us (credentials, a certificate) will go on
+    // refusing: say why and exit. An unreachable one is waited for.
+    for (int i = 0; i < 200 && agent.stats().transport.connects == 0; ++i) {
+        const auto link = agent.stats().transport;
+        if (link.refused) {
+            agent.stop();
+            std::cerr << "nclink-agent: cannot connect to " << config.broker_url << ": " << link.last_error << "\n";
+            return 1;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     logger.info("nclink-agent: serving on {} (share group '{}'); SIGINT/SIGTERM stops", config.broker_url,
                 config.share_group);

@@ -7,10 +7,14 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <fstream>
 #include <stdexcept>
+#include <thread>
 
 namespace nclink::cli {
 namespace {
@@ -75,12 +79,34 @@ bool parse_device_command(const Args& args, const OptionSpec& spec, const char* 
     return false;
 }
 
+static std::string broker_password(const CliOptions& options) {
+    if (options.password_file.empty()) {
+        const char* env = std::getenv("NCLINK_PASSWORD");
+        return env ? env : "";
+    }
+    std::ifstream in(options.password_file);
+    std::string line;
+    if (!in || !std::getline(in, line)) throw std::runtime_error("cannot read the password file " + options.password_file);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return line;
+}
+
 std::unique_ptr<Client> connect_client(const CliOptions& options, const std::function<void(Client&)>& before_start) {
     MqttOptions mqtt;
     mqtt.broker_url = options.broker;
     mqtt.client_id = options.client_id;
     mqtt.clean_session = !options.persistent;
     mqtt.connect_timeout = options.timeout;
+    mqtt.username = options.username;
+    mqtt.password = broker_password(options);
+    if (!options.ca_file.empty() || !options.cert_file.empty() || !options.key_file.empty() || options.insecure) {
+        MqttTlsOptions tls;
+        tls.ca_file = options.ca_file;
+        tls.cert_file = options.cert_file;
+        tls.key_file = options.key_file;
+        tls.verify_server = !options.insecure;
+        mqtt.tls = tls;
+    }
     // A broker without TCP_NODELAY makes every answer 40-90 ms late: say so
     // once, naming the setting (docs/performance.md). An unreachable broker
     // is reported by the connect below.
@@ -90,14 +116,24 @@ std::unique_ptr<Client> connect_client(const CliOptions& options, const std::fun
     ClientOptions client_options;
     client_options.ex_cid = options.client_id;
     client_options.default_timeout = options.timeout;
-    client_options.logger = Logger(stderr_sink(), LogLevel::warn);
+    // error, not warn: a refused connection is told once, in the line below,
+    // not also by the transport's retry warnings.
+    client_options.logger = Logger(stderr_sink(), LogLevel::error);
     auto client = Client::create(std::move(mqtt), std::move(client_options));
     if (!client) throw std::runtime_error(client.error().describe());
     auto c = std::move(client).value();
     if (before_start) before_start(*c);
     if (auto started = c->start(); !started) throw std::runtime_error(started.error().describe());
-    if (!c->wait_connected(options.timeout))
-        throw std::runtime_error("cannot reach the broker at " + options.broker);
+    // Connected, or refused (credentials, a certificate): then say why at
+    // once, in one line (docs/security.md, "Errors").
+    const auto deadline = std::chrono::steady_clock::now() + options.timeout;
+    while (!c->wait_connected(std::chrono::milliseconds(20))) {
+        const TransportStats link = c->stats().transport;
+        if (link.refused) throw std::runtime_error("cannot connect to " + options.broker + ": " + link.last_error);
+        if (std::chrono::steady_clock::now() >= deadline)
+            throw std::runtime_error("cannot reach the broker at " + options.broker +
+                                     (link.last_error.empty() ? "" : ": " + link.last_error));
+    }
     // The device's retained state, so a request that times out says when the
     // device is offline rather than only "no response".
     if (!options.device.empty()) (void)c->subscribe_state(options.device, [](const NotifyState&) {});

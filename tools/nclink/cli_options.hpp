@@ -22,6 +22,12 @@ namespace nclink::cli {
     "  --device GUID     the adapter's terminal id (dev_uuid); required\n" \
     "  --client-id ID    this application's terminal id (default nclink-cli-<pid>)\n" \
     "  --timeout MS      per-request timeout and broker connect timeout (default 2000)\n" \
+    "  --username NAME   broker user name (the ACL expects the terminal id, see docs/security.md)\n" \
+    "  --password-file F broker password: first line of F (or $NCLINK_PASSWORD)\n" \
+    "  --ca-file PEM     trust these CAs for the broker's certificate (ssl:// URLs)\n" \
+    "  --cert PEM        client certificate, for mutual TLS (--key: its key)\n" \
+    "  --key PEM         the client certificate's private key\n" \
+    "  --insecure        do not check the broker's certificate (tests only)\n" \
     "  --json            machine-readable output\n" \
     "  --persistent      keep the broker session (clean_session=false) under --client-id:\n" \
     "                    QoS 1 DTUs sent while this command is not running arrive at its next run\n" \
@@ -32,6 +38,10 @@ struct CliOptions {
     std::string device;
     std::string client_id;  ///< empty = nclink-cli-<pid>, filled in by the caller
     std::chrono::milliseconds timeout{2000};
+    std::string username;
+    std::string password_file;  ///< "" = $NCLINK_PASSWORD, if set
+    std::string ca_file, cert_file, key_file;
+    bool insecure = false;
     bool json = false;
     bool persistent = false;  ///< --persistent: clean_session=false (needs --client-id)
     bool help = false;
@@ -62,7 +72,8 @@ inline std::uint64_t parse_count(std::string_view option, std::string_view text,
 /// after `--` is positional). Throws UsageError on unknown options and
 /// missing or malformed values.
 inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {}) {
-    static const std::set<std::string> global_valued = {"--broker", "--device", "--client-id", "--timeout"};
+    static const std::set<std::string> global_valued = {"--broker",   "--device", "--client-id", "--timeout", "--username",
+                                                        "--password-file", "--ca-file", "--cert",  "--key"};
     CliOptions out;
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -100,6 +111,16 @@ inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {
                 out.device = value;
             } else if (name == "--client-id") {
                 out.client_id = value;
+            } else if (name == "--username") {
+                out.username = value;
+            } else if (name == "--password-file") {
+                out.password_file = value;
+            } else if (name == "--ca-file") {
+                out.ca_file = value;
+            } else if (name == "--cert") {
+                out.cert_file = value;
+            } else if (name == "--key") {
+                out.key_file = value;
             } else if (name == "--timeout") {
                 out.timeout = std::chrono::milliseconds(static_cast<std::int64_t>(parse_count(name, value)));
             } else {
@@ -112,6 +133,8 @@ inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {
             out.json = true;
         } else if (name == "--persistent") {
             out.persistent = true;
+        } else if (name == "--insecure") {
+            out.insecure = true;
         } else if (spec.flags.count(name) > 0) {
             out.flags.insert(name);
         } else {

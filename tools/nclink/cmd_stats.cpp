@@ -32,6 +32,11 @@ std::uint64_t num(const Json& object, const char* key) {
 void print_summary(const Json& stats) {
     std::printf("state: %s, registered: %s, requests: %llu\n", stats.value("state", "?").c_str(),
                 stats.value("registered", false) ? "yes" : "no", static_cast<unsigned long long>(num(stats, "requests")));
+    if (stats.contains("shed"))  // request intake (docs/security.md, "Bad input and floods")
+        std::printf("requests: rejected %llu, shed %llu, oversized %llu, pending %llu\n",
+                    static_cast<unsigned long long>(num(stats, "rejected")), static_cast<unsigned long long>(num(stats, "shed")),
+                    static_cast<unsigned long long>(num(stats, "oversized")),
+                    static_cast<unsigned long long>(num(stats, "pending_requests")));
     if (const auto t = stats.find("transport"); t != stats.end())
         std::printf("transport: published %llu, dropped %llu, buffered %llu\n", static_cast<unsigned long long>(num(*t, "published")),
                     static_cast<unsigned long long>(num(*t, "dropped")), static_cast<unsigned long long>(num(*t, "buffered")));

@@ -323,6 +323,32 @@ TEST_CASE("access control: a request the application may not make is answered 30
     REQUIRE(eventually([&] { return f.agent->stats().pending == 1; }));
 }
 
+TEST_CASE("access control: with a closed allowlist an unregistered application is answered 301") {
+    AgentConfig c;
+    c.registration.open = false;
+    c.registration.terminals["mes"] = TerminalEntry{"application", ""};
+    c.registration.terminals["outsider"] = TerminalEntry{"application", ""};
+    AgentFixture f(c);
+    QuietAdapter a(f, "mill-1");
+    // listed but not registered yet: refused like one without the right
+    const Json refused = f.app_wait_after(*f.app, topics::query_request("mill-1", "outsider"),
+                                          topics::query_response("mill-1", "outsider"), Json{{"@id", "q1"}, {"ids", {"pos"}}});
+    CHECK(refused["error"] == 301);
+    CHECK(f.agent->stats().denied == 1);
+    CHECK(f.agent->stats().pending == 0);
+    // a stranger cannot register, so stays refused
+    CHECK(f.register_as(*f.app, "stranger", "r0")["error"] == 301);
+    const Json stranger = f.app_wait_after(*f.app, topics::set_request("mill-1", "stranger"),
+                                           topics::set_response("mill-1", "stranger"),
+                                           Json{{"@id", "s1"}, {"values", Json::array()}});
+    CHECK(stranger["error"] == 301);
+    // once registered, the request is left to the adapter
+    CHECK(f.register_as(*f.app, "mes", "r1")["code"] == "OK");
+    f.app->send(topics::query_request("mill-1", "mes"), Json{{"@id", "q2"}, {"ids", {"pos"}}}.dump());
+    REQUIRE(eventually([&] { return f.agent->stats().pending == 1; }));
+    CHECK(f.agent->stats().denied == 2);
+}
+
 TEST_CASE("a retained request replayed by the broker is ignored") {
     AgentFixture f({}, false);
     f.app->send(topics::query_request("mill-1", "mes"), Json{{"@id", "q1"}, {"ids", {"pos"}}}.dump(), true);

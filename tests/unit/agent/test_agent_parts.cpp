@@ -257,5 +257,32 @@ TEST_CASE("mosquitto ACL: agents get everything and adapters only the requests t
     has("pattern read Register/Response/%u");
     // both spellings of the event/sampling registrations
     has("pattern write Reigster/Event/Request/+/%u");
+    // the broker round-trip check every program runs at start, under its user name
+    has("pattern readwrite nclink-rtt/%u/#");
     CHECK(acl.find("pattern read Set/Request/%u/+") == std::string::npos);
+}
+
+TEST_CASE("mosquitto ACL: a closed allowlist gives the default rights to listed applications only") {
+    AgentConfig c;
+    c.access.default_rights = access_read;
+    c.access.applications["mes"]["*"] = access_all;
+    c.access.applications["ghost"]["*"] = access_all;  // not on the allowlist: it cannot register
+    c.registration.open = false;
+    c.registration.terminals["mill-1"] = TerminalEntry{"adapter", ""};
+    c.registration.terminals["mes"] = TerminalEntry{"application", ""};
+    c.registration.terminals["viewer"] = TerminalEntry{"application", ""};
+    const std::string acl = mosquitto_acl(c);
+    auto has = [&](const std::string& line, bool expected = true) {
+        INFO(line);
+        CHECK((acl.find("\n" + line + "\n") != std::string::npos) == expected);
+    };
+    has("topic read Query/Request/mill-1/viewer");   // listed: the default rights, by name
+    has("topic read Set/Request/mill-1/mes");
+    has("topic deny Set/Request/mill-1/ghost");      // listed in access but not allowed to register
+    has("topic read Query/Request/mill-1/+", false); // nobody else
+    has("pattern read Query/Request/%u/viewer");
+    has("pattern read Query/Request/%u/+", false);
+    has("topic read Probe/Query/Request/mill-1/nclink-agent");  // the agent's model fetches
+    has("user viewer\ntopic read Sample/+/+");
+    has("pattern read Sample/+/+", false);
 }

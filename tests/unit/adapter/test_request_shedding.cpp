@@ -1,0 +1,72 @@
+// Bounded request intake (src/adapter/request_gate.hpp): requests beyond
+// max_pending_requests are shed and counted, payloads beyond
+// max_request_bytes are answered 404 unread, and the adapter serves again
+// once the backlog is gone.
+#include "adapter/request_gate.hpp"
+#include "adapter_fixture.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+using namespace nclink;
+using namespace nclink::test;
+using namespace std::chrono_literals;
+
+TEST_CASE("request gate: admits up to its bound, sheds beyond, releases with the last ticket") {
+    auto gate = std::make_shared<detail::RequestGate>(2, 100, Logger{});
+    auto a = gate->admit(10);
+    auto b = gate->admit(10);
+    CHECK(a.verdict == detail::RequestGate::Verdict::admitted);
+    CHECK(b.verdict == detail::RequestGate::Verdict::admitted);
+    CHECK(gate->pending() == 2);
+    CHECK(gate->admit(10).verdict == detail::RequestGate::Verdict::shed);
+    CHECK(gate->shed() == 1);
+    CHECK(gate->admit(101).verdict == detail::RequestGate::Verdict::oversized);
+    CHECK(gate->oversized() == 1);
+    auto copy = a.ticket;  // a request answered by two tasks holds one slot
+    a.ticket.reset();
+    CHECK(gate->pending() == 2);
+    copy.reset();
+    CHECK(gate->pending() == 1);
+    CHECK(gate->admit(10).verdict == detail::RequestGate::Verdict::admitted);  // the ticket is dropped at once
+    CHECK(gate->pending() == 1);
+}
+
+TEST_CASE("requests beyond max_pending_requests are shed and counted while the driver is busy") {
+    AdapterConfig c;
+    c.max_pending_requests = 4;
+    c.driver_timeout = 5000ms;
+    AdapterFixture f(c);
+    f.driver->delay = 1000ms;
+    for (int i = 0; i < 20; ++i)
+        f.app->send(topics::query_request("test-dev", "app"),
+                    Json{{"@id", "burst-" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
+    std::size_t most_pending = 0;
+    REQUIRE(eventually([&] {
+        most_pending = std::max(most_pending, f.adapter->stats().pending_requests);
+        return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 20;
+    }, 30s));
+    f.driver->delay = 0ms;
+    const auto shed = f.adapter->stats().shed;
+    CHECK(shed >= 10);           // 20 arrive while the first reads for a second
+    CHECK(most_pending <= 4);    // the bound held
+    // Every request that was not shed was answered; the adapter serves again.
+    CHECK(f.adapter->stats().pending_requests == 0);
+    CHECK(f.query(Json::array({"pos"}))["code"] == "OK");
+    CHECK(to_json(f.adapter->stats())["shed"] == shed);
+}
+
+TEST_CASE("a request larger than max_request_bytes is answered 404 unread") {
+    AdapterConfig c;
+    c.max_request_bytes = 1000;
+    AdapterFixture f(c);
+    Json ids = Json::array();
+    for (int i = 0; i < 200; ++i) ids.push_back("pos");
+    const Json big = f.app->request(topics::query_request("test-dev", "app"), topics::query_response("test-dev", "app"),
+                                    Json{{"@id", "big"}, {"ids", ids}});
+    CHECK(big["code"] == "NG");
+    CHECK(big["error"] == 404);
+    CHECK(f.adapter->stats().oversized == 1);
+    CHECK(f.query(Json::array({"pos"}))["code"] == "OK");
+}
