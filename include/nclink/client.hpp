@@ -206,7 +206,7 @@ public:
 
     /// Method/Call of the METHOD `method_id` with `args` (a JSON object; null =
     /// none). `on_status` (may be empty) gets each Method/Status of this call
-    /// (status waiting/executing/stopped, progress percent, `msg_id` = the
+    /// (status waiting/executing/stopped/sleep, progress percent, `msg_id` = the
     /// call's @id); `done` gets its Method/Result, whatever `result` says
     /// (finished, canceled, or error: a refused call, e.g. 401/102/409/417,
     /// is an error result with code NG and the table-19 reason/error). Both

@@ -10,6 +10,7 @@ const char* to_string(RunPhase phase) noexcept {
         case RunPhase::waiting: return "waiting";
         case RunPhase::executing: return "executing";
         case RunPhase::stopped: return "stopped";
+        case RunPhase::sleep: return "sleep";
     }
     return "?";
 }
@@ -48,12 +49,15 @@ bool MethodRun::checkpoint() {
     return go_on;
 }
 
-void MethodRun::begin() {
+bool MethodRun::begin() {
+    bool go = true;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        state_.phase = RunPhase::executing;
+        go = !state_.cancel_requested;
+        state_.phase = go ? RunPhase::executing : RunPhase::sleep;
     }
     changed();
+    return go;
 }
 
 void MethodRun::request_stop() {

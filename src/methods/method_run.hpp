@@ -7,7 +7,9 @@
 // executing -> stopped (only while the method thread is blocked in
 // checkpoint() after a "stop"; a driver that never calls checkpoint() keeps
 // executing) -> executing after "resume". "cancel" wakes a paused method:
-// checkpoint() returns false and cancelled() is true from then on.
+// checkpoint() returns false and cancelled() is true from then on. A run
+// cancelled while still waiting is never called: it goes to sleep ("not
+// called", 8.2.23), and its Result says canceled.
 #pragma once
 
 #include <nclink/driver.hpp>
@@ -23,9 +25,9 @@
 
 namespace nclink::detail {
 
-enum class RunPhase { waiting, executing, stopped };
+enum class RunPhase { waiting, executing, stopped, sleep };
 
-/// "waiting", "executing", "stopped" (8.2.23).
+/// "waiting", "executing", "stopped", "sleep" (8.2.23).
 const char* to_string(RunPhase phase) noexcept;
 
 class MethodRun final : public MethodControl {
@@ -50,8 +52,10 @@ public:
     bool checkpoint() override;
 
     // ---- lifecycle (the method thread)
-    /// The driver is about to be called: waiting -> executing.
-    void begin();
+    /// The driver is about to be called: waiting -> executing, true. A run
+    /// cancelled while waiting goes to sleep instead and answers false: the
+    /// driver is not called.
+    bool begin();
 
     // ---- control (any thread). Idempotent: stopping a paused run, resuming
     // a running one, cancelling twice change nothing and are not errors.

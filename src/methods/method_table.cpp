@@ -72,8 +72,14 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, co
 }
 
 void MethodTable::execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver) {
-    run->begin();
     Result<Json> outcome = make_error(ErrorCode::unavailable);
+    if (!run->begin()) {
+        // Cancelled before the driver was called: Status "sleep" went out,
+        // the Result says canceled with nothing returned.
+        publish_result(*run, result_of(*run, Json(nullptr)));
+        finish(run->serial);
+        return;
+    }
     try {
         outcome = driver.run_method(method, run->args, *run);
     } catch (const std::exception& e) {
