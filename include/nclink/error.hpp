@@ -63,13 +63,20 @@ inline constexpr std::string_view dev_unreachable_reason = "DEV_UNREACHABLE";
 struct Error {
     ErrorCode code = ErrorCode::syntax_error;
     std::string message;
+    /// Where in the input the error is, as a JSON pointer (RFC 6901), e.g.
+    /// "/broker/uri" for a configuration key; empty when not known. Readers
+    /// of JSON input fill it so a tool can show the line and column.
+    std::string pointer;
 
     /// "401 Node not exists: <message>" for logs.
     std::string describe() const;
 };
 
 inline Error make_error(ErrorCode code, std::string message = {}) {
-    return Error{code, std::move(message)};
+    Error error;
+    error.code = code;
+    error.message = std::move(message);
+    return error;
 }
 
 }  // namespace nclink
