@@ -1,7 +1,9 @@
 // nclink-sim: a simulated machine on NC-Link. Runs an nclink Adapter with the
 // simulated driver (any usable model; the 3-axis mill by default) against a
-// broker until SIGINT/SIGTERM. Argument parsing and wiring only: everything
-// else is the SDK.
+// broker until SIGINT/SIGTERM. SIGHUP re-reads --config: log_level applies at
+// once, other changes at the next start (Adapter::reload); a file with a
+// problem is refused and the running configuration stays. Argument parsing
+// and wiring only: everything else is the SDK.
 //
 //   nclink-sim [--broker URL] [--model FILE] [--guid GUID] [--config FILE]
 //              [--plugin SO] [--persistence DIR] [--seed N] [--strict]
@@ -83,28 +85,19 @@ Options parse(int argc, char** argv) {
     return o;
 }
 
-std::string default_model() {
-    for (const std::string dir : {NCLINK_SOURCE_MODELS_DIR, NCLINK_INSTALLED_MODELS_DIR}) {
-        const auto path = std::filesystem::path(dir) / "sim-mill.json";
-        if (std::filesystem::exists(path)) return path.string();
-    }
-    return "sim-mill.json";
-}
+std::string default_model();
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Options o = parse(argc, argv);
+// The file's configuration (if any) with the command line's options on top:
+// the same at start and at every reload, so a reload sees only what the
+// file changed.
+nclink::Result<nclink::AdapterConfig> effective_config(const Options& o) {
     nclink::AdapterConfig config;
     if (!o.config_file.empty()) {
         auto loaded = nclink::load_adapter_config(o.config_file);
-        if (!loaded) {
-            std::fprintf(stderr, "nclink-sim: %s\n", loaded.error().message.c_str());
-            return 2;
-        }
+        if (!loaded) return std::move(loaded).error();
         config = std::move(loaded).value();
-        if (!o.level_given) o.level = config.log_level;
     }
+    if (o.level_given) config.log_level = o.level;
     if (o.broker_given) config.broker_url = o.broker;
     if (o.model_given) config.model_path = o.model;
     if (config.model_path.empty()) config.model_path = default_model();
@@ -117,13 +110,63 @@ int main(int argc, char** argv) {
         config.driver_config["model"] = config.model_path;
         config.driver_config["seed"] = o.seed;
     }
-    const nclink::Logger logger(nclink::stderr_sink(), o.level);
+    return config;
+}
+
+std::string joined(const std::vector<std::string>& keys) {
+    std::string out;
+    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
+    return out;
+}
+
+void reload(const Options& o, nclink::Adapter& adapter, const nclink::Logger& logger) {
+    if (o.config_file.empty()) {
+        logger.warn("nclink-sim: SIGHUP: no --config file to reload");
+        return;
+    }
+    auto next = effective_config(o);
+    if (!next) {
+        logger.error("nclink-sim: reload refused, the running configuration stays: {}", next.error().message);
+        return;
+    }
+    const nclink::ConfigReload report = adapter.reload(*next);
+    if (report.applied.empty() && report.restart_needed.empty())
+        logger.info("nclink-sim: reloaded {}: nothing changed", o.config_file);
+    else if (!report.applied.empty())
+        logger.info("nclink-sim: reloaded {}: applied {}", o.config_file, joined(report.applied));
+    if (!report.restart_needed.empty())
+        logger.warn("nclink-sim: changed in {} but applied only after a restart: {}", o.config_file,
+                    joined(report.restart_needed));
+}
+
+std::string default_model() {
+    for (const std::string dir : {NCLINK_SOURCE_MODELS_DIR, NCLINK_INSTALLED_MODELS_DIR}) {
+        const auto path = std::filesystem::path(dir) / "sim-mill.json";
+        if (std::filesystem::exists(path)) return path.string();
+    }
+    return "sim-mill.json";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parse(argc, argv);
+    // A configuration with a problem stops here, before anything starts:
+    // one line naming the file, line and column.
+    auto effective = effective_config(o);
+    if (!effective) {
+        std::fprintf(stderr, "nclink-sim: %s\n", effective.error().message.c_str());
+        return 2;
+    }
+    const nclink::AdapterConfig config = std::move(effective).value();
+    const nclink::Logger logger(nclink::stderr_sink(), config.log_level);
 
     // Block the signals before any thread starts, so only sigwait() sees them.
     sigset_t signals;
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     std::shared_ptr<nclink::Driver> driver;
@@ -155,7 +198,11 @@ int main(int argc, char** argv) {
     logger.info("nclink-sim: answering as {} (Ctrl-C to stop)", adapter.dev_uuid());
 
     int signal_number = 0;
-    sigwait(&signals, &signal_number);
+    while (true) {
+        sigwait(&signals, &signal_number);
+        if (signal_number != SIGHUP) break;
+        reload(o, adapter, logger);
+    }
     logger.info("nclink-sim: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
     adapter.stop();
     const auto stats = adapter.stats();

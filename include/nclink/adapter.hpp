@@ -15,6 +15,7 @@
 #pragma once
 
 #include <nclink/adapter_config.hpp>
+#include <nclink/config_reload.hpp>
 #include <nclink/adapter_state.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/driver.hpp>
@@ -75,6 +76,12 @@ public:
     /// `flush_timeout`), disconnects, stops the driver. Idempotent.
     void stop(std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
 
+    /// Applies a new configuration as far as that is safe while running (a
+    /// program's SIGHUP, docs/configuration.md "Reloading"): log_level sets
+    /// the logger's level (shared with every copy of the logger). Every other
+    /// changed key is listed in restart_needed and keeps its running value.
+    /// Thread-safe; also before start().
+    ConfigReload reload(const AdapterConfig& next);
     /// The terminal id (dev_uuid) this adapter answers for.
     std::string dev_uuid() const;
     std::shared_ptr<const Model> model() const;

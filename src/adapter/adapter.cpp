@@ -5,6 +5,7 @@
 #include <nclink/topics.hpp>
 
 #include "feature/feature.hpp"
+#include "adapter/adapter_reload.hpp"
 #include "adapter/application_tracker.hpp"
 #include "adapter/dedup_window.hpp"
 #include "adapter/model_host.hpp"
@@ -45,8 +46,10 @@ struct Adapter::Impl {
 
     // ---- configuration and collaborators
     const Adapter* self = nullptr;  // the owner, for its stats() (the statistics data item)
-    AdapterConfig config;
+    AdapterConfig config;  // as started: never written after construction
     Logger logger;
+    std::mutex reload_mutex;
+    LogLevel reloaded_level = config.log_level;  // under reload_mutex: the level the last reload set
     std::shared_ptr<Driver> driver;
     std::unique_ptr<Transport> transport;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
@@ -549,6 +552,21 @@ void Adapter::use_clock(std::shared_ptr<const Clock> clock) { impl_->clock = std
 Result<void> Adapter::start() { return impl_->start(); }
 void Adapter::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
 std::string Adapter::dev_uuid() const { return impl_->dev; }
+
+ConfigReload Adapter::reload(const AdapterConfig& next) {
+    ConfigReload report;
+    std::lock_guard<std::mutex> lock(impl_->reload_mutex);
+    // Compared with the configuration the adapter runs on, so a key waiting
+    // for a restart is reported at every reload until then.
+    for (auto& key : detail::adapter_config_changes(impl_->config, next))
+        if (key != "log_level") report.restart_needed.push_back(std::move(key));
+    if (next.log_level != impl_->reloaded_level) {
+        impl_->logger.set_min_level(next.log_level);
+        impl_->reloaded_level = next.log_level;
+        report.applied.emplace_back("log_level");
+    }
+    return report;
+}
 
 std::shared_ptr<const Model> Adapter::model() const {
     auto current = impl_->host.current();
