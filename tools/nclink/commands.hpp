@@ -24,5 +24,7 @@ struct Command {
 
 int run_validate(const Args& args);
 extern const char* const validate_usage;
+int run_config(const Args& args);  // cmd_config.cpp
+extern const char* const config_usage;
 
 }  // namespace nclink::cli
