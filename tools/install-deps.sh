@@ -5,7 +5,11 @@ set -euo pipefail
 
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
-          mosquitto mosquitto-clients)
+          mosquitto mosquitto-clients
+          tmux lintian)
+# tmux: the test of `nclink top` runs it in a real terminal. lintian: the
+# packaging test lints the .deb files. (systemd-analyze, which the packaging
+# test uses to verify the units, comes with Debian's systemd package.)
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 

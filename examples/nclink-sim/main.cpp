@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -140,9 +141,16 @@ void reload(const Options& o, nclink::Adapter& adapter, const nclink::Logger& lo
 }
 
 std::string default_model() {
-    for (const std::string dir : {NCLINK_SOURCE_MODELS_DIR, NCLINK_INSTALLED_MODELS_DIR}) {
-        const auto path = std::filesystem::path(dir) / "sim-mill.json";
-        if (std::filesystem::exists(path)) return path.string();
+    // Installed first (bin/../share/nclink/models), so a packaged program
+    // never reads the tree it was built from; the source tree for a build.
+    std::vector<std::filesystem::path> dirs;
+    std::error_code ec;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) dirs.push_back(self.parent_path() / NCLINK_BIN_TO_MODELS);
+    dirs.emplace_back(NCLINK_SOURCE_MODELS_DIR);
+    for (const auto& dir : dirs) {
+        const auto path = (dir / "sim-mill.json").lexically_normal();
+        if (std::filesystem::exists(path, ec)) return path.string();
     }
     return "sim-mill.json";
 }
