@@ -44,9 +44,9 @@ done
 # dpkg-shlibdeps found what the programs link.
 [[ $(field nclink-tools Depends) == *libpaho-mqttpp3* ]] || fail "nclink-tools: Depends $(field nclink-tools Depends)"
 [[ $(field nclink-agent Depends) == *adduser* && $(field nclink-agent Depends) == *libc6* ]] || fail "nclink-agent: Depends $(field nclink-agent Depends)"
-dpkg-deb --ctrl-tarfile "${deb[nclink-agent]}" | tar -xO ./conffiles | grep -qx /etc/nclink/agent.json ||
+dpkg-deb --ctrl-tarfile "${deb[nclink-agent]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/agent.json ||
   fail "nclink-agent: /etc/nclink/agent.json is not a conffile"
-dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep -q "^libnclink $soversion libnclink$soversion" ||
+dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep "^libnclink $soversion libnclink$soversion" >/dev/null ||
   fail "libnclink$soversion: no shlibs"
 
 step "dpkg -x into $root"
@@ -78,7 +78,8 @@ done
 # shellcheck disable=SC2086
 "$cxx" -std=c++17 "$source/tests/consumer/project/main.cpp" -o "$work/pc_consumer" $flags -Wl,-rpath,"$libdir"
 [[ $("$work/pc_consumer") == *"Node not exists"* ]] || fail "pkg-config consumer"
-ldd "$work/pc_consumer" | grep -q "$libdir/libnclink.so" || fail "pkg-config consumer does not use the packaged library"
+# (no grep -q after a pipe: with pipefail, its early exit would fail the writer)
+ldd "$work/pc_consumer" | grep "$libdir/libnclink.so" >/dev/null || fail "pkg-config consumer does not use the packaged library"
 
 step "find_package against the unpacked tree"
 cmake -S "$source/tests/consumer/project" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$root/usr" \
@@ -152,13 +153,13 @@ run_script() { PATH="$stubs:$PATH" DPKG_ROOT=$dpkgroot sh -e "$work/scripts/$1" 
 run_script postinst configure
 first=$(wc -l <"$work/calls")
 run_script postinst configure
-grep -c "dpkg-statoverride --update --add root nclink 0640 /etc/nclink/agent.json" "$work/calls" | grep -qx 1 ||
+grep -c "dpkg-statoverride --update --add root nclink 0640 /etc/nclink/agent.json" "$work/calls" | grep -x >/dev/null 1 ||
   fail "postinst twice: the permission override is added $(grep -c 'statoverride --update' "$work/calls") times"
 [[ -d $dpkgroot/var/lib/nclink/agent ]] || fail "postinst: no state directory"
 [[ $(grep -c "systemd-sysusers $dpkgroot/usr/lib/sysusers.d/nclink-agent.conf" "$work/calls") == 2 ]] ||
   fail "postinst: the user is not made from the sysusers.d file"
 # An upgrade restarts a running service; a fresh install starts nothing.
-! head -n "$first" "$work/calls" | grep -q "try-restart" || fail "postinst: a fresh install restarted the service"
+if head -n "$first" "$work/calls" | grep "try-restart" >/dev/null; then fail "postinst: a fresh install restarted the service"; fi
 run_script postinst configure "$version-0"
 grep -q "deb-systemd-invoke try-restart nclink-agent.service" "$work/calls" || [[ ! -d /run/systemd/system ]] ||
   fail "postinst: an upgrade does not restart the service"

@@ -125,6 +125,7 @@ int run_call(const Args& args) {
     }
     auto result = future.get();
     client.reset();  // no status callback after this: the bar is ours now
+    if (result && result->result == "finished" && result->status.ok) bar.update(1.0, "finished");
     bar.finish();
     if (!result) {
         std::fprintf(stderr, "nclink call: %s\n", result.error().describe().c_str());

@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -27,14 +28,24 @@ const std::string kDev = kSimMillDevice;
 
 struct SimRig {
     MosquittoBroker broker;
+    ScratchDir scratch{"nclink-itest-ops-rig-"};
     std::unique_ptr<Adapter> adapter;
     explicit SimRig(bool sampling) {
+        fs::create_directories(scratch.path / "programs");
         AdapterConfig config;
         config.broker_url = broker.url();
         config.model_path = sim_mill_path();
         config.register_timeout = 200ms;
         config.sampling.enabled = sampling;
+        config.methods.status_period = 100ms;
+        // program_transfer copies at 2 KiB/s: a 6 KiB file takes about 3 s.
+        config.driver_config = Json{{"program_dir", (scratch.path / "programs").string()}, {"transfer_rate", 2048}};
         adapter = started_adapter(config, sim_for(config.model_path));
+    }
+    std::string program(std::size_t bytes) const {
+        const fs::path file = scratch.path / "O42.nc";
+        std::ofstream(file) << std::string(bytes, 'G');
+        return file.string();
     }
 };
 
@@ -146,5 +157,41 @@ TEST_CASE("nclink top shows live values full screen in a terminal, follows a res
         return after.rfind("1 0", 0) == 0;
     }, 10s));
     CHECK(screen().find("nclink top") == std::string::npos);
+    shell(tmux + "kill-server");
+}
+
+TEST_CASE("nclink call draws a progress bar redrawn in place in a terminal") {
+    if (!cli_built()) return;
+    if (!have("tmux")) {
+        WARN("tmux not installed (Debian package tmux; tools/install-deps.sh): the progress bar not tested in a terminal");
+        return;
+    }
+    SimRig rig(false);
+    const std::string tmux = "tmux -L nclink-call-" + std::to_string(std::random_device{}()) + " ";
+    const std::string command = cli_path() + " call --broker " + rig.broker.url() + " --timeout 10000 " + kDev +
+                                " program_transfer '{\\\"source\\\":\\\"" + rig.program(6144) + "\\\"}'";
+    REQUIRE(shell(tmux + "-f /dev/null new-session -d -s call -x 100 -y 20 \"" + command + "\"").status == 0);
+    shell(tmux + "set-option -t call remain-on-exit on");
+    // With the lines scrolled off the top: when the pane ends, tmux may move
+    // the screen up a line for its "Pane is dead" note.
+    auto screen = [&] { return shell(tmux + "capture-pane -p -S -100 -t call").out; };
+    std::string during;
+    REQUIRE(eventually([&] {
+        during = screen();
+        return during.find("program_transfer [#") != std::string::npos && during.find("executing") != std::string::npos;
+    }, 20s));
+    INFO(during);
+    CHECK(during.find("status ") == std::string::npos);  // a bar, not lines
+    std::string after;
+    REQUIRE(eventually([&] {
+        after = screen();
+        return after.find("finished") != std::string::npos;
+    }, 20s));
+    INFO(after);
+    // One line for the bar (redrawn in place), then the result on the next.
+    CHECK_THAT(after, Catch::StartsWith("program_transfer ["));
+    CHECK_THAT(after, Catch::Contains("100.0% finished") && Catch::Contains("\nfinished\n"));
+    CHECK_THAT(after, Catch::Contains("100.0% finished"));
+    CHECK(std::count(after.begin(), after.end(), '[') == 1);
     shell(tmux + "kill-server");
 }
