@@ -1,17 +1,37 @@
 #!/usr/bin/env bash
-# Installs what nclink needs to build, test and run, from Debian 12 packages.
-# Idempotent: apt-get runs only when a package is missing.
+# Installs what nclink needs to build, test and run, from Debian 12 packages,
+# and the OPC UA server's Node.js packages (tools/nclink-opcua) from npm.
+# Idempotent: apt-get runs only when a package is missing, npm ci only when
+# node_modules is missing or the lockfile changed since it ran.
 set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
 
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
           mosquitto mosquitto-clients
-          tmux lintian)
-# tmux: the test of `nclink top` runs it in a real terminal. lintian: the
-# packaging test lints the .deb files. (systemd-analyze, which the packaging
-# test uses to verify the units, comes with Debian's systemd package.)
+          libcpp-httplib-dev libxml2-dev libxml2-utils
+          tmux)
+# libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
+# dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
+# (MTConnect path=); libxml2-utils: xmllint, which the bridge's tests validate
+# MTConnect documents with. tmux: the tests of `nclink top` and of the
+# progress bar run the tool in a real terminal.
+# Heavier tools that only one test path needs (each test skips with a message
+# when its tool is missing):
+#   NCLINK_WITH_PACKAGING=1  lintian: the packaging test lints the .deb files
+#     (systemd-analyze, which verifies the units, comes with Debian's systemd).
+#   NCLINK_WITH_PROMETHEUS=1 prometheus: promtool checks the /metrics text.
+#   NCLINK_WITH_BROWSER=1    chromium, chromium-driver, python3-selenium: the
+#     dashboard's test in a real headless browser.
+if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
+if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
+if [[ "${NCLINK_WITH_BROWSER:-0}" == 1 ]]; then packages+=(chromium chromium-driver python3-selenium); fi
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
+# Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.
+# NodeSource's 20), else Debian's nodejs/npm (18 on Debian 12, which
+# node-opcua 2.182.2 supports). NCLINK_WITH_OPCUA=0 leaves it out.
+if [[ "${NCLINK_WITH_OPCUA:-1}" == 1 ]] && ! command -v node >/dev/null 2>&1; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -19,13 +39,33 @@ for p in "${packages[@]}"; do
 done
 if ((${#missing[@]} == 0)); then
   echo "install-deps: all packages present"
-  exit 0
+else
+  echo "install-deps: installing ${missing[*]}"
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  # Debian starts a system mosquitto on :1883 when installing it; nclink's tests
+  # start their own brokers on free ports and do not need it.
 fi
-echo "install-deps: installing ${missing[*]}"
-sudo=""
-if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-# Debian starts a system mosquitto on :1883 when installing it; nclink's tests
-# start their own brokers on free ports and do not need it.
+
+# node-opcua for tools/nclink-opcua, exactly as package-lock.json pins it.
+# The stamp holds the lockfile's hash at the last successful npm ci.
+if [[ "${NCLINK_WITH_OPCUA:-1}" == 1 ]]; then
+  opcua="$here/nclink-opcua"
+  stamp="$opcua/node_modules/.nclink-lock.sha256"
+  want=$(sha256sum "$opcua/package-lock.json" | cut -d' ' -f1)
+  if [[ -d "$opcua/node_modules" && -f "$stamp" && "$(cat "$stamp")" == "$want" ]]; then
+    echo "install-deps: node-opcua present (tools/nclink-opcua/node_modules)"
+  else
+    node_major=$(node -p 'process.versions.node.split(".")[0]')
+    if ((node_major < 18)); then
+      echo "install-deps: Node.js $(node --version) is too old for node-opcua 2.182.2 (needs >= 18)" >&2
+      exit 1
+    fi
+    echo "install-deps: npm ci in tools/nclink-opcua (node $(node --version))"
+    (cd "$opcua" && npm ci --engine-strict --no-audit --no-fund --omit=dev)
+    echo "$want" > "$stamp"
+  fi
+fi

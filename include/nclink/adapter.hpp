@@ -19,6 +19,7 @@
 #include <nclink/adapter_state.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/driver.hpp>
+#include <nclink/export.hpp>
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
 #include <nclink/sampling.hpp>
@@ -31,7 +32,7 @@
 
 namespace nclink {
 
-struct AdapterStats {
+struct NCLINK_API AdapterStats {
     std::uint64_t requests = 0;             ///< request DTUs handled
     std::uint64_t ignored_retained = 0;     ///< requests ignored for their retain flag
     std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
@@ -47,13 +48,13 @@ struct AdapterStats {
 
 /// The statistics as one JSON object (what the `nclink_stats` data item and
 /// `nclink stats` show; docs/sampling.md).
-Json to_json(const AdapterStats& stats);
+NCLINK_API Json to_json(const AdapterStats& stats);
 
 /// Called after a Probe/Set replaced the model (on a request worker). Later
 /// modules (sampling, events) restart what runs from the model here.
 using ModelListener = std::function<void(std::shared_ptr<const Model>)>;
 
-class Adapter {
+class NCLINK_API Adapter {
 public:
     /// `driver` may be null when `config.driver_plugin` names a plugin.
     Adapter(AdapterConfig config, std::shared_ptr<Driver> driver, Logger logger = {});

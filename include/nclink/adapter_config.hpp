@@ -3,6 +3,7 @@
 // code; load first, then assign the fields you want to force.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/feature_config.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
@@ -18,7 +19,7 @@
 
 namespace nclink {
 
-struct AdapterConfig {
+struct NCLINK_API AdapterConfig {
     // --- broker (JSON: "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
     std::string client_id;               ///< "client_id"; default "nclink-adapter-<dev_uuid>"
@@ -67,9 +68,9 @@ struct AdapterConfig {
 
 /// Reads a configuration object. Unknown keys are errors (typos must not pass
 /// silently): 413 with the key's name; wrong types 405.
-Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig base = {});
+NCLINK_API Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig base = {});
 /// Reads a configuration file; relative paths in it (model, persistence_dir,
 /// plugin, TLS files) are taken relative to the file's directory.
-Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base = {});
+NCLINK_API Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base = {});
 
 }  // namespace nclink

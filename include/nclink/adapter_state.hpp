@@ -2,6 +2,7 @@
 // (seeds/004, items 64-82): initial, normal, request, disconnected.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <string_view>
 
 namespace nclink {
@@ -32,15 +33,15 @@ enum AdapterAction : unsigned {
     action_send_sample = 1u << 4,      ///< publish the Sample DTU (buffered while disconnected)
 };
 
-struct AdapterTransition {
+struct NCLINK_API AdapterTransition {
     AdapterState next;
     unsigned actions;
 };
 
 /// The transition table, item by item of seeds/004. Pure and thread-safe.
-AdapterTransition adapter_transition(AdapterState state, AdapterEvent event) noexcept;
+NCLINK_API AdapterTransition adapter_transition(AdapterState state, AdapterEvent event) noexcept;
 
-std::string_view to_string(AdapterState state) noexcept;
-std::string_view to_string(AdapterEvent event) noexcept;
+NCLINK_API std::string_view to_string(AdapterState state) noexcept;
+NCLINK_API std::string_view to_string(AdapterEvent event) noexcept;
 
 }  // namespace nclink

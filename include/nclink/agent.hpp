@@ -20,6 +20,7 @@
 
 #include <nclink/clock.hpp>
 #include <nclink/config_reload.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -48,25 +49,25 @@ enum AccessRight : unsigned {
 /// Which application may do what on which adapter. Precedence: the
 /// application's entry for the adapter, else its "*" entry, else (listed
 /// applications) nothing; applications not listed get `default_rights`.
-struct AccessPolicy {
+struct NCLINK_API AccessPolicy {
     unsigned default_rights = access_all;                               ///< "default"
     std::map<std::string, std::map<std::string, unsigned>> applications;  ///< "applications": ex -> (dev | "*") -> rights
 };
 
 /// A terminal named in the registration allowlist.
-struct TerminalEntry {
+struct NCLINK_API TerminalEntry {
     std::string kind;      ///< "adapter", "application" or "" (learned from traffic)
     std::string password;  ///< "" = no credential; else Register/Request privateInfo.password must equal it
 };
 
-struct RegistrationPolicy {
+struct NCLINK_API RegistrationPolicy {
     bool open = true;                             ///< "open": false = only listed terminals may register (else 301)
     std::map<std::string, TerminalEntry> terminals;  ///< "terminals"
     std::size_t max_id_length = 128;             ///< "max_id_length": longer ids get 414
     std::string id_pattern;                      ///< "id_pattern": ECMAScript regex the whole id must match ("" = any)
 };
 
-struct AgentConfig {
+struct NCLINK_API AgentConfig {
     // --- broker (JSON "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
     std::string client_id;               ///< "client_id"; default "<agent_id>-<random>" (unique per instance)
@@ -101,17 +102,17 @@ struct AgentConfig {
 
 /// Reads a configuration object; unknown keys 413, wrong types 405, a bad
 /// id_pattern or right name 405.
-Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig base = {});
+NCLINK_API Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig base = {});
 /// Reads a configuration file; a relative state_dir / TLS path is taken
 /// relative to the file's directory.
-Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base = {});
+NCLINK_API Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base = {});
 
 /// A mosquitto acl_file that makes the broker enforce `config.access`
 /// (docs/agent.md, "Broker ACL"). Broker user names must equal terminal ids.
-std::string mosquitto_acl(const AgentConfig& config);
+NCLINK_API std::string mosquitto_acl(const AgentConfig& config);
 
 /// Counters only grow.
-struct AgentStats {
+struct NCLINK_API AgentStats {
     std::uint64_t registrations = 0;         ///< Register/Request accepted
     std::uint64_t registrations_refused = 0; ///< answered NG (414, 301, malformed)
     std::uint64_t discoveries = 0;           ///< Discovery/Request answered
@@ -129,7 +130,7 @@ struct AgentStats {
 };
 
 /// What the agent knows of one terminal.
-struct TerminalInfo {
+struct NCLINK_API TerminalInfo {
     std::string id;
     std::string kind;               ///< "adapter", "application" or "" (not known yet)
     bool registered = false;
@@ -138,7 +139,7 @@ struct TerminalInfo {
     std::string version;            ///< adapters: the model version announced last
 };
 
-class Agent {
+class NCLINK_API Agent {
 public:
     explicit Agent(AgentConfig config, Logger logger = {});
     ~Agent();  ///< stop()s

@@ -24,6 +24,7 @@
 
 #include <nclink/client_state.hpp>
 #include <nclink/dtu.hpp>
+#include <nclink/export.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/result.hpp>
@@ -49,7 +50,7 @@ namespace nclink {
 // out while queued fails with 203 and is never sent (docs/client.md,
 // "State machine").
 
-struct ClientOptions {
+struct NCLINK_API ClientOptions {
     /// The application's terminal id (ex_cid): cli_uuid when registering and the
     /// last level of every request topic (responses mirror it). Required.
     std::string ex_cid;
@@ -64,7 +65,7 @@ struct ClientOptions {
     Logger logger;
 };
 
-struct RequestOptions {
+struct NCLINK_API RequestOptions {
     std::optional<std::chrono::milliseconds> timeout;  ///< default: ClientOptions::default_timeout
     std::optional<Json> private_info;                   ///< sent as "privateInfo"
 };
@@ -72,16 +73,16 @@ struct RequestOptions {
 /// What came of Register/Request. Registration is an agent feature: without an
 /// agent (adapter and application on a bare broker) nobody answers, and the
 /// application goes on working, so no answer is an outcome, not an error.
-struct RegisterOutcome {
+struct NCLINK_API RegisterOutcome {
     enum class Kind { accepted, refused, no_answer };
     Kind kind = Kind::no_answer;
     ResponseStatus status;  ///< the agent's code/reason/error (accepted/refused)
 };
 
-std::string_view to_string(RegisterOutcome::Kind kind) noexcept;
+NCLINK_API std::string_view to_string(RegisterOutcome::Kind kind) noexcept;
 
 /// Counters only grow.
-struct ClientStats {
+struct NCLINK_API ClientStats {
     std::uint64_t requests = 0;             ///< requests published
     std::uint64_t responses = 0;            ///< responses matched to a pending request
     std::uint64_t timeouts = 0;             ///< requests completed with ErrorCode::timeout
@@ -105,7 +106,7 @@ using VersionHandler = std::function<void(const ProbeVersionRequest&)>;
 template <class T>
 using Completion = std::function<void(Result<T>)>;
 
-class Client {
+class NCLINK_API Client {
 public:
     /// A client over `transport` (not yet started; the client sets its handlers).
     /// Fails with parameter_missing when ex_cid is empty or transport is null.
@@ -166,6 +167,11 @@ public:
     /// `Notify/State/{tid}`. The state is retained, so the current one arrives
     /// right after subscribing (and again after every reconnect).
     Result<SubscriptionId> subscribe_state(const std::string& tid, StateHandler handler);
+    /// `Notify/State/+`: the states of every terminal (adapters, and the
+    /// applications an agent announces), each retained one right after
+    /// subscribing. NotifyState::tid names the terminal. For applications that
+    /// follow whatever adapters exist without an agent (docs/bridge.md).
+    Result<SubscriptionId> subscribe_all_states(StateHandler handler);
     /// `Probe/Version/{dev}`: the adapter announces its model version.
     Result<SubscriptionId> subscribe_version(const std::string& dev, VersionHandler handler);
     /// Removes a subscription (the broker subscription goes with the last

@@ -4,6 +4,7 @@
 // table and where nclink refines it.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <string_view>
 
 namespace nclink {
@@ -37,7 +38,7 @@ enum ClientAction : unsigned {
     client_action_handle_sample = 1u << 6,    ///< hand the sample to the subscriptions
 };
 
-struct ClientTransition {
+struct NCLINK_API ClientTransition {
     ClientState next;
     unsigned actions;
 };
@@ -48,10 +49,10 @@ struct ClientTransition {
 /// dropped still wait for their answer (nclink keeps them: the transport
 /// re-sends unacknowledged QoS 1 messages, so their answers may still come).
 /// Pure and thread-safe.
-ClientTransition client_transition(ClientState state, ClientEvent event, bool queued = false,
+NCLINK_API ClientTransition client_transition(ClientState state, ClientEvent event, bool queued = false,
                                    bool outstanding = false) noexcept;
 
-std::string_view to_string(ClientState state) noexcept;
-std::string_view to_string(ClientEvent event) noexcept;
+NCLINK_API std::string_view to_string(ClientState state) noexcept;
+NCLINK_API std::string_view to_string(ClientEvent event) noexcept;
 
 }  // namespace nclink

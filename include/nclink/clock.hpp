@@ -3,13 +3,14 @@
 // ManualClock instead of waiting.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 
 namespace nclink {
 
-class Clock {
+class NCLINK_API Clock {
 public:
     using Steady = std::chrono::steady_clock::time_point;
     virtual ~Clock() = default;
@@ -20,7 +21,7 @@ public:
 };
 
 /// The real clocks. Thread-safe.
-class SystemClock final : public Clock {
+class NCLINK_API SystemClock final : public Clock {
 public:
     Steady now() const override { return std::chrono::steady_clock::now(); }
     std::int64_t wall_ms() const override {
@@ -30,7 +31,7 @@ public:
 };
 
 /// A clock that moves only when told to. Thread-safe.
-class ManualClock final : public Clock {
+class NCLINK_API ManualClock final : public Clock {
 public:
     explicit ManualClock(std::int64_t wall_ms_at_start = 1'700'000'000'000) : wall_start_(wall_ms_at_start) {}
     Steady now() const override { return Steady(std::chrono::nanoseconds(elapsed_ns_.load())); }

@@ -42,6 +42,7 @@
 #pragma once
 
 #include <nclink/data_kind.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/result.hpp>
@@ -54,7 +55,7 @@
 
 namespace nclink {
 
-struct DriverInfo {
+struct NCLINK_API DriverInfo {
     std::string name = "driver";
     std::string version = "0";
     /// true: the driver is thread-safe and may be called concurrently.
@@ -66,19 +67,19 @@ enum class MachineLink { unknown, connected, disconnected };
 
 /// Handed to open(). `config` is the driver's section of the adapter
 /// configuration (or the plugin's config string parsed), `null` if none.
-struct DriverContext {
+struct NCLINK_API DriverContext {
     Json config;
     Logger logger;
 };
 
 /// One point of a read: the model's data-item id and its data type.
-struct PointRef {
+struct NCLINK_API PointRef {
     std::string id;
     DataKind kind = DataKind::single;
 };
 
 /// A Set on one item, after the SDK validated it against the model.
-struct WriteRequest {
+struct NCLINK_API WriteRequest {
     std::string id;
     DataKind kind = DataKind::single;
     /// The item's `params` from the Set DTU, as sent (operation, key, index,
@@ -92,7 +93,7 @@ struct WriteRequest {
 
 /// Given to a running method (Method/Call). Thread-safe: meant for the method
 /// thread, which may call it at any rate (each call is a short lock).
-class MethodControl {
+class NCLINK_API MethodControl {
 public:
     virtual ~MethodControl() = default;
     /// 0..100 (clamped; NaN ignored); the SDK publishes the latest value in
@@ -108,7 +109,7 @@ public:
     virtual bool checkpoint() = 0;
 };
 
-class Driver {
+class NCLINK_API Driver {
 public:
     virtual ~Driver() = default;
 
@@ -179,7 +180,7 @@ public:
 };
 
 /// For the simplest drivers: implement read_one() only.
-class SimpleDriver : public Driver {
+class NCLINK_API SimpleDriver : public Driver {
 public:
     virtual Result<Json> read_one(const PointRef& point) = 0;
 

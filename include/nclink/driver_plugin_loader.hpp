@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nclink/driver.hpp>
+#include <nclink/export.hpp>
 
 #include <memory>
 #include <string>
@@ -14,7 +15,7 @@ namespace nclink {
 /// missing entry symbol, ABI version mismatch, missing function, refused by
 /// create) with ErrorCode::unavailable / value_type / parameter_missing.
 /// Thread-safe (dlopen is).
-Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, const Json& config = nullptr,
+NCLINK_API Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, const Json& config = nullptr,
                                                    Logger logger = {});
 
 }  // namespace nclink

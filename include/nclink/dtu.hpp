@@ -18,6 +18,7 @@
 #pragma once
 
 #include <nclink/dtu_common.hpp>
+#include <nclink/export.hpp>
 #include <nclink/topics.hpp>
 
 #include <cstdint>
@@ -28,12 +29,12 @@
 namespace nclink {
 
 // ---- 8.2.1 / 8.2.2 Register ------------------------------------------------
-struct RegisterRequest {
+struct NCLINK_API RegisterRequest {
     MessageId msg_id;
     std::string cli_uuid;  ///< required
     std::optional<Json> private_info;
 };
-struct RegisterResponse {
+struct NCLINK_API RegisterResponse {
     MessageId msg_id;
     std::string cli_uuid;  ///< required
     ResponseStatus status;
@@ -41,19 +42,19 @@ struct RegisterResponse {
 };
 
 // ---- 8.2.3 / 8.2.4 Discovery -----------------------------------------------
-struct DiscoveryRequest {
+struct NCLINK_API DiscoveryRequest {
     MessageId msg_id;
     std::string guid;  ///< ex_cid of the asking application (may be omitted: the topic carries it)
     std::optional<Json> private_info;
 };
 /// Table 25.
-struct DeviceListEntry {
+struct NCLINK_API DeviceListEntry {
     std::string guid;
     std::string status;                  ///< "online" | "offline" | "unknown"
     std::string last_alive_time_stamp;   ///< seconds, as a string
     std::optional<Json> private_info;
 };
-struct DiscoveryResponse {
+struct NCLINK_API DiscoveryResponse {
     MessageId msg_id;
     std::string guid;  ///< ex_cid
     ResponseStatus status;
@@ -62,13 +63,13 @@ struct DiscoveryResponse {
 };
 
 // ---- 8.2.5 / 8.2.6 Probe/Version -------------------------------------------
-struct ProbeVersionRequest {
+struct NCLINK_API ProbeVersionRequest {
     MessageId msg_id;
     std::string guid;     ///< the adapter's dev
     std::string version;  ///< required
     std::optional<Json> private_info;
 };
-struct ProbeVersionResponse {
+struct NCLINK_API ProbeVersionResponse {
     MessageId msg_id;
     std::string guid;
     std::optional<ResponseStatus> status;  ///< code is optional here (table 27)
@@ -78,25 +79,25 @@ struct ProbeVersionResponse {
 
 // ---- 8.2.7 - 8.2.10 Probe/Query, Probe/Set ----------------------------------
 /// An empty payload and `{}` decode fine.
-struct ProbeQueryRequest {
+struct NCLINK_API ProbeQueryRequest {
     MessageId msg_id;
     std::string guid;
     std::optional<Json> private_info;
 };
-struct ProbeQueryResponse {
+struct NCLINK_API ProbeQueryResponse {
     MessageId msg_id;
     std::string guid;
     ResponseStatus status;
     std::optional<Json> probe;  ///< the model, a JSON object (required when OK); decode also takes a string holding JSON
     std::optional<Json> private_info;
 };
-struct ProbeSetRequest {
+struct NCLINK_API ProbeSetRequest {
     MessageId msg_id;
     std::string guid;
     Json probe;  ///< required; a JSON object, given as an object or as a string holding JSON
     std::optional<Json> private_info;
 };
-struct ProbeSetResponse {
+struct NCLINK_API ProbeSetResponse {
     MessageId msg_id;
     std::string guid;
     ResponseStatus status;
@@ -104,23 +105,23 @@ struct ProbeSetResponse {
 };
 
 // ---- 8.2.11 / 8.2.12 Query --------------------------------------------------
-struct QueryItem {
+struct NCLINK_API QueryItem {
     std::string id;
     std::optional<Json> params;  ///< operation, keys, indexes, ... (values module's business)
 };
-struct QueryRequest {
+struct NCLINK_API QueryRequest {
     MessageId msg_id;
     std::string guid;
     std::vector<QueryItem> ids;  ///< required; an entry may also be a bare id string (liberal)
     std::optional<Json> private_info;
 };
-struct QueryResult {
+struct NCLINK_API QueryResult {
     std::string id;
     ResponseStatus status;
     std::optional<Json> params;  ///< the request's params echoed
     std::optional<Json> values;  ///< on OK: always an array
 };
-struct QueryResponse {
+struct NCLINK_API QueryResponse {
     MessageId msg_id;
     std::string guid;
     std::vector<QueryResult> values;  ///< one per requested item, in order
@@ -131,22 +132,22 @@ struct QueryResponse {
 };
 
 // ---- 8.2.13 / 8.2.14 Set ----------------------------------------------------
-struct SetItem {
+struct NCLINK_API SetItem {
     std::string id;
     std::optional<Json> params;  ///< value/values, key/keys, index/indexes, offset, length, operation
 };
-struct SetRequest {
+struct NCLINK_API SetRequest {
     MessageId msg_id;
     std::string guid;
     std::vector<SetItem> values;  ///< required
     std::optional<Json> private_info;
 };
-struct SetResult {
+struct NCLINK_API SetResult {
     std::string id;
     ResponseStatus status;
     std::optional<Json> params;
 };
-struct SetResponse {
+struct NCLINK_API SetResponse {
     MessageId msg_id;
     std::string guid;
     std::vector<SetResult> results;  ///< decode also takes "values" (8.2.14 example 3 says so)
@@ -156,7 +157,7 @@ struct SetResponse {
 
 // ---- 8.2.15 / 8.2.21 Sample (model and dynamic channels) --------------------
 /// The generic (DOM) form of a Sample DTU; the hot path uses SampleEncoder.
-struct SampleDtu {
+struct NCLINK_API SampleDtu {
     MessageId msg_id;
     std::string guid;
     std::string id;                 ///< channel id
@@ -166,13 +167,13 @@ struct SampleDtu {
 };
 
 // ---- 8.2.16 Notify/State ------------------------------------------------------
-struct NotifyState {
+struct NCLINK_API NotifyState {
     std::string tid;    ///< optional in table 37; empty = absent
     std::string state;  ///< "online" | "offline"; empty = absent
 };
 
 // ---- 8.2.17 - 8.2.20 dynamic sampling ---------------------------------------
-struct SampleRegisterRequest {
+struct NCLINK_API SampleRegisterRequest {
     MessageId msg_id;
     std::string guid;
     double sample_interval = 0;  ///< ms, required
@@ -180,20 +181,20 @@ struct SampleRegisterRequest {
     std::vector<std::string> ids;  ///< required; wire form [{"id": ...}]
     std::optional<Json> private_info;
 };
-struct SampleRegisterResponse {
+struct NCLINK_API SampleRegisterResponse {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< channel id (empty = absent, e.g. refused)
     ResponseStatus status;
     std::optional<Json> private_info;
 };
-struct SampleUnregisterRequest {
+struct NCLINK_API SampleUnregisterRequest {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< channel id, required
     std::optional<Json> private_info;
 };
-struct SampleUnregisterResponse {
+struct NCLINK_API SampleUnregisterResponse {
     MessageId msg_id;
     std::string guid;
     ResponseStatus status;
@@ -201,14 +202,14 @@ struct SampleUnregisterResponse {
 };
 
 // ---- 8.2.22 - 8.2.26 methods -------------------------------------------------
-struct MethodCall {
+struct NCLINK_API MethodCall {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< method id, required
     std::optional<Json> args;
     std::optional<Json> private_info;
 };
-struct MethodStatus {
+struct NCLINK_API MethodStatus {
     MessageId msg_id;
     std::string guid;
     std::string id;
@@ -216,7 +217,7 @@ struct MethodStatus {
     std::optional<double> progress;  ///< percent; decode also takes "process" (8.2.23 example)
     std::optional<Json> private_info;
 };
-struct MethodResult {
+struct NCLINK_API MethodResult {
     MessageId msg_id;
     std::string guid;
     std::string id;
@@ -225,14 +226,14 @@ struct MethodResult {
     std::optional<Json> return_value;  ///< "return"
     std::optional<Json> private_info;
 };
-struct MethodControlRequest {
+struct NCLINK_API MethodControlRequest {
     MessageId msg_id;
     std::string guid;
     std::string id;
     std::string action;  ///< stop | resume | cancel (checked by the methods module: 418)
     std::optional<Json> private_info;
 };
-struct MethodControlResponse {
+struct NCLINK_API MethodControlResponse {
     MessageId msg_id;
     std::string guid;
     std::string id;
@@ -241,7 +242,7 @@ struct MethodControlResponse {
 };
 
 // ---- 8.2.27 - 8.2.31 events ---------------------------------------------------
-struct EventRegisterRequest {
+struct NCLINK_API EventRegisterRequest {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< data item id, required
@@ -251,34 +252,34 @@ struct EventRegisterRequest {
     std::string trigger_type;  ///< always | normal | once, required (checked by the events module: 420)
     std::optional<Json> private_info;
 };
-struct EventRegisterResponse {
+struct NCLINK_API EventRegisterResponse {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< event id (empty = absent, e.g. refused)
     ResponseStatus status;
     std::optional<Json> private_info;
 };
-struct EventUnregisterRequest {
+struct NCLINK_API EventUnregisterRequest {
     MessageId msg_id;
     std::string guid;
     std::string id;  ///< event id, required
     std::optional<Json> private_info;
 };
-struct EventUnregisterResponse {
+struct NCLINK_API EventUnregisterResponse {
     MessageId msg_id;
     std::string guid;
     ResponseStatus status;
     std::optional<Json> private_info;
 };
 /// Figure 17.
-struct EventBody {
+struct NCLINK_API EventBody {
     std::string id;  ///< data item id
     Json value;      ///< required (may be null)
     std::optional<Json> old_value;
     std::optional<std::string> key;
     std::optional<std::int64_t> index;
 };
-struct EventData {
+struct NCLINK_API EventData {
     MessageId msg_id;
     std::string guid;
     std::string id;          ///< event id
@@ -288,7 +289,7 @@ struct EventData {
 };
 
 // ---- 8.3.4 / 8.3.5 (tables 53, 54) -------------------------------------------
-struct DevUnreachable {
+struct NCLINK_API DevUnreachable {
     MessageId msg_id;     ///< of the application's latest request
     std::string dev_uuid;
     std::string cli_uuid;
@@ -299,14 +300,14 @@ struct DevUnreachable {
 // ---- codec declarations --------------------------------------------------------
 #define NCLINK_DTU_CODEC(Type, name)                                                  \
     template <>                                                                      \
-    Result<Type> decode<Type>(std::string_view payload);                             \
+    NCLINK_API Result<Type> decode<Type>(std::string_view payload);                  \
     template <>                                                                      \
-    Result<Type> decode<Type>(const Json& dtu);                                      \
+    NCLINK_API Result<Type> decode<Type>(const Json& dtu);                           \
     inline Result<Type> decode_##name(std::string_view payload) { return decode<Type>(payload); } \
     inline Result<Type> decode_##name(const Json& dtu) { return decode<Type>(dtu); } \
     inline Result<Type> decode_##name(const char* payload) { return decode<Type>(std::string_view(payload)); } \
     inline Result<Type> decode_##name(const std::string& payload) { return decode<Type>(std::string_view(payload)); } \
-    Json to_json(const Type& dtu);                                                   \
+    NCLINK_API Json to_json(const Type& dtu);                                        \
     inline void to_json(Json& out, const Type& dtu) { out = to_json(dtu); }
 
 NCLINK_DTU_CODEC(RegisterRequest, register_request)
@@ -365,7 +366,7 @@ Response make_reply(const Request& request, std::string dev) {
 /// Method/Result with result "error"; for Register/Request a Register/Response
 /// (cli_uuid = dev). std::nullopt for kinds that are not answered (responses,
 /// samples, events, Probe/Version, Notify/State).
-std::optional<Json> make_error_reply(TopicKind request_kind, const MessageId& msg_id, std::string_view dev,
+NCLINK_API std::optional<Json> make_error_reply(TopicKind request_kind, const MessageId& msg_id, std::string_view dev,
                                      const Error& error);
 
 }  // namespace nclink

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nclink/error.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/result.hpp>
 
@@ -17,7 +18,7 @@ namespace nclink {
 using MessageId = std::optional<Json>;
 
 /// code/reason/error of a response (tables 18-20).
-struct ResponseStatus {
+struct NCLINK_API ResponseStatus {
     bool ok = true;                     ///< "code": "OK" or "NG"
     std::optional<std::string> reason;  ///< "reason", table-19 string (or DEV_UNREACHABLE, or user text for codes < 0)
     std::optional<int> error;           ///< "error", table-19 number
@@ -47,9 +48,9 @@ struct ResponseStatus {
 /// Unknown keys next to all required ones are ignored (liberal).
 /// Explicitly instantiated for every DTU type of dtu.hpp.
 template <class T>
-Result<T> decode(std::string_view payload);
+NCLINK_API Result<T> decode(std::string_view payload);
 template <class T>
-Result<T> decode(const Json& dtu);
+NCLINK_API Result<T> decode(const Json& dtu);
 // Text arguments go to the payload overload (they also convert to Json).
 template <class T>
 Result<T> decode(const char* payload) {
@@ -62,7 +63,7 @@ Result<T> decode(const std::string& payload) {
 
 /// Parses `payload` leniently to pick out "@id", so a request that fails to
 /// decode can still be answered with its id. std::nullopt if there is none.
-MessageId peek_message_id(std::string_view payload);
+NCLINK_API MessageId peek_message_id(std::string_view payload);
 
 /// Payloads nested deeper than this are refused with 412 before nlohmann
 /// parses them (its serializer and comparisons recurse).

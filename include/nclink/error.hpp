@@ -1,6 +1,7 @@
 // Error codes of GB/T 41970-2022 table 19 and the error value used across nclink.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -41,18 +42,18 @@ enum class ErrorCode : int {
 
 /// The exact `reason` string of table 19 ("Node not exists", "Out of Range", ...).
 /// Thread-safe (returns static storage).
-std::string_view reason(ErrorCode code) noexcept;
+NCLINK_API std::string_view reason(ErrorCode code) noexcept;
 
 /// Numeric code as sent in the `error` key.
 constexpr int to_int(ErrorCode code) noexcept { return static_cast<int>(code); }
 
 /// Maps a numeric code back; std::nullopt for codes table 19 does not define.
 /// (Negative, user-defined codes are not ErrorCode values.)
-std::optional<ErrorCode> error_code_from_int(int value) noexcept;
+NCLINK_API std::optional<ErrorCode> error_code_from_int(int value) noexcept;
 
 /// Maps a table-19 reason string back to its code (exact match first, then
 /// case- and space-insensitive, because deployed peers vary the spelling).
-std::optional<ErrorCode> error_code_from_reason(std::string_view reason) noexcept;
+NCLINK_API std::optional<ErrorCode> error_code_from_reason(std::string_view reason) noexcept;
 
 /// The reason agents send for connection-error scenarios 8.3.4/8.3.5
 /// (tables 53 and 54). It is not in table 19; it travels with error 301.
@@ -60,7 +61,7 @@ inline constexpr std::string_view dev_unreachable_reason = "DEV_UNREACHABLE";
 
 /// An error as a value: the table-19 code to answer with and a human-readable
 /// detail for logs and diagnostics (never put on the wire as `reason`).
-struct Error {
+struct NCLINK_API Error {
     ErrorCode code = ErrorCode::syntax_error;
     std::string message;
     /// Where in the input the error is, as a JSON pointer (RFC 6901), e.g.

@@ -4,6 +4,7 @@
 // (docs/configuration.md); every key, its default and unit.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <chrono>
 #include <cstddef>
 #include <map>
@@ -13,7 +14,7 @@
 namespace nclink {
 
 /// Sample channels (issue 4). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
-struct SamplingConfig {
+struct NCLINK_API SamplingConfig {
     bool enabled = true;                       ///< "enabled": run the model's sample channels
     std::size_t max_dynamic_channels = 16;     ///< "max_dynamic_channels": more answers 415
     /// "push_channels": model channels whose rows the firmware pushes
@@ -58,7 +59,7 @@ struct SamplingConfig {
 };
 
 /// Events (issue 5). JSON: "events": {...}. Keys: src/events/events_config.cpp.
-struct EventsConfig {
+struct NCLINK_API EventsConfig {
     std::size_t max_events = 64;                   ///< "max_events": registrations of all applications; more answers 416 (0 = none)
     /// "poll_interval_ms": how often watched items that no running sample
     /// channel reads are read (one driver call for all); 0 = never (values
@@ -70,7 +71,7 @@ struct EventsConfig {
 };
 
 /// Methods (issue 5). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
-struct MethodsConfig {
+struct NCLINK_API MethodsConfig {
     /// "max_running": method runs at once (running or paused); one more Method/Call
     /// answers 417. 0 refuses every call. Each run has its own thread.
     std::size_t max_running = 4;

@@ -2,6 +2,7 @@
 // global; every component logs through the Logger its owner hands it.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <fmt/format.h>
 
 #include <atomic>
@@ -14,9 +15,9 @@ namespace nclink {
 
 enum class LogLevel { trace = 0, debug, info, warn, error, off };
 
-std::string_view to_string(LogLevel level) noexcept;
+NCLINK_API std::string_view to_string(LogLevel level) noexcept;
 /// "trace"/"debug"/"info"/"warn" (or "warning")/"error"/"off"; nullopt otherwise.
-std::optional<LogLevel> log_level_from_string(std::string_view text);
+NCLINK_API std::optional<LogLevel> log_level_from_string(std::string_view text);
 
 /// Receives one formatted message (no trailing newline).
 /// Thread: called on whichever SDK thread logs, possibly several at once;
@@ -25,11 +26,11 @@ using LogSink = std::function<void(LogLevel, std::string_view message)>;
 
 /// A sink writing "2026-11-21T10:00:00.123Z info  message" lines to stderr,
 /// one write per line so concurrent lines do not interleave.
-LogSink stderr_sink();
+NCLINK_API LogSink stderr_sink();
 
 /// Cheap to copy; copies share the sink and the level. Thread-safe to use
 /// from many threads as long as the sink is.
-class Logger {
+class NCLINK_API Logger {
 public:
     /// A logger that drops everything.
     Logger() = default;

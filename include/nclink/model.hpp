@@ -11,6 +11,7 @@
 #pragma once
 
 #include <nclink/data_kind.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 
 #include <cstddef>
@@ -31,10 +32,10 @@ namespace nclink {
 enum class Severity { fatal, conformance, warning };
 
 /// "fatal", "conformance", "warning".
-std::string_view to_string(Severity severity) noexcept;
+NCLINK_API std::string_view to_string(Severity severity) noexcept;
 
 /// One finding of the validator.
-struct Problem {
+struct NCLINK_API Problem {
     Severity severity = Severity::fatal;
     /// RFC 6901 pointer into the loaded document; "" is the whole file. For a
     /// missing attribute it points where the attribute should be.
@@ -54,10 +55,10 @@ enum class ObjectKind {
 };
 
 /// "root", "device", "component", "data_item", "config_item", "sample_channel", "method".
-std::string_view to_string(ObjectKind kind) noexcept;
+NCLINK_API std::string_view to_string(ObjectKind kind) noexcept;
 
 /// Where an object sits in the model; one per indexed object.
-struct ObjectInfo {
+struct NCLINK_API ObjectInfo {
     ObjectKind kind = ObjectKind::data_item;
     std::string id;
     /// Owning device id; "" for the root and objects in the root's configs.
@@ -80,13 +81,13 @@ struct ObjectInfo {
 };
 
 /// Ordered children of a root, device or component (ids in file order).
-struct Children {
+struct NCLINK_API Children {
     std::vector<std::string> configs;     ///< data objects, channels, methods
     std::vector<std::string> data_items;  ///< data objects (and misplaced objects)
     std::vector<std::string> components;  ///< components (devices for the root)
 };
 
-struct Root {
+struct NCLINK_API Root {
     std::string id;
     std::string name;
     std::string type;  ///< "NC_LINK_ROOT" (also when the file omits it)
@@ -96,7 +97,7 @@ struct Root {
     Json extra = Json::object();  ///< attributes chapter 6 does not define, kept verbatim
 };
 
-struct Device {
+struct NCLINK_API Device {
     std::string id;
     std::string name;
     std::string type;
@@ -108,7 +109,7 @@ struct Device {
     Json extra = Json::object();
 };
 
-struct Component {
+struct NCLINK_API Component {
     std::string id;
     std::string name;
     std::string type;
@@ -120,7 +121,7 @@ struct Component {
 };
 
 /// A data object (table 4), from `dataItems` or from `configs`.
-struct DataObject {
+struct NCLINK_API DataObject {
     std::string id;
     std::string name;
     std::string type;
@@ -139,7 +140,7 @@ struct DataObject {
 };
 
 /// A SAMPLE_CHANNEL object (table 5).
-struct SampleChannel {
+struct NCLINK_API SampleChannel {
     std::string id;
     std::string name;
     std::string description;
@@ -153,7 +154,7 @@ struct SampleChannel {
 };
 
 /// A METHOD object (table 6).
-struct Method {
+struct NCLINK_API Method {
     std::string id;
     std::string name;
     std::string description;
@@ -172,7 +173,7 @@ bool operator==(const Method& a, const Method& b);
 class ModelBuilder;  // src/model: the only writer
 
 /// A loaded model. Immutable; all lookups are O(1) on ids.
-class Model {
+class NCLINK_API Model {
 public:
     const Root& root() const noexcept { return root_; }
     /// Objects of each kind in file order.
@@ -224,7 +225,7 @@ bool operator==(const Model& a, const Model& b);
 inline bool operator!=(const Model& a, const Model& b) { return !(a == b); }
 
 /// Outcome of loading: every problem found, and the model unless a problem is fatal.
-struct LoadResult {
+struct NCLINK_API LoadResult {
     std::vector<Problem> problems;
     std::shared_ptr<const Model> model;
 
@@ -233,21 +234,21 @@ struct LoadResult {
 };
 
 /// Parses and validates model text (UTF-8, or GBK when it is not valid UTF-8).
-LoadResult parse_model(std::string_view text);
+NCLINK_API LoadResult parse_model(std::string_view text);
 
 /// Reads a file and parses it; an unreadable file is a fatal problem at "".
-LoadResult load_model_file(const std::string& path);
+NCLINK_API LoadResult load_model_file(const std::string& path);
 
 /// The model as a probe document: 2-space indent, chapter-6 spelling
 /// (`datatype`, `setable` as boolean), attributes in the order
 /// id/name/type/description/... Unknown attributes follow the known ones.
 /// parse_model(serialize_model(m)) yields a model equal to m.
-std::string serialize_model(const Model& model);
+NCLINK_API std::string serialize_model(const Model& model);
 /// The same document as a JSON value (for Probe/Query responses).
-Json model_to_json(const Model& model);
+NCLINK_API Json model_to_json(const Model& model);
 
 /// Terminal id of a device (8.1.4, WIRE.md): `override_id` when not empty
 /// (configuration/command line), else the device `guid`, else its `id`.
-std::string resolve_dev_uuid(const Device& device, std::string_view override_id = {});
+NCLINK_API std::string resolve_dev_uuid(const Device& device, std::string_view override_id = {});
 
 }  // namespace nclink

@@ -1,6 +1,7 @@
 // MQTT transport over paho-mqtt-cpp (Debian libpaho-mqttpp-dev 1.2).
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/log.hpp>
 #include <nclink/transport.hpp>
 
@@ -11,7 +12,7 @@
 
 namespace nclink {
 
-struct MqttTlsOptions {
+struct NCLINK_API MqttTlsOptions {
     std::string ca_file;        ///< PEM trust store; empty = system default
     std::string cert_file;      ///< client certificate (PEM), for mutual TLS
     std::string key_file;       ///< client private key (PEM)
@@ -19,7 +20,7 @@ struct MqttTlsOptions {
     bool verify_server = true;  ///< check the broker's certificate and host name
 };
 
-struct MqttOptions {
+struct NCLINK_API MqttOptions {
     /// tcp://host:port, ssl://host:port (TLS), ws://, wss://.
     std::string broker_url = "tcp://127.0.0.1:1883";
     std::string client_id;                 ///< required; unique on the broker
@@ -42,6 +43,6 @@ struct MqttOptions {
 
 /// Creates an MQTT transport. Fails with ErrorCode::parameter_missing /
 /// value_type for unusable options (no client id, bad URL).
-Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger = {});
+NCLINK_API Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger = {});
 
 }  // namespace nclink

@@ -14,6 +14,7 @@
 // valid UTF-8 passes through unchanged, invalid bytes become U+FFFD.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/sample_value.hpp>
 
@@ -25,7 +26,7 @@
 namespace nclink {
 
 /// The scalar keys of a Sample DTU. Views are only read during encode().
-struct SampleDtuHeader {
+struct NCLINK_API SampleDtuHeader {
     std::string_view guid;        ///< device GUID (dev)
     std::string_view channel_id;  ///< sample channel id ("id")
     std::int64_t begin_time_ms = 0;  ///< time of the first row, ms since epoch (sent as a string)
@@ -35,14 +36,14 @@ struct SampleDtuHeader {
 
 /// Column-major block: point p (0..points-1), row r (0..rows-1) is
 /// values[p * rows + r]. Every point has the same number of rows.
-struct SampleBlock {
+struct NCLINK_API SampleBlock {
     const SampleValue* values = nullptr;
     std::size_t points = 0;
     std::size_t rows = 0;
 };
 
 /// One point's values in time order (columns may differ in length).
-struct SampleColumn {
+struct NCLINK_API SampleColumn {
     const SampleValue* values = nullptr;
     std::size_t size = 0;
 };
@@ -50,7 +51,7 @@ struct SampleColumn {
 /// Not thread-safe: one encoder per uploader thread. The returned view points
 /// into the encoder's buffer and is valid until the next encode() or destruction.
 /// The buffer only grows, so steady-state encoding does not allocate.
-class SampleEncoder {
+class NCLINK_API SampleEncoder {
 public:
     explicit SampleEncoder(std::size_t initial_capacity = 16 * 1024);
 
@@ -65,10 +66,10 @@ private:
 };
 
 /// Appends `text` as a quoted, escaped JSON string (the encoder's escaper).
-void append_json_string(std::string& out, std::string_view text);
+NCLINK_API void append_json_string(std::string& out, std::string_view text);
 /// Appends a double as the encoder prints it (shortest round-trip, null for NaN/Inf).
-void append_json_double(std::string& out, double value);
+NCLINK_API void append_json_double(std::string& out, double value);
 /// Appends one SampleValue as the encoder prints it.
-void append_sample_value(std::string& out, const SampleValue& value);
+NCLINK_API void append_sample_value(std::string& out, const SampleValue& value);
 
 }  // namespace nclink

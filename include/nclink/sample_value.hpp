@@ -9,6 +9,7 @@
 // text in storage it controls (an arena per upload period, interned strings).
 #pragma once
 
+#include <nclink/export.hpp>
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -16,7 +17,7 @@
 
 namespace nclink {
 
-class SampleValue {
+class NCLINK_API SampleValue {
 public:
     enum class Kind : std::uint8_t {
         null,     ///< a missed read: encoded as `null` in its slot

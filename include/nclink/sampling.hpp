@@ -14,6 +14,7 @@
 // pushed rows and publishes them every uploadInterval exactly as in pull mode.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/result.hpp>
 #include <nclink/sample_value.hpp>
 
@@ -35,7 +36,7 @@ class ChannelCore;
 inline constexpr std::array<std::uint32_t, 11> kLatenessBoundsUs = {10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 100000};
 
 /// Counters of one sample channel. Counters only grow while the channel runs.
-struct ChannelStats {
+struct NCLINK_API ChannelStats {
     std::string id;
     std::string topic;
     std::string owner_ex;               ///< "" for model channels
@@ -59,7 +60,7 @@ struct ChannelStats {
 };
 
 /// Whether the real-time options of the sampling thread were granted.
-struct RealtimeStatus {
+struct NCLINK_API RealtimeStatus {
     int fifo_priority = 0;          ///< requested SCHED_FIFO priority (0 = not requested)
     bool fifo_granted = false;
     long timer_slack_ns = 0;        ///< requested timer slack (0 = not requested)
@@ -68,7 +69,7 @@ struct RealtimeStatus {
     bool cpu_granted = false;
 };
 
-struct SamplingStats {
+struct NCLINK_API SamplingStats {
     bool running = false;
     RealtimeStatus realtime;
     std::vector<ChannelStats> channels;
@@ -81,7 +82,7 @@ struct SamplingStats {
 /// Thread-safety: push() may be called from ONE thread at a time per channel
 /// (the ring is single-producer); the firmware's real-time thread is the
 /// intended caller. Everything else is thread-safe.
-class PushChannel {
+class NCLINK_API PushChannel {
 public:
     PushChannel() = default;
     explicit PushChannel(std::shared_ptr<detail::ChannelCore> core) : core_(std::move(core)) {}

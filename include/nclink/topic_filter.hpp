@@ -2,6 +2,7 @@
 // topic tables of the protocol.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <string_view>
 
 namespace nclink {
@@ -10,6 +11,6 @@ namespace nclink {
 /// level only, including the parent level: "a/#" matches "a"), MQTT 3.1.1
 /// section 4.7. Topics starting with `$` do not match filters starting with a
 /// wildcard. Thread-safe, allocation-free.
-bool topic_matches(std::string_view filter, std::string_view topic) noexcept;
+NCLINK_API bool topic_matches(std::string_view filter, std::string_view topic) noexcept;
 
 }  // namespace nclink

@@ -10,6 +10,7 @@
 // spellings wherever Register/Unregister can appear and says which it saw.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/topic_filter.hpp>  // topic_matches()
 
 #include <optional>
@@ -54,7 +55,7 @@ enum class TopicKind {
 };
 
 /// "query_request", ... (for logs).
-std::string_view to_string(TopicKind kind) noexcept;
+NCLINK_API std::string_view to_string(TopicKind kind) noexcept;
 
 /// How Register/Unregister is spelled in a topic.
 enum class Spelling {
@@ -62,7 +63,7 @@ enum class Spelling {
     typo,      ///< Reigster / Unreigster, as table 17 and 8.2.18/8.2.20/8.2.28 print them
 };
 
-struct ParsedTopic {
+struct NCLINK_API ParsedTopic {
     TopicKind kind = TopicKind::register_request;
     std::string dev;                 ///< dev_uuid; cli_uuid for Register/Response; tid for Notify/State; empty for Register/Request and Discovery
     std::optional<std::string> ex;   ///< ex_cid when the topic carries one
@@ -82,83 +83,83 @@ struct ParsedTopic {
 /// many segments. Longer command prefixes win, so "Probe/Version/Response/x"
 /// is a version-check response; the 3-segment "Probe/Version/Response" is a
 /// version check from a device named "Response".
-std::optional<ParsedTopic> parse_topic(std::string_view topic);
+NCLINK_API std::optional<ParsedTopic> parse_topic(std::string_view topic);
 
 /// Builds the topic described by `parsed` (inverse of parse_topic). Parts a
 /// kind does not use are ignored; a kind that needs ex/channel and lacks them
 /// gets an empty segment, so callers pass what the kind needs.
-std::string build_topic(const ParsedTopic& parsed);
+NCLINK_API std::string build_topic(const ParsedTopic& parsed);
 
 /// True for kinds that can be spelled "Reigster"/"Unreigster".
-bool has_typo_spelling(TopicKind kind) noexcept;
+NCLINK_API bool has_typo_spelling(TopicKind kind) noexcept;
 
 /// The response kind that answers a request kind (Probe/Version -> its
 /// response, Method/Call -> Method/Result, Discovery/Request -> Discovery/Response,
 /// Register/Request -> Register/Response); std::nullopt for kinds that are
 /// not requests.
-std::optional<TopicKind> response_kind(TopicKind request) noexcept;
+NCLINK_API std::optional<TopicKind> response_kind(TopicKind request) noexcept;
 
 /// The mirror rule (WIRE.md): `X/Request/{dev}/{ex}` -> `X/Response/{dev}/{ex}`,
 /// `X/Request/{dev}` -> `X/Response/{dev}`, always in the standard spelling.
 /// std::nullopt when `request` is not a request topic, and for Register/Request
 /// (its response topic names the registering client, which only the payload carries:
 /// use topics::register_response(cli_uuid)).
-std::optional<std::string> response_topic(std::string_view request_topic);
-std::optional<std::string> response_topic(const ParsedTopic& request);
+NCLINK_API std::optional<std::string> response_topic(std::string_view request_topic);
+NCLINK_API std::optional<std::string> response_topic(const ParsedTopic& request);
 
 /// Every topic a response to `request` is published to: the mirrored topic in
 /// the standard spelling and, for Register/Sample, Unregister/Sample,
 /// Register/Event and Unregister/Event responses when `standard_typo_topics`
 /// is on (the adapter option, default on), also the literal spelling of the
 /// standard ("Reigster/...", "Unreigster/..."). Empty when there is no response topic.
-std::vector<std::string> response_topics(std::string_view request_topic, bool standard_typo_topics = true);
-std::vector<std::string> response_topics(const ParsedTopic& request, bool standard_typo_topics = true);
+NCLINK_API std::vector<std::string> response_topics(std::string_view request_topic, bool standard_typo_topics = true);
+NCLINK_API std::vector<std::string> response_topics(const ParsedTopic& request, bool standard_typo_topics = true);
 
 namespace topics {
 
 using OptEx = std::optional<std::string_view>;
 
-std::string register_request();
-std::string register_response(std::string_view cli_uuid);
-std::string discovery_request(std::string_view ex);
-std::string discovery_response(std::string_view ex);
-std::string probe_version(std::string_view dev);
-std::string probe_version_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string probe_query_request(std::string_view dev, OptEx ex = std::nullopt);
-std::string probe_query_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string probe_set_request(std::string_view dev, OptEx ex = std::nullopt);
-std::string probe_set_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string query_request(std::string_view dev, OptEx ex = std::nullopt);
-std::string query_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string set_request(std::string_view dev, OptEx ex = std::nullopt);
-std::string set_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string sample(std::string_view dev, std::string_view channel);
-std::string dynamic_sample(std::string_view dev, std::string_view ex, std::string_view channel);
-std::string notify_state(std::string_view tid);
-std::string sample_register_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string sample_register_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string sample_unregister_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string sample_unregister_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string method_call(std::string_view dev, OptEx ex = std::nullopt);
-std::string method_status(std::string_view dev, OptEx ex = std::nullopt);
-std::string method_result(std::string_view dev, OptEx ex = std::nullopt);
-std::string method_control_request(std::string_view dev, OptEx ex = std::nullopt);
-std::string method_control_response(std::string_view dev, OptEx ex = std::nullopt);
-std::string event_register_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string event_register_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string event_unregister_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string event_unregister_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
-std::string event(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string register_request();
+NCLINK_API std::string register_response(std::string_view cli_uuid);
+NCLINK_API std::string discovery_request(std::string_view ex);
+NCLINK_API std::string discovery_response(std::string_view ex);
+NCLINK_API std::string probe_version(std::string_view dev);
+NCLINK_API std::string probe_version_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string probe_query_request(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string probe_query_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string probe_set_request(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string probe_set_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string query_request(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string query_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string set_request(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string set_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string sample(std::string_view dev, std::string_view channel);
+NCLINK_API std::string dynamic_sample(std::string_view dev, std::string_view ex, std::string_view channel);
+NCLINK_API std::string notify_state(std::string_view tid);
+NCLINK_API std::string sample_register_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string sample_register_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string sample_unregister_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string sample_unregister_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string method_call(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string method_status(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string method_result(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string method_control_request(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string method_control_response(std::string_view dev, OptEx ex = std::nullopt);
+NCLINK_API std::string event_register_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string event_register_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string event_unregister_request(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string event_unregister_response(std::string_view dev, OptEx ex = std::nullopt, Spelling s = Spelling::standard);
+NCLINK_API std::string event(std::string_view dev, OptEx ex = std::nullopt);
 
 /// Every filter an adapter for `dev` subscribes to: Register/Response/{dev},
 /// Probe/Version/Response/{dev}[/+], and each request topic it serves as
 /// `X/Request/{dev}` and `X/Request/{dev}/+` (Register/Unregister requests in
 /// both spellings). Each filter once, in a fixed order.
-std::vector<std::string> adapter_subscriptions(std::string_view dev);
+NCLINK_API std::vector<std::string> adapter_subscriptions(std::string_view dev);
 
 /// Filters an agent subscribes to: Register/Request, Discovery/Request/+,
 /// Probe/Version/+ and Notify/State/+.
-std::vector<std::string> agent_subscriptions();
+NCLINK_API std::vector<std::string> agent_subscriptions();
 
 }  // namespace topics
 }  // namespace nclink

@@ -4,6 +4,7 @@
 // nothing of DTUs.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/result.hpp>
 #include <nclink/topic_filter.hpp>
 
@@ -17,7 +18,7 @@
 
 namespace nclink {
 
-struct Message {
+struct NCLINK_API Message {
     std::string topic;
     std::string payload;
     int qos = 1;
@@ -26,10 +27,10 @@ struct Message {
 
 enum class LinkState { disconnected, connecting, connected };
 
-std::string_view to_string(LinkState state) noexcept;
+NCLINK_API std::string_view to_string(LinkState state) noexcept;
 
 /// What the transport has done so far. Counters only grow.
-struct TransportStats {
+struct NCLINK_API TransportStats {
     std::uint64_t published = 0;         ///< messages handed to the broker connection
     std::uint64_t received = 0;          ///< messages delivered to the message handler
     std::uint64_t dropped = 0;           ///< oldest messages dropped because the offline buffer was full
@@ -56,7 +57,7 @@ using LinkStateHandler = std::function<void(LinkState, std::string_view detail)>
 /// may be called from any thread, concurrently. Handlers must be set before
 /// start(). start()/stop() are called by the owner, once each, not from a
 /// handler.
-class Transport {
+class NCLINK_API Transport {
 public:
     virtual ~Transport() = default;
 
@@ -93,7 +94,7 @@ public:
 };
 
 /// Sizes of the buffer that holds messages while the link is down or busy.
-struct OutboxLimits {
+struct NCLINK_API OutboxLimits {
     std::size_t max_bytes = 8u << 20;   ///< topic + payload bytes kept at most
     std::size_t max_in_flight = 64;     ///< messages handed to the connection and not yet acknowledged
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nclink/data_kind.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/result.hpp>
 
@@ -20,7 +21,7 @@ namespace nclink {
 /// share a lock, writes take it exclusively, and values leave the store only
 /// as copies, so no caller ever sees a value while another thread changes it.
 /// No global state: the adapter owns its store(s).
-class ValueStore {
+class NCLINK_API ValueStore {
 public:
     ValueStore() = default;
     ValueStore(const ValueStore&) = delete;

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <nclink/data_kind.hpp>
+#include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/result.hpp>
 
@@ -29,7 +30,7 @@ namespace nclink {
 
 /// One entry of `indexes`: "5" is {5, 5}, "5-8" is {5, 8}. Inclusive bounds,
 /// first <= last always holds for a parsed range.
-struct IndexRange {
+struct NCLINK_API IndexRange {
     std::size_t first = 0;
     std::size_t last = 0;
 
@@ -44,10 +45,10 @@ struct IndexRange {
 /// ("7", " 7 ") or a range string ("5-8"). Errors: 405 for the wrong JSON type
 /// or a non-numeric string ("abc", 1.5), 412 for a malformed range ("8-5",
 /// "5-", "-1"), 101 for a negative number or one that does not fit size_t.
-Result<IndexRange> parse_index(const Json& entry);
+NCLINK_API Result<IndexRange> parse_index(const Json& entry);
 
 /// Total number of indexes the ranges select (duplicates counted; saturating).
-std::size_t index_count(const std::vector<IndexRange>& ranges) noexcept;
+NCLINK_API std::size_t index_count(const std::vector<IndexRange>& ranges) noexcept;
 
 /// Most elements one request may select (ranges may overlap, so a small
 /// payload could otherwise select billions): beyond it, 404.
@@ -57,7 +58,7 @@ inline constexpr std::size_t max_selected_indexes = std::size_t{1} << 20;
 /// checking every one against `length`: 101 when one is >= length, 404 when
 /// more than max_selected_indexes are selected. Checks before expanding, so
 /// a hostile "0-4000000000" never allocates.
-Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges,
+NCLINK_API Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges,
                                                 std::size_t length);
 
 // ---------------------------------------------------------------- Query --
@@ -70,10 +71,10 @@ enum class QueryOperation {
 };
 
 /// "get_value", "get_keys", ... as on the wire.
-std::string_view to_string(QueryOperation op) noexcept;
+NCLINK_API std::string_view to_string(QueryOperation op) noexcept;
 
 /// The parsed `params` of one Query item.
-struct QueryParams {
+struct NCLINK_API QueryParams {
     QueryOperation operation = QueryOperation::get_value;
     std::vector<std::string> keys;    ///< dict get_value/get_attributes, in request order
     std::vector<IndexRange> indexes;  ///< list get_value/get_attributes, in request order
@@ -86,7 +87,7 @@ struct QueryParams {
 };
 
 /// Parses `params` of one Query item (pass a null Json when absent).
-Result<QueryParams> parse_query(const Json& params, DataKind kind);
+NCLINK_API Result<QueryParams> parse_query(const Json& params, DataKind kind);
 
 /// Runs a query on `current` and returns the response `values` array:
 /// whole item -> [value]; get_value -> one element per key / selected index
@@ -94,10 +95,10 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind);
 /// get_attributes -> "number"/"string"/"boolean"/"array"/"object"/"null" per
 /// selected element. A null `current` (value unknown) answers the whole-item
 /// query with [null] and every element operation with 202.
-Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind kind);
+NCLINK_API Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind kind);
 
 /// parse_query + evaluate.
-Result<Json> evaluate_query(const Json& params, const Json& current, DataKind kind);
+NCLINK_API Result<Json> evaluate_query(const Json& params, const Json& current, DataKind kind);
 
 // ------------------------------------------------------------------ Set --
 
@@ -108,7 +109,7 @@ enum class SetOperation {
 };
 
 /// "set_value", "add", "delete" as on the wire.
-std::string_view to_string(SetOperation op) noexcept;
+NCLINK_API std::string_view to_string(SetOperation op) noexcept;
 
 /// The parsed `params` of one Set item.
 ///
@@ -130,7 +131,7 @@ std::string_view to_string(SetOperation op) noexcept;
 ///   integer element, offset + length: the bit field of `length` bits at
 ///     `offset` gets the integer value (must fit, else 101).
 /// An omitted offset with a length means offset 0.
-struct SetParams {
+struct NCLINK_API SetParams {
     SetOperation operation = SetOperation::set_value;
     std::vector<std::string> keys;
     std::vector<IndexRange> indexes;
@@ -148,26 +149,26 @@ struct SetParams {
 
 /// Parses `params` of one Set item (pass a null Json when absent, which is
 /// 102: there is no value to write).
-Result<SetParams> parse_set(const Json& params, DataKind kind);
+NCLINK_API Result<SetParams> parse_set(const Json& params, DataKind kind);
 
 /// Applies a set to `current`. Mutates only on success: a request touching
 /// several keys/indexes either changes all of them or none. Checks `setable`
 /// first (301). Type rule: a written value must have the JSON type of the
 /// element it replaces (numbers of any kind are one type) unless that element
 /// is null; a whole dict/list value must stay an object/array (405).
-Result<void> apply(const SetParams& request, Json& current, DataKind kind, bool setable);
+NCLINK_API Result<void> apply(const SetParams& request, Json& current, DataKind kind, bool setable);
 
 /// `setable` check (301), then parse_set + apply.
-Result<void> apply_set(const Json& params, Json& current, DataKind kind, bool setable);
+NCLINK_API Result<void> apply_set(const Json& params, Json& current, DataKind kind, bool setable);
 
 // -------------------------------------------------------------- helpers --
 
 /// JSON type name used by get_attributes: "number", "string", "boolean",
 /// "array", "object" or "null".
-std::string_view json_type_name(const Json& value) noexcept;
+NCLINK_API std::string_view json_type_name(const Json& value) noexcept;
 
 /// True when `value` may replace `existing` under the set type rule above.
-bool same_value_type(const Json& existing, const Json& value) noexcept;
+NCLINK_API bool same_value_type(const Json& existing, const Json& value) noexcept;
 
 }  // namespace nclink
 

@@ -1,7 +1,9 @@
 // The blocking form of an asynchronous client call: start it, wait for its
-// completion. Shared by the per-feature client APIs (events, sampling,
-// methods), whose blocking calls are this around their async ones.
+// completion. Every blocking call of the client (core requests, events,
+// sampling, methods) is this around its asynchronous form.
 #pragma once
+
+#include "client/client_impl.hpp"
 
 #include <nclink/client.hpp>
 #include <nclink/result.hpp>
@@ -11,14 +13,11 @@
 
 namespace nclink::client_detail {
 
-/// True on the client's dispatch thread (implemented in client.cpp).
-bool on_dispatch_thread(const Client::Impl& impl);
-
 /// Runs `start(done)` and waits until `done(Result<T>)` was called. Refused on
 /// the dispatch thread: the completion would come from the thread that waits.
 template <class T, class Start>
 Result<T> wait_for(const Client::Impl& impl, Start&& start) {
-    if (on_dispatch_thread(impl)) return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
+    if (impl.dispatcher.on_dispatch_thread()) return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
     auto promise = std::make_shared<std::promise<Result<T>>>();
     auto future = promise->get_future();
     start([promise](Result<T> result) { promise->set_value(std::move(result)); });

@@ -1,5 +1,6 @@
 // Client: event registrations and the delivery of Event DTUs (docs/events.md).
 #include "client/blocking_call.hpp"
+#include "client/client_impl.hpp"
 #include "client/client_events.hpp"
 
 #include "client/responders.hpp"
@@ -132,8 +133,8 @@ void Client::register_event_async(const std::string& dev, EventRegistration regi
     for (auto& c : trigger) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const bool once = trigger == "once";  // the adapter releases it after its first event
     auto responder = std::make_shared<client_detail::RegisterEventResponder>(
-        client_detail::event_routes(*impl_), dev, once, std::move(on_event), std::move(done));
-    client_detail::send_event_register(*impl_, topics::event_register_request(dev, ex_cid()), std::move(request),
+        impl_->event_routes, dev, once, std::move(on_event), std::move(done));
+    impl_->send(TopicKind::event_register_response, topics::event_register_request(dev, ex_cid()), std::move(request),
                                        std::move(responder), options);
 }
 
@@ -147,11 +148,11 @@ Result<std::string> Client::register_event(const std::string& dev, EventRegistra
 void Client::unregister_event_async(const std::string& dev, const std::string& event_id, Completion<void> done,
                                     RequestOptions options) {
     // No callback after this call, whatever the adapter answers.
-    client_detail::event_routes(*impl_).remove(dev, event_id);
+    impl_->event_routes.remove(dev, event_id);
     EventUnregisterRequest request;
     request.guid = dev;
     request.id = event_id;
-    client_detail::send_event_unregister(*impl_, topics::event_unregister_request(dev, ex_cid()), std::move(request),
+    impl_->send(TopicKind::event_unregister_response, topics::event_unregister_request(dev, ex_cid()), std::move(request),
                                          std::make_shared<client_detail::UnregisterEventResponder>(std::move(done)),
                                          options);
 }
@@ -161,6 +162,6 @@ Result<void> Client::unregister_event(const std::string& dev, const std::string&
         *impl_, [&](auto done) { unregister_event_async(dev, event_id, std::move(done), options); });
 }
 
-std::size_t Client::event_registrations() const { return client_detail::event_routes(*impl_).size(); }
+std::size_t Client::event_registrations() const { return impl_->event_routes.size(); }
 
 }  // namespace nclink

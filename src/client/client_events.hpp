@@ -1,7 +1,5 @@
 // Events on the client side (8.2.27-8.2.31): which callback gets the Event
-// DTUs of which registration, what client.cpp routes to it, and the few core
-// services client_events.cpp borrows from client.cpp (which alone sees
-// Client::Impl).
+// DTUs of which registration (the client's engine routes Event DTUs here).
 #pragma once
 
 #include "client/pending_requests.hpp"
@@ -40,16 +38,5 @@ private:
     mutable std::mutex mutex_;
     std::map<std::pair<std::string, std::string>, Route> routes_;
 };
-
-// ---- implemented in client.cpp, called by client_events.cpp (any thread)
-
-/// Publishes Register/Event (answered on Register/Event/Response) or
-/// Unregister/Event through the client core, which sets @id and privateInfo
-/// and tracks the answer.
-void send_event_register(Client::Impl& impl, std::string topic, EventRegisterRequest request,
-                         std::shared_ptr<Responder> responder, const RequestOptions& options);
-void send_event_unregister(Client::Impl& impl, std::string topic, EventUnregisterRequest request,
-                           std::shared_ptr<Responder> responder, const RequestOptions& options);
-EventRoutes& event_routes(Client::Impl& impl);
 
 }  // namespace nclink::client_detail

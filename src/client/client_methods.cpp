@@ -3,6 +3,7 @@
 // of it reaches on_status and restarts its timeout, so a method running for
 // minutes keeps its call alive while the adapter reports it.
 #include "client/blocking_call.hpp"
+#include "client/client_impl.hpp"
 #include "client/client_methods.hpp"
 
 #include "client/responders.hpp"
@@ -132,10 +133,10 @@ void Client::call_method_async(const std::string& dev, const std::string& method
     request.guid = dev;
     request.id = method_id;
     if (!args.is_null()) request.args = std::move(args);
-    const auto timeout = options.timeout.value_or(client_detail::default_timeout(*impl_));
+    const auto timeout = options.timeout.value_or(impl_->options.default_timeout);
     auto responder = std::make_shared<client_detail::MethodCallResponder>(
-        std::move(on_status), std::move(done), timeout, client_detail::pending_requests(*impl_));
-    client_detail::send_method_call(*impl_, topics::method_call(dev, ex_cid()), std::move(request),
+        std::move(on_status), std::move(done), timeout, impl_->pending);
+    impl_->send(TopicKind::method_result, topics::method_call(dev, ex_cid()), std::move(request),
                                     std::move(responder), options);
 }
 
@@ -152,7 +153,7 @@ void Client::control_method_async(const std::string& dev, const std::string& met
     request.guid = dev;
     request.id = method_id;
     request.action = std::string(method_action_name(action));
-    client_detail::send_method_control(*impl_, topics::method_control_request(dev, ex_cid()), std::move(request),
+    impl_->send(TopicKind::method_control_response, topics::method_control_request(dev, ex_cid()), std::move(request),
                                        std::make_shared<client_detail::ControlResponder>(std::move(done)), options);
 }
 

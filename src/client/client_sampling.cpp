@@ -4,7 +4,7 @@
 // channel the adapter allocated (known once the response is in; response and
 // data arrive in that order on the dispatch thread).
 #include "client/blocking_call.hpp"
-#include "client/client_sampling.hpp"
+#include "client/client_impl.hpp"
 
 #include "client/responders.hpp"      // error_from_status
 
@@ -94,7 +94,7 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
         if (!channel->empty() && dtu.id == *channel && handler) handler(dtu);
     };
     auto subscribed =
-        client_detail::subscribe_sample_filter(*impl_, topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
+        impl_->subscribe(topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
     if (!subscribed) {
         if (done) done(std::move(subscribed).error());
         return;
@@ -118,7 +118,7 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
             *channel = id.value();
             if (done) done(SamplingChannel{dev, std::move(id).value(), subscription});
         });
-    client_detail::send_sample_register(*impl_, topics::sample_register_request(dev, ex_cid()), std::move(request),
+    impl_->send(TopicKind::sample_register_response, topics::sample_register_request(dev, ex_cid()), std::move(request),
                                         std::move(responder), options);
 }
 
@@ -141,7 +141,7 @@ void Client::unregister_sampling_async(const SamplingChannel& channel, Completio
     SampleUnregisterRequest request;
     request.guid = channel.dev;
     request.id = channel.id;
-    client_detail::send_sample_unregister(*impl_, topics::sample_unregister_request(channel.dev, ex_cid()),
+    impl_->send(TopicKind::sample_unregister_response, topics::sample_unregister_request(channel.dev, ex_cid()),
                                           std::move(request),
                                           std::make_shared<client_detail::UnregisterSamplingResponder>(std::move(done)),
                                           options);

@@ -24,7 +24,7 @@ struct LoopbackClient {
     virtual void on_message(const Message& message) = 0;
 };
 
-struct LoopbackBroker::Impl {
+struct NCLINK_LOCAL LoopbackBroker::Impl {
     struct Deliver {
         std::string client;
         Message message;

@@ -26,5 +26,7 @@ int run_validate(const Args& args);
 extern const char* const validate_usage;
 int run_config(const Args& args);  // cmd_config.cpp
 extern const char* const config_usage;
+int run_map(const Args& args);  // cmd_map.cpp
+extern const char* const map_usage;
 
 }  // namespace nclink::cli

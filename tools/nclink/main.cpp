@@ -25,6 +25,8 @@ const Command kCommands[] = {
      &nclink::cli::run_validate, nclink::cli::validate_usage},
     {"config", "check a configuration file (adapter, agent) or print its JSON Schema", &nclink::cli::run_config,
      nclink::cli::config_usage},
+    {"map", "write a model as MTConnect Devices or OPC UA NodeSet2 XML (GB/T 39561.3)",
+     &nclink::cli::run_map, nclink::cli::map_usage},
     {"probe", "print a device's model (Probe/Query) as a tree", &nclink::cli::run_probe, nclink::cli::probe_usage},
     {"probe-set", "send a model file to one or many devices (Probe/Set), with progress", &nclink::cli::run_probe_set,
      nclink::cli::probe_set_usage},

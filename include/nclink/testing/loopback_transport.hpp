@@ -4,6 +4,7 @@
 // fault injection: take the broker down, drop one client.
 #pragma once
 
+#include <nclink/export.hpp>
 #include <nclink/log.hpp>
 #include <nclink/transport.hpp>
 
@@ -21,7 +22,7 @@ namespace nclink {
 /// broker's one delivery thread, in order.
 /// Thread-safety: every member function may be called from any thread except
 /// from inside a transport handler where noted.
-class LoopbackBroker {
+class NCLINK_API LoopbackBroker {
 public:
     LoopbackBroker();
     ~LoopbackBroker();
@@ -51,13 +52,13 @@ private:
     std::shared_ptr<Impl> impl_;
 };
 
-struct LoopbackOptions {
+struct NCLINK_API LoopbackOptions {
     std::string client_id;
     std::optional<Message> last_will;
     OutboxLimits outbox;
 };
 
 /// A transport attached to `broker` (which must outlive it).
-std::unique_ptr<Transport> make_loopback_transport(LoopbackBroker& broker, LoopbackOptions options, Logger logger = {});
+NCLINK_API std::unique_ptr<Transport> make_loopback_transport(LoopbackBroker& broker, LoopbackOptions options, Logger logger = {});
 
 }  // namespace nclink

@@ -1,0 +1,133 @@
+// The adapter's insides, shared by the files that implement it, one
+// responsibility each:
+//   adapter.cpp           the public facade and the lifecycle (start/stop,
+//                         model load, driver open, transport, features)
+//   adapter_link.cpp      the link: online state, registration, Probe/Version,
+//                         the seed-004 state machine, application liveness
+//   adapter_requests.cpp  request intake: filters (retain, dedup), routing to
+//                         a worker or the driver's worker, answers
+//   adapter_probe_set.cpp Probe/Set: a new model validated, persisted, swapped
+//   adapter_stats.cpp     statistics
+// Nothing outside src/adapter/ includes this.
+#pragma once
+
+#include "adapter/application_tracker.hpp"
+#include "adapter/dedup_window.hpp"
+#include "adapter/model_host.hpp"
+#include "adapter/registration.hpp"
+#include "core/deadline_watchdog.hpp"
+#include "core/executor.hpp"
+#include "driver/driver_runner.hpp"
+#include "feature/feature.hpp"
+
+#include <nclink/adapter.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/topics.hpp>
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink {
+
+struct NCLINK_LOCAL Adapter::Impl {
+    Impl(AdapterConfig c, std::shared_ptr<Driver> d, Logger l)
+        : config(std::move(c)),
+          logger(std::move(l)),
+          driver(std::move(d)),
+          host(config.persistence_dir, logger),
+          registration(config.register_timeout, config.register_retry_max) {}
+
+    // Lets a driver-affine task that returns from a stuck driver after the
+    // adapter is gone (its worker was abandoned at stop) see that, instead of
+    // touching a destroyed adapter.
+    struct Lifetime {
+        std::mutex mutex;
+        bool alive = true;
+    };
+    struct Affine {
+        detail::AnswerClaim* claim = nullptr;  ///< null: not a driver-affine task
+        Lifetime* life = nullptr;
+    };
+
+    // ---- configuration and collaborators
+    const Adapter* self = nullptr;  // the owner, for its stats() (the statistics data item)
+    AdapterConfig config;  // as started: never written after construction
+    Logger logger;
+    std::mutex reload_mutex;
+    LogLevel reloaded_level = config.log_level;  // under reload_mutex: the level the last reload set
+    std::shared_ptr<Driver> driver;
+    std::unique_ptr<Transport> transport;
+    std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
+    detail::ModelHost host;
+    std::unique_ptr<detail::DriverRunner> runner;
+    std::unique_ptr<detail::Executor> executor;
+    std::unique_ptr<detail::DedupWindow> dedup;
+    std::unique_ptr<detail::DeadlineWatchdog> watchdog;
+    std::shared_ptr<Lifetime> lifetime = std::make_shared<Lifetime>();
+    std::string dev;
+    std::string msg_id_prefix;
+
+    // ---- features (sampling, events, methods): see feature/feature.hpp
+    detail::SampleTap sample_tap;
+    std::unique_ptr<detail::FeatureHost> feature_host;
+    std::vector<std::unique_ptr<detail::Feature>> features;
+    std::atomic<bool> features_ready{false};  // set once `features` is complete and started
+    std::unique_ptr<detail::ApplicationTracker> applications;
+
+    // ---- state (mutex)
+    mutable std::mutex mutex;
+    AdapterState state = AdapterState::initial;
+    std::vector<ModelListener> listeners;
+    bool started = false;
+    bool stopped = false;
+
+    // ---- housekeeping thread: registration retries, application leases
+    detail::Registration registration;
+    std::mutex housekeeping_mutex;
+    std::condition_variable housekeeping_wake;
+    bool housekeeping_stopping = false;
+    std::thread housekeeping;
+
+    std::atomic<std::uint64_t> requests{0}, ignored_retained{0}, ignored_duplicates{0}, rejected{0}, msg_counter{0},
+        affine_timeouts{0};
+
+    // ---- lifecycle (adapter.cpp), owner thread
+    Result<void> start();
+    void stop(std::chrono::milliseconds flush_timeout);
+    Result<LoadResult> load_model();
+    MqttOptions mqtt_options() const;
+    Message state_message(const char* state_text) const;
+    Result<void> make_features();
+
+    // ---- the link (adapter_link.cpp)
+    void on_link(LinkState link, std::string_view detail);  ///< transport thread; never blocks
+    void fire(AdapterEvent event);
+    std::string next_msg_id();
+    void send_registration();
+    void publish_version();
+    void housekeep();  ///< the housekeeping thread's loop
+    void on_register_response(const std::string& payload);
+    void application_gone(const std::string& ex, std::string_view why);
+    void on_notify_state(const ParsedTopic& topic, const std::string& payload);
+
+    // ---- requests (adapter_requests.cpp)
+    void on_message(const Message& message);  ///< transport thread; never blocks
+    bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload);
+    void handle(const ParsedTopic& topic, const std::string& payload);
+    void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
+                const Error* driver_expired = nullptr);
+    template <class Request, class Handler>
+    std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
+    void respond(const ParsedTopic& request_topic, const Json& reply);
+
+    // ---- Probe/Set (adapter_probe_set.cpp)
+    ProbeSetResponse probe_set(const ProbeSetRequest& request);
+};
+
+}  // namespace nclink

@@ -1,0 +1,49 @@
+#include "adapter/registration.hpp"
+
+#include <algorithm>
+
+namespace nclink::detail {
+
+void Registration::sent(std::string msg_id, Clock::Steady now) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_ = true;
+    retry_armed_ = false;  // a reconnect re-sent it
+    msg_id_ = std::move(msg_id);
+    deadline_ = now + timeout_;
+}
+
+Registration::Answer Registration::answered(const RegisterResponse& response) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const bool ours = response.msg_id && response.msg_id->is_string() && response.msg_id->get<std::string>() == msg_id_;
+    if (!ours && response.msg_id) return Answer::ignored;  // an answer to an older request
+    pending_ = false;
+    retry_armed_ = false;
+    backoff_ = std::chrono::milliseconds(0);
+    registered_ = response.status.ok;
+    return registered_ ? Answer::accepted : Answer::refused;
+}
+
+Registration::Tick Registration::tick(Clock::Steady now, bool connected) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Tick tick;
+    if (pending_ && now >= deadline_) {
+        backoff_ = std::min(retry_max_, backoff_.count() == 0 ? timeout_ : backoff_ * 2);
+        tick.gave_up = backoff_;
+        tick.first_give_up = backoff_ == timeout_;
+        pending_ = false;
+        retry_armed_ = true;
+        retry_at_ = now + backoff_;
+    }
+    if (retry_armed_ && now >= retry_at_) {
+        retry_armed_ = false;
+        tick.resend = connected;  // while the link is down, the next connect registers anyway
+    }
+    return tick;
+}
+
+bool Registration::registered() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return registered_;
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,84 @@
+// Requests to adapters seen by the agent: refused with 301 by the ACL,
+// answered DEV_UNREACHABLE (8.3.4) for an offline adapter, answered from the
+// cached model for Probe/Query, and 203 when an adapter stays silent.
+#include "agent/agent_impl.hpp"
+
+namespace nclink {
+
+using namespace agent_detail;
+
+void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& out) {
+    if (m.retained) {
+        ++counters.retained;
+        return;  // WIRE.md: never act on a replayed request
+    }
+    if (topic.ex && *topic.ex == config.agent_id) return;  // our own model fetch
+    if (topic.ex) alive(*topic.ex, Kind::application, out);
+    const std::string& dev = topic.dev;
+    const std::string ex = topic.ex.value_or("");
+    const MessageId msg_id = peek_message_id(m.payload);
+    if (!allowed(config.access, ex, dev, *required_right(topic.kind))) {
+        ++counters.denied;
+        log.info("agent: {} from '{}' to {} denied (301)", to_string(topic.kind), ex, dev);
+        if (auto answer = make_error_reply(topic.kind, msg_id, dev,
+                                           make_error(ErrorCode::permission_denied, "access control")))
+            reply_all(out, topic, marked(*answer));
+        return;
+    }
+    if (presence.status(dev) == Status::offline) {
+        const CachedModel* cached = models.find(dev);
+        if (topic.kind == TopicKind::probe_query_request && cached && cached->model) {
+            ProbeQueryResponse response;
+            response.msg_id = msg_id;
+            response.guid = dev;
+            response.probe = *cached->model;
+            response.private_info = Json{{"cached", true},
+                                         {"version", cached->model_version},
+                                         {"fetchedAt", std::to_string(cached->fetched_at_s)}};
+            ++counters.cached;
+            reply_all(out, topic, marked(to_json(response)));
+            return;
+        }
+        answer_unreachable(topic.kind, m.topic, dev, topic.ex, msg_id, out);
+        return;
+    }
+    Forwarded request;
+    request.kind = topic.kind;
+    request.dev = dev;
+    request.ex = topic.ex;
+    request.msg_id = msg_id;
+    request.topic = m.topic;
+    request.deadline = clock->now() + config.request_timeout;
+    pending.add(std::move(request));
+}
+
+void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& out) {
+    if (m.retained || from_agent(m.payload)) return;  // an agent's answer says nothing about the adapter
+    const std::string id = id_text(peek_message_id(m.payload));
+    if (topic.kind == TopicKind::probe_query_response) {
+        // Our fetch's answer, or any application's: either refreshes the cache.
+        auto response = decode<ProbeQueryResponse>(m.payload);
+        if (response && response->status.ok && response->probe && response->probe->is_object()) {
+            if (models.store(topic.dev, std::move(*response->probe), wall_s())) {
+                ++counters.fetched;
+                models_dirty.insert(topic.dev);
+                log.info("agent: cached the model of {} (version {})", topic.dev, models.find(topic.dev)->version);
+            }
+        } else if (topic.ex && *topic.ex == config.agent_id && models.is_fetch(topic.dev, id)) {
+            log.warn("agent: fetching the model of {} failed", topic.dev);
+            models.fetching(topic.dev, "", clock->now());
+        }
+    }
+    alive(topic.dev, Kind::adapter, out);
+    if (!id.empty()) (void)pending.answered(topic.kind, topic.dev, topic.ex, id);
+}
+
+bool Agent::Impl::from_agent(const std::string& payload) {
+    if (payload.find("\"agent\"") == std::string::npos) return false;  // cheap filter: this runs per response
+    const Json dtu = Json::parse(payload, nullptr, false);
+    if (!dtu.is_object()) return false;
+    const auto info = dtu.find("privateInfo");
+    return info != dtu.end() && info->is_object() && info->contains("agent");
+}
+
+}  // namespace nclink

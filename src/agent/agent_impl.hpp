@@ -1,0 +1,194 @@
+// The agent's insides, shared by the files that implement it, one
+// responsibility each:
+//   agent.cpp              the public facade and the lifecycle
+//   agent_messages.cpp     every DTU in: routing, replies, presence notes
+//   agent_terminals.cpp    registration (8.2.1/8.2.2), discovery (8.2.3/8.2.4),
+//                          Probe/Version and the model fetch (8.2.5-8.2.7),
+//                          Notify/State (8.2.16)
+//   agent_forwarding.cpp   requests to adapters: 301, DEV_UNREACHABLE (8.3.4),
+//                          the cached probe, 203 for a silent adapter
+//   agent_housekeeping.cpp timeouts, liveness and the state files
+//
+// Every DTU is handled on the transport's callback thread under one mutex
+// (bookkeeping only, no I/O); what it decides to publish is collected and
+// published after the lock is released. The housekeeping thread runs the
+// timeouts and liveness on the injected clock and writes the state files.
+// Nothing outside src/agent/ includes this.
+#pragma once
+
+#include "agent/access.hpp"
+#include "agent/model_cache.hpp"
+#include "agent/pending_forwards.hpp"
+#include "agent/presence.hpp"
+#include "agent/registrar.hpp"
+#include "agent/state_store.hpp"
+#include "agent/terminal_id.hpp"
+
+#include <nclink/agent.hpp>
+#include <nclink/dtu.hpp>
+#include <nclink/topics.hpp>
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink {
+
+namespace agent_detail {
+
+/// A terminal id usable as one topic level (no wildcards).
+bool publishable_level(std::string_view level);
+/// True for the response DTUs the agent watches to see adapters answer.
+bool is_response(TopicKind kind);
+
+}  // namespace agent_detail
+
+struct NCLINK_LOCAL Agent::Impl {
+    using Kind = agent_detail::Kind;
+    using ModelCache = agent_detail::ModelCache;
+    using PendingForwards = agent_detail::PendingForwards;
+    using Presence = agent_detail::Presence;
+    using Registrar = agent_detail::Registrar;
+    using StateStore = agent_detail::StateStore;
+    using Status = agent_detail::Status;
+    struct Counters {
+        std::atomic<std::uint64_t> registrations{0}, refused{0}, discoveries{0}, versions{0}, fetched{0}, cached{0},
+            unreachable{0}, timeouts{0}, denied{0}, notifications{0}, malformed{0}, retained{0};
+    };
+    using Out = std::vector<Message>;
+
+    AgentConfig config;
+    Logger log;
+    std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
+    std::unique_ptr<Transport> transport;
+    StateStore store;
+    Counters counters;
+
+    mutable std::mutex mutex;  // everything below up to the housekeeping part
+    Presence presence;
+    std::unique_ptr<Registrar> registrar;
+    ModelCache models;
+    PendingForwards pending;
+    std::map<std::string, int> expected_echo;  // "tid\nstate" -> our own Notify/State still to come back
+    bool loaded = false;  // the state files were read: only then may they be written
+    bool registry_dirty = false;
+    std::set<std::string> models_dirty;
+    std::uint64_t msg_counter = 0;
+
+    std::mutex lifecycle;
+    bool started = false;
+    bool stopped = false;
+    std::mutex hk_mutex;
+    std::condition_variable hk_wake;
+    bool hk_stopping = false;
+    std::thread housekeeping;
+
+    Impl(AgentConfig c, Logger l)
+        : config(std::move(c)),
+          log(std::move(l)),
+          store(config.state_dir),
+          presence(config.adapter_liveness, config.application_liveness) {}
+
+    std::int64_t wall_s() const { return clock->wall_ms() / 1000; }
+
+    // ------------------------------------------------------------ lifecycle
+
+    Result<void> start();
+
+    void stop(std::chrono::milliseconds flush_timeout);
+
+    // Thread: the owner's (nclink-agent: its signal loop). Applies under the
+    // lock every DTU handler takes, so a DTU sees the old or the new rules.
+    Result<ConfigReload> reload(const AgentConfig& next);
+
+    MqttOptions mqtt_options() const;
+
+    // Requests the agent answers: with several agents, exactly one of them
+    // gets each (MQTT shared subscription).
+    std::vector<std::string> answer_filters() const;
+
+    // What every agent instance must see to keep its own picture complete.
+    std::vector<std::string> observe_filters() const;
+
+    // ------------------------------------------------------------ messages
+
+    // Thread: transport callback.
+    void on_message(const Message& m);
+
+    void publish(Out& out);
+
+    void dispatch(const ParsedTopic& topic, const Message& m, Out& out);
+
+    void reply(Out& out, std::string topic, const Json& payload);
+
+    // Answers the agent gives in an adapter's place carry privateInfo.agent,
+    // so every agent instance can tell them from the adapter's own.
+    Json marked(Json answer) const;
+
+    void reply_all(Out& out, const ParsedTopic& request, const Json& payload);
+
+    void announce_state(const std::string& tid, Status status, Out& out);
+
+    // A DTU from `tid`: a sign of life (3.22/3.23).
+    void alive(const std::string& tid, Kind kind, Out& out);
+
+    // ---- 8.2.1 / 8.2.2 ----
+    void on_register(const Message& m, Out& out);
+
+    void on_register_response(const ParsedTopic& topic, const Message& m);
+
+    // ---- 8.2.3 / 8.2.4 ----
+    void on_discovery(const ParsedTopic& topic, const Message& m, Out& out);
+
+    // ---- 8.2.5 / 8.2.6 and the model fetch of 8.2.7 ----
+    void on_version(const ParsedTopic& topic, const Message& m, Out& out);
+
+    void fetch_model(const std::string& dev, Out& out);
+
+    void on_version_response(const ParsedTopic& topic, const Message& m, Out&);
+
+    // ---- 8.2.16 ----
+    void on_notify(const ParsedTopic& topic, const Message& m, Out& out);
+
+    // 8.3.5: the adapter went away while requests to it were waiting.
+    void unreachable_for(const std::string& dev, Out& out);
+
+    void answer_unreachable(TopicKind kind, const std::string& request_topic, const std::string& dev,
+                            const std::optional<std::string>& ex, const MessageId& msg_id, Out& out) {
+        DevUnreachable dtu;
+        dtu.msg_id = msg_id;
+        dtu.dev_uuid = dev;
+        dtu.cli_uuid = ex.value_or("");
+        ++counters.unreachable;
+        log.debug("agent: {} to {} answered DEV_UNREACHABLE", to_string(kind), dev);
+        const Json answer = marked(to_json(dtu));
+        for (auto& t : response_topics(request_topic, true)) reply(out, std::move(t), answer);
+    }
+
+    // ---- requests to adapters: 301, DEV_UNREACHABLE, cached probe, 203 ----
+    void on_request(const ParsedTopic& topic, const Message& m, Out& out);
+
+    void on_response(const ParsedTopic& topic, const Message& m, Out& out);
+
+    static bool from_agent(const std::string& payload);
+
+    // ------------------------------------------------------------ housekeeping
+
+    // Thread: housekeeping. Polls the injected clock every tick.
+    void housekeep();
+
+    void tick(Out& out);
+
+    // Writes what changed; the text is built under the lock, written outside it.
+    void persist(bool all);
+};
+
+
+}  // namespace nclink

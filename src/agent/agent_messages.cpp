@@ -1,0 +1,112 @@
+// Every DTU the agent receives: routed to its handler under the agent's
+// mutex, the replies it produces published after the lock is released.
+#include "agent/agent_impl.hpp"
+
+namespace nclink {
+
+namespace agent_detail {
+
+bool publishable_level(std::string_view level) {
+    if (level.empty()) return false;
+    for (char c : level)
+        if (c == '+' || c == '#' || c == '\0') return false;
+    return true;
+}
+
+bool is_response(TopicKind kind) {
+    switch (kind) {
+        case TopicKind::probe_query_response:
+        case TopicKind::probe_set_response:
+        case TopicKind::query_response:
+        case TopicKind::set_response:
+        case TopicKind::sample_register_response:
+        case TopicKind::sample_unregister_response:
+        case TopicKind::method_status:
+        case TopicKind::method_result:
+        case TopicKind::method_control_response:
+        case TopicKind::event_register_response:
+        case TopicKind::event_unregister_response: return true;
+        default: return false;
+    }
+}
+
+}  // namespace agent_detail
+
+using namespace agent_detail;
+
+// Thread: transport callback.
+void Agent::Impl::on_message(const Message& m) {
+    const auto parsed = parse_topic(m.topic);
+    if (!parsed) return;  // not NC-Link
+    Out out;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        try {
+            dispatch(*parsed, m, out);
+        } catch (const std::exception& e) {  // a bug must not kill the callback thread
+            log.error("agent: handling {} failed: {}", m.topic, e.what());
+        }
+    }
+    publish(out);
+}
+
+void Agent::Impl::publish(Out& out) {
+    for (auto& message : out)
+        if (auto r = transport->publish(std::move(message)); !r)
+            log.warn("agent: publish failed: {}", r.error().describe());
+}
+
+void Agent::Impl::dispatch(const ParsedTopic& topic, const Message& m, Out& out) {
+    switch (topic.kind) {
+        case TopicKind::register_request: return on_register(m, out);
+        case TopicKind::register_response: return on_register_response(topic, m);
+        case TopicKind::discovery_request: return on_discovery(topic, m, out);
+        case TopicKind::probe_version: return on_version(topic, m, out);
+        case TopicKind::probe_version_response: return on_version_response(topic, m, out);
+        case TopicKind::notify_state: return on_notify(topic, m, out);
+        case TopicKind::sample:
+        case TopicKind::dynamic_sample:
+        case TopicKind::event: return alive(topic.dev, Kind::adapter, out);
+        default: break;
+    }
+    if (required_right(topic.kind)) return on_request(topic, m, out);
+    if (is_response(topic.kind)) return on_response(topic, m, out);
+}
+
+void Agent::Impl::reply(Out& out, std::string topic, const Json& payload) {
+    out.push_back(Message{std::move(topic), payload.dump(-1, ' ', false, Json::error_handler_t::replace), 1, false});
+}
+
+// Answers the agent gives in an adapter's place carry privateInfo.agent,
+// so every agent instance can tell them from the adapter's own.
+Json Agent::Impl::marked(Json answer) const {
+    if (!answer.contains("privateInfo") || !answer["privateInfo"].is_object()) answer["privateInfo"] = Json::object();
+    answer["privateInfo"]["agent"] = config.agent_id;
+    return answer;
+}
+
+void Agent::Impl::reply_all(Out& out, const ParsedTopic& request, const Json& payload) {
+    for (auto& t : response_topics(request, true)) reply(out, std::move(t), payload);
+}
+
+void Agent::Impl::announce_state(const std::string& tid, Status status, Out& out) {
+    NotifyState notify;
+    notify.tid = tid;
+    notify.state = to_wire(status);
+    ++expected_echo[tid + "\n" + notify.state];
+    ++counters.notifications;
+    out.push_back(Message{topics::notify_state(tid), encode(notify), 1, true});
+}
+
+// A DTU from `tid`: a sign of life (3.22/3.23).
+void Agent::Impl::alive(const std::string& tid, Kind kind, Out& out) {
+    if (tid.empty() || tid == config.agent_id) return;
+    presence.set_kind(tid, kind);
+    if (presence.saw_dtu(tid, clock->now(), wall_s())) {
+        log.info("agent: {} {} is online (it sent a DTU)", to_string(presence.kind(tid)), tid);
+        announce_state(tid, Status::online, out);
+        registry_dirty = true;
+    }
+}
+
+}  // namespace nclink

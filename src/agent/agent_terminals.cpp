@@ -1,0 +1,162 @@
+// The agent's terminals: registration (8.2.1/8.2.2), discovery (8.2.3/
+// 8.2.4), Probe/Version and the model fetch (8.2.5-8.2.7), Notify/State
+// (8.2.16).
+#include "agent/agent_impl.hpp"
+
+namespace nclink {
+
+using namespace agent_detail;
+
+void Agent::Impl::on_register(const Message& m, Out& out) {
+    if (m.retained) {
+        ++counters.retained;
+        return;
+    }
+    auto request = decode<RegisterRequest>(m.payload);
+    if (!request) {
+        ++counters.malformed;
+        ++counters.refused;
+        // Answerable only when a usable cli_uuid can be picked out.
+        const Json raw = Json::parse(m.payload, nullptr, false);
+        if (raw.is_object() && raw.contains("cli_uuid") && raw["cli_uuid"].is_string()) {
+            const std::string cli = raw["cli_uuid"].get<std::string>();
+            if (publishable_level(cli))
+                if (auto answer = make_error_reply(TopicKind::register_request, peek_message_id(m.payload), cli,
+                                                   request.error()))
+                    reply(out, topics::register_response(cli), *answer);
+        }
+        log.warn("agent: malformed Register/Request: {}", request.error().describe());
+        return;
+    }
+    const std::string& cli = request->cli_uuid;
+    if (registrar->valid_id(cli)) {
+        presence.set_kind(cli, registrar->listed_kind(cli));
+        alive(cli, Kind::unknown, out);  // before deciding: the registration belongs to this online period
+    }
+    const auto decision = registrar->decide(*request, presence, wall_s());
+    RegisterResponse response;
+    response.msg_id = request->msg_id;
+    response.cli_uuid = cli;
+    response.status = decision.status;
+    if (decision.status.ok) {
+        ++counters.registrations;
+        registry_dirty = true;
+        log.info("agent: registered {} {}", to_string(presence.kind(cli)), cli);
+    } else {
+        ++counters.refused;
+        log.warn("agent: registration of '{}' refused ({} {}): {}", cli, response.status.error.value_or(0),
+                 response.status.reason.value_or(""), decision.why);
+    }
+    if (!publishable_level(cli)) return;  // no topic to answer on (the id has a wildcard or is empty)
+    reply(out, topics::register_response(cli), to_json(response));
+}
+
+void Agent::Impl::on_register_response(const ParsedTopic& topic, const Message& m) {
+    auto response = decode<RegisterResponse>(m.payload);
+    if (!response || !response->status.ok || response->cli_uuid != topic.dev) return;
+    if (!registrar->registered(topic.dev)) registry_dirty = true;
+    registrar->record(topic.dev, presence.kind(topic.dev), wall_s(), presence.online_periods(topic.dev));
+}
+
+void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& out) {
+    if (m.retained) {
+        ++counters.retained;
+        return;
+    }
+    const std::string ex = topic.ex.value_or("");
+    alive(ex, Kind::application, out);
+    auto request = decode<DiscoveryRequest>(m.payload);
+    if (!request) {
+        ++counters.malformed;
+        if (auto answer = make_error_reply(TopicKind::discovery_request, peek_message_id(m.payload), ex,
+                                           request.error()))
+            reply(out, topics::discovery_response(ex), *answer);
+        return;
+    }
+    DiscoveryResponse response;
+    response.msg_id = request->msg_id;
+    response.guid = ex;
+    std::vector<DeviceListEntry> list;
+    for (const auto& [tid, registration] : registrar->all()) {
+        const Kind kind = presence.kind(tid) != Kind::unknown ? presence.kind(tid) : registration.kind;
+        if (kind != Kind::adapter || rights_of(config.access, ex, tid) == access_none) continue;
+        DeviceListEntry entry;
+        entry.guid = tid;
+        entry.status = to_wire(presence.status(tid));
+        entry.last_alive_time_stamp = std::to_string(presence.last_alive_s(tid));
+        list.push_back(std::move(entry));
+    }
+    if (!list.empty()) response.device_list = std::move(list);  // null: no accessible adapter (table 24)
+    ++counters.discoveries;
+    reply(out, topics::discovery_response(ex), to_json(response));
+}
+
+void Agent::Impl::on_version(const ParsedTopic& topic, const Message& m, Out& out) {
+    const std::string& dev = topic.dev;
+    alive(dev, Kind::adapter, out);
+    if (m.retained) return;  // a stale announcement replayed by the broker
+    auto request = decode<ProbeVersionRequest>(m.payload);
+    ProbeVersionResponse response;
+    response.guid = dev;
+    if (!request) {
+        ++counters.malformed;
+        response.msg_id = peek_message_id(m.payload);
+        response.status = ResponseStatus(request.error());
+        reply(out, topics::probe_version_response(dev), to_json(response));
+        return;
+    }
+    response.msg_id = request->msg_id;
+    response.status = ResponseStatus::success();
+    response.version = request->version;
+    ++counters.versions;
+    reply(out, topics::probe_version_response(dev), to_json(response));
+    if (models.announce(dev, request->version, clock->now())) fetch_model(dev, out);
+}
+
+void Agent::Impl::fetch_model(const std::string& dev, Out& out) {
+    ProbeQueryRequest query;
+    const std::string id = config.agent_id + "-fetch-" + std::to_string(++msg_counter);
+    query.msg_id = Json(id);
+    query.guid = dev;
+    models.fetching(dev, id, clock->now() + config.request_timeout);
+    log.info("agent: fetching the model of {} (version {})", dev, models.find(dev)->version);
+    out.push_back(Message{topics::probe_query_request(dev, config.agent_id), encode(query), 1, false});
+}
+
+void Agent::Impl::on_version_response(const ParsedTopic& topic, const Message& m, Out&) {
+    // Another agent (or an application) acknowledged a version: keep the
+    // number; the model comes with that agent's fetch, which every agent sees.
+    auto response = decode<ProbeVersionResponse>(m.payload);
+    if (!response || !response->version || (response->status && !response->status->ok)) return;
+    presence.set_kind(topic.dev, Kind::adapter);
+    (void)models.announce(topic.dev, *response->version, clock->now());
+}
+
+void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out) {
+    if (m.payload.empty()) return;  // a cleared retained state
+    auto notify = decode<NotifyState>(m.payload);
+    if (!notify || (notify->state != "online" && notify->state != "offline")) {
+        ++counters.malformed;
+        return;
+    }
+    const std::string& tid = topic.dev;
+    if (tid == config.agent_id) return;
+    if (auto echo = expected_echo.find(tid + "\n" + notify->state); echo != expected_echo.end()) {
+        if (--echo->second == 0) expected_echo.erase(echo);
+        return;  // our own announcement coming back
+    }
+    const Status status = notify->state == "online" ? Status::online : Status::offline;
+    if (presence.set_state(tid, status, clock->now(), wall_s())) {
+        registry_dirty = true;
+        log.info("agent: {} is {}{}", tid, notify->state, m.retained ? " (retained state)" : "");
+    }
+    if (status == Status::offline) unreachable_for(tid, out);
+}
+
+// 8.3.5: the adapter went away while requests to it were waiting.
+void Agent::Impl::unreachable_for(const std::string& dev, Out& out) {
+    for (auto& request : pending.take_for(dev)) answer_unreachable(request.kind, request.topic, dev, request.ex,
+                                                                    request.msg_id, out);
+}
+
+}  // namespace nclink

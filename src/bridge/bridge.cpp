@@ -1,0 +1,119 @@
+#include "bridge/bridge.hpp"
+
+#include "bridge/follower.hpp"
+#include "bridge/gbt_api.hpp"
+#include "bridge/json_api.hpp"
+#include "bridge/mtconnect_api.hpp"
+#include "bridge/mtconnect_documents.hpp"
+#include "bridge/shdr.hpp"
+#include "http/http_server.hpp"
+
+#include <nclink/client.hpp>
+
+namespace nclink::bridge {
+
+struct Bridge::Impl {
+    Impl(BridgeConfig c, Logger l)
+        : config(std::move(c)), logger(std::move(l)),
+          // instanceId: unique per start (part 1 5.1.1): the start time in seconds.
+          store(config.buffer_size, config.sender, static_cast<std::uint64_t>(now_ms() / 1000)),
+          mtconnect(store) {}
+
+    BridgeConfig config;
+    Logger logger;
+    BridgeStore store;
+    MtConnectApi mtconnect;
+    std::unique_ptr<Client> client;
+    std::unique_ptr<Follower> follower;
+    std::unique_ptr<GbtApi> gbt;
+    std::unique_ptr<JsonApi> json;
+    std::unique_ptr<http::HttpServer> http;
+    std::unique_ptr<ShdrServer> shdr;
+};
+
+Bridge::Bridge(BridgeConfig config, Logger logger) : impl_(std::make_unique<Impl>(std::move(config), std::move(logger))) {}
+
+Bridge::~Bridge() { stop(); }
+
+Result<void> Bridge::start() {
+    Impl& b = *impl_;
+    const BridgeConfig& c = b.config;
+    MqttOptions mqtt;
+    mqtt.broker_url = c.broker_url;
+    mqtt.client_id = c.client_id.empty() ? c.ex_cid : c.client_id;
+    mqtt.username = c.username;
+    mqtt.password = c.password;
+    mqtt.mqtt_version = c.mqtt_version;
+    mqtt.keep_alive = c.keep_alive;
+    mqtt.tls = c.tls;
+    ClientOptions options;
+    options.ex_cid = c.ex_cid;
+    options.default_timeout = c.request_timeout;
+    options.logger = b.logger;
+    auto client = Client::create(std::move(mqtt), std::move(options));
+    if (!client) return std::move(client).error();
+    b.client = std::move(client).value();
+
+    FollowerOptions follow;
+    follow.devices = c.devices;
+    follow.poll_interval = c.poll_interval;
+    follow.discovery_interval = c.discovery_interval;
+    follow.request_timeout = c.request_timeout;
+    follow.use_events = c.use_events;
+    follow.logger = b.logger;
+    b.follower = std::make_unique<Follower>(*b.client, b.store, follow);
+    b.gbt = std::make_unique<GbtApi>(b.store, b.mtconnect, *b.follower);
+    b.json = std::make_unique<JsonApi>(b.store, *b.follower, c.heartbeat);
+
+    http::HttpOptions http_options;
+    http_options.host = c.http_host;
+    http_options.port = c.http_port;
+    http_options.workers = c.http_workers;
+    http_options.max_body_bytes = c.max_request_bytes;
+    http_options.logger = b.logger;
+    b.http = std::make_unique<http::HttpServer>(http_options);
+    b.json->install(*b.http);
+    b.gbt->install(*b.http, "/gbt18759");
+    b.mtconnect.install(*b.http, "");
+    b.http->set_error_page([&b](int status, const http::HttpRequest& request, const std::string& reason) {
+        if (request.path.rfind("/nclink/", 0) == 0) return http::json_response(Json{{"error", reason}}, status);
+        MtErrorCode code = MtErrorCode::invalid_request;
+        if (status == 404) code = MtErrorCode::invalid_uri;
+        else if (status == 405) code = MtErrorCode::unsupported;
+        else if (status == 503) code = MtErrorCode::too_many;
+        else if (status >= 500) code = MtErrorCode::internal_error;
+        return b.mtconnect.error({MtError{code, reason}}, status);
+    });
+    if (auto started = b.http->start(); !started) return started;
+    if (c.shdr_enabled) {
+        b.shdr = std::make_unique<ShdrServer>(b.store, c.shdr_host, c.shdr_port, c.heartbeat, b.logger);
+        if (auto started = b.shdr->start(); !started) {
+            b.http->stop();
+            return started;
+        }
+    }
+    if (auto started = b.client->start(); !started) {
+        stop();
+        return started;
+    }
+    if (auto started = b.follower->start(); !started) {
+        stop();
+        return started;
+    }
+    return ok_result();
+}
+
+void Bridge::stop() {
+    Impl& b = *impl_;
+    b.store.wake_all();
+    if (b.http) b.http->stop();
+    if (b.shdr) b.shdr->stop();
+    if (b.follower) b.follower->stop();
+    if (b.client) b.client->stop();
+}
+
+int Bridge::http_port() const noexcept { return impl_->http ? impl_->http->port() : 0; }
+int Bridge::shdr_port() const noexcept { return impl_->shdr ? impl_->shdr->port() : 0; }
+const BridgeStore& Bridge::store() const noexcept { return impl_->store; }
+
+}  // namespace nclink::bridge

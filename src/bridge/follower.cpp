@@ -1,0 +1,339 @@
+#include "bridge/follower.hpp"
+
+#include "bridge/mtconnect_documents.hpp"
+
+#include <algorithm>
+
+namespace nclink::bridge {
+
+Follower::Follower(Client& client, BridgeStore& store, FollowerOptions options)
+    : client_(client), store_(store), options_(std::move(options)) {
+    request_options_.timeout = options_.request_timeout;
+}
+
+Follower::~Follower() { stop(); }
+
+Result<void> Follower::start() {
+    if (running_.exchange(true)) return ok_result();
+    if (options_.devices.empty()) {
+        auto sub = client_.subscribe_all_states([this](const NotifyState& s) {
+            if (s.state == "online") consider(s.tid);
+            on_state(s);
+        });
+        if (!sub) return std::move(sub).error();
+        std::lock_guard<std::mutex> lock(mutex_);
+        subscriptions_.push_back(*sub);
+    } else {
+        for (const auto& dev : options_.devices) follow(dev);
+    }
+    housekeeper_ = std::thread([this] { housekeeping(); });
+    return ok_result();
+}
+
+void Follower::stop() {
+    if (!running_.exchange(false)) return;
+    {
+        std::lock_guard<std::mutex> lock(wake_mutex_);
+    }
+    wake_.notify_all();
+    if (housekeeper_.joinable()) housekeeper_.join();
+}
+
+void Follower::consider(const std::string& tid) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (followed_.count(tid) || probing_.count(tid)) return;
+        probing_.insert(tid);
+    }
+    // A terminal that answers Probe/Query is an adapter; applications do not answer.
+    client_.probe_async(
+        tid,
+        [this, tid](Result<Json> model) {
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                probing_.erase(tid);
+            }
+            if (!model || !running_) return;
+            follow(tid);
+        },
+        request_options_);
+}
+
+void Follower::follow(const std::string& dev) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (followed_.count(dev)) return;
+        followed_[dev].poll_interval = options_.poll_interval;
+    }
+    options_.logger.info("bridge: following {}", dev);
+    store_.add_device(dev);
+    std::vector<SubscriptionId> subs;
+    if (auto s = client_.subscribe_samples(dev, [this](const SampleDtu& dtu) { on_sample(dtu); })) subs.push_back(*s);
+    if (options_.devices.empty()) {
+        // State arrives through the subscription to every terminal.
+    } else if (auto s = client_.subscribe_state(dev, [this](const NotifyState& st) { on_state(st); })) {
+        subs.push_back(*s);
+    }
+    if (auto s = client_.subscribe_version(dev, [this](const ProbeVersionRequest& v) {
+            std::string version = v.version;
+            bool changed = false;
+            store_.read([&](const BridgeState& st) {
+                const DeviceEntry* d = st.find_device(v.guid);
+                changed = d && d->version != version;
+                return 0;
+            });
+            store_.set_version(v.guid, version);
+            if (changed) refresh(v.guid);
+        }))
+        subs.push_back(*s);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        subscriptions_.insert(subscriptions_.end(), subs.begin(), subs.end());
+    }
+    // The retained state may have come before we followed (discovery): ask for the model now.
+    refresh(dev);
+}
+
+void Follower::on_state(const NotifyState& state) {
+    if (state.tid.empty()) return;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!followed_.count(state.tid)) return;
+    }
+    if (state.state != "online" && state.state != "offline") return;
+    store_.set_state(state.tid, state.state);
+    if (state.state == "online") refresh(state.tid);
+}
+
+void Follower::refresh(const std::string& dev) {
+    std::uint64_t epoch = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it == followed_.end()) return;
+        if (it->second.refreshing) {
+            it->second.refresh_again = true;
+            return;
+        }
+        it->second.refreshing = true;
+        epoch = ++it->second.epoch;
+    }
+    client_.probe_async(
+        dev, [this, dev, epoch](Result<Json> model) { after_probe(dev, epoch, std::move(model)); }, request_options_);
+}
+
+void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<Json> model) {
+    bool again = false;
+    auto finish = [&] {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it == followed_.end()) return;
+        it->second.refreshing = false;
+        again = it->second.refresh_again;
+        it->second.refresh_again = false;
+    };
+    if (!model) {
+        options_.logger.warn("bridge: Probe/Query of {} failed: {}", dev, model.error().describe());
+        finish();
+        if (again) refresh(dev);
+        return;
+    }
+    if (auto set = store_.set_model(dev, *model); !set) {
+        options_.logger.error("bridge: model of {} cannot be served: {}", dev, set.error().describe());
+        finish();
+        return;
+    }
+    // An adapter that answers is online even before its retained state arrived.
+    std::string state;
+    std::shared_ptr<const Model> loaded;
+    store_.read([&](const BridgeState& st) {
+        if (const DeviceEntry* d = st.find_device(dev)) {
+            state = d->state;
+            loaded = d->model;
+        }
+        return 0;
+    });
+    if (state == "unknown") store_.set_state(dev, "online");
+    if (!loaded) {
+        finish();
+        return;
+    }
+    // Every data object: Query for initial values; the ones in no channel also by event or poll.
+    std::set<std::string> in_channel;
+    double shortest = 0;
+    for (const auto& c : loaded->channels()) {
+        in_channel.insert(c.ids.begin(), c.ids.end());
+        if (c.sample_interval_ms > 0 && (shortest == 0 || c.sample_interval_ms < shortest)) shortest = c.sample_interval_ms;
+    }
+    std::vector<std::string> all, unchanneled;
+    for (const auto& o : loaded->data_objects()) {
+        if (o.value) continue;  // constant
+        all.push_back(o.id);
+        if (!in_channel.count(o.id)) unchanneled.push_back(o.id);
+    }
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it != followed_.end() && it->second.epoch == epoch) {
+            Followed& f = it->second;
+            // Old registrations went with the adapter's restart or the old model; drop ours too.
+            for (const auto& id : f.event_ids) client_.unregister_event_async(dev, id, [](Result<void>) {});
+            f.event_ids.clear();
+            f.model = loaded;
+            f.polled.clear();
+            f.poll_interval = std::max(options_.poll_interval,
+                                       std::chrono::milliseconds(static_cast<long long>(shortest)));
+            f.next_poll = std::chrono::steady_clock::now() + f.poll_interval;
+            for (const auto& id : unchanneled) {
+                const DataObject* o = loaded->data_object(id);
+                if (!options_.use_events || (o && o->kind != DataKind::single)) f.polled.push_back(id);
+            }
+        }
+    }
+    query_items(dev, all);
+    if (options_.use_events) register_events(dev, epoch);
+    finish();
+    if (again) refresh(dev);
+}
+
+void Follower::register_events(const std::string& dev, std::uint64_t epoch) {
+    std::shared_ptr<const Model> model;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it == followed_.end() || it->second.epoch != epoch) return;
+        model = it->second.model;
+    }
+    std::set<std::string> in_channel;
+    for (const auto& c : model->channels()) in_channel.insert(c.ids.begin(), c.ids.end());
+    for (const auto& o : model->data_objects()) {
+        if (o.value || in_channel.count(o.id) || o.kind != DataKind::single) continue;
+        Client::EventRegistration registration;
+        registration.id = o.id;
+        registration.trigger = "always";
+        const std::string item = o.id;
+        client_.register_event_async(
+            dev, registration,
+            [this, dev](const EventData& e) {
+                store_.update(dev, e.event.id, e.event.value, e.time > 0 ? e.time : now_ms());
+            },
+            [this, dev, item, epoch](Result<std::string> id) {
+                std::lock_guard<std::mutex> lock(mutex_);
+                auto it = followed_.find(dev);
+                if (it == followed_.end()) return;
+                if (it->second.epoch != epoch) {
+                    if (id) client_.unregister_event_async(dev, *id, [](Result<void>) {});
+                    return;
+                }
+                if (id) {
+                    it->second.event_ids.push_back(*id);
+                } else {
+                    options_.logger.debug("bridge: no event for {}/{} ({}); polling it", dev, item,
+                                          id.error().describe());
+                    it->second.polled.push_back(item);
+                }
+            },
+            request_options_);
+    }
+}
+
+void Follower::query_items(const std::string& dev, const std::vector<std::string>& ids) {
+    if (ids.empty()) return;
+    std::vector<QueryItem> items;
+    items.reserve(ids.size());
+    for (const auto& id : ids) items.push_back(QueryItem{id, std::nullopt});
+    client_.query_async(
+        dev, std::move(items),
+        [this, dev](Result<std::vector<QueryResult>> results) {
+            if (!results) return;
+            const std::int64_t now = now_ms();
+            std::vector<BridgeStore::Value> values;
+            for (const auto& r : *results) {
+                if (!r.status.ok) continue;
+                // A whole-item Query answers values = [value] (8.2.12).
+                Json value;
+                if (r.values && r.values->is_array() && r.values->size() == 1) value = (*r.values)[0];
+                else if (r.values) value = *r.values;
+                values.push_back(BridgeStore::Value{r.id, std::move(value), now});
+            }
+            store_.update_many(dev, values);
+        },
+        request_options_);
+}
+
+void Follower::on_sample(const SampleDtu& dtu) {
+    std::shared_ptr<const Model> model;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dtu.guid);
+        if (it == followed_.end()) return;
+        model = it->second.model;
+    }
+    if (!model) return;
+    const SampleChannel* channel = model->channel(dtu.id);
+    if (!channel) return;
+    // One column per item of the channel, in its order; rows sampleInterval apart (8.2.15).
+    std::size_t rows = 0;
+    std::vector<const Json*> columns;
+    for (std::size_t i = 0; i < channel->ids.size() && i < dtu.data.size(); ++i) {
+        const Json& entry = dtu.data[i];
+        const Json* column = entry.is_object() && entry.contains("data") ? &entry["data"] : &entry;
+        if (!column->is_array()) column = nullptr;
+        columns.push_back(column);
+        if (column) rows = std::max(rows, column->size());
+    }
+    std::vector<BridgeStore::Value> values;
+    values.reserve(rows * columns.size());
+    for (std::size_t row = 0; row < rows; ++row) {
+        const std::int64_t time =
+            dtu.begin_time + static_cast<std::int64_t>(static_cast<double>(row) * channel->sample_interval_ms);
+        for (std::size_t i = 0; i < columns.size(); ++i) {
+            if (!columns[i] || row >= columns[i]->size()) continue;
+            values.push_back(BridgeStore::Value{channel->ids[i], (*columns[i])[row], time});
+        }
+    }
+    store_.update_many(dtu.guid, values);
+}
+
+void Follower::housekeeping() {
+    auto next_discovery = std::chrono::steady_clock::now();
+    while (running_) {
+        const auto now = std::chrono::steady_clock::now();
+        if (options_.devices.empty() && now >= next_discovery) {
+            next_discovery = now + options_.discovery_interval;
+            client_.discover_async(
+                [this](Result<std::vector<DeviceListEntry>> list) {
+                    if (!list) return;  // no agent: states alone tell the adapters
+                    for (const auto& entry : *list)
+                        if (entry.status == "online") consider(entry.guid);
+                },
+                request_options_);
+        }
+        std::vector<std::pair<std::string, std::vector<std::string>>> due;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (auto& [dev, f] : followed_) {
+                if (f.polled.empty() || now < f.next_poll) continue;
+                f.next_poll = now + f.poll_interval;
+                due.emplace_back(dev, f.polled);
+            }
+        }
+        for (const auto& [dev, ids] : due) {
+            bool online = false;
+            store_.read([&](const BridgeState& st) {
+                const DeviceEntry* d = st.find_device(dev);
+                online = d && d->state == "online";
+                return 0;
+            });
+            if (online) query_items(dev, ids);
+        }
+        std::unique_lock<std::mutex> lock(wake_mutex_);
+        wake_.wait_for(lock, std::chrono::milliseconds(50), [this] { return !running_; });
+    }
+}
+
+Result<std::vector<SetResult>> Follower::set(const std::string& dev, std::vector<SetItem> items) {
+    return client_.set(dev, std::move(items), request_options_);
+}
+
+}  // namespace nclink::bridge

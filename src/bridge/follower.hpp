@@ -1,0 +1,111 @@
+// The NC-Link side of the bridge: an application (include/nclink/client.hpp)
+// that follows adapters and feeds the store.
+//
+// Which adapters: the configured devices, or — with none configured — every
+// adapter that announces itself: each terminal whose retained Notify/State
+// (8.2.16) says online and that answers Probe/Query is followed, and the
+// agent's Discovery (8.2.3), when an agent runs, adds the adapters it lists.
+//
+// Per adapter:
+//  - Probe/Query (8.2.7) gives the model; the store maps it;
+//  - Query (8.2.11) of every data object gives initial values, again after
+//    every online;
+//  - Sample DTUs of the model channels (Sample/{dev}/+, 8.2.15) give the
+//    sampled items, one observation per row and item at beginTime + row x
+//    sampleInterval;
+//  - items in no channel: a change event (Register/Event, default change
+//    filter, trigger always; 8.2.27) per single-valued item, their Event DTUs
+//    give the values; items the adapter refuses an event for (e.g. 416 when
+//    its event slots run out) and list/dict items are queried every
+//    poll_interval, which is never shorter than the model's shortest
+//    channel sampleInterval (docs/bridge.md "Where values come from");
+//  - Notify/State offline turns its items UNAVAILABLE; online brings a new
+//    Probe/Query, Query and event registration (the adapter lost its events
+//    when it restarted);
+//  - Probe/Version (8.2.5) with a new version brings a new Probe/Query.
+//
+// Threading: the client's callbacks run on its dispatch thread; one
+// housekeeping thread polls and discovers; set() is called from HTTP
+// workers. The follower's own state is guarded by a mutex.
+#pragma once
+
+#include "bridge/bridge_store.hpp"
+
+#include <nclink/client.hpp>
+#include <nclink/log.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink::bridge {
+
+struct FollowerOptions {
+    std::vector<std::string> devices;  ///< empty: follow every adapter found
+    std::chrono::milliseconds poll_interval{1000};
+    std::chrono::milliseconds discovery_interval{30000};
+    std::chrono::milliseconds request_timeout{3000};
+    bool use_events = true;  ///< false: every item in no channel is polled
+    Logger logger;
+};
+
+class Follower {
+public:
+    Follower(Client& client, BridgeStore& store, FollowerOptions options);
+    ~Follower();  ///< stop()s
+    Follower(const Follower&) = delete;
+    Follower& operator=(const Follower&) = delete;
+
+    /// Subscribes and starts the housekeeping thread. The client must be started.
+    Result<void> start();
+    void stop();
+
+    /// NC-Link Set of `items` at `dev` (blocking; not from a client callback).
+    Result<std::vector<SetResult>> set(const std::string& dev, std::vector<SetItem> items);
+
+private:
+    struct Followed {
+        std::shared_ptr<const Model> model;
+        std::vector<std::string> event_ids;
+        std::vector<std::string> polled;  ///< items queried every poll interval
+        std::chrono::milliseconds poll_interval{1000};
+        std::chrono::steady_clock::time_point next_poll{};
+        bool refreshing = false;
+        bool refresh_again = false;
+        std::uint64_t epoch = 0;  ///< grows with every refresh; late answers of older ones are dropped
+    };
+
+    void follow(const std::string& dev);
+    void consider(const std::string& tid);  // discovery candidate
+    void on_state(const NotifyState& state);
+    void on_sample(const SampleDtu& dtu);
+    void refresh(const std::string& dev);
+    void after_probe(const std::string& dev, std::uint64_t epoch, Result<Json> model);
+    void register_events(const std::string& dev, std::uint64_t epoch);
+    void query_items(const std::string& dev, const std::vector<std::string>& ids);
+    void housekeeping();
+
+    Client& client_;
+    BridgeStore& store_;
+    FollowerOptions options_;
+    RequestOptions request_options_;
+
+    std::mutex mutex_;
+    std::map<std::string, Followed> followed_;
+    std::set<std::string> probing_;      ///< discovery candidates being probed
+    std::vector<SubscriptionId> subscriptions_;
+
+    std::atomic<bool> running_{false};
+    std::mutex wake_mutex_;
+    std::condition_variable wake_;
+    std::thread housekeeper_;
+};
+
+}  // namespace nclink::bridge

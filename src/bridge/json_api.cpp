@@ -1,0 +1,189 @@
+#include "bridge/json_api.hpp"
+
+#include <map>
+
+namespace nclink::bridge {
+namespace {
+
+http::HttpResponse json_error(int status, const std::string& message) {
+    return http::json_response(Json{{"error", message}}, status);
+}
+
+Json device_json(const DeviceEntry& d) {
+    return Json{{"dev", d.dev}, {"name", d.mt.name}, {"state", d.state}, {"version", d.version}};
+}
+
+}  // namespace
+
+Json JsonApi::value_json(const ItemEntry& item, const Observation& o, const std::string& state) {
+    const bool good = state == "online" && !o.value.is_null();
+    return Json{{"id", item.nclink_id}, {"value", o.value}, {"time", o.time_ms}, {"quality", good ? "good" : "bad"}};
+}
+
+http::HttpResponse JsonApi::devices() const {
+    Json list = Json::array();
+    store_.read([&](const BridgeState& st) {
+        for (const auto& d : st.devices) list.push_back(device_json(d));
+        return 0;
+    });
+    return http::json_response(Json{{"devices", list}});
+}
+
+http::HttpResponse JsonApi::model(const std::string& dev) const {
+    return store_.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device(dev);
+        if (!d) return json_error(404, "no device " + dev);
+        if (!d->model) return json_error(404, "the model of " + dev + " is not known yet");
+        return http::json_response(d->model_json);
+    });
+}
+
+http::HttpResponse JsonApi::nodeset(const std::string& dev, const std::string& profile_text) const {
+    auto profile = opcua_profile_from_string(profile_text.empty() ? "basic" : profile_text);
+    if (!profile) return json_error(400, "profile must be basic or cnc");
+    std::shared_ptr<const Model> model;
+    std::string uuid;
+    store_.read([&](const BridgeState& st) {
+        if (const DeviceEntry* d = st.find_device(dev)) {
+            model = d->model;
+            uuid = d->dev;
+        }
+        return 0;
+    });
+    if (!model) return json_error(404, "no device with a model named " + dev);
+    MappingOptions options;
+    options.opcua_profile = *profile;
+    if (model->devices().size() == 1) options.dev_uuid = uuid;
+    auto doc = map_to_opcua(*model, options);
+    if (!doc) return json_error(500, doc.error().describe());
+    return http::text_response(std::move(doc->xml), "application/xml");
+}
+
+http::HttpResponse JsonApi::set(const std::string& dev, const std::string& body) const {
+    Json request = Json::parse(body, nullptr, false);
+    if (request.is_discarded() || !request.is_object() || !request.contains("id") || !request["id"].is_string() ||
+        (!request.contains("value") && !request.contains("params")))
+        return json_error(400, "the body must be a JSON object {\"id\": ..., \"value\": ...} or {\"id\": ..., \"params\": {...}}");
+    bool known = false;
+    store_.read([&](const BridgeState& st) {
+        known = st.find_device(dev) != nullptr;
+        return 0;
+    });
+    if (!known) return json_error(404, "no device " + dev);
+    std::string target = dev;
+    store_.read([&](const BridgeState& st) {
+        target = st.find_device(dev)->dev;
+        return 0;
+    });
+    SetItem item;
+    item.id = request["id"].get<std::string>();
+    if (request.contains("params")) {
+        if (!request["params"].is_object()) return json_error(400, "params must be an object");
+        item.params = request["params"];
+    } else {
+        item.params = Json{{"value", request["value"]}};
+    }
+    auto result = follower_.set(target, {item});
+    if (!result) {
+        return http::json_response(Json{{"code", "NG"},
+                                        {"error", static_cast<int>(result.error().code)},
+                                        {"reason", result.error().describe()}});
+    }
+    if (result->empty()) return http::json_response(Json{{"code", "NG"}, {"error", 202}, {"reason", "no answer"}});
+    const SetResult& r = result->front();
+    if (r.status.ok) return http::json_response(Json{{"code", "OK"}});
+    return http::json_response(Json{{"code", "NG"},
+                                    {"error", r.status.error.value_or(0)},
+                                    {"reason", r.status.reason.value_or("")}});
+}
+
+http::HttpResponse JsonApi::stream(const std::string& dev) const {
+    bool known = dev.empty();
+    if (!known)
+        store_.read([&](const BridgeState& st) {
+            known = st.find_device(dev) != nullptr;
+            return 0;
+        });
+    if (!known) return json_error(404, "no device " + dev);
+    http::HttpResponse r;
+    r.content_type = std::string(http::sse_content_type);
+    r.headers.emplace_back("Cache-Control", "no-cache");
+    const BridgeStore* store = &store_;
+    const auto heartbeat = heartbeat_;
+    r.stream = [store, dev, heartbeat](http::StreamSink& sink) {
+        http::SseWriter sse(sink);
+        auto wanted = [&](const DeviceEntry& d) { return dev.empty() || d.dev == dev || d.mt.name == dev; };
+        std::uint64_t cursor = 0;  // next sequence to send
+        std::uint64_t generation = 0;
+        std::map<std::string, std::pair<std::string, std::string>> seen;  // dev -> state, version
+        bool need_snapshot = true;
+        auto last_write = std::chrono::steady_clock::now();
+        while (!sink.stopping()) {
+            std::vector<std::pair<std::string, std::string>> events;  // name, data
+            store->read([&](const BridgeState& st) {
+                if (!need_snapshot && cursor < st.buffer.first_sequence()) need_snapshot = true;  // fell behind
+                if (need_snapshot) {
+                    for (const auto& d : st.devices) {
+                        if (!wanted(d)) continue;
+                        Json values = Json::array();
+                        for (ItemIndex i : d.items) {
+                            const ItemEntry& item = st.items[i];
+                            if (item.availability || i >= st.buffer.latest().size() || !st.buffer.latest()[i]) continue;
+                            values.push_back(JsonApi::value_json(item, *st.buffer.latest()[i], d.state));
+                        }
+                        events.emplace_back("snapshot", Json{{"dev", d.dev}, {"state", d.state}, {"values", values}}.dump());
+                        seen[d.dev] = {d.state, d.version};
+                    }
+                    cursor = st.buffer.next_sequence();
+                    generation = st.device_generation;
+                    need_snapshot = false;
+                    return 0;
+                }
+                if (st.device_generation != generation) {
+                    generation = st.device_generation;
+                    for (const auto& d : st.devices) {
+                        if (!wanted(d)) continue;
+                        auto now = std::make_pair(d.state, d.version);
+                        auto it = seen.find(d.dev);
+                        if (it != seen.end() && it->second == now) continue;
+                        seen[d.dev] = now;
+                        events.emplace_back("device", Json{{"dev", d.dev}, {"state", d.state}, {"version", d.version}}.dump());
+                    }
+                }
+                auto range = st.buffer.range(cursor, 4096, nullptr);
+                cursor = range.next_sequence;
+                for (const auto& o : range.observations) {
+                    const ItemEntry& item = st.items[o.item];
+                    const DeviceEntry& d = st.devices[item.device];
+                    if (item.availability || !wanted(d)) continue;
+                    Json v = JsonApi::value_json(item, o, d.state);
+                    v["dev"] = d.dev;
+                    events.emplace_back("value", v.dump(-1, ' ', false, Json::error_handler_t::replace));
+                }
+                return 0;
+            });
+            for (const auto& [name, data] : events) {
+                if (!sse.event(name, data)) return;
+                last_write = std::chrono::steady_clock::now();
+            }
+            if (std::chrono::steady_clock::now() - last_write >= heartbeat) {
+                if (!sse.comment("ping")) return;
+                last_write = std::chrono::steady_clock::now();
+            }
+            store->wait_for_change(cursor - 1, generation, std::chrono::milliseconds(100));
+        }
+    };
+    return r;
+}
+
+void JsonApi::install(http::HttpServer& server) {
+    server.get("/nclink/v1/devices", [this](const http::HttpRequest&) { return devices(); });
+    server.get("/nclink/v1/devices/{dev}/model", [this](const http::HttpRequest& r) { return model(r.path_param("dev")); });
+    server.get("/nclink/v1/devices/{dev}/nodeset.xml", [this](const http::HttpRequest& r) {
+        return nodeset(r.path_param("dev"), r.param("profile").value_or("basic"));
+    });
+    server.get("/nclink/v1/stream", [this](const http::HttpRequest& r) { return stream(r.param("dev").value_or("")); });
+    server.post("/nclink/v1/devices/{dev}/set", [this](const http::HttpRequest& r) { return set(r.path_param("dev"), r.body); });
+}
+
+}  // namespace nclink::bridge

@@ -1,0 +1,37 @@
+// The live JSON API for the OPC UA server and dashboards (docs/bridge.md
+// "JSON API"): /nclink/v1/devices, .../{dev}/model, .../{dev}/nodeset.xml,
+// the Server-Sent Events stream /nclink/v1/stream and .../{dev}/set.
+// Handlers run on HTTP worker threads; set blocks its worker for at most the
+// request timeout.
+#pragma once
+
+#include "bridge/bridge_store.hpp"
+#include "bridge/follower.hpp"
+#include "http/http_server.hpp"
+
+#include <chrono>
+
+namespace nclink::bridge {
+
+class JsonApi {
+public:
+    JsonApi(const BridgeStore& store, Follower& follower, std::chrono::milliseconds heartbeat)
+        : store_(store), follower_(follower), heartbeat_(heartbeat) {}
+    void install(http::HttpServer& server);
+
+    /// One value of the stream and the snapshot: {"id","value","time","quality"}.
+    static Json value_json(const ItemEntry& item, const Observation& o, const std::string& state);
+
+private:
+    http::HttpResponse devices() const;
+    http::HttpResponse model(const std::string& dev) const;
+    http::HttpResponse nodeset(const std::string& dev, const std::string& profile) const;
+    http::HttpResponse stream(const std::string& dev) const;
+    http::HttpResponse set(const std::string& dev, const std::string& body) const;
+
+    const BridgeStore& store_;
+    Follower& follower_;
+    std::chrono::milliseconds heartbeat_;
+};
+
+}  // namespace nclink::bridge

@@ -1,0 +1,68 @@
+// SHDR, the line protocol an MTConnect agent reads from its adapters
+// (cppagent's "adapter" input), so an existing agent ingests NC-Link machines
+// unchanged (docs/bridge.md "SHDR"):
+//   2024-01-01T00:00:00.123Z|mill:x_position|12.5
+//   2024-01-01T00:00:00.123Z|mill:system_alarm|fault|1001|||Spindle overload
+// One line per change; the key is "<Device name>:<DataItem id>"; UNAVAILABLE
+// when the adapter is offline; a full snapshot to every new connection; a
+// "* PING" line is answered "* PONG <heartbeat ms>".
+//
+// The server uses plain sockets (a line protocol needs no HTTP): one accept
+// thread and one thread per connection (at most max_connections).
+#pragma once
+
+#include "bridge/bridge_store.hpp"
+
+#include <nclink/log.hpp>
+#include <nclink/result.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <list>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace nclink::bridge {
+
+/// A value as SHDR text: '|' would split the line and line breaks end it, so
+/// '|' becomes '/', CR/LF/TAB and other control characters become spaces.
+std::string shdr_escape(std::string_view text);
+
+/// The SHDR line(s) of one observation (with "\n"); a condition gives one line per active alarm.
+std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& observation);
+
+/// "* PONG <ms>\n" for a "* PING" line; "" for any other line.
+std::string shdr_answer(std::string_view line, std::chrono::milliseconds heartbeat);
+
+class ShdrServer {
+public:
+    ShdrServer(const BridgeStore& store, std::string host, int port, std::chrono::milliseconds heartbeat, Logger logger,
+               std::size_t max_connections = 16);
+    ~ShdrServer();  ///< stop()s
+    ShdrServer(const ShdrServer&) = delete;
+    ShdrServer& operator=(const ShdrServer&) = delete;
+
+    Result<void> start();
+    int port() const noexcept { return port_; }
+    void stop();
+
+private:
+    void accept_loop();
+    void serve(int fd);
+
+    const BridgeStore& store_;
+    std::string host_;
+    int port_;
+    std::chrono::milliseconds heartbeat_;
+    Logger logger_;
+    std::size_t max_connections_;
+    int listen_fd_ = -1;
+    std::atomic<bool> running_{false};
+    std::atomic<std::size_t> connections_{0};
+    std::thread acceptor_;
+    std::mutex threads_mutex_;
+    std::list<std::thread> threads_;
+};
+
+}  // namespace nclink::bridge
