@@ -251,7 +251,7 @@ endfunction()
 
 # The service table: one entry per program systemd runs.
 nclink_service(agent TARGET nclink-agent
-  EXEC "/usr/bin/nclink-agent --config /etc/nclink/agent.json"
+  EXEC "/usr/bin/nclink-agent --config /etc/nclink/agent.json --metrics 127.0.0.1:9470"
   RELOAD_CHECK "/usr/bin/nclink-agent --config /etc/nclink/agent.json --check-config"
   CONFIG packaging/config/agent.json
   DEPENDS "adduser"
@@ -269,8 +269,9 @@ nclink_service(bridge TARGET nclink_bridge nclink_bridge_tool
   DEPENDS "adduser"
   SUMMARY "NC-Link machines as MTConnect, GB/T 18759.6, SHDR and JSON"
   DESCRIPTION "nclink-bridge serves the NC-Link machines on a broker over MTConnect 1.4
-REST, GB/T 18759.6, SHDR and a JSON API. Runs as the nclink user under
-systemd and reads /etc/nclink/bridge.json.")
+REST, GB/T 18759.6, SHDR and a JSON API, with a web dashboard (live
+values, sample plots, Set) and Prometheus metrics on the same port. Runs as
+the nclink user under systemd and reads /etc/nclink/bridge.json.")
 # The OPC UA server (Node.js, from another branch): shipped with the
 # node_modules `npm ci --omit=dev` put into its folder. It takes its options
 # from /etc/nclink/opcua.env.

@@ -7,8 +7,11 @@
 //
 //   nclink-sim [--broker URL] [--model FILE] [--guid GUID] [--config FILE]
 //              [--plugin SO] [--persistence DIR] [--seed N] [--strict]
-//              [--log-level LEVEL]
+//              [--log-level LEVEL] [--metrics HOST:PORT]
+#include "http/metrics_endpoint.hpp"
+
 #include <nclink/adapter.hpp>
+#include <nclink/adapter_metrics.hpp>
 #include <nclink/model.hpp>
 #include "sim/sim_driver.hpp"
 
@@ -31,6 +34,8 @@ const char* kUsage = R"(usage: nclink-sim [options]
   --seed N            seed of the simulation (default 1)
   --strict            refuse models with conformance problems
   --log-level LEVEL   trace, debug, info (default), warn, error, off
+  --metrics HOST:PORT serve the adapter's Prometheus metrics at http://HOST:PORT/metrics
+                      (off by default, as in firmware; loopback only; docs/metrics.md)
   --help)";
 
 struct Options {
@@ -39,7 +44,7 @@ struct Options {
     std::uint64_t seed = 1;
     bool model_given = false, broker_given = false, guid_given = false, strict_given = false,
          persistence_given = false, plugin_given = false, level_given = false;
-    std::string model, broker, guid, plugin, persistence;
+    std::string model, broker, guid, plugin, persistence, metrics;
     nclink::LogLevel level = nclink::LogLevel::info;
 };
 
@@ -73,6 +78,8 @@ Options parse(int argc, char** argv) {
             o.persistence = value(), o.persistence_given = true;
         } else if (arg == "--seed") {
             o.seed = std::strtoull(value().c_str(), nullptr, 10);
+        } else if (arg == "--metrics") {
+            o.metrics = value();
         } else if (arg == "--strict") {
             o.strict_given = true;
         } else if (arg == "--log-level") {
@@ -204,6 +211,18 @@ int main(int argc, char** argv) {
         return 1;
     }
     logger.info("nclink-sim: answering as {} (Ctrl-C to stop)", adapter.dev_uuid());
+    std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
+    if (!o.metrics.empty()) {
+        auto made = nclink::http::MetricsEndpoint::start(
+            o.metrics, [&adapter] { return nclink::prometheus_metrics(adapter); }, "nclink_adapter", std::nullopt, logger);
+        if (!made) {
+            logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
+            adapter.stop();
+            return 1;
+        }
+        metrics = std::move(made).value();
+        logger.info("nclink-sim: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
+    }
 
     int signal_number = 0;
     while (true) {
@@ -212,6 +231,7 @@ int main(int argc, char** argv) {
         reload(o, adapter, logger);
     }
     logger.info("nclink-sim: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    if (metrics) metrics->stop();
     adapter.stop();
     const auto stats = adapter.stats();
     logger.info("nclink-sim: answered {} request(s); {} ignored as repeats, {} retained ignored, {} malformed",

@@ -23,6 +23,7 @@
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
 #include <nclink/sampling.hpp>
+#include <nclink/traffic_stats.hpp>
 #include <nclink/transport.hpp>
 
 #include <functional>
@@ -101,6 +102,9 @@ public:
     Result<PushChannel> push_channel(const std::string& channel_id) const;
     /// Statistics of the sample channels (also in stats().features["sampling"]). Thread-safe.
     SamplingStats sampling_stats() const;
+    /// DTUs sent and received by topic kind, and request latency by kind
+    /// (docs/metrics.md; rendered for Prometheus by adapter_metrics.hpp). Thread-safe.
+    TrafficStats traffic_stats() const;
 
     /// A driver (or the firmware) says item `id` has the whole value `value`
     /// now, e.g. from its own change notification. Events watching the item

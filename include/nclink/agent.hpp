@@ -25,6 +25,7 @@
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/result.hpp>
+#include <nclink/traffic_stats.hpp>
 #include <nclink/transport.hpp>
 
 #include <chrono>
@@ -171,6 +172,9 @@ public:
     Result<ConfigReload> reload(const AgentConfig& next);
 
     AgentStats stats() const;
+    /// DTUs received and sent by topic kind (docs/metrics.md; rendered for
+    /// Prometheus by agent_metrics.hpp). request_seconds stays empty.
+    TrafficStats traffic_stats() const;
     std::vector<TerminalInfo> terminals() const;
     /// The cached model of an adapter, if any.
     std::optional<Json> cached_model(const std::string& dev) const;

@@ -22,7 +22,7 @@ release=$(sed -n 's/^set(CPACK_DEBIAN_PACKAGE_RELEASE "\(.*\)")$/\1/p' "$build/C
 soversion=${version%%.*}
 arch=$(dpkg --print-architecture)
 declare -A deb
-for p in "libnclink$soversion" libnclink-dev nclink-tools nclink-agent; do
+for p in "libnclink$soversion" libnclink-dev nclink-tools nclink-agent nclink-bridge; do
   deb[$p]=$work/packages/${p}_${version}-${release}_${arch}.deb
   [[ -f ${deb[$p]} ]] || { ls "$work/packages"; fail "no package ${deb[$p]##*/}"; }
 done
@@ -46,6 +46,9 @@ done
 [[ $(field nclink-agent Depends) == *adduser* && $(field nclink-agent Depends) == *libc6* ]] || fail "nclink-agent: Depends $(field nclink-agent Depends)"
 dpkg-deb --ctrl-tarfile "${deb[nclink-agent]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/agent.json ||
   fail "nclink-agent: /etc/nclink/agent.json is not a conffile"
+dpkg-deb --ctrl-tarfile "${deb[nclink-bridge]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/bridge.json ||
+  fail "nclink-bridge: /etc/nclink/bridge.json is not a conffile"
+[[ $(field nclink-bridge Depends) == *libcpp-httplib* ]] || fail "nclink-bridge: Depends $(field nclink-bridge Depends)"
 dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep "^libnclink $soversion libnclink$soversion" >/dev/null ||
   fail "libnclink$soversion: no shlibs"
 
@@ -53,6 +56,8 @@ step "dpkg -x into $root"
 for p in "${!deb[@]}"; do dpkg -x "${deb[$p]}" "$root"; done
 for f in usr/bin/nclink usr/bin/nclink-conform usr/bin/nclink-sim usr/bin/nclink-agent etc/nclink/agent.json \
          lib/systemd/system/nclink-agent.service usr/lib/sysusers.d/nclink-agent.conf \
+         usr/bin/nclink-bridge etc/nclink/bridge.json lib/systemd/system/nclink-bridge.service \
+         usr/lib/sysusers.d/nclink-bridge.conf \
          usr/share/nclink/models/sim-mill.json usr/share/nclink/schema/agent.schema.json \
          usr/include/nclink/adapter.hpp; do
   [[ -e $root/$f ]] || fail "not installed: /$f"
@@ -93,6 +98,7 @@ step "the installed programs"
 "$root/usr/bin/nclink-agent" --config "$root/etc/nclink/agent.json" --check-config >/dev/null ||
   fail "the shipped /etc/nclink/agent.json is refused"
 "$root/usr/bin/nclink" config check --kind agent "$root/etc/nclink/agent.json" >/dev/null || fail "nclink config check of agent.json"
+"$root/usr/bin/nclink-bridge" --help | grep dashboard >/dev/null || fail "nclink-bridge --help"
 # nclink-sim finds the packaged model relative to itself.
 "$root/usr/bin/nclink-sim" --broker tcp://127.0.0.1:9 --log-level info >/dev/null 2>"$work/sim.log" &
 sim=$!
@@ -112,7 +118,11 @@ if command -v systemd-analyze >/dev/null; then
     sed "s|/usr/bin/|$root/usr/bin/|g" "$unit" >"$copy"
     out=$(systemd-analyze verify "$copy" 2>&1) || { echo "$out"; fail "systemd-analyze verify ${unit##*/}"; }
     [[ -z $out ]] || { echo "$out"; fail "systemd-analyze verify ${unit##*/} warns"; }
-    grep -q '^ExecReload=/bin/kill -HUP \$MAINPID$' "$unit" || fail "${unit##*/}: no SIGHUP reload"
+    # The agent reloads on SIGHUP; the bridge does not re-read its file (restart it).
+    if [[ ${unit##*/} == nclink-agent.service ]]; then
+      grep -q '^ExecReload=/bin/kill -HUP \$MAINPID$' "$unit" || fail "${unit##*/}: no SIGHUP reload"
+      grep -q '^ExecStart=.* --metrics 127.0.0.1:9470$' "$unit" || fail "${unit##*/}: no loopback /metrics"
+    fi
     grep -q '^ProtectSystem=strict$' "$unit" && grep -q '^User=nclink$' "$unit" || fail "${unit##*/}: not hardened"
   done
 else

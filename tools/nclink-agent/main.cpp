@@ -1,7 +1,7 @@
 // nclink-agent: runs the NC-Link agent beside an MQTT broker (docs/agent.md).
 // Argument parsing and wiring only; the agent lives in src/agent/.
 //
-//   nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level L]
+//   nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level L] [--metrics HOST:PORT]
 //   nclink-agent [--config FILE] --write-mosquitto-acl FILE
 //   nclink-agent --config FILE --check-config
 //
@@ -10,11 +10,15 @@
 // the running configuration stays. Exit status: 0 after SIGINT/SIGTERM,
 // 1 when the agent cannot start, 2 for usage or configuration errors (a
 // systemd unit does not restart on those: RestartPreventExitStatus=2).
-#include <nclink/log.hpp>
+#include "http/metrics_endpoint.hpp"
+
 #include <nclink/agent.hpp>
+#include <nclink/agent_metrics.hpp>
+#include <nclink/log.hpp>
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -27,6 +31,7 @@ constexpr int kExitUsage = 2;  // usage and configuration errors
 
 void usage(std::ostream& out) {
     out << "usage: nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level LEVEL]\n"
+           "                    [--metrics HOST:PORT [--metrics-user USER]]\n"
            "       nclink-agent [--config FILE] --write-mosquitto-acl FILE\n"
            "       nclink-agent --config FILE --check-config\n"
            "Runs the NC-Link agent (registration, discovery, state, version cache,\n"
@@ -35,11 +40,14 @@ void usage(std::ostream& out) {
            "the rest at the next start; a broken file is refused and logged.\n"
            "--write-mosquitto-acl writes a mosquitto acl_file enforcing the configured\n"
            "access rules and exits. --check-config reads FILE and exits (0 valid,\n"
-           "2 not). Exit status 2: usage or configuration error. See docs/agent.md.\n";
+           "2 not). Exit status 2: usage or configuration error. See docs/agent.md.\n"
+           "--metrics serves Prometheus metrics at http://HOST:PORT/metrics (off by\n"
+           "default; docs/metrics.md). A HOST other than loopback needs --metrics-user\n"
+           "and the password in the environment variable NCLINK_METRICS_PASSWORD.\n";
 }
 
 struct Options {
-    std::optional<std::string> broker, config_path, state_dir, log_level, acl_path;
+    std::optional<std::string> broker, config_path, state_dir, log_level, acl_path, metrics, metrics_user;
     bool check_only = false;
 };
 
@@ -104,6 +112,8 @@ int main(int argc, char** argv) {
         else if (arg == "--state-dir") ok = value(o.state_dir);
         else if (arg == "--log-level") ok = value(o.log_level);
         else if (arg == "--write-mosquitto-acl") ok = value(o.acl_path);
+        else if (arg == "--metrics") ok = value(o.metrics);
+        else if (arg == "--metrics-user") ok = value(o.metrics_user);
         else if (arg == "--check-config") o.check_only = true;
         else if (arg == "-h" || arg == "--help") {
             usage(std::cout);
@@ -163,6 +173,24 @@ int main(int argc, char** argv) {
 
     nclink::Logger logger(nclink::stderr_sink(), config.log_level);
     nclink::Agent agent(config, logger);
+    // /metrics (docs/metrics.md): bound before the agent starts, so a port
+    // that cannot be bound stops the program before it serves anything.
+    std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
+    if (o.metrics) {
+        std::optional<nclink::http::BasicAuth> auth;
+        if (o.metrics_user) {
+            const char* password = std::getenv("NCLINK_METRICS_PASSWORD");
+            auth = nclink::http::BasicAuth{*o.metrics_user, password ? password : "", "nclink-agent", {}};
+        }
+        auto made = nclink::http::MetricsEndpoint::start(
+            *o.metrics, [&agent] { return nclink::prometheus_metrics(agent); }, "nclink_agent", std::move(auth), logger);
+        if (!made) {
+            logger.error("nclink-agent: --metrics {}: {}", *o.metrics, made.error().describe());
+            return 1;
+        }
+        metrics = std::move(made).value();
+        logger.info("nclink-agent: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
+    }
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());
         return 1;
@@ -176,6 +204,7 @@ int main(int argc, char** argv) {
         reload(o, agent, logger);
     }
     logger.info("nclink-agent: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    if (metrics) metrics->stop();
     agent.stop();
     return 0;
 }
