@@ -98,7 +98,7 @@ void OpsApi::install(http::HttpServer& server) {
         auto r = http::text_response(std::string(kDashboardPage), "text/html; charset=utf-8");
         // The page only talks to this server: nothing else may run in it.
         r.headers.emplace_back("Content-Security-Policy",
-                               "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'unsafe-inline'; "
+                               "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self' data:; "
                                "frame-ancestors 'none'");
         r.headers.emplace_back("X-Content-Type-Options", "nosniff");
         return r;

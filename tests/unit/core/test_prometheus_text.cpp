@@ -1,7 +1,7 @@
 #include "core/latency_histogram.hpp"
 #include "core/prometheus_text.hpp"
 
-#include "../../support/prometheus_check.hpp"
+#include "support/prometheus_check.hpp"
 
 #include <catch2/catch.hpp>
 
