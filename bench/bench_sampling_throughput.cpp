@@ -19,7 +19,7 @@
 // drop, nothing dropped by the spool or the transport, and at most 1% of the
 // values null (a null is a sample not taken: the sampler ran a period late,
 // which on this VM happens to 0.3-0.9% of 1 ms ticks even when idle, see
-// PERF-FLOORS.md and sampling.md). Channels are dynamic
+// docs/sampling.md). Channels are dynamic
 // channels (Register/Sample) of `points` copies of one item, 1 ms sample,
 // 100 ms upload. CPU = getrusage of the adapter process between "all channels
 // registered" and "stopped and flushed" (so it includes the final flush).

@@ -6,7 +6,7 @@
 //   bench_sampling_timing [--seconds N] [--points N] [--rt-priority P]
 //                         [--timer-slack NS] [--cpu N] [--worker-reads]
 //
-// Target (issue 4): p50 and p99 within 50 us of the floor; every row present.
+// Target: p50 and p99 within 50 us of the floor; every row present.
 #include "bench_util.hpp"
 
 #include "sampling/realtime.hpp"

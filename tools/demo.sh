@@ -14,9 +14,9 @@ follow=0
 say() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
 
 tools/install-deps.sh
-say "building nclink-sim and the nclink command-line tool"
+say "building nclink-sim, nclink-bridge and the nclink command-line tool"
 cmake --preset default >/dev/null
-cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli >/dev/null
+cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli nclink-bridge >/dev/null
 
 # A free loopback port: nothing answers on it.
 port=${NCLINK_DEMO_PORT:-}
@@ -103,6 +103,37 @@ nclink call cycle_start || true
 
 say "nclink stats: the adapter's own counters and the sample channels' timing"
 nclink stats || true
+
+free_port() {
+  local p
+  for p in $(seq "$1" "$(($1 + 100))"); do
+    if ! (exec 3<>"/dev/tcp/127.0.0.1/$p") 2>/dev/null; then echo "$p"; return; fi
+  done
+}
+say "MTConnect: nclink-bridge serves the mill over HTTP (GB/T 39561.3 appendix A)"
+http_port=$(free_port 15000)
+build/bin/nclink-bridge --broker "$broker" --device "$device" --http "127.0.0.1:$http_port" --shdr off \
+  >"$work/bridge.log" 2>&1 &
+pids+=($!)
+bridge="http://127.0.0.1:$http_port"
+for _ in $(seq 100); do
+  curl -sf "$bridge/current" 2>/dev/null | grep -q 'Xact\|Position' && break
+  sleep 0.2
+done
+echo "  \$ curl '$bridge/current?path=//Axes//DataItem[@type=\"POSITION\"]'"
+curl -sf "$bridge/current?path=//Axes//DataItem%5B@type=%22POSITION%22%5D" \
+  | grep -o '<Position[^>]*>[^<]*</Position>' | sed 's/^/  /' || echo "  (no answer: see $work/bridge.log)"
+
+if [[ -x tools/nclink-opcua/nclink-opcua && -d tools/nclink-opcua/node_modules ]]; then
+  say "OPC UA: nclink-opcua serves the same machine (GB/T 39561.3 appendix B); a client reads it"
+  opc_port=$(free_port 14840)
+  tools/nclink-opcua/nclink-opcua --bridge "$bridge" --port "$opc_port" --pki "$work/pki" >"$work/opcua.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 150); do grep -q "device $device: serving" "$work/opcua.log" 2>/dev/null && break; sleep 0.2; done
+  echo "  \$ opcua-read.js opc.tcp://127.0.0.1:$opc_port $device feed_override x_position status"
+  node tools/nclink-opcua/opcua-read.js "opc.tcp://127.0.0.1:$opc_port" "$device" feed_override x_position status \
+    | sed 's/^/  /' || echo "  (see $work/opcua.log)"
+fi
 
 if ((follow)); then
   say "following the machine every second (Ctrl-C to stop)"

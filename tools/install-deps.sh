@@ -9,12 +9,14 @@ here=$(cd "$(dirname "$0")" && pwd)
 packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
           mosquitto mosquitto-clients
-          libcpp-httplib-dev libxml2-dev libxml2-utils
+          libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev
           tmux)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
 # dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
 # (MTConnect path=); libxml2-utils: xmllint, which the bridge's tests validate
-# MTConnect documents with. tmux: the tests of `nclink top` and of the
+# MTConnect documents with. curl: the demo asks nclink-bridge for /current as
+# a MTConnect client would. libmodbus-dev: the Modbus TCP driver
+# (drivers/modbus) and its test PLC. tmux: the tests of `nclink top` and of the
 # progress bar run the tool in a real terminal.
 # Heavier tools that only one test path needs (each test skips with a message
 # when its tool is missing):

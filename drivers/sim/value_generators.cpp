@@ -77,7 +77,7 @@ struct Alias {
     std::string_view to;
 };
 
-// Deviations seen in deployed files (WIRE.md "Model files in the wild").
+// Deviations seen in deployed files (docs/wire.md "Model files in the wild").
 constexpr std::array<Alias, 9> aliases{{
     {"SPDL_OVERRIDE", "SPINDLE_OVERRIDE"},
     {"SPDL_SPEED", "SPINDLE_SPEED"},

@@ -1,5 +1,5 @@
 // The adapter state machine of the NC-Link state-machine patent text
-// (seeds/004, items 64-82): initial, normal, request, disconnected.
+// (the adapter state machine, docs/state-machines.md): initial, normal, request, disconnected.
 #pragma once
 
 #include <nclink/export.hpp>
@@ -38,7 +38,7 @@ struct NCLINK_API AdapterTransition {
     unsigned actions;
 };
 
-/// The transition table, item by item of seeds/004. Pure and thread-safe.
+/// The transition table, item by item of the adapter state machine (docs/state-machines.md). Pure and thread-safe.
 NCLINK_API AdapterTransition adapter_transition(AdapterState state, AdapterEvent event) noexcept;
 
 NCLINK_API std::string_view to_string(AdapterState state) noexcept;

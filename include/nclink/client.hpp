@@ -42,7 +42,7 @@
 namespace nclink {
 
 // ClientState (include/nclink/client_state.hpp) is the application state
-// machine of seed 004: initial until the link first comes up, then normal
+// machine (docs/state-machines.md): initial until the link first comes up, then normal
 // (connected, nothing outstanding), request (connected, requests outstanding)
 // and disconnected. Requests made while not connected (initial or
 // disconnected) are queued by the client and sent, in order, when the link

@@ -1,5 +1,5 @@
 // The application state machine of the NC-Link state-machine patent text
-// (seeds/004, items 6-27): initial, normal, request, disconnected. The
+// (the application state machine, docs/state-machines.md): initial, normal, request, disconnected. The
 // Client (client.hpp) drives it; docs/client.md, "State machine", shows the
 // table and where nclink refines it.
 #pragma once
@@ -43,7 +43,7 @@ struct NCLINK_API ClientTransition {
     unsigned actions;
 };
 
-/// The transition table, item by item of seeds/004. `queued` says whether
+/// The transition table, item by item of the application state machine (docs/state-machines.md). `queued` says whether
 /// requests are queued (decides item 26: request or normal after
 /// reconnecting); `outstanding` whether requests sent before the link
 /// dropped still wait for their answer (nclink keeps them: the transport

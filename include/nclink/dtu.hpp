@@ -1,6 +1,6 @@
 // Typed DTUs of GB/T 41970-2022 chapter 8 (table 17, 8.2.1-8.2.31, 8.3).
 //
-// Every struct decodes liberally (WIRE.md: numeric "@id", omitted "guid" in
+// Every struct decodes liberally (docs/wire.md "What nclink accepts": numeric "@id", omitted "guid" in
 // requests, probe given as a string, empty Probe/Query payload, ...) and
 // encodes strictly: spec key names, only keys that are set. The protocol
 // module knows nothing of the model or of value semantics, so params, probe,

@@ -13,14 +13,14 @@
 
 namespace nclink {
 
-/// Sample channels (issue 4). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
+/// Sample channels (6.2.6, 8.2.15). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
 struct NCLINK_API SamplingConfig {
     bool enabled = true;                       ///< "enabled": run the model's sample channels
     std::size_t max_dynamic_channels = 16;     ///< "max_dynamic_channels": more answers 415
     /// "push_channels": model channels whose rows the firmware pushes
     /// (Adapter::push_channel) instead of the SDK reading the driver.
     std::vector<std::string> push_channels;
-    /// "qos": MQTT QoS (0 or 1) of the model channels' Sample DTUs (WIRE.md: 0).
+    /// "qos": MQTT QoS (0 or 1) of the model channels' Sample DTUs (docs/wire.md "Transport").
     int qos = 0;
     /// "channel_qos": per model channel overrides of "qos", {"ch_fast": 1}.
     std::map<std::string, int> channel_qos;
@@ -58,7 +58,7 @@ struct NCLINK_API SamplingConfig {
     std::size_t spool_disk_bytes = 0;
 };
 
-/// Events (issue 5). JSON: "events": {...}. Keys: src/events/events_config.cpp.
+/// Events (8.2.27-8.2.31). JSON: "events": {...}. Keys: src/events/events_config.cpp.
 struct NCLINK_API EventsConfig {
     std::size_t max_events = 64;                   ///< "max_events": registrations of all applications; more answers 416 (0 = none)
     /// "poll_interval_ms": how often watched items that no running sample
@@ -70,7 +70,7 @@ struct NCLINK_API EventsConfig {
     std::size_t max_queued_values = 65536;
 };
 
-/// Methods (issue 5). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
+/// Methods (8.2.32-8.2.36). JSON: "methods": {...}. Keys: src/methods/methods_config.cpp.
 struct NCLINK_API MethodsConfig {
     /// "max_running": method runs at once (running or paused); one more Method/Call
     /// answers 417. 0 refuses every call. Each run has its own thread.

@@ -247,7 +247,7 @@ NCLINK_API std::string serialize_model(const Model& model);
 /// The same document as a JSON value (for Probe/Query responses).
 NCLINK_API Json model_to_json(const Model& model);
 
-/// Terminal id of a device (8.1.4, WIRE.md): `override_id` when not empty
+/// Terminal id of a device (8.1.4; docs/wire.md "Model files in the wild"): `override_id` when not empty
 /// (configuration/command line), else the device `guid`, else its `id`.
 NCLINK_API std::string resolve_dev_uuid(const Device& device, std::string_view override_id = {});
 

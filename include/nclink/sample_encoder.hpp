@@ -4,7 +4,7 @@
 //   {"@id"?, "guid", "id", "beginTime": "<ms>", "data": [{"data":[...]}, ...], "privateInfo"?}
 // straight into a reusable buffer: one `data` entry per channel point, in the
 // channel's order, each holding that point's values in time order. No DOM is
-// built and numbers cost no allocation (see PERF-FLOORS.md for why this matters).
+// built and numbers cost no allocation (docs/sampling.md "Benchmarks" shows why this matters).
 //
 // Number formatting: doubles use std::to_chars (shortest text that round-trips
 // exactly); integral doubles therefore print without a fraction ("414"), except

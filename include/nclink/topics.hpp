@@ -1,4 +1,4 @@
-// NC-Link topics (GB/T 41970-2022 table 17, shapes fixed by WIRE.md):
+// NC-Link topics (GB/T 41970-2022 table 17, shapes in docs/wire.md):
 // builders for every topic, the subscription filters of an adapter and an
 // agent, a parser, and the mirror rule that turns a request topic into the
 // response topic(s) to publish to.
@@ -99,7 +99,7 @@ NCLINK_API bool has_typo_spelling(TopicKind kind) noexcept;
 /// not requests.
 NCLINK_API std::optional<TopicKind> response_kind(TopicKind request) noexcept;
 
-/// The mirror rule (WIRE.md): `X/Request/{dev}/{ex}` -> `X/Response/{dev}/{ex}`,
+/// The mirror rule (docs/wire.md): `X/Request/{dev}/{ex}` -> `X/Response/{dev}/{ex}`,
 /// `X/Request/{dev}` -> `X/Response/{dev}`, always in the standard spelling.
 /// std::nullopt when `request` is not a request topic, and for Register/Request
 /// (its response topic names the registering client, which only the payload carries:

@@ -13,7 +13,7 @@ ProbeSetResponse Adapter::Impl::probe_set(const ProbeSetRequest& request) {
     LoadResult loaded = parse_model(text);
     const std::string refused = detail::refusal_reasons(loaded, config.strict);
     if (!refused.empty()) {
-        // Every problem in `reason` (WIRE.md/issue: the sender fixes all in one round).
+        // Every problem in `reason` (docs/wire.md: the sender fixes all in one round).
         response.status = ResponseStatus::failure(refused, to_int(ErrorCode::syntax_error));
         return response;
     }

@@ -132,7 +132,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                 }
             }
             // Requests of features this adapter does not run: never
-            // silence, always an answer (WIRE.md).
+            // silence, always an answer (docs/wire.md "Error answers").
             ++rejected;
             reply = make_error_reply(topic.kind, peek_message_id(payload), dev,
                                      make_error(ErrorCode::unavailable, "not supported by this adapter"));

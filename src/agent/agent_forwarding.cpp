@@ -10,7 +10,7 @@ using namespace agent_detail;
 void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.retained) {
         ++counters.retained;
-        return;  // WIRE.md: never act on a replayed request
+        return;  // docs/wire.md: never act on a replayed (retained) request
     }
     if (topic.ex && *topic.ex == config.agent_id) return;  // our own model fetch
     if (topic.ex) alive(*topic.ex, Kind::application, out);

@@ -70,7 +70,7 @@ struct NCLINK_LOCAL Client::Impl {
     std::condition_variable link_changed;
     LinkState link = LinkState::disconnected;
     bool ever_connected = false;
-    client_detail::ClientStateMachine machine;  // seed 004; the send path goes through it
+    client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
     client_detail::EventRoutes event_routes;  // client_events.cpp
     client_detail::Dispatcher dispatcher;  // last: its thread uses everything above
 

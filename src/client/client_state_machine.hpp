@@ -1,4 +1,4 @@
-// The client's state (seed 004, include/nclink/client_state.hpp) and the
+// The client's state (docs/state-machines.md, include/nclink/client_state.hpp) and the
 // queue of requests made while the link is down. It sits in the send path:
 // every request goes through submit(), every link change through
 // link_restored()/link_lost(), every completion through completed().

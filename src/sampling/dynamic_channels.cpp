@@ -16,7 +16,7 @@ Json refuse(SampleUnregisterResponse response, ErrorCode code) {
 }
 
 /// QoS of the channel's Sample DTUs: privateInfo {"qos": 0|1} of the request
-/// (an nclink extension; WIRE.md: Sample QoS 0 unless configured).
+/// (an nclink extension; docs/wire.md "Transport": the Sample QoS default).
 int requested_qos(const std::optional<Json>& private_info) {
     if (!private_info || !private_info->is_object()) return 0;
     auto it = private_info->find("qos");

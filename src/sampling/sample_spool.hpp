@@ -1,4 +1,4 @@
-// Offline store-and-forward of Sample DTUs (issue 4, docs/store-and-forward.md).
+// Offline store-and-forward of Sample DTUs (docs/store-and-forward.md).
 //
 // Sits between the sampling engine's DtuSink and the transport:
 //

@@ -2,8 +2,7 @@
 // them (Scheduler), one uploader thread (Uploader) draining the channels'
 // rings into Sample DTUs handed to a sink. See docs/sampling.md.
 //
-// NOTE FOR H2 (dynamic sampling, spool): the API below is stable. Facts you
-// can rely on:
+// Contract (what dynamic channels and the spool build on):
 // - add_channel(): validates the spec (non-empty id and points, intervals >
 //   0, upload >= sample, id unique in this engine: 410 when taken, 406 for bad
 //   intervals, 412 for empty points); the channel runs from the next scheduler

@@ -112,7 +112,7 @@ void SamplingService::start_model_channels(const ModelState& state) {
         spec.sample_interval_ms = channel.sample_interval_ms;
         spec.upload_interval_ms = channel.upload_interval_ms;
         spec.topic = topics::sample(host_.dev, channel.id);
-        // WIRE.md: Sample DTUs QoS 0 unless configured (per channel).
+        // docs/wire.md "Transport": the Sample DTU QoS, configurable per channel.
         const auto qos = config.channel_qos.find(channel.id);
         spec.qos = qos != config.channel_qos.end() ? qos->second : config.qos;
         spec.push = std::find(config.push_channels.begin(), config.push_channels.end(), channel.id) != config.push_channels.end();

@@ -2,12 +2,11 @@
 // (6.2.6, 8.2.15) on one SamplingEngine, restarts them after a Probe/Set, and
 // reports statistics.
 //
-// HOW H2 PLUGS IN (dynamic sampling, offline spool):
+// Extensions (dynamic channels, offline spool) plug in like this:
 // - Implement a SamplingExtension (below). Register it in
 //   SamplingService::SamplingService() in sampling_service.cpp, at the line
 //   marked "EXTENSIONS", e.g.
 //       add_extension(make_dynamic_channels(host_, *engine_));
-//   (that one line and its #include are yours to add).
 // - handles()/handle(): the service answers sample_register_request and
 //   sample_unregister_request by forwarding them to the first extension whose
 //   handles() says so (without one they get NG 202 "not supported").

@@ -3,7 +3,7 @@
 // hands drained rows to the sample tap, and every uploadInterval encodes the
 // batch as Sample DTU(s) and hands them to the sink.
 //
-// DTU shape (WIRE.md, 6.2.6.2): rows in time order, one `data` column per
+// DTU shape (6.2.6.2, 8.2.15; docs/wire.md): rows in time order, one `data` column per
 // channel point in the channel's order, beginTime = the first row's time.
 // A batch is split into several DTUs where rows are missing (a gap in the
 // sequence: dropped rows, skipped ticks), since a DTU's rows are implicitly

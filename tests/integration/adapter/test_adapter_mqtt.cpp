@@ -8,6 +8,7 @@
 
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -45,29 +46,19 @@ private:
     std::unique_ptr<SimDriver> sim_;
 };
 
-struct Rig {
-    explicit Rig(MosquittoOptions broker_options = {}) : broker(broker_options) {}
+struct Rig : nclink::test::SimMillRig {
+    explicit Rig(MosquittoOptions broker_options = {}) : SimMillRig(broker_options) { driver = slowable; }
 
     void start_adapter(std::chrono::milliseconds driver_timeout = std::chrono::milliseconds(1000)) {
-        AdapterConfig c;
-        c.model_path = sim_mill_path();
-        c.broker_url = broker.url();
-        c.driver_timeout = driver_timeout;
-        c.register_timeout = std::chrono::milliseconds(500);
-        adapter = started_adapter(c, driver);
+        config.driver_timeout = driver_timeout;
+        start();
     }
-    std::unique_ptr<Client> client(const std::string& ex, bool persistent = false) {
-        return started_client(broker.url(), ex, std::chrono::seconds(5), [&](MqttOptions& m, ClientOptions&) {
-            m.client_id = "nclink-itest-" + ex;
-            m.clean_session = !persistent;
-            m.reconnect_min = std::chrono::milliseconds(50);
-            m.reconnect_max = std::chrono::milliseconds(300);
-        });
+    std::unique_ptr<Client> app(const std::string& ex, bool persistent = false) {
+        return make_client(ex, std::chrono::seconds(5),
+                           [&](MqttOptions& m, ClientOptions&) { m.clean_session = !persistent; });
     }
 
-    MosquittoBroker broker;
-    std::shared_ptr<SlowableSim> driver = std::make_shared<SlowableSim>();
-    std::unique_ptr<Adapter> adapter;
+    std::shared_ptr<SlowableSim> slowable = std::make_shared<SlowableSim>();
 };
 
 }  // namespace
@@ -75,7 +66,7 @@ struct Rig {
 TEST_CASE("probe, query and set the simulated mill through mosquitto") {
     Rig rig;
     rig.start_adapter();
-    auto app = rig.client("mes-1");
+    auto app = rig.app("mes-1");
 
     auto model = app->probe(kDev);
     REQUIRE(model.ok());
@@ -121,10 +112,10 @@ TEST_CASE("a response produced while the broker restarts is delivered after it")
     bo.persistent = true;  // the client's persistent session keeps its subscription
     Rig rig(bo);
     rig.start_adapter(std::chrono::milliseconds(5000));
-    auto app = rig.client("mes-restart", true);
+    auto app = rig.app("mes-restart", true);
     REQUIRE(app->query(kDev, {{"status", std::nullopt}}).ok());  // warm: subscriptions in place
 
-    rig.driver->delay = std::chrono::milliseconds(800);
+    rig.slowable->delay = std::chrono::milliseconds(800);
     std::mutex mutex;
     std::optional<Result<std::vector<QueryResult>>> answer;
     RequestOptions ro;
@@ -145,7 +136,7 @@ TEST_CASE("a response produced while the broker restarts is delivered after it")
     std::lock_guard<std::mutex> lock(mutex);
     REQUIRE(answer->ok());
     CHECK(answer->value()[0].status.ok);
-    rig.driver->delay = std::chrono::milliseconds(0);
+    rig.slowable->delay = std::chrono::milliseconds(0);
     rig.adapter->stop();
 }
 
@@ -156,7 +147,7 @@ TEST_CASE("adapter restart: applications see offline, then online again") {
     // until the client is destroyed, so these must outlive it.
     std::mutex mutex;
     std::vector<std::string> states;
-    auto app = rig.client("mes-state");
+    auto app = rig.app("mes-state");
     REQUIRE(app->subscribe_state(kDev, [&](const NotifyState& n) {
         std::lock_guard<std::mutex> lock(mutex);
         states.push_back(n.state);

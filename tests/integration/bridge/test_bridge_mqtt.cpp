@@ -6,6 +6,7 @@
 
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -65,12 +66,9 @@ std::string attribute(const std::string& xml, const std::string& name) {
     return {};
 }
 
-struct Rig {
+struct Rig : nclink::test::SimMillRig {
     Rig() {
-        adapter_config.model_path = nclink::test::sim_mill_path();
-        adapter_config.broker_url = broker.url();
-        adapter_config.register_timeout = 500ms;
-        start_adapter();
+        start();
         bridge::BridgeConfig c;
         c.broker_url = broker.url();
         c.http_port = 0;
@@ -84,19 +82,14 @@ struct Rig {
         REQUIRE(the_bridge->start().ok());
         http = std::make_unique<httplib::Client>("127.0.0.1", the_bridge->http_port());
         http->set_read_timeout(10, 0);
-        client = nclink::test::started_client(broker.url(), "checker");
+        client = make_client("checker");
         REQUIRE(eventually([&] {
             auto r = http->Get("/current");
             return r && r->status == 200 && r->body.find(">AVAILABLE</Availability>") != std::string::npos;
         }, 20s));
     }
-    void start_adapter() { adapter = nclink::test::started_adapter(adapter_config, nclink::test::sim_for(nclink::test::sim_mill_path())); }
-
-    Json query(const std::string& id) {
-        auto r = client->query(kDev, {QueryItem{id, std::nullopt}});
-        REQUIRE(r.ok());
-        REQUIRE(r->at(0).status.ok);
-        return (*r->at(0).values)[0];
+    ~Rig() override {
+        the_bridge.reset();  // before the adapter and the broker
     }
     httplib::Result get(const std::string& path) { return http->Get(path.c_str()); }
     void expect_error(const std::string& path, int status, const std::string& code) {
@@ -108,12 +101,8 @@ struct Rig {
         CHECK(validates(r->body, "Error"));
     }
 
-    test::MosquittoBroker broker;
-    AdapterConfig adapter_config;
-    std::unique_ptr<Adapter> adapter;
     std::unique_ptr<bridge::Bridge> the_bridge;
     std::unique_ptr<httplib::Client> http;
-    std::unique_ptr<Client> client;
 };
 
 }  // namespace
@@ -128,7 +117,7 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     CHECK(validates(rig.get("/" + kDev + "/probe")->body, "Devices"));
 
     // A value nobody changes: the bridge's current equals a Query of the same item.
-    const Json override_value = rig.query("spindle_override");
+    const Json override_value = rig.query_one("spindle_override");
     REQUIRE(override_value.is_number());
     std::string shown;
     REQUIRE(eventually([&] {
@@ -212,7 +201,7 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
         "application/xml");
     REQUIRE(write);
     CHECK(write->status == 200);
-    CHECK(rig.query("spindle_override") == 87);
+    CHECK(rig.query_one("spindle_override") == 87);
 
     // The JSON API: devices, model, nodeset, set.
     auto devices = rig.get("/nclink/v1/devices");
@@ -232,7 +221,7 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
                               "application/json");
     REQUIRE(set);
     CHECK(Json::parse(set->body) == Json{{"code", "OK"}});
-    CHECK(rig.query("spindle_override") == 93);
+    CHECK(rig.query_one("spindle_override") == 93);
     auto refused = rig.http->Post(("/nclink/v1/devices/" + kDev + "/set").c_str(), R"({"id":"x_position","value":1})",
                                   "application/json");
     REQUIRE(refused);
@@ -278,7 +267,8 @@ TEST_CASE("bridge turns a stopped adapter UNAVAILABLE and brings its values back
     auto devices = Json::parse(rig.get("/nclink/v1/devices")->body);
     CHECK(devices["devices"][0]["state"] == "offline");
 
-    rig.start_adapter();
+    rig.driver = nullptr;  // a fresh simulated mill, as after a real restart
+    rig.start();
     REQUIRE(eventually([&] {
         auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"x_position\"]"));
         return r && r->body.find(">AVAILABLE</Availability>") == std::string::npos &&

@@ -10,6 +10,7 @@
 #include "support/collected.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -40,30 +41,16 @@ const std::string kDev = nclink::test::kSimMillDevice;
 /// Event DTUs a callback received, for the test thread.
 using Seen = nclink::test::Collected<EventData>;
 
-struct Rig {
+struct Rig : nclink::test::SimMillRig {
     explicit Rig(std::size_t max_events = 8, std::chrono::milliseconds lease = std::chrono::minutes(5)) {
-        AdapterConfig c;
-        c.model_path = sim_mill_path();
-        c.broker_url = broker.url();
-        c.register_timeout = std::chrono::milliseconds(500);
-        c.events.max_events = max_events;
-        c.events.poll_interval = std::chrono::milliseconds(50);
-        c.application_lease = lease;
-        adapter = started_adapter(c, sim_for(sim_mill_path()));
+        config.events.max_events = max_events;
+        config.events.poll_interval = std::chrono::milliseconds(50);
+        config.application_lease = lease;
+        start();
         client = make_client("app");
     }
-    std::unique_ptr<Client> make_client(const std::string& ex) {
-        return started_client(broker.url(), ex, std::chrono::seconds(5),
-                              [&](MqttOptions& m, ClientOptions&) { m.client_id = "nclink-itest-" + ex; });
-    }
-    void set(const std::string& id, Json params) {
-        auto results = client->set(kDev, {SetItem{id, std::move(params)}});
-        REQUIRE(results.ok());
-        INFO(id);
-        REQUIRE(results->at(0).status.ok);
-    }
-    Json query(const std::string& id, Json params = nullptr) {
-        QueryItem item{id, params.is_null() ? std::nullopt : std::optional<Json>(params)};
+    Json stats() { return adapter->stats().features["events"]; }
+};
         auto results = client->query(kDev, {item});
         REQUIRE(results.ok());
         REQUIRE(results->at(0).status.ok);
@@ -98,12 +85,12 @@ ErrorCode refused(Rig& rig, Client::EventRegistration r) {
 
 TEST_CASE("events on the sim: a greater filter fires when a Set moves the value") {
     Rig rig;
-    rig.set("feed_override", {{"value", 100}});
+    rig.set_one("feed_override", {{"value", 100}});
     Seen seen;
     auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "greater"}, {"value", 110}}}),
                                          seen.handler());
     REQUIRE(id.ok());
-    rig.set("feed_override", {{"value", 120}});
+    rig.set_one("feed_override", {{"value", 120}});
     REQUIRE(eventually([&] { return seen.size() == 1; }));
     const EventData e = seen.at(0);
     CHECK(e.id == *id);
@@ -119,7 +106,7 @@ TEST_CASE("events on the sim: a greater filter fires when a Set moves the value"
 
 TEST_CASE("events on the sim: each trigger type") {
     Rig rig;
-    rig.set("spindle_override", {{"value", 100}});
+    rig.set_one("spindle_override", {{"value", 100}});
     const Json below{{"type", "less"}, {"value", 90}};
     Seen always, normal, once;
     REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "always"), always.handler()).ok());
@@ -127,9 +114,9 @@ TEST_CASE("events on the sim: each trigger type") {
     REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "once"), once.handler()).ok());
     CHECK(rig.client->event_registrations() == 3);
     for (int v : {80, 70, 95, 60}) {
-        rig.set("spindle_override", {{"value", v}});
+        rig.set_one("spindle_override", {{"value", v}});
         // Each value stays long enough for a poll (50 ms) to see it.
-        REQUIRE(eventually([&] { return rig.query("spindle_override") == v; }));
+        REQUIRE(eventually([&] { return rig.query_one("spindle_override") == v; }));
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
     REQUIRE(eventually([&] { return always.size() == 3; }));
@@ -167,7 +154,7 @@ TEST_CASE("events on the sim: a sampled item is watched from the sample stream")
 
 TEST_CASE("events on the sim: an event that matches at registration fires at once") {
     Rig rig;
-    rig.set("feed_override", {{"value", 100}});
+    rig.set_one("feed_override", {{"value", 100}});
     Seen seen;
     auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "equal"}, {"value", 100}}}),
                                          seen.handler());
@@ -179,7 +166,7 @@ TEST_CASE("events on the sim: an event that matches at registration fires at onc
 
 TEST_CASE("events on the sim: dict and list elements") {
     Rig rig;
-    const Json p1 = rig.query("parameters", {{"keys", {"P0001"}}});
+    const Json p1 = rig.query_one("parameters", {{"keys", {"P0001"}}});
     Seen dict, list;
     auto reg_dict = on("parameters", {{{"type", "change"}, {"variance", 10}}});
     reg_dict.key = "P0001";
@@ -188,21 +175,21 @@ TEST_CASE("events on the sim: dict and list elements") {
     reg_list.index = 0;
     REQUIRE(rig.client->register_event(kDev, reg_list, list.handler()).ok());
 
-    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 1}});  // below the variance? first event: no check
+    rig.set_one("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 1}});  // below the variance? first event: no check
     REQUIRE(eventually([&] { return dict.size() == 1; }));
     CHECK(dict.at(0).event.key == std::optional<std::string>("P0001"));
     CHECK(dict.at(0).event.value == p1.get<double>() + 1);
-    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 5}});  // 4 from the last event
+    rig.set_one("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 5}});  // 4 from the last event
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    rig.set("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 20}});  // 19: fires
+    rig.set_one("parameters", {{"key", "P0001"}, {"value", p1.get<double>() + 20}});  // 19: fires
     REQUIRE(eventually([&] { return dict.size() == 2; }));
     CHECK(dict.at(1).event.value == p1.get<double>() + 20);
     CHECK(*dict.at(1).event.old_value == p1.get<double>() + 5);
 
-    Json tool = rig.query("tools", {{"indexes", {"0"}}});
+    Json tool = rig.query_one("tools", {{"indexes", {"0"}}});
     const Json before = tool;
     tool["length"] = 123.25;
-    rig.set("tools", {{"index", 0}, {"value", tool}});
+    rig.set_one("tools", {{"index", 0}, {"value", tool}});
     REQUIRE(eventually([&] { return list.size() == 1; }));
     CHECK(list.at(0).event.index == std::optional<std::int64_t>(0));
     CHECK(list.at(0).event.value == tool);
@@ -273,15 +260,15 @@ TEST_CASE("events on the sim: nclink events prints the events live") {
         return;
     }
     Rig rig;
-    rig.set("feed_override", {{"value", 100}});
+    rig.set_one("feed_override", {{"value", 100}});
     auto cli = std::async(std::launch::async, [&] {
         return run_cli("events --broker " + rig.broker.url() + " --device " + kDev +
                        " feed_override --filter greater:110 --filter equal:50 --count 2 --json --timeout 5000");
     });
     REQUIRE(eventually([&] { return rig.stats()["registered"] == 1; }));
-    rig.set("feed_override", {{"value", 120}});
+    rig.set_one("feed_override", {{"value", 120}});
     REQUIRE(eventually([&] { return rig.stats()["fired"] == 1; }));
-    rig.set("feed_override", {{"value", 50}});
+    rig.set_one("feed_override", {{"value", 50}});
     const Run run = cli.get();
     CHECK(run.status == 0);
     std::vector<Json> lines;
@@ -312,7 +299,7 @@ TEST_CASE("events on the sim: nclink events exit codes") {
     // A refused filter is the adapter's answer (421): exit 1.
     CHECK(run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter '{\"type\":\"change\",\"from\":1}'").status == 1);
     // once: the first event ends it.
-    rig.set("feed_override", {{"value", 100}});
+    rig.set_one("feed_override", {{"value", 100}});
     const Run once = run_cli("events --broker " + rig.broker.url() + " " + kDev +
                              " feed_override --filter equal:100 --trigger once");
     CHECK(once.status == 0);

@@ -11,6 +11,7 @@
 #include "support/cli.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -43,23 +44,16 @@ namespace {
 
 const std::string kDev = nclink::test::kSimMillDevice;
 
-struct Rig {
-    MosquittoBroker broker;
-    ScratchDir scratch{"nclink-itest-methods-"};
+struct Rig : nclink::test::SimMillRig {
     fs::path root = scratch.path;
     fs::path programs = root / "prog";
     fs::path outside = root / "outside";
     std::shared_ptr<ManualClock> clock = std::make_shared<ManualClock>();
     std::shared_ptr<SimDriver> sim;
-    std::unique_ptr<Adapter> adapter;
-    std::unique_ptr<Client> client;
 
-    explicit Rig(std::size_t max_running = 4) {
+    explicit Rig(std::size_t max_running = 4) : SimMillRig({}, "nclink-itest-methods-") {
         fs::create_directories(programs);
         fs::create_directories(outside);
-        AdapterConfig config;
-        config.broker_url = broker.url();
-        config.model_path = sim_mill_path();
         config.persistence_dir = (root / "state").string();
         config.register_timeout = 200ms;
         config.sampling.enabled = false;  // not under test (its threads wait on the ManualClock)
@@ -69,12 +63,9 @@ struct Rig {
         SimOptions options;
         options.clock = clock;
         sim = sim_for(config.model_path, options);
-        adapter = started_adapter(config, sim, clock);
-        client = started_client(broker.url(), "mes-1", 10s);
-    }
-    ~Rig() {
-        if (client) client->stop();
-        if (adapter) adapter->stop();
+        driver = sim;
+        start(clock);
+        client = make_client("mes-1", 10s);
     }
 
     fs::path make_file(const std::string& name, std::size_t bytes) {
@@ -85,12 +76,6 @@ struct Rig {
     }
     std::size_t program_entries() const {
         return static_cast<std::size_t>(std::distance(fs::directory_iterator(programs), fs::directory_iterator()));
-    }
-    Json query(const std::string& id) {
-        auto r = client->query(kDev, {{id, std::nullopt}});
-        REQUIRE(r.ok());
-        REQUIRE((*r)[0].values);
-        return (*(*r)[0].values)[0];
     }
 };
 
@@ -281,12 +266,12 @@ TEST_CASE("cycle start, feed hold and reset move the simulated mill as queries s
     REQUIRE(hold.ok());
     CHECK(hold->result == "finished");
     CHECK((*hold->return_value)["status"] == "holding");
-    CHECK(rig.query("status") == "holding");
+    CHECK(rig.query_one("status") == "holding");
     REQUIRE(rig.client->call_method(kDev, "cycle_start", Json::object())->result == "finished");
-    CHECK(rig.query("status") == "running");
+    CHECK(rig.query_one("status") == "running");
     REQUIRE(rig.client->call_method(kDev, "reset", nullptr)->result == "finished");
-    CHECK(rig.query("status") == "free");
-    CHECK(rig.query("line_number") == "0");
+    CHECK(rig.query_one("status") == "free");
+    CHECK(rig.query_one("line_number") == "0");
 }
 
 TEST_CASE("nclink call and nclink control against the simulated mill") {
@@ -301,7 +286,7 @@ TEST_CASE("nclink call and nclink control against the simulated mill") {
     CHECK(hold.out.find("status waiting") != std::string::npos);
     CHECK(hold.out.find("finished\n") != std::string::npos);
     CHECK(hold.out.find("\"holding\"") != std::string::npos);
-    CHECK(rig.query("status") == "holding");
+    CHECK(rig.query_one("status") == "holding");
 
     auto unknown = run_cli("call " + common + "--json --device " + kDev + " self_destruct");
     CHECK(unknown.status == 1);

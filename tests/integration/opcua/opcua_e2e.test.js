@@ -52,6 +52,7 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
   let bridgeUrl;
   let server;
   let c;
+  let endpoint; // the server's opc.tcp URL
   let ns;
   let items; // from the bridge's nodeset: id -> {encoding, setable, ...}
   const nodeId = (id) => `ns=${ns};s=${id}`;
@@ -106,7 +107,8 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
     const port = await freePort();
     server = startServer(["--bridge", bridgeUrl, "--port", String(port), "--pki", path.join(work, "pki")]);
     await server.waitForLine(/device nclink-sim-mill-01: serving \d+ items/);
-    c = await connect(opcua, `opc.tcp://127.0.0.1:${port}`);
+    endpoint = `opc.tcp://127.0.0.1:${port}`;
+    c = await connect(opcua, endpoint);
     ns = (await c.session.readNamespaceArray()).indexOf(URI);
     assert.ok(ns > 0, `namespace ${URI} served`);
     // Stop the motion so positions hold still while they are compared, and
@@ -202,6 +204,17 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
     }
     if (moving.length) process.stdout.write(`# items that moved, compared by range: ${moving.join("; ")}\n`);
     assert.deepEqual([...pending].map((id) => `${id}: ${problems.get(id)}`), []);
+  });
+
+  it("opcua-read (the command-line read the demo uses) prints the served value", async () => {
+    const out = await new Promise((resolve) => {
+      execFile(process.execPath, [path.join(OPCUA_DIR, "opcua-read.js"), endpoint, DEV, "feed_override", "no_such_item"], (err, stdout, stderr) =>
+        resolve({ code: err ? err.code : 0, stdout, stderr }));
+    });
+    const lines = out.stdout.trim().split("\n");
+    assert.match(lines[0], /^feed_override = 0 \(Good, source \d{4}-/, out.stdout + out.stderr);
+    assert.match(lines[1], /^no_such_item = null \(BadNodeIdUnknown, source -\)$/, out.stdout + out.stderr);
+    assert.equal(out.code, 1, "a read that is not Good makes exit status 1");
   });
 
   it("a write to a setable item shows in NC-Link Query", async () => {

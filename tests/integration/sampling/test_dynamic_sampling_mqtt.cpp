@@ -10,6 +10,7 @@
 #include "support/collected.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -39,30 +40,19 @@ namespace {
 
 const std::string kDev = nclink::test::kSimMillDevice;
 
-struct Rig {
-    MosquittoBroker broker;
-    ScratchDir scratch{"nclink-itest-dynamic-"};
+struct Rig : nclink::test::SimMillRig {
     fs::path root = scratch.path;
     std::shared_ptr<SimDriver> sim;
-    std::unique_ptr<Adapter> adapter;
-    std::unique_ptr<Client> client;
 
-    Rig() {
-        AdapterConfig config;
-        config.broker_url = broker.url();
-        config.model_path = sim_mill_path();
+    Rig() : SimMillRig({}, "nclink-itest-dynamic-") {
         config.persistence_dir = (root / "state").string();
         config.register_timeout = 200ms;
         config.sampling.max_dynamic_channels = 2;
         sim = sim_for(config.model_path);
-        adapter = started_adapter(config, sim);
+        driver = sim;
+        start();
         client = make_client("mes-1");
     }
-    ~Rig() {
-        if (client) client->stop();
-        if (adapter) adapter->stop(0ms);
-    }
-    std::unique_ptr<Client> make_client(const std::string& ex) { return started_client(broker.url(), ex); }
     Json dynamic_stats() { return adapter->stats().features.at("sampling").at("dynamic"); }
 };
 

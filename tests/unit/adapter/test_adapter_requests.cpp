@@ -1,5 +1,5 @@
 // The adapter through the wire (loopback): Query, Set, Probe, error answers,
-// the WIRE.md rules (mirror topics, @id echo, retained and repeated requests).
+// the docs/wire.md rules (mirror topics, @id echo, retained and repeated requests).
 #include "adapter_fixture.hpp"
 
 using namespace nclink;

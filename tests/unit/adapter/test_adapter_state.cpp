@@ -1,4 +1,4 @@
-// The adapter state machine, transition by transition (seeds/004 items 66-82).
+// The adapter state machine, transition by transition (docs/state-machines.md).
 #include <nclink/adapter_state.hpp>
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// The application state machine of seed 004 (items 6-27): the pure table,
+// The application state machine (docs/state-machines.md): the pure table,
 // transition by transition, and the client following it over the loopback
 // (requests queued while disconnected and sent on reconnect).
 #include "fake_adapter.hpp"

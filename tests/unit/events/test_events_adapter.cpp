@@ -17,7 +17,7 @@ TEST_CASE("events adapter: register answers OK with an adapter-generated id") {
     CHECK(reply["guid"] == "test-dev");
     CHECK(reply["code"] == "OK");
     CHECK(reply["id"].get<std::string>().rfind("event_", 0) == 0);
-    // Both spellings of the response topic (WIRE.md, standard_typo_topics).
+    // Both spellings of the response topic (docs/wire.md, standard_typo_topics).
     CHECK(f.app->wait("Reigster/Event/Response/test-dev/app")["id"] == reply["id"]);
     CHECK(f.feature_stats()["registered"] == 1);
 }

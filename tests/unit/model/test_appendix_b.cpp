@@ -19,7 +19,7 @@ TEST_CASE("appendix B loads as a runnable model and reports every known defect")
     INFO(describe(r));
     REQUIRE(r.ok());
     CHECK(r.count(Severity::fatal) == 0);
-    // Every deviation of the field's files is a conformance problem (WIRE.md);
+    // Every deviation of the field's files is a conformance problem (docs/wire.md "Model files in the wild");
     // appendix B has no type of its own, so no warnings.
     CHECK(r.count(C) == 17);
     CHECK(r.count(W) == 0);

@@ -30,7 +30,7 @@ void check_round_trip(const std::string& topic, const ParsedTopic& expected) {
 
 }  // namespace
 
-TEST_CASE("every topic of the WIRE.md table builds and parses") {
+TEST_CASE("every topic of the docs/wire.md table builds and parses") {
     using K = TopicKind;
     check_round_trip(topics::register_request(), parsed(K::register_request, ""));
     check_round_trip(topics::register_response("dev"), parsed(K::register_response, "dev"));

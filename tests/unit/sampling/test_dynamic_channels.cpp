@@ -80,7 +80,7 @@ TEST_CASE("dynamic channel is registered answered in both spellings and publishe
     CHECK(reply["@id"] == "r1");
     const std::string channel = reply["id"].get<std::string>();
     CHECK(channel.size() <= 16);
-    // The standard's misprinted response topic gets the same answer (WIRE.md).
+    // The standard's misprinted response topic gets the same answer (docs/wire.md).
     REQUIRE(eventually([&] { return !f.app->on("Reigster/Sample/Response/test-dev/app").empty(); }));
     CHECK(Json::parse(f.app->on("Reigster/Sample/Response/test-dev/app")[0].payload) == reply);
 
@@ -247,5 +247,5 @@ TEST_CASE("dynamic channel may ask for QoS 1 Sample DTUs through privateInfo") {
     const Json plain = f.register_sampling(ids({"pos"}), 10, 10);
     const std::string plain_topic = topics::dynamic_sample(kDev, "app", plain["id"].get<std::string>());
     f.wait_sample(plain_topic);
-    CHECK(f.app->on(plain_topic)[0].qos == 0);  // WIRE.md default
+    CHECK(f.app->on(plain_topic)[0].qos == 0);  // the request asked for no QoS: the configured default
 }

@@ -190,7 +190,7 @@ ProbeCheck check_probe_response(const Json& dtu, const Json& sent_id, std::strin
     } else if (probe->is_object()) {
         out.model = *probe;
     } else if (probe->is_string()) {
-        // The standard's example sends the text; WIRE.md: we send an object and accept both.
+        // The standard's example sends the text; docs/wire.md: we send an object and accept both.
         std::string why;
         auto parsed = parse_object(probe->get_ref<const std::string&>(), &why);
         if (parsed)
@@ -279,7 +279,7 @@ Problems check_result_list(const Json& dtu, const char* key, const std::vector<s
         return out;
     }
     if (list->size() != ids.size())
-        out.push_back(fmt::format("\"{}\" has {} entries for {} requested items (WIRE.md: exactly one per item, in order)",
+        out.push_back(fmt::format("\"{}\" has {} entries for {} requested items (8.2.12, docs/wire.md: exactly one per item, in order)",
                                   key, list->size(), ids.size()));
     const std::size_t n = std::min(list->size(), ids.size());
     for (std::size_t i = 0; i < n; ++i) {
@@ -300,7 +300,7 @@ Problems check_result_list(const Json& dtu, const char* key, const std::vector<s
             if (values == e.end())
                 out.push_back(where + "code OK without \"values\"");
             else if (!values->is_array())
-                out.push_back(where + fmt::format("\"values\" is {}, not an array (WIRE.md: always an array)", show(*values)));
+                out.push_back(where + fmt::format("\"values\" is {}, not an array (docs/wire.md: always an array)", show(*values)));
         }
     }
     return out;
@@ -346,7 +346,7 @@ Problems check_whole_value(const DataObject& item, const Json& values) {
         return out;
     }
     if (values.size() != 1) {
-        out.push_back(fmt::format("a whole-item query answered {} values; expected [value] (WIRE.md, docs/values.md): {}",
+        out.push_back(fmt::format("a whole-item query answered {} values; expected [value] (docs/values.md): {}",
                                   values.size(), show(values)));
         return out;
     }
@@ -419,7 +419,7 @@ SampleCheck check_sample_dtu(const Json& dtu, std::string_view dev, const Channe
             p.push_back(fmt::format("\"beginTime\" is \"{}\", not milliseconds since the epoch", text));
     } else if (bt->is_number_integer()) {
         begin = bt->get<std::int64_t>();
-        p.push_back("\"beginTime\" is a number; table 36 and WIRE.md want a string");
+        p.push_back("\"beginTime\" is a number; table 36 and docs/wire.md want a string");
     } else {
         p.push_back(fmt::format("\"beginTime\" is {}, not a string of milliseconds", show(*bt)));
     }
@@ -610,7 +610,7 @@ Problems check_notify_state(const Message& message, std::string_view dev) {
     else if (*state != "online")
         out.push_back(fmt::format("\"state\" is \"{}\" while the adapter is serving; expected \"online\"", *state));
     if (!message.retained)
-        out.push_back("Notify/State is not retained (WIRE.md: retained, so late subscribers see the current state)");
+        out.push_back("Notify/State is not retained (docs/wire.md: retained, so late subscribers see the current state)");
     return out;
 }
 

@@ -4,7 +4,7 @@
 // runner (runner.hpp) feeds them what came off the wire, unit tests feed them
 // good and bad DTUs.
 //
-// Reference: GB/T 41970-2022 chapter 8 tables 18-52 and ../shared/WIRE.md
+// Reference: GB/T 41970-2022 chapter 8 tables 18-52 and docs/wire.md
 // (the project's wire decisions); see docs/conformance.md for the mapping.
 #pragma once
 
@@ -76,7 +76,7 @@ std::string bump_version(std::string_view version);
 /// with the item id.
 Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_view dev,
                               const std::vector<std::string>& ids);
-/// The `values` of a whole-item Query of `item` (WIRE.md: `[value]` for every
+/// The `values` of a whole-item Query of `item` (docs/values.md: `[value]` for every
 /// kind): one element; an array (or null) for a list, an object (or null) for
 /// a dict; equal to the model's fixed `value` when it has one.
 Problems check_whole_value(const DataObject& item, const Json& values);
@@ -149,7 +149,7 @@ Problems check_method_control_response(const Json& dtu, const Json& sent_id, std
 
 // ---- state (table 61) ------------------------------------------------------------
 
-/// Notify/State/{dev} (table 37, WIRE.md): a JSON object, state "online" (the
+/// Notify/State/{dev} (table 37, docs/wire.md): a JSON object, state "online" (the
 /// adapter is serving), tid = dev when present, retained.
 Problems check_notify_state(const Message& message, std::string_view dev);
 

@@ -225,7 +225,7 @@ bool Runner::settle_unusable(ItemResult& i, const Exchange& x, bool optional_fea
         return true;
     }
     if (!x.mirrored)
-        fail_with(i, fmt::format("answered on {}; WIRE.md: a request on {} is answered on the mirrored topic",
+        fail_with(i, fmt::format("answered on {}; docs/wire.md: a request on {} is answered on the mirrored topic",
                                  x.reply->message.topic, x.topic),
                   x);
     if (says_not_supported(*x.dtu)) {

@@ -23,7 +23,7 @@ struct Exchange {
     std::optional<Captured> reply;  ///< the answer with our "@id"
     std::optional<Json> dtu;        ///< reply parsed as a JSON object
     std::string unparsable;         ///< why the reply is not a JSON object
-    bool mirrored = true;           ///< the reply came on the mirrored topic (WIRE.md)
+    bool mirrored = true;           ///< the reply came on the mirrored topic (docs/wire.md)
     std::vector<Captured> strays;   ///< other messages on the response topics (wrong "@id")
 };
 
