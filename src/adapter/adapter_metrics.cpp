@@ -68,7 +68,7 @@ void add_adapter_metrics(PrometheusText& out, const std::string& dev, const Adap
 
     // ---- the terminal
     for (auto state : {AdapterState::initial, AdapterState::normal, AdapterState::request, AdapterState::disconnected})
-        out.gauge("nclink_adapter_state", "1 for the adapter's current state (seed-004 state machine), 0 for the others",
+        out.gauge("nclink_adapter_state", "1 for the adapter's current state, 0 for the others",
                   with("state", std::string(to_string(state))), s.state == state ? 1 : 0);
     out.gauge("nclink_adapter_registered", "1 when an agent accepted the adapter's Register/Request (8.2.2)", d,
               s.registered ? 1 : 0);
