@@ -54,8 +54,12 @@ void Adapter::Impl::on_message(const Message& message) {
             return;
         }
     }
-    if (parsed->kind == TopicKind::query_request && dispatch_driver_affine(*parsed, message.payload)) return;
-    executor->post([this, topic = *parsed, payload = message.payload] { handle(topic, payload); });
+    const auto received = std::chrono::steady_clock::now();
+    if (parsed->kind == TopicKind::query_request && dispatch_driver_affine(*parsed, message.payload, received)) return;
+    executor->post([this, topic = *parsed, payload = message.payload, received] {
+        handle(topic, payload);
+        observe_request(topic.kind, received);
+    });
 }
 
 // A Query runs on the driver's own worker, which reads in place: one
@@ -66,10 +70,13 @@ void Adapter::Impl::on_message(const Message& message) {
 // for the driver's items. Whichever comes first answers; the other is
 // dropped. Reads are idempotent, so the late duplicate work is harmless;
 // Set stays on the request workers, where a write is never repeated.
-bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload) {
+bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
+                                           std::chrono::steady_clock::time_point received) {
     auto claim = std::make_shared<detail::AnswerClaim>();
-    const bool posted = runner->post([this, life = lifetime, claim, topic, payload](Driver&) {
+    const bool posted = runner->post([this, life = lifetime, claim, topic, payload, received](Driver&) {
         handle(topic, payload, Affine{claim.get(), life.get()});
+        std::lock_guard<std::mutex> alive_lock(life->mutex);
+        if (life->alive) observe_request(topic.kind, received);
     });
     if (!posted) return false;
     watchdog->arm(std::chrono::steady_clock::now() + config.driver_timeout, [this, claim, topic, payload] {
