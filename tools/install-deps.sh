@@ -10,15 +10,28 @@ packages=(build-essential cmake pkg-config git
           nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
           libssl-dev openssl
           mosquitto mosquitto-clients
-          libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools)
-# libcpp-httplib-dev: the HTTP server of nclink-bridge (src/http);
-# libxml2-dev: the bridge's XPath (MTConnect path=); libxml2-utils: xmllint,
-# which the bridge's tests validate MTConnect documents with.
+          libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools
+          tmux)
+# libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
+# dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
+# (MTConnect path=); libxml2-utils: xmllint, which the bridge's tests validate
+# MTConnect documents with. curl: the demo asks nclink-bridge for /current as
+# a MTConnect client would. libmodbus-dev: the Modbus TCP driver
+# (drivers/modbus) and its test PLC. tmux: the tests of `nclink top` and of the
+# progress bar run the tool in a real terminal.
 # libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
 # openssl: the TLS tests make their certificates with it.
-# curl: the demo asks nclink-bridge for /current as a MTConnect client would.
-# libmodbus-dev: the Modbus TCP driver (drivers/modbus) and its test PLC.
 # abigail-tools: abidw/abidiff for the ABI check against the last release (tools/check-abi.sh).
+# Heavier tools that only one test path needs (each test skips with a message
+# when its tool is missing):
+#   NCLINK_WITH_PACKAGING=1  lintian: the packaging test lints the .deb files
+#     (systemd-analyze, which verifies the units, comes with Debian's systemd).
+#   NCLINK_WITH_PROMETHEUS=1 prometheus: promtool checks the /metrics text.
+#   NCLINK_WITH_BROWSER=1    chromium, chromium-driver, python3-selenium: the
+#     dashboard's test in a real headless browser.
+if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
+if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
+if [[ "${NCLINK_WITH_BROWSER:-0}" == 1 ]]; then packages+=(chromium chromium-driver python3-selenium); fi
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 # Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.

@@ -1,14 +1,21 @@
 // nclink-sim: a simulated machine on NC-Link. Runs an nclink Adapter with the
 // simulated driver (any usable model; the 3-axis mill by default) against a
-// broker until SIGINT/SIGTERM. Argument parsing and wiring only: everything
-// else is the SDK.
+// broker until SIGINT/SIGTERM. SIGHUP re-reads --config: log_level applies at
+// once, other changes at the next start (Adapter::reload); a file with a
+// problem is refused and the running configuration stays. With --machines or
+// --gateway it serves many simulated machines in one process (nclink::Gateway);
+// there SIGHUP re-reads the gateway file instead. Argument parsing and wiring
+// only: everything else is the SDK.
 //
 //   nclink-sim [--broker URL] [--model FILE] [--guid GUID] [--config FILE]
 //              [--plugin SO] [--persistence DIR] [--seed N] [--strict]
-//              [--log-level LEVEL]
+//              [--log-level LEVEL] [--metrics HOST:PORT]
 //   nclink-sim --machines N [...]    N simulated machines in one gateway process
 //   nclink-sim --gateway FILE [...]  the machines a gateway file lists (SIGHUP re-reads it)
+#include "http/metrics_endpoint.hpp"
+
 #include <nclink/adapter.hpp>
+#include <nclink/adapter_metrics.hpp>
 #include <nclink/gateway.hpp>
 #include <nclink/model.hpp>
 #include "sim/sim_driver.hpp"
@@ -21,6 +28,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace {
 
@@ -40,6 +48,9 @@ const char* kUsage = R"(usage: nclink-sim [options]
                       seeds --seed + i; --config gives the settings every machine shares
   --gateway FILE      serve the machines a gateway file lists (docs/gateway.md); SIGHUP re-reads
                       it and adds or removes machines without touching the others
+  --metrics HOST:PORT serve the adapter's Prometheus metrics at http://HOST:PORT/metrics
+                      (off by default, as in firmware; loopback only; docs/metrics.md);
+                      in gateway mode every machine's, labelled by its terminal id
   --help)";
 
 struct Options {
@@ -50,7 +61,7 @@ struct Options {
     std::string gateway_file;
     bool model_given = false, broker_given = false, guid_given = false, strict_given = false,
          persistence_given = false, plugin_given = false, level_given = false;
-    std::string model, broker, guid, plugin, persistence;
+    std::string model, broker, guid, plugin, persistence, metrics;
     nclink::LogLevel level = nclink::LogLevel::info;
 };
 
@@ -89,6 +100,8 @@ Options parse(int argc, char** argv) {
             if (o.machines == 0) usage_error("--machines needs a positive number");
         } else if (arg == "--gateway") {
             o.gateway_file = value();
+        } else if (arg == "--metrics") {
+            o.metrics = value();
         } else if (arg == "--strict") {
             o.strict_given = true;
         } else if (arg == "--log-level") {
@@ -102,13 +115,7 @@ Options parse(int argc, char** argv) {
     return o;
 }
 
-std::string default_model(const char* name = "sim-mill.json") {
-    for (const std::string dir : {NCLINK_SOURCE_MODELS_DIR, NCLINK_INSTALLED_MODELS_DIR}) {
-        const auto path = std::filesystem::path(dir) / name;
-        if (std::filesystem::exists(path)) return path.string();
-    }
-    return name;
-}
+std::string default_model(const char* name = "sim-mill.json");
 
 // The linked simulator for a machine: its model file, its seed.
 nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(const nclink::MachineConfig& machine) {
@@ -125,7 +132,8 @@ nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(const nclink::Machine
 }
 
 // Gateway mode: many simulated machines in this process until a signal.
-int run_gateway(Options& o, const nclink::AdapterConfig& shared, sigset_t& signals, const nclink::Logger& logger) {
+int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const sigset_t& signals,
+                const nclink::Logger& logger) {
     nclink::GatewayConfig gateway;
     if (!o.gateway_file.empty()) {
         auto loaded = nclink::load_gateway_config(o.gateway_file);
@@ -152,8 +160,27 @@ int run_gateway(Options& o, const nclink::AdapterConfig& shared, sigset_t& signa
     nclink::Gateway gw(gateway, &sim_driver, logger);
     if (auto started = gw.start(); !started) logger.warn("nclink-sim: {}", started.error().message);
     logger.info("nclink-sim: {} machine(s) serving (Ctrl-C to stop)", gw.machines().size());
-    sigaddset(&signals, SIGHUP);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    // One exposition of the machines serving at the moment of the scrape
+    // (the HTTP server's thread; Gateway calls are thread-safe).
+    std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
+    if (!o.metrics.empty()) {
+        auto scrape = [&gw] {
+            std::vector<std::shared_ptr<nclink::Adapter>> held;
+            for (const auto& m : gw.machines())
+                if (auto adapter = gw.machine(m.id)) held.push_back(std::move(adapter));
+            std::vector<const nclink::Adapter*> adapters;
+            for (const auto& a : held) adapters.push_back(a.get());
+            return nclink::prometheus_metrics(adapters);
+        };
+        auto made = nclink::http::MetricsEndpoint::start(o.metrics, scrape, "nclink_adapter", std::nullopt, logger);
+        if (!made) {
+            logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
+            gw.stop();
+            return 1;
+        }
+        metrics = std::move(made).value();
+        logger.info("nclink-sim: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
+    }
     for (;;) {
         int signal_number = 0;
         sigwait(&signals, &signal_number);
@@ -175,24 +202,22 @@ int run_gateway(Options& o, const nclink::AdapterConfig& shared, sigset_t& signa
                 if (auto added = gw.add_machine(m); !added) logger.error("nclink-sim: {}", added.error().message);
         logger.info("nclink-sim: {} re-read, {} machine(s) serving", o.gateway_file, gw.machines().size());
     }
+    if (metrics) metrics->stop();
     gw.stop();
     return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Options o = parse(argc, argv);
+// The file's configuration (if any) with the command line's options on top:
+// the same at start and at every reload, so a reload sees only what the
+// file changed.
+nclink::Result<nclink::AdapterConfig> effective_config(const Options& o) {
     nclink::AdapterConfig config;
     if (!o.config_file.empty()) {
         auto loaded = nclink::load_adapter_config(o.config_file);
-        if (!loaded) {
-            std::fprintf(stderr, "nclink-sim: %s\n", loaded.error().message.c_str());
-            return 2;
-        }
+        if (!loaded) return std::move(loaded).error();
         config = std::move(loaded).value();
-        if (!o.level_given) o.level = config.log_level;
     }
+    if (o.level_given) config.log_level = o.level;
     if (o.broker_given) config.broker_url = o.broker;
     if (o.model_given) config.model_path = o.model;
     if (config.model_path.empty()) config.model_path = default_model();
@@ -205,14 +230,70 @@ int main(int argc, char** argv) {
         config.driver_config["model"] = config.model_path;
         config.driver_config["seed"] = o.seed;
     }
-    const nclink::Logger logger(nclink::stderr_sink(), o.level);
+    return config;
+}
+
+std::string joined(const std::vector<std::string>& keys) {
+    std::string out;
+    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
+    return out;
+}
+
+void reload(const Options& o, nclink::Adapter& adapter, const nclink::Logger& logger) {
+    if (o.config_file.empty()) {
+        logger.warn("nclink-sim: SIGHUP: no --config file to reload");
+        return;
+    }
+    auto next = effective_config(o);
+    if (!next) {
+        logger.error("nclink-sim: reload refused, the running configuration stays: {}", next.error().message);
+        return;
+    }
+    const nclink::ConfigReload report = adapter.reload(*next);
+    if (report.applied.empty() && report.restart_needed.empty())
+        logger.info("nclink-sim: reloaded {}: nothing changed", o.config_file);
+    else if (!report.applied.empty())
+        logger.info("nclink-sim: reloaded {}: applied {}", o.config_file, joined(report.applied));
+    if (!report.restart_needed.empty())
+        logger.warn("nclink-sim: changed in {} but applied only after a restart: {}", o.config_file,
+                    joined(report.restart_needed));
+}
+
+std::string default_model(const char* name) {
+    // Installed first (bin/../share/nclink/models), so a packaged program
+    // never reads the tree it was built from; the source tree for a build.
+    std::vector<std::filesystem::path> dirs;
+    std::error_code ec;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) dirs.push_back(self.parent_path() / NCLINK_BIN_TO_MODELS);
+    dirs.emplace_back(NCLINK_SOURCE_MODELS_DIR);
+    for (const auto& dir : dirs) {
+        const auto path = (dir / name).lexically_normal();
+        if (std::filesystem::exists(path, ec)) return path.string();
+    }
+    return name;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const Options o = parse(argc, argv);
+    // A configuration with a problem stops here, before anything starts:
+    // one line naming the file, line and column.
+    auto effective = effective_config(o);
+    if (!effective) {
+        std::fprintf(stderr, "nclink-sim: %s\n", effective.error().message.c_str());
+        return 2;
+    }
+    const nclink::AdapterConfig config = std::move(effective).value();
+    const nclink::Logger logger(nclink::stderr_sink(), config.log_level);
 
     // Block the signals before any thread starts, so only sigwait() sees them.
     sigset_t signals;
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
-    if (o.machines > 0 || !o.gateway_file.empty()) sigaddset(&signals, SIGHUP);
+    sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
     if (o.machines > 0 || !o.gateway_file.empty()) return run_gateway(o, config, signals, logger);
 
@@ -255,10 +336,27 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     logger.info("nclink-sim: answering as {} (Ctrl-C to stop)", adapter.dev_uuid());
+    std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
+    if (!o.metrics.empty()) {
+        auto made = nclink::http::MetricsEndpoint::start(
+            o.metrics, [&adapter] { return nclink::prometheus_metrics(adapter); }, "nclink_adapter", std::nullopt, logger);
+        if (!made) {
+            logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
+            adapter.stop();
+            return 1;
+        }
+        metrics = std::move(made).value();
+        logger.info("nclink-sim: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
+    }
 
     int signal_number = 0;
-    sigwait(&signals, &signal_number);
+    while (true) {
+        sigwait(&signals, &signal_number);
+        if (signal_number != SIGHUP) break;
+        reload(o, adapter, logger);
+    }
     logger.info("nclink-sim: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    if (metrics) metrics->stop();
     adapter.stop();
     const auto stats = adapter.stats();
     logger.info("nclink-sim: answered {} request(s); {} ignored as repeats, {} retained ignored, {} malformed",

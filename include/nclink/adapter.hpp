@@ -15,6 +15,7 @@
 #pragma once
 
 #include <nclink/adapter_config.hpp>
+#include <nclink/config_reload.hpp>
 #include <nclink/adapter_state.hpp>
 #include <nclink/clock.hpp>
 #include <nclink/driver.hpp>
@@ -22,6 +23,7 @@
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
 #include <nclink/sampling.hpp>
+#include <nclink/traffic_stats.hpp>
 #include <nclink/transport.hpp>
 
 #include <functional>
@@ -92,6 +94,12 @@ public:
     /// `flush_timeout`), disconnects, stops the driver. Idempotent.
     void stop(std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
 
+    /// Applies a new configuration as far as that is safe while running (a
+    /// program's SIGHUP, docs/configuration.md "Reloading"): log_level sets
+    /// the logger's level (shared with every copy of the logger). Every other
+    /// changed key is listed in restart_needed and keeps its running value.
+    /// Thread-safe; also before start().
+    ConfigReload reload(const AdapterConfig& next);
     /// The terminal id (dev_uuid) this adapter answers for.
     std::string dev_uuid() const;
     std::shared_ptr<const Model> model() const;
@@ -131,6 +139,9 @@ public:
     Result<PushChannel> push_channel(const std::string& channel_id) const;
     /// Statistics of the sample channels (also in stats().features["sampling"]). Thread-safe.
     SamplingStats sampling_stats() const;
+    /// DTUs sent and received by topic kind, and request latency by kind
+    /// (docs/metrics.md; rendered for Prometheus by adapter_metrics.hpp). Thread-safe.
+    TrafficStats traffic_stats() const;
 
     /// A driver (or the firmware) says item `id` has the whole value `value`
     /// now, e.g. from its own change notification. Events watching the item

@@ -12,17 +12,20 @@
 //   ... agent.stop();
 //
 // Threading: start() and stop() are called by the owner (once each, not
-// concurrently). stats(), terminals() and cached_model() are thread-safe.
+// concurrently). reload() may be called from any thread, but not while
+// start() runs. stats(), terminals() and cached_model() are thread-safe.
 // DTUs are handled on the transport's callback thread (quick, no I/O); one
 // housekeeping thread runs timeouts, liveness and persistence.
 #pragma once
 
 #include <nclink/clock.hpp>
+#include <nclink/config_reload.hpp>
 #include <nclink/export.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/result.hpp>
+#include <nclink/traffic_stats.hpp>
 #include <nclink/transport.hpp>
 
 #include <chrono>
@@ -159,7 +162,21 @@ public:
     /// Idempotent.
     void stop(std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(1000));
 
+    /// Applies a new configuration to the running agent, as nclink-agent does
+    /// on SIGHUP: registration, access, request_timeout_ms, the liveness
+    /// times, acl and log_level (the logger's level, shared with every copy of
+    /// it) take effect at once, for the next DTU; registrations already
+    /// accepted stay. Changed keys of the broker section, agent_id,
+    /// share_group, state_dir, observe_samples and tick_ms are listed in
+    /// restart_needed and keep their running value. Refuses (405, nothing
+    /// applied) a configuration whose id_pattern is not a regular expression.
+    /// Before start() every key is applied.
+    Result<ConfigReload> reload(const AgentConfig& next);
+
     AgentStats stats() const;
+    /// DTUs received and sent by topic kind (docs/metrics.md; rendered for
+    /// Prometheus by agent_metrics.hpp). request_seconds stays empty.
+    TrafficStats traffic_stats() const;
     std::vector<TerminalInfo> terminals() const;
     /// The cached model of an adapter, if any.
     std::optional<Json> cached_model(const std::string& dev) const;

@@ -64,13 +64,20 @@ inline constexpr std::string_view dev_unreachable_reason = "DEV_UNREACHABLE";
 struct NCLINK_API Error {
     ErrorCode code = ErrorCode::syntax_error;
     std::string message;
+    /// Where in the input the error is, as a JSON pointer (RFC 6901), e.g.
+    /// "/broker/uri" for a configuration key; empty when not known. Readers
+    /// of JSON input fill it so a tool can show the line and column.
+    std::string pointer;
 
     /// "401 Node not exists: <message>" for logs.
     std::string describe() const;
 };
 
 inline Error make_error(ErrorCode code, std::string message = {}) {
-    return Error{code, std::move(message)};
+    Error error;
+    error.code = code;
+    error.message = std::move(message);
+    return error;
 }
 
 /// A vendor's own error: table 19 leaves the codes below 0 and their reasons
@@ -78,7 +85,7 @@ inline Error make_error(ErrorCode code, std::string message = {}) {
 /// `reason`; any other code table 19 does not define is answered 202
 /// Unavailable, its number kept in the text (docs/wire.md, "Vendor errors").
 inline Error vendor_error(int code, std::string reason) {
-    return Error{static_cast<ErrorCode>(code), std::move(reason)};
+    return make_error(static_cast<ErrorCode>(code), std::move(reason));
 }
 
 }  // namespace nclink

@@ -5,6 +5,7 @@
 #include <nclink/export.hpp>
 #include <fmt/format.h>
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -27,19 +28,27 @@ using LogSink = std::function<void(LogLevel, std::string_view message)>;
 /// one write per line so concurrent lines do not interleave.
 NCLINK_API LogSink stderr_sink();
 
-/// Cheap to copy; copies share the sink. Thread-safe to use from many threads
-/// as long as the sink is.
+/// Cheap to copy; copies share the sink and the level. Thread-safe to use
+/// from many threads as long as the sink is.
 class NCLINK_API Logger {
 public:
     /// A logger that drops everything.
     Logger() = default;
     Logger(LogSink sink, LogLevel min_level = LogLevel::info)
-        : sink_(std::make_shared<LogSink>(std::move(sink))), min_level_(min_level) {}
+        : sink_(std::make_shared<LogSink>(std::move(sink))), min_level_(std::make_shared<std::atomic<LogLevel>>(min_level)) {}
 
     bool enabled(LogLevel level) const noexcept {
-        return sink_ && *sink_ && level >= min_level_ && level != LogLevel::off;
+        return sink_ && *sink_ && level >= min_level() && level != LogLevel::off;
     }
-    LogLevel min_level() const noexcept { return min_level_; }
+    LogLevel min_level() const noexcept {
+        return min_level_ ? min_level_->load(std::memory_order_relaxed) : LogLevel::info;
+    }
+    /// Changes the level of this logger and of every copy of it (a program
+    /// reloading its configuration on SIGHUP changes what every component
+    /// logs). Thread-safe; no effect on a logger that drops everything.
+    void set_min_level(LogLevel level) const noexcept {
+        if (min_level_) min_level_->store(level, std::memory_order_relaxed);
+    }
 
     template <class... Args>
     void log(LogLevel level, fmt::format_string<Args...> format, Args&&... args) const {
@@ -63,7 +72,7 @@ public:
 
 private:
     std::shared_ptr<LogSink> sink_;
-    LogLevel min_level_ = LogLevel::info;
+    std::shared_ptr<std::atomic<LogLevel>> min_level_;
 };
 
 }  // namespace nclink

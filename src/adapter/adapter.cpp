@@ -3,6 +3,7 @@
 // request intake, Probe/Set and statistics live beside this file
 // (adapter_impl.hpp lists them).
 #include "adapter/adapter_impl.hpp"
+#include "adapter/adapter_reload.hpp"
 #include "adapter/request_handlers.hpp"
 #include "events/events_service.hpp"
 #include "methods/methods_service.hpp"
@@ -73,6 +74,7 @@ Result<void> Adapter::Impl::start() {
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
+    transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
     transport->set_message_handler([this](const Message& m) { on_message(m); });
     transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
     auto subscriptions = topics::adapter_subscriptions(dev);
@@ -253,6 +255,21 @@ void Adapter::use_clock(std::shared_ptr<const Clock> clock) { impl_->clock = std
 Result<void> Adapter::start() { return impl_->start(); }
 void Adapter::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
 std::string Adapter::dev_uuid() const { return impl_->dev; }
+
+ConfigReload Adapter::reload(const AdapterConfig& next) {
+    ConfigReload report;
+    std::lock_guard<std::mutex> lock(impl_->reload_mutex);
+    // Compared with the configuration the adapter runs on, so a key waiting
+    // for a restart is reported at every reload until then.
+    for (auto& key : detail::adapter_config_changes(impl_->config, next))
+        if (key != "log_level") report.restart_needed.push_back(std::move(key));
+    if (next.log_level != impl_->reloaded_level) {
+        impl_->logger.set_min_level(next.log_level);
+        impl_->reloaded_level = next.log_level;
+        report.applied.emplace_back("log_level");
+    }
+    return report;
+}
 
 std::shared_ptr<const Model> Adapter::model() const {
     auto current = impl_->host.current();

@@ -10,11 +10,11 @@ namespace nclink {
 using detail::ConfigReader;
 
 Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c) {
-    if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");
+    if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");  // pointer "": the whole document
     ConfigReader top(json, "");
 
     if (const Json* broker = top.object("broker")) {
-        if (!broker->is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
+        if (!broker->is_object()) return top.fail(ErrorCode::value_type, "broker", "must be an object");
         ConfigReader b(*broker, "broker.");
         NCLINK_TRY(detail::read_broker_common(b, c));
         NCLINK_TRY(b.boolean("clean_session", c.clean_session));
@@ -45,7 +45,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
 
     if (const Json* driver = top.object("driver")) {
-        if (!driver->is_object()) return make_error(ErrorCode::value_type, "configuration: driver must be an object");
+        if (!driver->is_object()) return top.fail(ErrorCode::value_type, "driver", "must be an object");
         ConfigReader d(*driver, "driver.");
         NCLINK_TRY(d.str("plugin", c.driver_plugin));
         if (const Json* config = d.object("config")) c.driver_config = *config;
@@ -58,10 +58,11 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
 }
 
 Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base) {
-    auto json = detail::read_config_file(path);
-    if (!json) return std::move(json).error();
-    auto config = adapter_config_from_json(*json, std::move(base));
-    if (!config) return make_error(config.error().code, fmt::format("{}: {}", path, config.error().message));
+    auto doc = detail::read_config_document(path);
+    if (!doc) return std::move(doc).error();
+    auto config = adapter_config_from_json(doc->json, std::move(base));
+    if (!config) return detail::located(*doc, std::move(config).error());
+    const Json* json = &doc->json;
     AdapterConfig& c = config.value();
     if (json->contains("model")) detail::resolve_against(path, c.model_path);
     if (json->contains("persistence_dir")) detail::resolve_against(path, c.persistence_dir);

@@ -8,6 +8,8 @@
 //                         a worker or the driver's worker, answers
 //   adapter_probe_set.cpp Probe/Set: a new model validated, persisted, swapped
 //   adapter_stats.cpp     statistics
+//   adapter_metrics.cpp   traffic (DTUs by kind, request latency) and the
+//                         Prometheus text of the statistics
 // Nothing outside src/adapter/ includes this.
 #pragma once
 
@@ -19,15 +21,19 @@
 #include "adapter/response_cache.hpp"
 #include "adapter/request_gate.hpp"
 #include "core/deadline_watchdog.hpp"
+#include "core/latency_histogram.hpp"
 #include "core/executor.hpp"
 #include "driver/driver_runner.hpp"
 #include "feature/feature.hpp"
+#include "transport/dtu_counting_transport.hpp"
 
 #include <nclink/adapter.hpp>
 #include <nclink/dtu.hpp>
 #include <nclink/topics.hpp>
 
+#include <array>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -60,8 +66,10 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- configuration and collaborators
     const Adapter* self = nullptr;  // the owner, for its stats() (the statistics data item)
-    AdapterConfig config;
+    AdapterConfig config;  // as started: never written after construction
     Logger logger;
+    std::mutex reload_mutex;
+    LogLevel reloaded_level = config.log_level;  // under reload_mutex: the level the last reload set
     std::shared_ptr<Driver> driver;
     std::unique_ptr<Transport> transport;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
@@ -103,6 +111,12 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::atomic<std::uint64_t> requests{0}, ignored_retained{0}, ignored_duplicates{0}, rejected{0}, msg_counter{0},
         affine_timeouts{0}, applications_released{0};
 
+    // ---- traffic (adapter_metrics.cpp): DTUs by kind, request latency by kind
+    std::shared_ptr<detail::DtuCounter> dtus = std::make_shared<detail::DtuCounter>();
+    std::array<detail::LatencyHistogram, detail::kTopicKindCount> request_latency;
+    /// A request of `kind` received at `received` was handled (any thread).
+    void observe_request(TopicKind kind, std::chrono::steady_clock::time_point received) noexcept;
+
     // ---- lifecycle (adapter.cpp), owner thread
     Result<void> start();
     void stop(std::chrono::milliseconds flush_timeout);
@@ -129,7 +143,8 @@ struct NCLINK_LOCAL Adapter::Impl {
     // ---- requests (adapter_requests.cpp)
     void on_message(const Message& message);  ///< transport thread; never blocks
     bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
-                                std::shared_ptr<detail::RequestGate::Ticket> ticket);
+                                std::shared_ptr<detail::RequestGate::Ticket> ticket,
+                                std::chrono::steady_clock::time_point received);
     void handle(const ParsedTopic& topic, const std::string& payload);
     void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
                 const Error* driver_expired = nullptr);

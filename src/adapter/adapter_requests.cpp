@@ -66,10 +66,13 @@ void Adapter::Impl::on_message(const Message& message) {
             return;
         }
     }
-    if (parsed->kind == TopicKind::query_request && dispatch_driver_affine(*parsed, message.payload, admission.ticket))
+    const auto received = std::chrono::steady_clock::now();
+    if (parsed->kind == TopicKind::query_request &&
+        dispatch_driver_affine(*parsed, message.payload, admission.ticket, received))
         return;
-    executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket)] {
+    executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket), received] {
         handle(topic, payload);
+        observe_request(topic.kind, received);
     });
 }
 
@@ -82,12 +85,15 @@ void Adapter::Impl::on_message(const Message& message) {
 // dropped. Reads are idempotent, so the late duplicate work is harmless;
 // Set stays on the request workers, where a write is never repeated.
 bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
-                                           std::shared_ptr<detail::RequestGate::Ticket> ticket) {
+                                           std::shared_ptr<detail::RequestGate::Ticket> ticket,
+                                           std::chrono::steady_clock::time_point received) {
     auto claim = std::make_shared<detail::AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
     // lives until the deadline even when the driver answered long before.
-    const bool posted = runner->post([this, life = lifetime, claim, topic, payload, ticket](Driver&) {
+    const bool posted = runner->post([this, life = lifetime, claim, topic, payload, ticket, received](Driver&) {
         handle(topic, payload, Affine{claim.get(), life.get()});
+        std::lock_guard<std::mutex> alive_lock(life->mutex);
+        if (life->alive) observe_request(topic.kind, received);
     });
     if (!posted) return false;
     watchdog->arm(std::chrono::steady_clock::now() + config.driver_timeout, [this, claim, topic, payload] {

@@ -37,23 +37,25 @@ unsigned rights_of(const AccessPolicy& policy, const std::string& ex, const std:
     return access_none;
 }
 
-Result<unsigned> parse_rights(const Json& value, const std::string& where) {
+Result<unsigned> parse_rights(const Json& value, const std::string& where, const std::string& pointer) {
+    auto fail = [&](std::string message) {
+        Error e = make_error(ErrorCode::value_type, std::move(message));
+        e.pointer = pointer;
+        return e;
+    };
     auto one = [&](const std::string& name) -> Result<unsigned> {
         if (name == "read") return static_cast<unsigned>(access_read);
         if (name == "set") return static_cast<unsigned>(access_set);
         if (name == "method") return static_cast<unsigned>(access_method);
         if (name == "all") return static_cast<unsigned>(access_all);
         if (name == "none") return static_cast<unsigned>(access_none);
-        return make_error(ErrorCode::value_type,
-                          fmt::format("configuration: {}: unknown right '{}' (read, set, method, all, none)", where, name));
+        return fail(fmt::format("configuration: {}: unknown right '{}' (read, set, method, all, none)", where, name));
     };
     if (value.is_string()) return one(value.get<std::string>());
-    if (!value.is_array())
-        return make_error(ErrorCode::value_type, fmt::format("configuration: {} must be a list of rights", where));
+    if (!value.is_array()) return fail(fmt::format("configuration: {} must be a list of rights", where));
     unsigned bits = access_none;
     for (const auto& item : value) {
-        if (!item.is_string())
-            return make_error(ErrorCode::value_type, fmt::format("configuration: {} must be a list of rights", where));
+        if (!item.is_string()) return fail(fmt::format("configuration: {} must be a list of rights", where));
         auto bit = one(item.get<std::string>());
         if (!bit) return std::move(bit).error();
         bits |= *bit;

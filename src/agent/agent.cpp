@@ -14,6 +14,29 @@ std::string random_suffix() {
     std::random_device device;
     return fmt::format("{:08x}", static_cast<std::uint32_t>(device()));
 }
+
+bool same_tls(const std::optional<MqttTlsOptions>& a, const std::optional<MqttTlsOptions>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    return a->ca_file == b->ca_file && a->cert_file == b->cert_file && a->key_file == b->key_file &&
+           a->key_password == b->key_password && a->verify_server == b->verify_server;
+}
+
+bool same_registration(const RegistrationPolicy& a, const RegistrationPolicy& b) {
+    if (a.open != b.open || a.max_id_length != b.max_id_length || a.id_pattern != b.id_pattern ||
+        a.terminals.size() != b.terminals.size())
+        return false;
+    for (const auto& [tid, entry] : a.terminals) {
+        const auto other = b.terminals.find(tid);
+        if (other == b.terminals.end() || other->second.kind != entry.kind || other->second.password != entry.password)
+            return false;
+    }
+    return true;
+}
+
+bool same_access(const AccessPolicy& a, const AccessPolicy& b) {
+    return a.default_rights == b.default_rights && a.applications == b.applications;
+}
 }  // namespace
 
 Result<void> Agent::Impl::start() {
@@ -46,6 +69,7 @@ Result<void> Agent::Impl::start() {
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
+    transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
     transport->set_message_handler([this](const Message& m) { on_message(m); });
     transport->set_state_handler([this](LinkState s, std::string_view detail) {
         log.info("agent {}: broker link {} ({})", config.agent_id, to_string(s), detail);
@@ -71,6 +95,61 @@ void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
     if (transport) transport->stop(flush_timeout);  // no handler calls after this
     persist(true);
     log.info("agent {} stopped", config.agent_id);
+}
+
+Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
+    ConfigReload report;
+    auto rule = TerminalIdRule::make(next.registration);
+    if (!rule) return std::move(rule).error();
+    std::lock_guard<std::mutex> life(lifecycle);
+    std::lock_guard<std::mutex> lock(mutex);
+    const bool running = started && !stopped && registrar;
+    auto restart_only = [&](bool same, const char* key) {
+        if (!same) (running ? report.restart_needed : report.applied).push_back(key);
+    };
+    auto reloadable = [&](bool same, const char* key) {
+        if (!same) report.applied.push_back(key);
+    };
+    restart_only(config.broker_url == next.broker_url, "broker.url");
+    restart_only(config.client_id == next.client_id, "broker.client_id");
+    restart_only(config.username == next.username, "broker.username");
+    restart_only(config.password == next.password, "broker.password");
+    restart_only(config.mqtt_version == next.mqtt_version, "broker.mqtt_version");
+    restart_only(config.keep_alive == next.keep_alive, "broker.keep_alive_s");
+    restart_only(same_tls(config.tls, next.tls), "broker.tls");
+    restart_only(config.agent_id == next.agent_id, "agent_id");
+    restart_only(config.share_group == next.share_group, "share_group");
+    restart_only(config.state_dir == next.state_dir, "state_dir");
+    restart_only(config.observe_samples == next.observe_samples, "observe_samples");
+    restart_only(config.tick == next.tick, "tick_ms");
+    const bool registration_changed = !same_registration(config.registration, next.registration);
+    reloadable(!registration_changed, "registration");
+    reloadable(same_access(config.access, next.access), "access");
+    reloadable(config.request_timeout == next.request_timeout, "request_timeout_ms");
+    reloadable(config.adapter_liveness == next.adapter_liveness, "adapter_liveness_ms");
+    reloadable(config.application_liveness == next.application_liveness, "application_liveness_ms");
+    reloadable(config.acl_agent_user == next.acl_agent_user, "acl.agent_user");
+    reloadable(config.log_level == next.log_level, "log_level");
+    if (config.log_level != next.log_level) log.set_min_level(next.log_level);
+
+    if (!running) {  // nothing runs yet: the whole new configuration counts
+        config = next;
+        return report;
+    }
+    if (registration_changed) {
+        registrar->set_policy(std::move(rule).value(), next.registration);
+        for (const auto& [tid, entry] : next.registration.terminals)
+            presence.set_kind(tid, kind_from_string(entry.kind));
+    }
+    config.registration = next.registration;
+    config.access = next.access;
+    config.request_timeout = next.request_timeout;
+    config.adapter_liveness = next.adapter_liveness;
+    config.application_liveness = next.application_liveness;
+    presence.set_liveness(next.adapter_liveness, next.application_liveness);
+    config.acl_agent_user = next.acl_agent_user;
+    config.log_level = next.log_level;
+    return report;
 }
 
 MqttOptions Agent::Impl::mqtt_options() const {
@@ -132,6 +211,8 @@ void Agent::use_clock(std::shared_ptr<const Clock> clock) {
 }
 
 Result<void> Agent::start() { return impl_->start(); }
+
+Result<ConfigReload> Agent::reload(const AgentConfig& next) { return impl_->reload(next); }
 
 void Agent::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
 

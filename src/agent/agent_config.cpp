@@ -12,58 +12,65 @@ using detail::ConfigReader;
 namespace {
 
 Result<void> read_broker(const Json& broker, AgentConfig& c) {
-    if (!broker.is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
     ConfigReader b(broker, "broker.");
+    if (!broker.is_object()) return b.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(detail::read_broker_common(b, c));
     return b.no_unknown_keys();
 }
 
 Result<void> read_registration(const Json& section, RegistrationPolicy& p) {
-    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: registration must be an object");
     ConfigReader r(section, "registration.");
+    if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.boolean("open", p.open));
     NCLINK_TRY(r.count("max_id_length", p.max_id_length));
     NCLINK_TRY(r.str("id_pattern", p.id_pattern));
     if (const Json* terminals = r.object("terminals")) {
-        if (!terminals->is_object())
-            return make_error(ErrorCode::value_type, "configuration: registration.terminals must be an object");
+        if (!terminals->is_object()) return r.fail(ErrorCode::value_type, "terminals", "must be an object");
         for (auto it = terminals->begin(); it != terminals->end(); ++it) {
-            const std::string where = "registration.terminals." + it.key() + ".";
-            if (!it->is_object()) return make_error(ErrorCode::value_type, "configuration: " + where + " must be an object");
-            ConfigReader t(*it, where);
+            // Terminal ids may hold dots: the pointer is built from the keys.
+            ConfigReader t(*it, "registration.terminals." + it.key() + ".",
+                           detail::pointer_append("/registration/terminals", it.key()));
+            if (!it->is_object()) return t.fail(ErrorCode::value_type, "", "must be an object");
             TerminalEntry entry;
             NCLINK_TRY(t.str("kind", entry.kind));
             NCLINK_TRY(t.str("password", entry.password));
             NCLINK_TRY(t.no_unknown_keys());
             if (!entry.kind.empty() && entry.kind != "adapter" && entry.kind != "application")
-                return make_error(ErrorCode::value_type,
-                                  "configuration: " + where + "kind must be \"adapter\" or \"application\"");
+                return t.fail(ErrorCode::value_type, "kind", "must be \"adapter\" or \"application\"");
             p.terminals[it.key()] = entry;
         }
     }
     NCLINK_TRY(r.no_unknown_keys());
-    if (auto rule = agent_detail::TerminalIdRule::make(p); !rule) return std::move(rule).error();
+    if (auto rule = agent_detail::TerminalIdRule::make(p); !rule) {
+        Error e = std::move(rule).error();
+        e.pointer = "/registration/id_pattern";
+        return e;
+    }
     return ok_result();
 }
 
 Result<void> read_access(const Json& section, AccessPolicy& p) {
-    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: access must be an object");
     ConfigReader a(section, "access.");
+    if (!section.is_object()) return a.fail(ErrorCode::value_type, "", "must be an object");
     if (const Json* rights = a.object("default")) {
-        auto bits = agent_detail::parse_rights(*rights, "access.default");
+        auto bits = agent_detail::parse_rights(*rights, "access.default", "/access/default");
         if (!bits) return std::move(bits).error();
         p.default_rights = *bits;
     }
     if (const Json* apps = a.object("applications")) {
-        if (!apps->is_object())
-            return make_error(ErrorCode::value_type, "configuration: access.applications must be an object");
+        if (!apps->is_object()) return a.fail(ErrorCode::value_type, "applications", "must be an object");
         for (auto app = apps->begin(); app != apps->end(); ++app) {
-            if (!app->is_object())
-                return make_error(ErrorCode::value_type,
-                                  "configuration: access.applications." + app.key() + " must be an object");
+            const std::string app_pointer = detail::pointer_append("/access/applications", app.key());
+            if (!app->is_object()) {
+                Error e = make_error(ErrorCode::value_type,
+                                     "configuration: access.applications." + app.key() + " must be an object");
+                e.pointer = app_pointer;
+                return e;
+            }
             auto& entry = p.applications[app.key()];
             for (auto dev = app->begin(); dev != app->end(); ++dev) {
-                auto bits = agent_detail::parse_rights(*dev, "access.applications." + app.key() + "." + dev.key());
+                auto bits = agent_detail::parse_rights(*dev, "access.applications." + app.key() + "." + dev.key(),
+                                                       detail::pointer_append(app_pointer, dev.key()));
                 if (!bits) return std::move(bits).error();
                 entry[dev.key()] = *bits;
             }
@@ -89,28 +96,28 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
     if (const Json* section = top.object("registration")) NCLINK_TRY(read_registration(*section, c.registration));
     if (const Json* section = top.object("access")) NCLINK_TRY(read_access(*section, c.access));
     if (const Json* acl = top.object("acl")) {
-        if (!acl->is_object()) return make_error(ErrorCode::value_type, "configuration: acl must be an object");
         ConfigReader a(*acl, "acl.");
+        if (!acl->is_object()) return a.fail(ErrorCode::value_type, "", "must be an object");
         NCLINK_TRY(a.str("agent_user", c.acl_agent_user));
         NCLINK_TRY(a.no_unknown_keys());
     }
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
     NCLINK_TRY(top.no_unknown_keys());
-    if (c.request_timeout.count() <= 0)
-        return make_error(ErrorCode::out_of_range, "configuration: request_timeout_ms must be positive");
+    if (c.request_timeout.count() <= 0) return top.fail(ErrorCode::out_of_range, "request_timeout_ms", "must be positive");
     if (c.tick.count() <= 0) c.tick = std::chrono::milliseconds(1);
     if (c.agent_id.empty() || c.agent_id.find_first_of("/+#") != std::string::npos)
-        return make_error(ErrorCode::value_type, "configuration: agent_id must be one topic level");
+        return top.fail(ErrorCode::value_type, "agent_id", "must be one topic level");
     if (c.share_group.find_first_of("/+#") != std::string::npos)
-        return make_error(ErrorCode::value_type, "configuration: share_group must not contain '/', '+' or '#'");
+        return top.fail(ErrorCode::value_type, "share_group", "must not contain '/', '+' or '#'");
     return c;
 }
 
 Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base) {
-    auto json = detail::read_config_file(path);
-    if (!json) return std::move(json).error();
-    auto config = agent_config_from_json(*json, std::move(base));
-    if (!config) return make_error(config.error().code, fmt::format("{}: {}", path, config.error().message));
+    auto doc = detail::read_config_document(path);
+    if (!doc) return std::move(doc).error();
+    auto config = agent_config_from_json(doc->json, std::move(base));
+    if (!config) return detail::located(*doc, std::move(config).error());
+    const Json* json = &doc->json;
     AgentConfig& c = config.value();
     if (json->contains("state_dir")) detail::resolve_against(path, c.state_dir);
     if (json->contains("broker")) detail::resolve_tls_paths(path, c.tls);

@@ -8,6 +8,7 @@
 //   agent_forwarding.cpp   requests to adapters: 301, DEV_UNREACHABLE (8.3.4),
 //                          the cached probe, 203 for a silent adapter
 //   agent_housekeeping.cpp timeouts, liveness and the state files
+//   agent_metrics.cpp      DTUs by kind and the Prometheus text of the stats
 //
 // Every DTU is handled on the transport's callback thread under one mutex
 // (bookkeeping only, no I/O); what it decides to publish is collected and
@@ -23,6 +24,7 @@
 #include "agent/registrar.hpp"
 #include "agent/state_store.hpp"
 #include "agent/terminal_id.hpp"
+#include "transport/dtu_counting_transport.hpp"
 
 #include <nclink/agent.hpp>
 #include <nclink/agent_state.hpp>
@@ -71,6 +73,7 @@ struct NCLINK_LOCAL Agent::Impl {
     std::unique_ptr<Transport> transport;
     StateStore store;
     Counters counters;
+    std::shared_ptr<detail::DtuCounter> dtus = std::make_shared<detail::DtuCounter>();  // docs/metrics.md
 
     mutable std::mutex mutex;  // everything below up to the housekeeping part
     Presence presence;
@@ -105,6 +108,10 @@ struct NCLINK_LOCAL Agent::Impl {
     Result<void> start();
 
     void stop(std::chrono::milliseconds flush_timeout);
+
+    // Thread: the owner's (nclink-agent: its signal loop). Applies under the
+    // lock every DTU handler takes, so a DTU sees the old or the new rules.
+    Result<ConfigReload> reload(const AgentConfig& next);
 
     MqttOptions mqtt_options() const;
 

@@ -36,6 +36,13 @@ public:
     /// Terminals whose liveness ran out at `now`; they are offline from now on.
     std::vector<std::string> expire(Clock::Steady now);
 
+    /// New liveness times (a configuration reload); they count from each
+    /// terminal's last DTU as before.
+    void set_liveness(std::chrono::milliseconds adapter, std::chrono::milliseconds application) {
+        adapter_liveness_ = adapter;
+        application_liveness_ = application;
+    }
+
     /// Adapter/application, once the traffic (or the allowlist) said so. An
     /// adapter stays an adapter.
     void set_kind(const std::string& tid, Kind kind);

@@ -43,6 +43,12 @@ public:
     void record(const std::string& tid, Kind kind, std::int64_t wall_s, std::uint64_t period);
     void restore(const std::string& tid, Registration registration) { registrations_[tid] = std::move(registration); }
 
+    /// A new rule and policy (a configuration reload); the registrations stay.
+    void set_policy(TerminalIdRule rule, RegistrationPolicy policy) {
+        rule_ = std::move(rule);
+        policy_ = std::move(policy);
+    }
+
     bool valid_id(const std::string& tid) const { return rule_.check(tid).ok(); }
     bool registered(const std::string& tid) const { return registrations_.count(tid) != 0; }
     const std::map<std::string, Registration>& all() const { return registrations_; }

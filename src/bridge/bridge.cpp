@@ -5,7 +5,9 @@
 #include "bridge/json_api.hpp"
 #include "bridge/mtconnect_api.hpp"
 #include "bridge/mtconnect_documents.hpp"
+#include "bridge/ops_api.hpp"
 #include "bridge/shdr.hpp"
+#include "http/http_metrics.hpp"
 #include "http/http_server.hpp"
 
 #include <nclink/client.hpp>
@@ -27,7 +29,9 @@ struct Bridge::Impl {
     std::unique_ptr<Follower> follower;
     std::unique_ptr<GbtApi> gbt;
     std::unique_ptr<JsonApi> json;
+    http::HttpMetrics http_metrics;  // before http: the server's observer uses it
     std::unique_ptr<http::HttpServer> http;
+    std::unique_ptr<OpsApi> ops;
     std::unique_ptr<ShdrServer> shdr;
 };
 
@@ -71,7 +75,12 @@ Result<void> Bridge::start() {
     http_options.workers = c.http_workers;
     http_options.max_body_bytes = c.max_request_bytes;
     http_options.logger = b.logger;
+    if (!c.http_username.empty() || !c.http_password.empty())
+        http_options.auth = http::BasicAuth{c.http_username, c.http_password, "nclink-bridge", {}};
     b.http = std::make_unique<http::HttpServer>(http_options);
+    b.http->set_observer(b.http_metrics.observer());
+    b.ops = std::make_unique<OpsApi>(b.store, *b.client, *b.http, b.http_metrics);
+    b.ops->install(*b.http);
     b.json->install(*b.http);
     b.gbt->install(*b.http, "/gbt18759");
     b.mtconnect.install(*b.http, "");

@@ -36,6 +36,10 @@ struct BridgeConfig {
     std::vector<std::string> devices;      ///< empty: every adapter found
     std::string http_host = "127.0.0.1";
     int http_port = 5000;                  ///< 0: any free port
+    /// HTTP Basic credentials of every request (docs/dashboard.md "Security");
+    /// required when http_host is not a loopback address.
+    std::string http_username;
+    std::string http_password;
     std::size_t http_workers = 16;
     std::size_t max_request_bytes = 64 * 1024;
     bool shdr_enabled = true;

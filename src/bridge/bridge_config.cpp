@@ -57,6 +57,8 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
         }
     }
     NCLINK_TRY(read_endpoint(top, "http", c.http_host, c.http_port));
+    NCLINK_TRY(top.str("http_username", c.http_username));
+    NCLINK_TRY(top.str("http_password", c.http_password));
     NCLINK_TRY(top.count("http_workers", c.http_workers));
     NCLINK_TRY(top.count("max_request_bytes", c.max_request_bytes));
     NCLINK_TRY(read_endpoint(top, "shdr", c.shdr_host, c.shdr_port));

@@ -1,5 +1,7 @@
 #include "core/config_common.hpp"
 
+#include "core/json_locate.hpp"
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -8,7 +10,7 @@
 
 namespace nclink::detail {
 
-Result<Json> read_config_file(const std::string& path) {
+Result<ConfigDocument> read_config_document(const std::string& path) {
     errno = 0;
     std::ifstream in(path);
     if (!in) {
@@ -18,10 +20,35 @@ Result<Json> read_config_file(const std::string& path) {
     }
     std::stringstream text;
     text << in.rdbuf();
-    Json json = Json::parse(text.str(), nullptr, false);
-    if (json.is_discarded())
-        return make_error(ErrorCode::syntax_error, fmt::format("configuration file {} is not valid JSON", path));
-    return json;
+    ConfigDocument doc{path, text.str(), nullptr};
+    try {
+        doc.json = Json::parse(doc.text);
+    } catch (const Json::parse_error& e) {
+        // e.byte is 1-based: the character the parser stopped at.
+        const auto at = position_of_offset(doc.text, e.byte == 0 ? 0 : e.byte - 1);
+        std::string what = e.what();
+        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> the part after the position
+        if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
+        return make_error(ErrorCode::syntax_error,
+                          fmt::format("{}:{}:{}: not valid JSON: {}", path, at.line, at.column, what));
+    }
+    return doc;
+}
+
+Result<Json> read_config_file(const std::string& path) {
+    auto doc = read_config_document(path);
+    if (!doc) return std::move(doc).error();
+    return std::move(doc->json);
+}
+
+Error located(const ConfigDocument& doc, Error error) {
+    std::optional<TextPosition> at;
+    if (!error.pointer.empty()) at = locate_pointer(doc.text, error.pointer);
+    if (at)
+        error.message = fmt::format("{}:{}:{}: {}", doc.path, at->line, at->column, error.message);
+    else
+        error.message = fmt::format("{}: {}", doc.path, error.message);
+    return error;
 }
 
 void resolve_against(const std::string& config_path, std::string& p) {
@@ -44,8 +71,8 @@ Result<void> read_log_level(ConfigReader& top, LogLevel& out) {
     if (level.empty()) return ok_result();
     auto parsed = log_level_from_string(level);
     if (!parsed)
-        return make_error(ErrorCode::value_type,
-                          fmt::format("configuration: log_level '{}' is not trace/debug/info/warn/error/off", level));
+        return top.fail(ErrorCode::value_type, "log_level",
+                        fmt::format("'{}' is not trace/debug/info/warn/error/off", level));
     out = *parsed;
     return ok_result();
 }

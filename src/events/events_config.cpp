@@ -5,8 +5,8 @@
 namespace nclink::detail {
 
 Result<void> read_events_config(const Json& section, EventsConfig& out) {
-    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: events must be an object");
     ConfigReader r(section, "events.");
+    if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.count("max_events", out.max_events));
     NCLINK_TRY(r.duration("poll_interval_ms", out.poll_interval));
     NCLINK_TRY(r.count("max_queued_values", out.max_queued_values));
@@ -14,7 +14,7 @@ Result<void> read_events_config(const Json& section, EventsConfig& out) {
         return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1);
     }, "0 or 1"));
     if (out.max_queued_values == 0)
-        return make_error(ErrorCode::out_of_range, "configuration: events.max_queued_values must be positive");
+        return r.fail(ErrorCode::out_of_range, "max_queued_values", "must be positive");
     return r.no_unknown_keys();
 }
 

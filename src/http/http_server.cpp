@@ -59,6 +59,99 @@ HttpResponse text_response(std::string body, std::string content_type, int statu
     return r;
 }
 
+// ------------------------------------------------------------------ security
+
+bool is_loopback_host(std::string_view host) {
+    if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    if (host == "localhost" || host == "::1" || host == "0:0:0:0:0:0:0:1") return true;
+    // 127.0.0.0/8, written as four decimal parts
+    if (host.rfind("127.", 0) != 0) return false;
+    int parts = 0, digits = 0, value = 0;
+    for (char c : host) {
+        if (c == '.') {
+            if (digits == 0) return false;
+            ++parts, digits = 0, value = 0;
+        } else if (c >= '0' && c <= '9') {
+            value = value * 10 + (c - '0');
+            if (++digits > 3 || value > 255) return false;
+        } else {
+            return false;
+        }
+    }
+    return parts == 3 && digits > 0;
+}
+
+namespace {
+
+int base64_value(char c) {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+}
+
+std::optional<std::string> base64_decode(std::string_view text) {
+    while (!text.empty() && text.back() == '=') text.remove_suffix(1);
+    std::string out;
+    unsigned buffer = 0;
+    int bits = 0;
+    for (char c : text) {
+        const int v = base64_value(c);
+        if (v < 0) return std::nullopt;
+        buffer = (buffer << 6) | static_cast<unsigned>(v);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            out += static_cast<char>((buffer >> bits) & 0xFF);
+        }
+    }
+    if (bits >= 6) return std::nullopt;  // a lone sixth of a byte: not base64
+    return out;
+}
+
+// Compares without stopping at the first difference, so the time taken does
+// not tell an attacker how much of a guess was right.
+bool same_secret(std::string_view given, std::string_view expected) {
+    std::size_t diff = given.size() ^ expected.size();
+    for (std::size_t i = 0; i < given.size(); ++i)
+        diff |= static_cast<unsigned char>(given[i]) ^
+                (expected.empty() ? 0u : static_cast<unsigned char>(expected[i % expected.size()]));
+    return diff == 0;
+}
+
+bool is_write(std::string_view method) {
+    return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
+}
+
+// "http://host:port" -> "host:port"; "" when it is no http(s) origin.
+std::string_view origin_authority(std::string_view origin) {
+    for (std::string_view scheme : {"http://", "https://"})
+        if (origin.rfind(scheme, 0) == 0) return origin.substr(scheme.size());
+    return {};
+}
+
+}  // namespace
+
+std::optional<std::pair<std::string, std::string>> parse_basic_authorization(std::string_view header) {
+    std::size_t i = 0;
+    while (i < header.size() && header[i] == ' ') ++i;
+    header.remove_prefix(i);
+    if (header.size() < 6) return std::nullopt;
+    for (std::size_t k = 0; k < 5; ++k)
+        if (std::tolower(static_cast<unsigned char>(header[k])) != "basic"[k]) return std::nullopt;
+    if (header[5] != ' ') return std::nullopt;
+    header.remove_prefix(6);
+    while (!header.empty() && header.front() == ' ') header.remove_prefix(1);
+    while (!header.empty() && header.back() == ' ') header.remove_suffix(1);
+    auto decoded = base64_decode(header);
+    if (!decoded) return std::nullopt;
+    const auto colon = decoded->find(':');
+    if (colon == std::string::npos) return std::nullopt;
+    return std::make_pair(decoded->substr(0, colon), decoded->substr(colon + 1));
+}
+
 // ------------------------------------------------------------------ SSE
 
 namespace {
@@ -115,6 +208,7 @@ struct HttpServer::Impl {
     Router router;
     std::vector<Handler> handlers;  // by route index
     ErrorPage error_page;
+    RequestObserver observer;
     httplib::Server server;
     std::thread listener;
     std::atomic<int> bound_port{0};
@@ -194,10 +288,52 @@ struct HttpServer::Impl {
         bool ok_ = true;
     };
 
+    void observe(std::string_view method, std::string_view route, int status,
+                 std::chrono::steady_clock::time_point begun, bool stream) const {
+        if (!observer) return;
+        try {
+            observer(RequestRecord{method, route, status, std::chrono::steady_clock::now() - begun, stream});
+        } catch (...) {
+            // metrics never break an answer
+        }
+    }
+
+    // 401 / 403 before anything else; nullopt lets the request through.
+    std::optional<HttpResponse> refuse(const HttpRequest& request) const {
+        if (options.auth) {
+            const BasicAuth& auth = *options.auth;
+            const bool exempt = auth.exempt && auth.exempt(request);
+            std::optional<std::pair<std::string, std::string>> given;
+            if (auto header = request.header("Authorization")) given = parse_basic_authorization(*header);
+            const bool user_ok = given && same_secret(given->first, auth.username);
+            const bool password_ok = given && same_secret(given->second, auth.password);
+            if (!exempt && !(user_ok && password_ok)) {
+                auto response = error_response(401, request, given ? "wrong credentials" : "authentication required");
+                response.headers.emplace_back("WWW-Authenticate", "Basic realm=\"" + auth.realm + "\", charset=\"UTF-8\"");
+                return response;
+            }
+        }
+        if (options.same_origin_writes && is_write(request.method)) {
+            if (auto origin = request.header("Origin")) {
+                const auto host = request.header("Host").value_or("");
+                if (origin_authority(*origin).empty() || origin_authority(*origin) != host)
+                    return error_response(403, request, "a write from another site (Origin " + *origin + ") is refused");
+            }
+        }
+        return std::nullopt;
+    }
+
     void dispatch(const httplib::Request& req, httplib::Response& res) {
+        const auto begun = std::chrono::steady_clock::now();
         HttpRequest request = convert(req);
+        if (auto refused = refuse(request)) {
+            observe(request.method, "", refused->status, begun, false);
+            apply(std::move(*refused), res);
+            return;
+        }
         const auto match = router.match(request.method, request.path);
         if (match.kind == Router::Match::Kind::no_path) {
+            observe(request.method, "", 404, begun, false);
             apply(error_response(404, request, "no resource " + request.path), res);
             return;
         }
@@ -207,6 +343,7 @@ struct HttpServer::Impl {
             auto response = error_response(405, request, request.method + " is not served at " + request.path +
                                                              " (allowed: " + allow + ")");
             response.headers.emplace_back("Allow", allow);
+            observe(request.method, "", 405, begun, false);
             apply(std::move(response), res);
             return;
         }
@@ -229,6 +366,7 @@ struct HttpServer::Impl {
                                                             std::to_string(options.max_streams) + ")");
             }
         }
+        observe(request.method, router.pattern(match.route), response.status, begun, static_cast<bool>(response.stream));
         apply(std::move(response), res);
     }
 };
@@ -244,12 +382,22 @@ void HttpServer::route(std::string method, std::string pattern, Handler handler)
 
 void HttpServer::set_error_page(ErrorPage page) { impl_->error_page = std::move(page); }
 
+void HttpServer::set_observer(RequestObserver observer) { impl_->observer = std::move(observer); }
+
 int HttpServer::port() const noexcept { return impl_->bound_port; }
+
+std::size_t HttpServer::active_streams() const noexcept { return impl_->streams; }
 
 Result<void> HttpServer::start() {
     Impl& impl = *impl_;
     if (impl.stopped) return make_error(ErrorCode::unavailable, "http: start() after stop()");
     if (impl.started.exchange(true)) return make_error(ErrorCode::arguments_nimiety, "http: start() called twice");
+    if (!is_loopback_host(impl.options.host) &&
+        (!impl.options.auth || impl.options.auth->username.empty() || impl.options.auth->password.empty()))
+        return make_error(ErrorCode::permission_denied,
+                          "http: " + impl.options.host +
+                              " is not a loopback address: serving it needs a username and password "
+                              "(HTTP Basic; docs/dashboard.md, Security)");
     auto& svr = impl.server;
     const std::size_t workers = impl.options.workers;
     svr.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
@@ -282,6 +430,7 @@ Result<void> HttpServer::start() {
                                                  : "malformed request";
         auto response = impl.error_response(res.status, Impl::convert(req), reason);
         response.status = res.status;
+        impl.observe(req.method, "", res.status, std::chrono::steady_clock::now(), false);
         impl.apply(std::move(response), res);
         return httplib::Server::HandlerResponse::Handled;
     }));

@@ -15,7 +15,16 @@
 //  - JSON responses (json_response);
 //  - streaming responses (chunked transfer) with StreamSink, and Server-Sent
 //    Events on top of it (SseWriter), both ended cleanly by stop();
-//  - a bounded pool of worker threads and a clean, idempotent stop().
+//  - a bounded pool of worker threads and a clean, idempotent stop();
+//  - security for servers that reach beyond the machine (docs/dashboard.md
+//    "Security"): loopback unless configured; bound anywhere else, start()
+//    refuses to run without HTTP Basic authentication (RFC 7617), and then
+//    every request without the credentials gets 401 (except those the
+//    program exempts); a write (POST, PUT, PATCH, DELETE) whose Origin
+//    header names another site gets 403, so a page on another site cannot
+//    drive the server through the user's browser;
+//  - an observer of every answered request (route, status, time), for
+//    metrics (http/http_metrics.hpp).
 //
 // Threading contract:
 //  - A handler runs on one of the server's worker threads (HttpOptions::
@@ -26,8 +35,11 @@
 //    request for as long as the stream lasts, so at most
 //    HttpOptions::max_streams streams run at once (the rest get 503) and the
 //    other workers keep serving ordinary requests.
-//  - start(), stop() and port() may be called from any thread; stop() must
-//    not be called from a handler (it joins the workers).
+//  - start(), stop(), port() and active_streams() may be called from any
+//    thread; stop() must not be called from a handler (it joins the workers).
+//  - The observer runs on the worker thread of the request, after its
+//    handler (for a stream: when the stream begins); it must be thread-safe
+//    and quick.
 #pragma once
 
 #include <nclink/json.hpp>
@@ -47,6 +59,18 @@
 
 namespace nclink::http {
 
+struct HttpRequest;
+
+/// HTTP Basic authentication (RFC 7617) of every request the server answers.
+struct BasicAuth {
+    std::string username;
+    std::string password;
+    std::string realm = "nclink";
+    /// Requests that pass without credentials (e.g. anonymous reads of a
+    /// public document); empty = none. Sees method, path and headers only.
+    std::function<bool(const HttpRequest&)> exempt;
+};
+
 struct HttpOptions {
     std::string host = "127.0.0.1";  ///< loopback unless told otherwise
     int port = 0;                    ///< 0: any free port (see HttpServer::port())
@@ -57,8 +81,18 @@ struct HttpOptions {
     std::size_t max_body_bytes = 64 * 1024;  ///< request bodies over this get 413
     std::chrono::seconds read_timeout{5};
     std::chrono::seconds keep_alive_timeout{2};  ///< also bounds how long stop() waits for an idle connection
+    /// Required when `host` is not a loopback address (start() fails without).
+    std::optional<BasicAuth> auth;
+    /// 403 for a POST/PUT/PATCH/DELETE whose Origin is not this server's Host.
+    bool same_origin_writes = true;
     Logger logger;
 };
+
+/// True for addresses only this machine reaches: 127.0.0.0/8, ::1, localhost.
+bool is_loopback_host(std::string_view host);
+
+/// The credentials of an `Authorization: Basic ...` header value, if it is one.
+std::optional<std::pair<std::string, std::string>> parse_basic_authorization(std::string_view header);
 
 struct HttpRequest {
     std::string method;  ///< "GET", "POST", ... (HEAD is served by the GET route)
@@ -105,6 +139,16 @@ struct HttpResponse {
 
 using Handler = std::function<HttpResponse(const HttpRequest&)>;
 
+/// One answered request, as the observer sees it.
+struct RequestRecord {
+    std::string_view method;
+    std::string_view route;  ///< the route's pattern ("/devices/{dev}/model"); "" when no route matched
+    int status = 0;
+    std::chrono::nanoseconds elapsed{0};  ///< from dispatch to the answer (a stream: to its start)
+    bool stream = false;
+};
+using RequestObserver = std::function<void(const RequestRecord&)>;
+
 /// The body of the answers the server makes itself (404, 405, 413, 503, 500
 /// and 400 for malformed requests): status, the request as far as it was read,
 /// and a one-line reason. The status of the returned response is ignored.
@@ -148,12 +192,16 @@ public:
     void post(std::string pattern, Handler handler) { route("POST", std::move(pattern), std::move(handler)); }
     /// Replaces the default JSON error bodies. Before start() only.
     void set_error_page(ErrorPage page);
+    /// Called for every answered request (metrics). Before start() only.
+    void set_observer(RequestObserver observer);
 
     /// Binds and starts serving on a background thread. Fails (unavailable)
     /// when the address cannot be bound. Once only.
     Result<void> start();
     /// The bound port (useful with port 0); 0 before start().
     int port() const noexcept;
+    /// Streams running now.
+    std::size_t active_streams() const noexcept;
     /// Ends every stream, stops accepting, waits for the workers. Idempotent.
     void stop();
 

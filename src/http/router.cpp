@@ -29,6 +29,7 @@ bool is_param(std::string_view segment) {
 std::size_t Router::add(std::string method, std::string_view pattern) {
     Route route;
     route.method = std::move(method);
+    route.pattern = std::string(pattern);
     for (auto segment : split_path(pattern)) {
         if (!is_param(segment)) ++route.literals;
         route.segments.emplace_back(segment);

@@ -26,10 +26,13 @@ public:
     /// several matching patterns the one with the most literal segments wins,
     /// then the earliest added.
     Match match(std::string_view method, std::string_view path) const;
+    /// The pattern a route was added with.
+    const std::string& pattern(std::size_t route) const { return routes_.at(route).pattern; }
 
 private:
     struct Route {
         std::string method;
+        std::string pattern;
         std::vector<std::string> segments;  ///< "{x}" = parameter x
         std::size_t literals = 0;
     };

@@ -5,15 +5,15 @@
 namespace nclink::detail {
 
 Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
-    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: methods must be an object");
     ConfigReader r(section, "methods.");
+    if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.count("max_running", out.max_running));
     NCLINK_TRY(r.duration("status_period_ms", out.status_period));
     NCLINK_TRY(r.duration("stop_grace_ms", out.stop_grace));
     NCLINK_TRY(r.no_unknown_keys());
     // A zero period would publish Method/Status in a busy loop.
     if (out.status_period.count() <= 0)
-        return make_error(ErrorCode::out_of_range, "configuration: methods.status_period_ms must be positive");
+        return r.fail(ErrorCode::out_of_range, "status_period_ms", "must be positive");
     return ok_result();
 }
 

@@ -5,8 +5,8 @@
 namespace nclink::detail {
 
 Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
-    if (!section.is_object()) return make_error(ErrorCode::value_type, "configuration: sampling must be an object");
     ConfigReader r(section, "sampling.");
+    if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.boolean("enabled", out.enabled));
     NCLINK_TRY(r.count("max_dynamic_channels", out.max_dynamic_channels));
     NCLINK_TRY(r.read("push_channels", out.push_channels,
@@ -29,7 +29,7 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
                       "an object of channel id: 0 or 1"));
     NCLINK_TRY(r.str("full_policy", out.full_policy));
     if (out.full_policy != "drop_oldest" && out.full_policy != "block")
-        return make_error(ErrorCode::out_of_range, "configuration: sampling.full_policy must be \"drop_oldest\" or \"block\"");
+        return r.fail(ErrorCode::out_of_range, "full_policy", "must be \"drop_oldest\" or \"block\"");
     NCLINK_TRY(r.read("ring_periods", out.ring_periods, [](const Json& j) { return j.is_number() && j.get<double>() > 0; },
                       "a positive number"));
     NCLINK_TRY(r.count("ring_max_rows", out.ring_max_rows));

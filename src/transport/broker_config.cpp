@@ -12,8 +12,8 @@ void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOpti
 Result<void> read_tls(ConfigReader& broker, std::optional<MqttTlsOptions>& tls) {
     const Json* section = broker.object("tls");
     if (!section) return ok_result();
-    if (!section->is_object()) return make_error(ErrorCode::value_type, "configuration: broker.tls must be an object");
-    ConfigReader t(*section, "broker.tls.");
+    if (!section->is_object()) return broker.fail(ErrorCode::value_type, "tls", "must be an object");
+    ConfigReader t(*section, broker.where() + "tls.", pointer_append(broker.pointer(), "tls"));
     MqttTlsOptions o = tls.value_or(MqttTlsOptions{});
     NCLINK_TRY(t.str("ca_file", o.ca_file));
     NCLINK_TRY(t.str("cert_file", o.cert_file));

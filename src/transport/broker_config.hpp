@@ -31,7 +31,7 @@ Result<void> read_broker_common(ConfigReader& broker, Config& c) {
     NCLINK_TRY(broker.duration("keep_alive_s", c.keep_alive));
     NCLINK_TRY(read_tls(broker, c.tls));
     if (c.mqtt_version != 4 && c.mqtt_version != 5)
-        return make_error(ErrorCode::value_type, "configuration: broker.mqtt_version must be 4 (MQTT 3.1.1) or 5");
+        return broker.fail(ErrorCode::value_type, "mqtt_version", "must be 4 (MQTT 3.1.1) or 5");
     return ok_result();
 }
 

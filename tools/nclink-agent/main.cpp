@@ -1,15 +1,26 @@
 // nclink-agent: runs the NC-Link agent beside an MQTT broker (docs/agent.md).
 // Argument parsing and wiring only; the agent lives in src/agent/.
 //
-//   nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level L]
+//   nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level L] [--metrics HOST:PORT]
 //   nclink-agent [--config FILE] --write-mosquitto-acl FILE
-#include <nclink/log.hpp>
+//   nclink-agent --config FILE --check-config
+//
+// SIGHUP re-reads --config and applies what can change while running
+// (docs/configuration.md, "Reloading"); a file with a problem is refused and
+// the running configuration stays. Exit status: 0 after SIGINT/SIGTERM,
+// 1 when the agent cannot start, 2 for usage or configuration errors (a
+// systemd unit does not restart on those: RestartPreventExitStatus=2).
+#include "http/metrics_endpoint.hpp"
+
 #include <nclink/agent.hpp>
+#include <nclink/agent_metrics.hpp>
+#include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -20,19 +31,78 @@
 
 namespace {
 
+constexpr int kExitUsage = 2;  // usage and configuration errors
+
 void usage(std::ostream& out) {
     out << "usage: nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level LEVEL]\n"
+           "                    [--metrics HOST:PORT [--metrics-user USER]]\n"
            "       nclink-agent [--config FILE] --write-mosquitto-acl FILE\n"
+           "       nclink-agent --config FILE --check-config\n"
            "Runs the NC-Link agent (registration, discovery, state, version cache,\n"
-           "DEV_UNREACHABLE/timeouts, access control) until SIGINT/SIGTERM.\n"
+           "DEV_UNREACHABLE/timeouts, access control) until SIGINT/SIGTERM. SIGHUP\n"
+           "re-reads FILE: registration, access, timeouts and log_level apply at once,\n"
+           "the rest at the next start; a broken file is refused and logged.\n"
            "--write-mosquitto-acl writes a mosquitto acl_file enforcing the configured\n"
-           "access rules and exits. See docs/agent.md.\n";
+           "access rules and exits. --check-config reads FILE and exits (0 valid,\n"
+           "2 not). Exit status 2: usage or configuration error. See docs/agent.md.\n"
+           "--metrics serves Prometheus metrics at http://HOST:PORT/metrics (off by\n"
+           "default; docs/metrics.md). A HOST other than loopback needs --metrics-user\n"
+           "and the password in the environment variable NCLINK_METRICS_PASSWORD.\n";
+}
+
+struct Options {
+    std::optional<std::string> broker, config_path, state_dir, log_level, acl_path, metrics, metrics_user;
+    bool check_only = false;
+};
+
+// The file's configuration with the command line's options on top.
+nclink::Result<nclink::AgentConfig> effective_config(const Options& o) {
+    nclink::AgentConfig config;
+    if (o.config_path) {
+        auto loaded = nclink::load_agent_config(*o.config_path);
+        if (!loaded) return std::move(loaded).error();
+        config = std::move(loaded).value();
+    }
+    if (o.broker) config.broker_url = *o.broker;
+    if (o.state_dir) config.state_dir = *o.state_dir;
+    if (o.log_level) config.log_level = *nclink::log_level_from_string(*o.log_level);
+    return config;
+}
+
+std::string joined(const std::vector<std::string>& keys) {
+    std::string out;
+    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
+    return out;
+}
+
+void reload(const Options& o, nclink::Agent& agent, const nclink::Logger& logger) {
+    if (!o.config_path) {
+        logger.warn("nclink-agent: SIGHUP: no --config file to reload");
+        return;
+    }
+    auto next = effective_config(o);
+    if (!next) {
+        logger.error("nclink-agent: reload refused, the running configuration stays: {}", next.error().message);
+        return;
+    }
+    auto report = agent.reload(*next);
+    if (!report) {
+        logger.error("nclink-agent: reload refused, the running configuration stays: {}", report.error().describe());
+        return;
+    }
+    if (report->applied.empty() && report->restart_needed.empty())
+        logger.info("nclink-agent: reloaded {}: nothing changed", *o.config_path);
+    else if (!report->applied.empty())
+        logger.info("nclink-agent: reloaded {}: applied {}", *o.config_path, joined(report->applied));
+    if (!report->restart_needed.empty())
+        logger.warn("nclink-agent: changed in {} but applied only after a restart: {}", *o.config_path,
+                    joined(report->restart_needed));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::optional<std::string> broker, config_path, state_dir, log_level, acl_path;
+    Options o;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto value = [&](std::optional<std::string>& out) {
@@ -41,11 +111,14 @@ int main(int argc, char** argv) {
             return true;
         };
         bool ok = true;
-        if (arg == "--broker") ok = value(broker);
-        else if (arg == "--config") ok = value(config_path);
-        else if (arg == "--state-dir") ok = value(state_dir);
-        else if (arg == "--log-level") ok = value(log_level);
-        else if (arg == "--write-mosquitto-acl") ok = value(acl_path);
+        if (arg == "--broker") ok = value(o.broker);
+        else if (arg == "--config") ok = value(o.config_path);
+        else if (arg == "--state-dir") ok = value(o.state_dir);
+        else if (arg == "--log-level") ok = value(o.log_level);
+        else if (arg == "--write-mosquitto-acl") ok = value(o.acl_path);
+        else if (arg == "--metrics") ok = value(o.metrics);
+        else if (arg == "--metrics-user") ok = value(o.metrics_user);
+        else if (arg == "--check-config") o.check_only = true;
         else if (arg == "-h" || arg == "--help") {
             usage(std::cout);
             return 0;
@@ -55,42 +128,43 @@ int main(int argc, char** argv) {
         }
         if (!ok) {
             usage(std::cerr);
-            return 2;
+            return kExitUsage;
         }
+    }
+    if (o.log_level && !nclink::log_level_from_string(*o.log_level)) {
+        std::cerr << "nclink-agent: unknown log level " << *o.log_level << "\n";
+        return kExitUsage;
+    }
+    if (o.check_only && !o.config_path) {
+        std::cerr << "nclink-agent: --check-config needs --config FILE\n";
+        return kExitUsage;
     }
 
-    nclink::AgentConfig config;
-    if (config_path) {
-        auto loaded = nclink::load_agent_config(*config_path);
-        if (!loaded) {
-            std::cerr << "nclink-agent: " << loaded.error().describe() << "\n";
-            return 1;
-        }
-        config = std::move(loaded).value();
+    // A configuration with a problem stops here, before anything is started
+    // or written: one line naming the file, line and column.
+    auto loaded = effective_config(o);
+    if (!loaded) {
+        std::cerr << "nclink-agent: " << loaded.error().message << "\n";
+        return kExitUsage;
     }
-    if (broker) config.broker_url = *broker;
-    if (state_dir) config.state_dir = *state_dir;
-    if (log_level) {
-        auto level = nclink::log_level_from_string(*log_level);
-        if (!level) {
-            std::cerr << "nclink-agent: unknown log level " << *log_level << "\n";
-            return 2;
-        }
-        config.log_level = *level;
+    nclink::AgentConfig config = std::move(loaded).value();
+    if (o.check_only) {
+        std::cout << *o.config_path << ": OK\n";
+        return 0;
     }
 
-    if (acl_path) {
-        std::ofstream out(*acl_path);
+    if (o.acl_path) {
+        std::ofstream out(*o.acl_path);
         out << nclink::mosquitto_acl(config);
         if (!out.good()) {
-            std::cerr << "nclink-agent: cannot write " << *acl_path << "\n";
+            std::cerr << "nclink-agent: cannot write " << *o.acl_path << "\n";
             return 1;
         }
         return 0;
     }
-    if (!broker && !config_path) {
+    if (!o.broker && !o.config_path) {
         usage(std::cerr);
-        return 2;
+        return kExitUsage;
     }
 
     // Block the signals before any thread starts, so only sigwait() sees them.
@@ -98,6 +172,7 @@ int main(int argc, char** argv) {
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
     nclink::Logger logger(nclink::stderr_sink(), config.log_level);
@@ -120,6 +195,24 @@ int main(int argc, char** argv) {
         }
     }
     nclink::Agent agent(config, logger);
+    // /metrics (docs/metrics.md): bound before the agent starts, so a port
+    // that cannot be bound stops the program before it serves anything.
+    std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
+    if (o.metrics) {
+        std::optional<nclink::http::BasicAuth> auth;
+        if (o.metrics_user) {
+            const char* password = std::getenv("NCLINK_METRICS_PASSWORD");
+            auth = nclink::http::BasicAuth{*o.metrics_user, password ? password : "", "nclink-agent", {}};
+        }
+        auto made = nclink::http::MetricsEndpoint::start(
+            *o.metrics, [&agent] { return nclink::prometheus_metrics(agent); }, "nclink_agent", std::move(auth), logger);
+        if (!made) {
+            logger.error("nclink-agent: --metrics {}: {}", *o.metrics, made.error().describe());
+            return 1;
+        }
+        metrics = std::move(made).value();
+        logger.info("nclink-agent: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
+    }
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());
         return 1;
@@ -135,11 +228,16 @@ int main(int argc, char** argv) {
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    logger.info("nclink-agent: serving on {} (share group '{}'); SIGINT/SIGTERM stops", config.broker_url,
-                config.share_group);
+    logger.info("nclink-agent: serving on {} (share group '{}'); SIGHUP reloads, SIGINT/SIGTERM stops",
+                config.broker_url, config.share_group);
     int signal_number = 0;
-    sigwait(&signals, &signal_number);
+    while (true) {
+        sigwait(&signals, &signal_number);
+        if (signal_number != SIGHUP) break;
+        reload(o, agent, logger);
+    }
     logger.info("nclink-agent: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    if (metrics) metrics->stop();
     agent.stop();
     return 0;
 }

@@ -21,9 +21,12 @@ void usage(std::ostream& out) {
     out << "usage: nclink-bridge --broker URL [--device GUID]... [--http HOST:PORT] [--shdr HOST:PORT|off]\n"
            "                     [--config FILE] [--buffer-size N] [--log-level LEVEL]\n"
            "Serves NC-Link machines as MTConnect 1.4 (http://HOST:PORT/probe, /current, /sample),\n"
-           "GB/T 18759.6 (/gbt18759/...), SHDR (TCP) and JSON (/nclink/v1/...). Without --device\n"
+           "GB/T 18759.6 (/gbt18759/...), SHDR (TCP) and JSON (/nclink/v1/...), with a web\n"
+           "dashboard at /dashboard and Prometheus metrics at /metrics. Without --device\n"
            "every adapter on the broker is followed. Defaults: --http 127.0.0.1:5000,\n"
-           "--shdr 127.0.0.1:7878, --buffer-size 131072. See docs/bridge.md.\n";
+           "--shdr 127.0.0.1:7878, --buffer-size 131072. An --http address other than\n"
+           "loopback needs http_username and http_password in the configuration file.\n"
+           "See docs/bridge.md, docs/dashboard.md, docs/metrics.md.\n";
 }
 
 }  // namespace
@@ -130,8 +133,10 @@ int main(int argc, char** argv) {
         std::cerr << "nclink-bridge: " << started.error().describe() << "\n";
         return 1;
     }
-    logger.info("nclink-bridge: MTConnect on http://{}:{}/, SHDR on {}:{}; SIGINT/SIGTERM stops", config.http_host,
-                bridge.http_port(), config.shdr_host, bridge.shdr_port());
+    logger.info("nclink-bridge: MTConnect on http://{}:{}/, dashboard on http://{}:{}/dashboard, SHDR on {}:{}; "
+                "SIGINT/SIGTERM stops",
+                config.http_host, bridge.http_port(), config.http_host, bridge.http_port(), config.shdr_host,
+                bridge.shdr_port());
     int signal_number = 0;
     sigwait(&signals, &signal_number);
     logger.info("nclink-bridge: stopping");

@@ -19,6 +19,9 @@ int run_probe(const Args& args);
 int run_query(const Args& args);
 int run_set(const Args& args);
 int run_watch(const Args& args);
+int run_top(const Args& args);  ///< watch --full-screen
+int run_probe_set(const Args& args);  // cmd_probe_set.cpp
+extern const char* const probe_set_usage;
 int run_state(const Args& args);
 extern const char* const probe_usage;
 extern const char* const query_usage;
@@ -32,7 +35,7 @@ int run_control(const Args& args);  // cmd_control.cpp
 extern const char* const call_usage;
 extern const char* const control_usage;
 /// For call/control: the device as --device or the first positional.
-bool parse_method_command(const Args& args, const char* usage, CliOptions& out);
+bool parse_method_command(const Args& args, const char* usage, CliOptions& out, const OptionSpec& spec = {});
 
 /// Parses the options, prints `usage` for --help (returns true = done), and
 /// checks --device / --client-id. Fills in the default client id.

@@ -1,7 +1,9 @@
 // `nclink call [--device] DEV METHOD [ARGS_JSON]`: one Method/Call; prints
-// each Method/Status (a progress bar on a terminal, a line otherwise), then
-// the Method/Result. Ctrl-C asks the adapter to cancel the call.
+// each Method/Status (a progress bar on a terminal, a line otherwise, nothing
+// with --no-progress), then the Method/Result. Ctrl-C asks the adapter to
+// cancel the call.
 #include "cli_device.hpp"
+#include "progress.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -17,18 +19,19 @@ const char* const call_usage =
     "       nclink call --device DEV [options] METHOD [ARGS_JSON]\n"
     "  Calls a METHOD of the device's model (Method/Call) and follows it: a\n"
     "  progress bar on a terminal, one `status PHASE PERCENT` line per\n"
-    "  Method/Status otherwise, then the result and its return value. ARGS_JSON\n"
-    "  is a JSON object:\n"
+    "  Method/Status otherwise (none with --no-progress), then the result and\n"
+    "  its return value. ARGS_JSON is a JSON object:\n"
     "    nclink call nclink-sim-mill-01 program_transfer '{\"source\":\"/tmp/O1234.nc\"}'\n"
     "  --timeout MS is the silence timeout: the call fails (203) when neither a\n"
     "  Method/Status nor the Method/Result arrives for that long.\n"
     "  Ctrl-C sends Method/Control cancel for the call and waits for its result.\n"
     "  --json: one JSON object per Method/Status, then the Method/Result.\n"
+    "  --no-progress: neither the bar nor the status lines, only the result.\n"
     "  Exit status: 0 finished, 1 error, canceled or no answer, 2 usage error.\n"
     NCLINK_CLI_GLOBAL_OPTIONS;
 
-bool parse_method_command(const Args& args, const char* usage, CliOptions& out) {
-    out = parse_cli_options(args, {});
+bool parse_method_command(const Args& args, const char* usage, CliOptions& out, const OptionSpec& spec) {
+    out = parse_cli_options(args, spec);
     if (out.help) {
         std::fputs(usage, stdout);
         return true;
@@ -45,15 +48,6 @@ bool parse_method_command(const Args& args, const char* usage, CliOptions& out) 
 }
 
 namespace {
-
-void print_bar(const MethodStatus& status) {
-    const double percent = status.progress.value_or(0);
-    const int filled = static_cast<int>(percent / 100.0 * 30.0 + 0.5);
-    std::string bar(30, '.');
-    for (int i = 0; i < filled && i < 30; ++i) bar[static_cast<std::size_t>(i)] = '#';
-    std::printf("\r%s [%s] %5.1f%% %-9s", status.id.c_str(), bar.c_str(), percent, status.status.c_str());
-    std::fflush(stdout);
-}
 
 void print_line(const MethodStatus& status) {
     if (status.progress)
@@ -79,7 +73,7 @@ void print_result(const MethodResult& r) {
 
 int run_call(const Args& args) {
     CliOptions options;
-    if (parse_method_command(args, call_usage, options)) return 0;
+    if (parse_method_command(args, call_usage, options, {{"--no-progress"}, {}})) return 0;
     if (options.positionals.empty()) throw UsageError{"no METHOD given"};
     if (options.positionals.size() > 2) throw UsageError{"too many arguments (quote ARGS_JSON as one)"};
     const std::string method = options.positionals[0];
@@ -91,8 +85,8 @@ int run_call(const Args& args) {
     // Declared before the client: its callbacks use them until it is gone.
     std::mutex mutex;  // call_id: written on the dispatch thread, read here
     std::optional<Json> call_id;
-    bool bar_shown = false;
-    const bool tty = !options.json && ::isatty(::fileno(stdout)) != 0;
+    const ProgressMode mode = progress_mode(options.flags.count("--no-progress") > 0, options.json, stdout);
+    Progress bar(mode, stdout, method);  // drawn on the dispatch thread only (on_status)
     install_interrupt_handler();
     auto client = connect_client(options);
     auto on_status = [&](const MethodStatus& status) {
@@ -103,10 +97,11 @@ int run_call(const Args& args) {
         if (options.json) {
             std::printf("%s\n", to_json(status).dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
             std::fflush(stdout);
-        } else if (tty) {
-            print_bar(status);
-            bar_shown = true;
-        } else {
+        } else if (mode == ProgressMode::bar) {
+            std::optional<double> fraction;
+            if (status.progress) fraction = *status.progress / 100.0;
+            bar.update(fraction, status.status);
+        } else if (mode == ProgressMode::lines) {
             print_line(status);
         }
     };
@@ -129,7 +124,9 @@ int run_call(const Args& args) {
         }, control);
     }
     auto result = future.get();
-    if (bar_shown) std::printf("\n");
+    client.reset();  // no status callback after this: the bar is ours now
+    if (result && result->result == "finished" && result->status.ok) bar.update(1.0, "finished");
+    bar.finish();
     if (!result) {
         std::fprintf(stderr, "nclink call: %s\n", result.error().describe().c_str());
         return 1;

@@ -1,9 +1,12 @@
 // `nclink watch --device GUID [--channel ID] [--count N]`: subscribe to the
 // device's Sample DTUs and print a rolling table, one row per DTU: channel,
 // beginTime and, per point, the latest value in that DTU. --json prints each
-// DTU as one JSON line.
+// DTU as one JSON line. --full-screen (and `nclink top`) shows every point's
+// latest value in a table refreshed in place (live_view.hpp, terminal.hpp).
 #include "cli_device.hpp"
 #include "cli_inbox.hpp"
+#include "live_view.hpp"
+#include "terminal.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -12,10 +15,14 @@
 namespace nclink::cli {
 
 const char* const watch_usage =
-    "usage: nclink watch --device GUID [--channel ID] [--count N] [options]\n"
+    "usage: nclink watch --device GUID [--channel ID] [--count N] [--full-screen] [options]\n"
+    "       nclink top --device GUID [--channel ID] [options]\n"
     "  Prints the device's samples (Sample/GUID/+) as a rolling table: channel,\n"
     "  beginTime, then one column per point with its latest value in the DTU.\n"
     "  Runs until Ctrl-C, or until N DTUs with --count. --json: one DTU per line.\n"
+    "  --full-screen (or `nclink top`): one row per point with its latest value\n"
+    "  and age, refreshed in place; q quits, up/down (j/k), PgUp/PgDn scroll.\n"
+    "  Needs a terminal.\n"
     NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
@@ -69,12 +76,63 @@ private:
     int rows_since_header_ = 0;
 };
 
+std::int64_t wall_ms() {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+}
+
+// The full-screen loop: keys every 100 ms at most, samples as they come, a
+// redraw when something changed (and every second, for the ages).
+int run_full_screen(const CliOptions& options, Inbox<SampleDtu>& inbox,
+                    std::map<std::string, std::vector<std::string>> points) {
+    LiveView view(options.device, options.broker, std::move(points));
+    FullScreen screen;
+    auto last_draw = std::chrono::steady_clock::time_point{};
+    bool dirty = true;
+    while (!interrupted()) {
+        switch (screen.read_key(std::chrono::milliseconds(100))) {
+            case Key::quit: return 0;
+            case Key::up: view.scroll(-1), dirty = true; break;
+            case Key::down: view.scroll(1), dirty = true; break;
+            case Key::page_up: view.scroll(-(screen.size().second - 3)), dirty = true; break;
+            case Key::page_down: view.scroll(screen.size().second - 3), dirty = true; break;
+            case Key::home: view.scroll_home(), dirty = true; break;
+            default: break;
+        }
+        while (auto dtu = inbox.pop(std::chrono::steady_clock::now())) {
+            view.apply(*dtu, wall_ms());
+            dirty = true;
+        }
+        if (screen.resized()) dirty = true;
+        const auto now = std::chrono::steady_clock::now();
+        if (dirty || now - last_draw >= std::chrono::seconds(1)) {
+            const auto [columns, rows] = screen.size();
+            // One column spare: a character in the last column makes some
+            // terminals wrap (and scroll) on the next one.
+            screen.draw(view.render(columns - 1, rows, wall_ms()));
+            last_draw = now;
+            dirty = false;
+        }
+    }
+    return 0;
+}
+
 }  // namespace
+
+int run_top(const Args& args) {
+    Args with = args;
+    with.push_back("--full-screen");
+    return run_watch(with);
+}
 
 int run_watch(const Args& args) {
     CliOptions options;
-    if (parse_device_command(args, {{}, {"--count", "--channel"}}, watch_usage, options)) return 0;
+    if (parse_device_command(args, {{"--full-screen"}, {"--count", "--channel"}}, watch_usage, options)) return 0;
     if (!options.positionals.empty()) throw UsageError{"unexpected argument " + options.positionals.front()};
+    const bool full_screen = options.flags.count("--full-screen") > 0;
+    if (full_screen && options.json) throw UsageError{"--full-screen and --json exclude each other"};
+    if (full_screen && options.values.count("--count")) throw UsageError{"--full-screen runs until q: no --count"};
+    if (full_screen && !FullScreen::is_terminal()) throw UsageError{"--full-screen needs a terminal (use watch without it)"};
     std::uint64_t count = 0;
     if (const auto it = options.values.find("--count"); it != options.values.end())
         count = parse_count("--count", it->second);
@@ -105,6 +163,7 @@ int run_watch(const Args& args) {
             std::fprintf(stderr, "nclink watch: no model (%s); columns are numbered\n",
                          model.error().describe().c_str());
     }
+    if (full_screen) return run_full_screen(options, inbox, std::move(points));
     Table table(std::move(points));
     std::uint64_t seen = 0;
     while (count == 0 || seen < count) {

@@ -24,6 +24,8 @@ struct Command {
 
 int run_validate(const Args& args);
 extern const char* const validate_usage;
+int run_config(const Args& args);  // cmd_config.cpp
+extern const char* const config_usage;
 int run_map(const Args& args);  // cmd_map.cpp
 extern const char* const map_usage;
 int run_model(const Args& args);  // cmd_model.cpp

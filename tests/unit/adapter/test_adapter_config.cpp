@@ -90,10 +90,10 @@ TEST_CASE("a configuration named without a directory resolves its paths against 
 TEST_CASE("configuration errors say what was meant: nearest key, system reason, URL form") {
     auto typo = adapter_config_from_json(Json{{"broker", {{"uri", "tcp://x"}}}});
     REQUIRE_FALSE(typo.ok());
-    CHECK(typo.error().message == "configuration: unknown key broker.uri (did you mean broker.url?)");
+    CHECK_THAT(typo.error().message, Catch::StartsWith("configuration: broker.uri: unknown key; did you mean \"url\"?"));
     auto top = adapter_config_from_json(Json{{"modle", "x.json"}});
     REQUIRE_FALSE(top.ok());
-    CHECK_THAT(top.error().message, Catch::Contains("(did you mean model?)"));
+    CHECK_THAT(top.error().message, Catch::Contains("did you mean \"model\"?"));
     auto far = adapter_config_from_json(Json{{"completely_unrelated", 1}});
     REQUIRE_FALSE(far.ok());
     CHECK_THAT(far.error().message, !Catch::Contains("did you mean"));

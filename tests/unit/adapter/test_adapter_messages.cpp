@@ -132,7 +132,7 @@ TEST_CASE("run_adapter: usage and configuration errors exit 2 with the reason, -
     std::ofstream(dir + "/adapter.json") << R"({"broker": {"uri": "tcp://x"}})";
     auto [typo, typo_text] = run({"lathe", "--config", dir + "/adapter.json"}, driver);
     CHECK(typo == 2);
-    CHECK_THAT(typo_text, Catch::Contains("unknown key broker.uri (did you mean broker.url?)"));
+    CHECK_THAT(typo_text, Catch::Contains("broker.uri: unknown key; did you mean \"url\"?"));
     std::filesystem::remove_all(dir);
 
     auto [no_model, no_model_text] = run({"lathe"}, driver);

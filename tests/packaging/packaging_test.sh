@@ -1,0 +1,190 @@
+#!/usr/bin/env bash
+# The Debian packages, end to end, without touching this machine: builds them
+# (cpack -G DEB), unpacks them into a scratch root (dpkg -x), and checks what a
+# plant's IT relies on: package fields, pkg-config and find_package against
+# the unpacked tree, the installed programs, the systemd units
+# (systemd-analyze verify), the maintainer scripts run twice (with stand-ins
+# for the commands that would change the machine), and lintian.
+#   packaging_test.sh BUILD_DIR SOURCE_DIR WORK_DIR CXX
+set -euo pipefail
+build=$1 source=$2 work=$3 cxx=$4
+rm -rf "$work"
+mkdir -p "$work"
+root=$work/root
+fail() { echo "packaging test: $*" >&2; exit 1; }
+step() { echo "--- $* ($SECONDS s)"; }
+
+step "cpack -G DEB"
+(cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work/packages" >"$work/cpack.log" 2>&1) ||
+  { cat "$work/cpack.log"; fail "cpack failed"; }
+version=$(sed -n 's/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' "$build/CPackConfig.cmake")
+release=$(sed -n 's/^set(CPACK_DEBIAN_PACKAGE_RELEASE "\(.*\)")$/\1/p' "$build/CPackConfig.cmake")
+soversion=${version%%.*}
+arch=$(dpkg --print-architecture)
+declare -A deb
+for p in "libnclink$soversion" libnclink-dev nclink-tools nclink-agent nclink-bridge; do
+  deb[$p]=$work/packages/${p}_${version}-${release}_${arch}.deb
+  [[ -f ${deb[$p]} ]] || { ls "$work/packages"; fail "no package ${deb[$p]##*/}"; }
+done
+
+# lintian is the slowest part: it runs beside the other checks.
+lint_pid=""
+if command -v lintian >/dev/null; then
+  # Overrides ship in the packages (packaging/lintian/), each with its reason.
+  lintian --fail-on error,warning --tag-display-limit 0 "$work"/packages/*.deb >"$work/lintian.log" 2>&1 &
+  lint_pid=$!
+fi
+
+step "package fields"
+field() { dpkg-deb -f "${deb[$1]}" "$2"; }
+for p in "${!deb[@]}"; do
+  [[ $(field "$p" Version) == "$version-$release" ]] || fail "$p: Version $(field "$p" Version)"
+done
+[[ $(field libnclink-dev Depends) == *"libnclink$soversion (= $version-$release)"* ]] || fail "libnclink-dev: Depends $(field libnclink-dev Depends)"
+# dpkg-shlibdeps found what the programs link.
+[[ $(field nclink-tools Depends) == *libpaho-mqttpp3* ]] || fail "nclink-tools: Depends $(field nclink-tools Depends)"
+[[ $(field nclink-agent Depends) == *adduser* && $(field nclink-agent Depends) == *libc6* ]] || fail "nclink-agent: Depends $(field nclink-agent Depends)"
+dpkg-deb --ctrl-tarfile "${deb[nclink-agent]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/agent.json ||
+  fail "nclink-agent: /etc/nclink/agent.json is not a conffile"
+dpkg-deb --ctrl-tarfile "${deb[nclink-bridge]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/bridge.json ||
+  fail "nclink-bridge: /etc/nclink/bridge.json is not a conffile"
+[[ $(field nclink-bridge Depends) == *libcpp-httplib* ]] || fail "nclink-bridge: Depends $(field nclink-bridge Depends)"
+dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep "^libnclink $soversion libnclink$soversion" >/dev/null ||
+  fail "libnclink$soversion: no shlibs"
+
+step "dpkg -x into $root"
+for p in "${!deb[@]}"; do dpkg -x "${deb[$p]}" "$root"; done
+for f in usr/bin/nclink usr/bin/nclink-conform usr/bin/nclink-sim usr/bin/nclink-agent etc/nclink/agent.json \
+         lib/systemd/system/nclink-agent.service usr/lib/sysusers.d/nclink-agent.conf \
+         usr/bin/nclink-bridge etc/nclink/bridge.json lib/systemd/system/nclink-bridge.service \
+         usr/lib/sysusers.d/nclink-bridge.conf \
+         usr/share/nclink/models/sim-mill.json usr/share/nclink/schema/agent.schema.json \
+         usr/include/nclink/adapter.hpp; do
+  [[ -e $root/$f ]] || fail "not installed: /$f"
+done
+[[ -n $(find "$root" -name 'libnclink.so.*' -print -quit) ]] || fail "no libnclink.so.*"
+[[ -n $(find "$root" -path '*/nclink/drivers/nclink-sim.so' -print -quit) ]] || fail "no sim plugin"
+pcdir=$(dirname "$(find "$root" -name nclink.pc -print -quit)")
+libdir=$(dirname "$pcdir")
+
+step "pkg-config against the unpacked tree"
+# nclink.pc is relocatable (its prefix is found from where the file is), so
+# no PKG_CONFIG_SYSROOT_DIR is needed: the paths lead into the unpacked tree.
+flags=$(PKG_CONFIG_PATH=$pcdir pkg-config --cflags --libs nclink)
+includes="" libs=""
+for f in $flags; do
+  case $f in
+    -I*) includes+=" $(realpath -m "${f#-I}")" ;;
+    -L*) libs+=" $(realpath -m "${f#-L}")" ;;
+  esac
+done
+[[ $includes == *" $root/usr/include"* && $libs == *" $(realpath "$libdir")"* && $flags == *-lnclink* ]] ||
+  fail "pkg-config: $flags"
+# shellcheck disable=SC2086
+"$cxx" -std=c++17 "$source/tests/consumer/project/main.cpp" -o "$work/pc_consumer" $flags -Wl,-rpath,"$libdir"
+[[ $("$work/pc_consumer") == *"Node not exists"* ]] || fail "pkg-config consumer"
+# (no grep -q after a pipe: with pipefail, its early exit would fail the writer)
+ldd "$work/pc_consumer" | grep "$libdir/libnclink.so" >/dev/null || fail "pkg-config consumer does not use the packaged library"
+
+step "find_package against the unpacked tree"
+cmake -S "$source/tests/consumer/project" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$root/usr" \
+      -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_RPATH="$libdir" >"$work/consumer.log" 2>&1 ||
+  { cat "$work/consumer.log"; fail "consumer configure"; }
+cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 || { cat "$work/consumer.log"; fail "consumer build"; }
+[[ $("$work/consumer/nclink_consumer") == *"Node not exists"* ]] || fail "find_package consumer"
+
+step "the installed programs"
+[[ $("$root/usr/bin/nclink" --version) == "nclink $version" ]] || fail "nclink --version: $("$root/usr/bin/nclink" --version)"
+"$root/usr/bin/nclink-agent" --config "$root/etc/nclink/agent.json" --check-config >/dev/null ||
+  fail "the shipped /etc/nclink/agent.json is refused"
+"$root/usr/bin/nclink" config check --kind agent "$root/etc/nclink/agent.json" >/dev/null || fail "nclink config check of agent.json"
+"$root/usr/bin/nclink-bridge" --help | grep dashboard >/dev/null || fail "nclink-bridge --help"
+# nclink-sim finds the packaged model relative to itself.
+"$root/usr/bin/nclink-sim" --broker tcp://127.0.0.1:9 --log-level info >/dev/null 2>"$work/sim.log" &
+sim=$!
+for _ in $(seq 50); do grep -q simulating "$work/sim.log" && break; sleep 0.1; done
+kill "$sim" 2>/dev/null || true
+wait "$sim" 2>/dev/null || true
+grep -q "simulating $root/usr/share/nclink/models/sim-mill.json" "$work/sim.log" || { cat "$work/sim.log"; fail "nclink-sim: packaged model"; }
+
+step "systemd units"
+if command -v systemd-analyze >/dev/null; then
+  mkdir -p "$work/units"
+  for unit in "$root"/lib/systemd/system/*.service; do
+    # A copy whose programs point into the unpacked tree: verify checks that
+    # they exist and are executable. Any output (an unknown key, a bad
+    # value) fails the test.
+    copy=$work/units/${unit##*/}
+    sed "s|/usr/bin/|$root/usr/bin/|g" "$unit" >"$copy"
+    out=$(systemd-analyze verify "$copy" 2>&1) || { echo "$out"; fail "systemd-analyze verify ${unit##*/}"; }
+    [[ -z $out ]] || { echo "$out"; fail "systemd-analyze verify ${unit##*/} warns"; }
+    # The agent reloads on SIGHUP; the bridge does not re-read its file (restart it).
+    if [[ ${unit##*/} == nclink-agent.service ]]; then
+      grep -q '^ExecReload=/bin/kill -HUP \$MAINPID$' "$unit" || fail "${unit##*/}: no SIGHUP reload"
+      grep -q '^ExecStart=.* --metrics 127.0.0.1:9470$' "$unit" || fail "${unit##*/}: no loopback /metrics"
+    fi
+    grep -q '^ProtectSystem=strict$' "$unit" && grep -q '^User=nclink$' "$unit" || fail "${unit##*/}: not hardened"
+  done
+else
+  echo "systemd-analyze not installed (Debian package systemd): units not verified"
+fi
+
+step "maintainer scripts, twice"
+stubs=$work/stubs dpkgroot=$work/dpkgroot
+mkdir -p "$stubs" "$dpkgroot"
+: >"$work/calls"
+# Stand-ins that log their call and keep their state in the scratch directory.
+for cmd in systemd-sysusers adduser deb-systemd-helper deb-systemd-invoke systemctl; do
+  printf '#!/bin/sh\necho "%s $*" >>"%s"\n' "$cmd" "$work/calls" >"$stubs/$cmd"
+done
+cat >"$stubs/getent" <<STUB
+#!/bin/sh
+grep -q "^\$2\$" "$work/users" 2>/dev/null
+STUB
+cat >"$stubs/install" <<STUB
+#!/bin/sh
+echo "install \$*" >>"$work/calls"
+for last; do :; done
+mkdir -p "\$last"
+STUB
+cat >"$stubs/dpkg-statoverride" <<STUB
+#!/bin/sh
+echo "dpkg-statoverride \$*" >>"$work/calls"
+case "\$1" in
+  --list) grep -q " \$2\$" "$work/overrides" 2>/dev/null ;;
+  --update) echo "\$3 \$4 \$5 \$6" >>"$work/overrides" ;;
+  --remove) grep -v " \$2\$" "$work/overrides" >"$work/overrides.new" || true; mv "$work/overrides.new" "$work/overrides" ;;
+esac
+STUB
+chmod +x "$stubs"/*
+mkdir -p "$work/scripts"
+dpkg-deb -e "${deb[nclink-agent]}" "$work/scripts"
+run_script() { PATH="$stubs:$PATH" DPKG_ROOT=$dpkgroot sh -e "$work/scripts/$1" "${@:2}"; }
+run_script postinst configure
+first=$(wc -l <"$work/calls")
+run_script postinst configure
+grep -c "dpkg-statoverride --update --add root nclink 0640 /etc/nclink/agent.json" "$work/calls" | grep -x >/dev/null 1 ||
+  fail "postinst twice: the permission override is added $(grep -c 'statoverride --update' "$work/calls") times"
+[[ -d $dpkgroot/var/lib/nclink/agent ]] || fail "postinst: no state directory"
+[[ $(grep -c "systemd-sysusers $dpkgroot/usr/lib/sysusers.d/nclink-agent.conf" "$work/calls") == 2 ]] ||
+  fail "postinst: the user is not made from the sysusers.d file"
+# An upgrade restarts a running service; a fresh install starts nothing.
+if head -n "$first" "$work/calls" | grep "try-restart" >/dev/null; then fail "postinst: a fresh install restarted the service"; fi
+run_script postinst configure "$version-0"
+grep -q "deb-systemd-invoke try-restart nclink-agent.service" "$work/calls" || [[ ! -d /run/systemd/system ]] ||
+  fail "postinst: an upgrade does not restart the service"
+run_script prerm remove
+run_script postrm remove
+run_script postrm purge
+[[ ! -e $dpkgroot/var/lib/nclink/agent ]] || fail "postrm purge: the state directory stays"
+grep -q " /etc/nclink/agent.json" "$work/overrides" && fail "postrm purge: the permission override stays"
+run_script postrm purge  # again: nothing left to do, no error
+
+step "lintian"
+if [[ -n $lint_pid ]]; then
+  wait "$lint_pid" || { cat "$work/lintian.log"; fail "lintian"; }
+  grep -v "root privileges" "$work/lintian.log" || true
+else
+  echo "lintian not installed: packages not linted (tools/install-deps.sh installs it)"
+fi
+step "done"
