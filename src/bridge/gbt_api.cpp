@@ -123,7 +123,7 @@ http::HttpResponse GbtApi::write(const std::string& device, const std::string& b
                                   "data item '" + item.nclink_id + "' is not setable (NC-Link 301 PERMISSION_DENIED)"};
                 return 0;
             }
-            items.push_back(SetItem{item.nclink_id, Json{{"value", v.value}}});
+            items.push_back(SetItem{item.nclink_id, Json{{"value", v.value}}, std::nullopt, std::nullopt});
             ids.push_back(item.nclink_id);
         }
         return 0;
