@@ -140,9 +140,8 @@ struct NCLINK_API SetItem {
     std::optional<Json> params;  ///< value/values, key/keys, index/indexes, offset, length, operation
     /// Appendix A CMD_Set_Request gives offset/length beside `params` too
     /// (8.2.13 example 3 inside them): both places are read, as given.
-    /// (Default-initialized so `SetItem{id, params}` stays the short form.)
-    std::optional<Json> offset = std::nullopt;
-    std::optional<Json> length = std::nullopt;
+    std::optional<Json> offset;
+    std::optional<Json> length;
 };
 struct NCLINK_API SetRequest {
     MessageId msg_id;
