@@ -74,8 +74,14 @@ void ModbusDriver::close() {
     link_ = MachineLink::disconnected;
 }
 
-MachineLink ModbusDriver::link() const {
-    return link_.load();
+MachineLinkStatus ModbusDriver::link() const {
+    const MachineLink state = link_.load();
+    if (state != MachineLink::disconnected) return {state, {}};
+    // Disconnected only while the backoff lasts: when the next attempt is
+    // due the SDK must call read() again, which is where reconnecting happens.
+    const auto now = (clock_ ? clock_() : std::chrono::steady_clock::now()).time_since_epoch().count();
+    if (now >= next_attempt_ticks_.load(std::memory_order_acquire)) return {MachineLink::unknown, {}};
+    return {MachineLink::disconnected, "DEV_UNREACHABLE: modbus " + (config_ ? config_->endpoint() : std::string("PLC")) + " not reachable"};
 }
 
 ModbusDriver::Stats ModbusDriver::stats() const {
@@ -95,6 +101,7 @@ void ModbusDriver::lost(const std::string& why) {
         logger_.warn("modbus {}: connection lost ({}); reconnecting with backoff", config_->endpoint(), why);
     last_failure_ = why;
     next_attempt_ = clock_() + backoff_;
+    next_attempt_ticks_.store(next_attempt_.time_since_epoch().count(), std::memory_order_release);
     backoff_ = std::min(backoff_ * 2, config_->backoff_max);
 }
 

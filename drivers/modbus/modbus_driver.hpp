@@ -8,9 +8,11 @@
 //
 // When the PLC is gone (connect refused, timeout, connection reset) every
 // item of the failing call answers Unavailable (202) with "DEV_UNREACHABLE"
-// in its detail, link() says disconnected, and reconnects are tried on later
-// calls no more often than the backoff allows (doubling from backoff_ms.min
-// to backoff_ms.max), so a dead PLC costs no time per read between attempts.
+// in its detail, and reconnects are tried on later calls no more often than
+// the backoff allows (doubling from backoff_ms.min to backoff_ms.max). Until
+// the next attempt is due link() says disconnected, so the SDK answers the
+// items 202 "machine disconnected" without calling the driver at all; once
+// it is due link() says unknown again and the next read tries to reconnect.
 #pragma once
 
 #include "modbus/modbus_map.hpp"
@@ -42,7 +44,7 @@ public:
     void close() override;
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override;
     Result<void> write(const WriteRequest& request) override;
-    MachineLink link() const override;
+    MachineLinkStatus link() const override;
 
     /// Counters for tests and `nclink stats`-like diagnostics.
     struct Stats {
@@ -63,6 +65,8 @@ private:
     std::unique_ptr<Connection> connection_;
     std::atomic<MachineLink> link_{MachineLink::unknown};
     std::chrono::steady_clock::time_point next_attempt_{};
+    /// next_attempt_ for link() on any thread (steady_clock ticks).
+    std::atomic<std::int64_t> next_attempt_ticks_{0};
     std::chrono::milliseconds backoff_{0};
     std::string last_failure_;
     std::atomic<std::uint64_t> requests_{0}, connects_{0}, failures_{0};

@@ -2,6 +2,7 @@
 // reach (Discovery/Request, 8.2.3) and prints the list of 8.2.4 (guid,
 // status, last alive time). Needs an agent: without one nobody answers.
 #include "cli_device.hpp"
+#include "commands.hpp"
 
 #include <unistd.h>
 

@@ -5,6 +5,7 @@
 // (its reason is printed). Rolling a model out to a line of machines takes a
 // while: a progress bar on a terminal, a line per device otherwise.
 #include "cli_device.hpp"
+#include "commands.hpp"
 #include "progress.hpp"
 
 #include <nclink/model.hpp>

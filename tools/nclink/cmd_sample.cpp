@@ -3,6 +3,7 @@
 // one line per row (time and one column per id); unregisters on Ctrl-C or
 // after --count rows.
 #include "cli_device.hpp"
+#include "commands.hpp"
 #include "cli_inbox.hpp"
 
 #include <unistd.h>
@@ -13,7 +14,6 @@
 namespace nclink::cli {
 
 int run_sample(const Args& args);        // main.cpp dispatches here
-extern const char* const sample_usage;  // (extern: a namespace-scope const is otherwise internal)
 const char* const sample_usage =
     "usage: nclink sample [options] DEV ID... --sample-ms N --upload-ms N\n"
     "       nclink sample --device DEV [options] ID... --sample-ms N --upload-ms N\n"

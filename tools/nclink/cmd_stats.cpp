@@ -3,6 +3,7 @@
 // (docs/sampling.md). Prints a summary per sample channel; --json the whole
 // object.
 #include "cli_device.hpp"
+#include "commands.hpp"
 
 #include "client_args.hpp"
 
@@ -10,7 +11,6 @@
 
 namespace nclink::cli {
 
-extern const char* const stats_usage;
 int run_stats(const Args& args);
 
 const char* const stats_usage =

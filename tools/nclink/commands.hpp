@@ -32,5 +32,13 @@ int run_model(const Args& args);  // cmd_model.cpp
 extern const char* const model_usage;
 int run_vocabulary(const Args& args);  // cmd_model.cpp
 extern const char* const vocabulary_usage;
+int run_stats(const Args& args);  // cmd_stats.cpp
+extern const char* const stats_usage;
+int run_sample(const Args& args);  // cmd_sample.cpp
+extern const char* const sample_usage;
+int run_discovery(const Args& args);  // cmd_discovery.cpp
+extern const char* const discovery_usage;
+int run_probe_set(const Args& args);  // cmd_probe_set.cpp
+extern const char* const probe_set_usage;
 
 }  // namespace nclink::cli

@@ -9,17 +9,6 @@
 #include <exception>
 #include <string_view>
 
-namespace nclink::cli {
-int run_stats(const Args& args);  // cmd_stats.cpp
-extern const char* const stats_usage;
-int run_sample(const Args& args);  // cmd_sample.cpp
-extern const char* const sample_usage;
-int run_discovery(const Args& args);  // cmd_discovery.cpp
-extern const char* const discovery_usage;
-int run_probe_set(const Args& args);  // cmd_probe_set.cpp
-extern const char* const probe_set_usage;
-}  // namespace nclink::cli
-
 namespace {
 
 using nclink::cli::Command;

@@ -61,7 +61,7 @@ TEST_CASE_METHOD(Fixture, "values come from the PLC's tables, scaled, one reques
     plc.set_input(1, 0x0000);
     plc.set_coil(2, true);
     plc.set_discrete(0, false);
-    CHECK(driver.link() == MachineLink::connected);
+    CHECK(driver.link().state == MachineLink::connected);
     const int before = plc.requests();
     auto r = read({"spindle_speed", "feed_override", "status", "x_position", "door_open", "estop"});
     for (auto& v : r) REQUIRE(v.ok());
@@ -112,7 +112,8 @@ TEST_CASE_METHOD(Fixture, "a PLC that disappears answers DEV_UNREACHABLE, backs 
         CHECK(v.error().code == ErrorCode::unavailable);
         CHECK_THAT(v.error().message, Catch::Contains("DEV_UNREACHABLE"));
     }
-    CHECK(driver.link() == MachineLink::disconnected);
+    CHECK(driver.link().state == MachineLink::disconnected);
+    CHECK_THAT(driver.link().reason, Catch::Contains("DEV_UNREACHABLE"));
 
     // Within the backoff no connect is tried (the clock stands still).
     const auto connects = driver.stats().connects;
@@ -121,8 +122,11 @@ TEST_CASE_METHOD(Fixture, "a PLC that disappears answers DEV_UNREACHABLE, backs 
     CHECK_THAT(r[0].error().message, Catch::Contains("next attempt in"));
     CHECK(driver.stats().failures == failures);
 
-    // After the backoff a connect is tried, fails (still gone), and the wait doubles.
+    // After the backoff a connect is tried, fails (still gone), and the wait
+    // doubles. Once it is due, link() no longer says disconnected: the SDK
+    // calls read() again, which is where the driver reconnects.
     now += std::chrono::milliseconds(150);
+    CHECK(driver.link().state == MachineLink::unknown);
     r = read({"feed_override"});
     REQUIRE_FALSE(r[0].ok());
     CHECK(driver.stats().failures == failures + 1);
@@ -137,7 +141,7 @@ TEST_CASE_METHOD(Fixture, "a PLC that disappears answers DEV_UNREACHABLE, backs 
     r = read({"feed_override"});
     REQUIRE(r[0].ok());
     CHECK(r[0].value() == 43);
-    CHECK(driver.link() == MachineLink::connected);
+    CHECK(driver.link().state == MachineLink::connected);
     CHECK(driver.stats().connects == connects + 1);
 
     // A write while the PLC is gone answers DEV_UNREACHABLE too.
@@ -155,7 +159,7 @@ TEST_CASE("a PLC that is not there at start does not stop the adapter from start
     ctx.config = Json::parse(R"({"host":"127.0.0.1","timeout_ms":200,"points":{"a":{"table":"holding","address":0}}})");
     ctx.config["port"] = port;
     CHECK(driver.open(ctx).ok());
-    CHECK(driver.link() == MachineLink::disconnected);
+    CHECK(driver.link().state == MachineLink::disconnected);
     std::vector<PointRef> points{PointRef{"a", DataKind::single}};
     std::vector<Result<Json>> results(1, make_error(ErrorCode::unavailable, "not read"));
     driver.read(points, results);
