@@ -3,6 +3,7 @@
 // schemas when present), SHDR lines, the data-write parser.
 #include "bridge/bridge_store.hpp"
 #include "bridge/gbt_api.hpp"
+#include "bridge/mtconnect_api.hpp"
 #include "bridge/mtconnect_documents.hpp"
 #include "bridge/observation_buffer.hpp"
 #include "bridge/path_filter.hpp"
@@ -276,6 +277,32 @@ TEST_CASE("two devices of one model make one valid document: ids unique, each a 
         CHECK(shdr_lines(*second, x, *st.buffer.latest()[x.index]).find("|Mill:mill-02.x_position|2.5") != std::string::npos);
         return 0;
     });
+}
+
+TEST_CASE("current renders a structured value once per observation and follows its changes") {
+    const char* model = R"({
+      "id": "root", "type": "NC_LINK_ROOT", "version": "1.0",
+      "devices": [{"id": "mill", "name": "Mill", "type": "MACHINE", "guid": "mill-01", "version": "1.0",
+        "dataItems": [{"id": "tools", "type": "TOOL_TABLE", "datatype": "list"}]}]
+    })";
+    BridgeStore store(16, "test", 7);
+    REQUIRE(store.set_model("mill-01", Json::parse(model)).ok());
+    store.set_state("mill-01", "online");
+    const MtConnectApi api(store);
+    store.update("mill-01", "tools", Json::array({Json{{"id", "T1"}, {"len", 1.5}}}), 1700000000000);
+    const std::string first = api.current("", {}).body;
+    CHECK(first.find("&quot;T1&quot;") != std::string::npos);
+    CHECK(api.current("", {}).body.substr(first.find("<Streams>")) == first.substr(first.find("<Streams>")));
+    store.update("mill-01", "tools", Json::array({Json{{"id", "T2"}, {"len", 2.5}}}), 1700000000001);
+    const std::string second = api.current("", {}).body;
+    CHECK(second.find("&quot;T2&quot;") != std::string::npos);
+    CHECK(second.find("&quot;T1&quot;") == std::string::npos);
+    CHECK(validates(second, "Streams"));
+    // at= an older sequence shows the older value again.
+    const std::uint64_t last = store.read([](const BridgeState& st) { return st.buffer.last_sequence(); });
+    const std::string older = api.current("", {{"at", std::to_string(last - 1)}}).body;
+    CHECK(older.find("&quot;T1&quot;") != std::string::npos);
+    CHECK(api.current("", {}).body.find("&quot;T2&quot;") != std::string::npos);
 }
 
 TEST_CASE("SHDR lines: timestamp, device-prefixed key, escaped value, PING answered") {
