@@ -69,6 +69,13 @@ struct NCLINK_API MappingOptions {
     /// MTConnect Header sender and instanceId.
     std::string sender = "nclink";
     std::uint64_t instance_id = 1;
+    /// MTConnect only: when not empty, every id of the Devices document (the
+    /// Device's, its components', its DataItems', the generated ones) starts
+    /// with `mtconnect_id(id_prefix)` and a '.', so that the documents of
+    /// several devices built from one model can share one document, where
+    /// ids must be unique (MTConnect 1.4 part 2 IDType = xs:ID). The bridge
+    /// passes the terminal id (docs/mapping.md "Identifier contract").
+    std::string id_prefix;
 };
 
 // ------------------------------------------------------------------ documents

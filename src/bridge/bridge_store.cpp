@@ -62,6 +62,11 @@ Result<void> BridgeStore::set_model(const std::string& dev, const Json& model_js
     options.sender = sender_;
     options.instance_id = instance_id_;
     if (model.devices().size() == 1) options.dev_uuid = dev;
+    // Two adapters built from one model have the same ids; the all-device
+    // documents need unique ones (IDType is xs:ID). The terminal id is unique
+    // on the broker, and a prefix that is always there keeps every id stable
+    // whichever other adapters come and go (docs/bridge.md "Identifiers").
+    options.id_prefix = dev;
     auto mapping = mtconnect_mapping(model, options);
     if (!mapping) return std::move(mapping).error();
     auto document = map_to_mtconnect(model, options);

@@ -86,11 +86,22 @@ std::string MtConnectApi::current_document(const BridgeState& st, const Selectio
     // A reference to one or the other (a ?: of a const and a non-const vector would copy).
     const std::vector<std::optional<Observation>>& values = at ? static_cast<const decltype(at_values)&>(at_values)
                                                                : st.buffer.latest();
+    std::lock_guard<std::mutex> lock(rendered_mutex_);  // the entries point into rendered_
     std::vector<StreamEntry> entries;
     for (const DeviceEntry* d : sel.devices)
         for (ItemIndex i : d->items) {
             if (!sel.items[i] || i >= values.size() || !values[i]) continue;
-            entries.push_back(StreamEntry{&d->mt, &st.items[i].mt, &*values[i]});
+            const Observation& o = *values[i];
+            StreamEntry entry{&d->mt, &st.items[i].mt, &o, nullptr};
+            if (o.value.is_structured()) {
+                Rendered& r = rendered_[i];
+                if (r.text.empty() || r.sequence != o.sequence) {
+                    r.sequence = o.sequence;
+                    r.text = observation_elements(st.items[i].mt, o);
+                }
+                entry.rendered = &r.text;
+            }
+            entries.push_back(entry);
         }
     HeaderInfo h = header(st);
     if (at) h.next_sequence = *at + 1;

@@ -9,7 +9,9 @@
 #include "bridge/request_params.hpp"
 #include "http/http_server.hpp"
 
+#include <mutex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace nclink::bridge {
@@ -43,6 +45,17 @@ private:
     http::HttpResponse stream_sample(const std::string& device, const SampleParams& params) const;
 
     const BridgeStore& store_;
+
+    /// The rendered elements of the latest structured observations (lists,
+    /// tables: JSON text) by item: an observation never changes, and such a
+    /// value, tens of kilobytes for a tool table, cost most of every
+    /// /current when it was written again each time (docs/bridge.md "Figures").
+    struct Rendered {
+        std::uint64_t sequence = 0;
+        std::string text;
+    };
+    mutable std::mutex rendered_mutex_;
+    mutable std::unordered_map<ItemIndex, Rendered> rendered_;
 };
 
 /// Content type of MTConnect documents.

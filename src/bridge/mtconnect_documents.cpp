@@ -52,7 +52,40 @@ std::string common_header(const HeaderInfo& h) {
     return out;
 }
 
+void append_observation(std::string& out, const MtDataItem& item, const Observation& o) {
+    const bool condition = item.category == MtCategory::condition;
+    const std::string timestamp = iso_time(o.time_ms);
+    for (const auto& ob : mtconnect_observations(item, o.value)) {
+        out += "          <";
+        out += ob.element;
+        attr(out, "dataItemId", item.id);
+        if (!item.name.empty()) attr(out, "name", item.name);
+        attr(out, "sequence", std::to_string(o.sequence));
+        if (!item.sub_type.empty()) attr(out, "subType", item.sub_type);
+        attr(out, "timestamp", timestamp);
+        if (condition) {
+            attr(out, "type", item.type);
+            if (!ob.native_code.empty()) attr(out, "nativeCode", ob.native_code);
+        }
+        if (ob.value.empty()) {
+            out += "/>\n";
+        } else {
+            out += '>';
+            append_escaped(out, ob.value);
+            out += "</";
+            out += ob.element;
+            out += ">\n";
+        }
+    }
+}
+
 }  // namespace
+
+std::string observation_elements(const MtDataItem& item, const Observation& observation) {
+    std::string out;
+    append_observation(out, item, observation);
+    return out;
+}
 
 std::string iso_time(std::int64_t ms) {
     const std::time_t seconds = static_cast<std::time_t>(ms >= 0 ? ms / 1000 : (ms - 999) / 1000);
@@ -149,36 +182,23 @@ std::string streams_document(const HeaderInfo& header, const std::vector<StreamE
         if (cadded) d.components.push_back(Component{e.item->component_element, e.item->component_name,
                                                      e.item->component_id, {}});
         Component& c = d.components[cit->second];
-        const MtDataItem& item = *e.item;
-        const Observation& o = *e.observation;
-        const int group = item.category == MtCategory::sample ? 0 : item.category == MtCategory::event ? 1 : 2;
-        const std::string timestamp = iso_time(o.time_ms);
-        for (const auto& ob : mtconnect_observations(item, o.value)) {
-            std::string& out = c.groups[group];
-            out += "          <";
-            out += ob.element;
-            attr(out, "dataItemId", item.id);
-            if (!item.name.empty()) attr(out, "name", item.name);
-            attr(out, "sequence", std::to_string(o.sequence));
-            if (!item.sub_type.empty()) attr(out, "subType", item.sub_type);
-            attr(out, "timestamp", timestamp);
-            if (group == 2) {
-                attr(out, "type", item.type);
-                if (!ob.native_code.empty()) attr(out, "nativeCode", ob.native_code);
-            }
-            if (ob.value.empty()) {
-                out += "/>\n";
-            } else {
-                out += '>';
-                append_escaped(out, ob.value);
-                out += "</";
-                out += ob.element;
-                out += ">\n";
-            }
-        }
+        const int group = e.item->category == MtCategory::sample ? 0 : e.item->category == MtCategory::event ? 1 : 2;
+        if (e.rendered) c.groups[group] += *e.rendered;
+        else append_observation(c.groups[group], *e.item, *e.observation);
     }
 
+    // One allocation for the whole document: growing a document of tens of
+    // kilobytes by doubling copied it several times, and the freed blocks
+    // made the allocator hand memory back to the kernel on every request.
+    std::size_t size = 1024;
+    for (const auto& d : devices) {
+        size += 256 + d.device->name.size() + d.device->uuid.size();
+        for (const auto& c : d.components)
+            size += 256 + c.element.size() + c.name.size() + c.id.size() + c.groups[0].size() + c.groups[1].size() +
+                    c.groups[2].size();
+    }
     std::string out;
+    out.reserve(size);
     root(out, "MTConnectStreams", kStreamsNs, "MTConnectStreams");
     out += common_header(header);
     attr(out, "nextSequence", std::to_string(header.next_sequence));

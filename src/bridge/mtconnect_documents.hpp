@@ -51,7 +51,13 @@ struct StreamEntry {
     const MtDevice* device = nullptr;  ///< DeviceStream name/uuid
     const MtDataItem* item = nullptr;  ///< DataItem id/type/element/component
     const Observation* observation = nullptr;
+    /// When set: observation_elements(*item, *observation), rendered before.
+    const std::string* rendered = nullptr;
 };
+
+/// The element(s) of one observation as a Streams document holds them
+/// (one per line; a condition may give several).
+std::string observation_elements(const MtDataItem& item, const Observation& observation);
 
 /// An MTConnectStreams document. Entries are grouped by device, then
 /// component (each in order of first appearance), then Samples / Events /

@@ -41,7 +41,8 @@ TypeChoice choose_type(const DataTypeRow& row, const UnitRow* unit) {
 
 class MtPlanner {
 public:
-    MtPlanner(MtPlan& out) : out_(out) {}
+    MtPlanner(MtPlan& out, const MappingOptions& options)
+        : out_(out), prefix_(options.id_prefix.empty() ? "" : mtconnect_id(options.id_prefix) + ".") {}
 
     Result<void> run(const Plan& plan) {
         out_.notes = plan.notes;
@@ -52,7 +53,7 @@ public:
             MtDevice d;
             d.item_id = device.device->id;
             d.uuid = device.dev_uuid;
-            d.id = mtconnect_id(device.device->id);
+            d.id = id(device.device->id);
             d.name = nmtoken(device.device->name);
             if (d.name.empty()) d.name = nmtoken(device.device->id);
             if (d.name.empty()) d.name = "device";
@@ -90,7 +91,7 @@ private:
     };
 
     Result<void> resolve_component(const PlannedComponent& c) {
-        if (auto r = take(mtconnect_id(c.component->id), c.component->id); !r) return r;
+        if (auto r = take(id(c.component->id), c.component->id); !r) return r;
         if (!c.known_type)
             out_.unmapped.push_back(UnmappedItem{c.component->id, c.component->type,
                                                  std::string(c.row->element),
@@ -134,7 +135,7 @@ private:
             }
         }
 
-        m.id = mtconnect_id(d.id);
+        m.id = id(d.id);
         m.name = nmtoken(d.name);
         std::string reason;
         if (!item.known_type || row.mt_fallback) {
@@ -200,6 +201,11 @@ private:
         MtConnectMappingBuilder::items(out_.mapping).push_back(std::move(m));
         out_.sources.push_back(&item);
         return ok_result();
+    }
+
+    /// The document id of a model id: escaped, after the prefix if one was asked for.
+    std::string id(const std::string& nclink_id) const {
+        return nclink_id.empty() ? std::string() : prefix_ + mtconnect_id(nclink_id);
     }
 
     /// Reserves an id taken from the model (xs:ID must be unique in the document).
@@ -279,7 +285,7 @@ private:
         node.element = c.type == "AXIS"
                            ? (c.axis_kind == AxisKind::rotary ? "Rotary" : "Linear")
                            : std::string(c.row->element);
-        node.id = mtconnect_id(c.component->id);
+        node.id = id(c.component->id);
         node.name = nmtoken(c.type == "AXIS" && !c.component->number.empty() ? c.component->number
                                                                               : c.component->name);
         node.description = description(c.items, c.component->description);
@@ -331,6 +337,7 @@ private:
     }
 
     MtPlan& out_;
+    const std::string prefix_;
     std::string device_uuid_;
     std::unordered_set<std::string> used_;
     std::unordered_map<const DataObject*, std::size_t> index_;
@@ -343,7 +350,7 @@ Result<MtPlan> plan_mtconnect(const Model& model, const MappingOptions& options)
     if (!plan) return std::move(plan).error();
     MtPlan out;
     out.plan = std::move(*plan);
-    MtPlanner planner(out);
+    MtPlanner planner(out, options);
     if (auto r = planner.run(out.plan); !r) return std::move(r).error();
     MtConnectMappingBuilder::index(out.mapping);
     return out;

@@ -4,6 +4,7 @@
 // and a plain TCP reader for SHDR.
 #include "bridge/bridge.hpp"
 
+#include "integration/bridge/bridge_itest.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/sim_mill_rig.hpp"
@@ -26,45 +27,14 @@
 
 using namespace nclink;
 using namespace std::chrono_literals;
+using nclink::test::attribute;
+using nclink::test::encoded;
 using nclink::test::eventually;
+using nclink::test::validates;
 
 namespace {
 
 const std::string kDev = nclink::test::kSimMillDevice;
-
-bool validates(const std::string& xml, const std::string& kind) {
-    // CI lays shared/ beside the source tree; NCLINK_SHARED_DIR in the environment overrides it.
-    const char* env = std::getenv("NCLINK_SHARED_DIR");
-    const std::string xsd = std::string(env && *env ? env : NCLINK_SHARED_DIR) + "/interop/mtconnect-schema/MTConnect" +
-                            kind + "_1.4_1.0.xsd";
-    if (!std::filesystem::exists(xsd) || std::system("command -v xmllint >/dev/null 2>&1") != 0) {
-        WARN("MTConnect schemas or xmllint absent: not validated against " << xsd);
-        return true;
-    }
-    const auto file = std::filesystem::temp_directory_path() / ("nclink-bridge-itest-" + std::to_string(::getpid()) + ".xml");
-    std::ofstream(file) << xml;
-    const std::string cmd = "xmllint --nonet --noout --schema " + xsd + " " + file.string() + " >/dev/null 2>&1";
-    const int rc = std::system(cmd.c_str());
-    if (rc != 0) std::cerr << "invalid " << kind << ":\n" << xml.substr(0, 4000) << "\n";
-    std::filesystem::remove(file);
-    return rc == 0;
-}
-
-// A query value as a client sends it (RFC 3986 percent-encoding).
-std::string encoded(const std::string& text) {
-    std::string out;
-    for (unsigned char c : text) {
-        if (std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '~' || c == '/') out += static_cast<char>(c);
-        else out += fmt::format("%{:02X}", c);
-    }
-    return out;
-}
-
-std::string attribute(const std::string& xml, const std::string& name) {
-    std::smatch m;
-    if (std::regex_search(xml, m, std::regex(" " + name + "=\"([^\"]*)\""))) return m[1];
-    return {};
-}
 
 struct Rig : nclink::test::SimMillRig {
     Rig() {
@@ -121,9 +91,9 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     REQUIRE(override_value.is_number());
     std::string shown;
     REQUIRE(eventually([&] {
-        auto current = rig.get("/current?path=" + encoded("//DataItem[@id=\"spindle_override\"]"));
+        auto current = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".spindle_override\"]"));
         std::smatch m;
-        if (!current || !std::regex_search(current->body, m, std::regex("dataItemId=\"spindle_override\"[^>]*>([^<]*)<")))
+        if (!current || !std::regex_search(current->body, m, std::regex("dataItemId=\"" + kDev + "\\.spindle_override\"[^>]*>([^<]*)<")))
             return false;
         shown = m[1];
         return shown != "UNAVAILABLE" && std::stod(shown) == override_value.get<double>();
@@ -202,6 +172,14 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     REQUIRE(write);
     CHECK(write->status == 200);
     CHECK(rig.query_one("spindle_override") == 87);
+    auto write_by_mt_id = rig.http->Post(
+        "/gbt18759/write",
+        "<DataWriteRequest><Operation command=\"SET\"><Value dataItemId=\"" + kDev +
+            ".spindle_override\">88</Value></Operation></DataWriteRequest>",
+        "application/xml");
+    REQUIRE(write_by_mt_id);
+    CHECK(write_by_mt_id->status == 200);
+    CHECK(rig.query_one("spindle_override") == 88);
 
     // The JSON API: devices, model, nodeset, set.
     auto devices = rig.get("/nclink/v1/devices");
@@ -270,7 +248,7 @@ TEST_CASE("bridge turns a stopped adapter UNAVAILABLE and brings its values back
     rig.driver = nullptr;  // a fresh simulated mill, as after a real restart
     rig.start();
     REQUIRE(eventually([&] {
-        auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"x_position\"]"));
+        auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".x_position\"]"));
         return r && r->body.find(">AVAILABLE</Availability>") == std::string::npos &&
                r->body.find("<Position") != std::string::npos && r->body.find(">UNAVAILABLE</Position>") == std::string::npos;
     }, 20s));
@@ -323,8 +301,8 @@ TEST_CASE("bridge speaks SHDR: snapshot, line format, PING PONG, reconnect") {
         const std::string after = read_until(fd, [](const std::string& t) { return t.find("* PONG ") != std::string::npos; });
         CHECK(after.find("* PONG 500\n") != std::string::npos);
         // Live changes keep coming (the 1 ms channel moves the axes).
-        const std::string live = read_until(fd, [](const std::string& t) { return t.find(":x_position|") != std::string::npos; });
-        CHECK(live.find(":x_position|") != std::string::npos);
+        const std::string live = read_until(fd, [](const std::string& t) { return t.find(":" + kDev + ".x_position|") != std::string::npos; });
+        CHECK(live.find(":" + kDev + ".x_position|") != std::string::npos);
         ::close(fd);
     }
 }

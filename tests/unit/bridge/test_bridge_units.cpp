@@ -3,6 +3,7 @@
 // schemas when present), SHDR lines, the data-write parser.
 #include "bridge/bridge_store.hpp"
 #include "bridge/gbt_api.hpp"
+#include "bridge/mtconnect_api.hpp"
 #include "bridge/mtconnect_documents.hpp"
 #include "bridge/observation_buffer.hpp"
 #include "bridge/path_filter.hpp"
@@ -205,7 +206,7 @@ TEST_CASE("store maps a model: devices and streams documents validate, offline i
         CHECK(validates(devices, "Devices"));
         std::set<std::string> ids;
         CHECK_FALSE(select_data_items(devices, "//DataItem[@type=\"POSITION\"]", ids));
-        CHECK(ids == std::set<std::string>{"x_position"});
+        CHECK(ids == std::set<std::string>{"mill-01.x_position"});  // the terminal id before every id
         ids.clear();
         CHECK(select_data_items(devices, "//DataItem[@type=", ids)->code == MtErrorCode::invalid_path);
         CHECK(select_data_items(devices, "//Nothing", ids)->code == MtErrorCode::invalid_path);
@@ -237,6 +238,73 @@ TEST_CASE("store maps a model: devices and streams documents validate, offline i
     });
 }
 
+TEST_CASE("two devices of one model make one valid document: ids unique, each a device's own") {
+    BridgeStore store(64, "test", 7);
+    for (const char* dev : {"mill-01", "mill-02"}) {
+        store.add_device(dev);
+        REQUIRE(store.set_model(dev, Json::parse(kModel)).ok());
+        store.set_state(dev, "online");
+    }
+    store.update("mill-01", "x_position", 1.5, 1700000000000);
+    store.update("mill-02", "x_position", 2.5, 1700000000001);
+    store.read([&](const BridgeState& st) {
+        HeaderInfo h;
+        h.creation_time = iso_time(0);
+        h.buffer_size = 64;
+        std::vector<const std::string*> docs;
+        std::vector<StreamEntry> entries;
+        for (const auto& d : st.devices) {
+            docs.push_back(&d.devices_xml);
+            for (ItemIndex i : d.items)
+                if (st.buffer.latest()[i]) entries.push_back(StreamEntry{&d.mt, &st.items[i].mt, &*st.buffer.latest()[i]});
+        }
+        // IDType is xs:ID: xmllint refuses a document with an id twice.
+        const auto devices = devices_document(h, docs);
+        CHECK(validates(devices, "Devices"));
+        CHECK(devices.find(" id=\"mill-01.x_position\"") != std::string::npos);
+        CHECK(devices.find(" id=\"mill-02.x_position\"") != std::string::npos);
+        const DeviceEntry* second = st.find_device("mill-02");
+        REQUIRE(second);
+        CHECK(second->by_mtconnect_id.count("mill-02.x_position") == 1);
+        CHECK(second->by_mtconnect_id.count("mill-01.x_position") == 0);
+        h.last_sequence = st.buffer.last_sequence();
+        h.next_sequence = st.buffer.next_sequence();
+        const auto streams = streams_document(h, entries);
+        CHECK(validates(streams, "Streams"));
+        CHECK(streams.find("dataItemId=\"mill-02.x_position\"") != std::string::npos);
+        // SHDR keys differ although both Devices have the model's name.
+        const ItemEntry& x = st.items[second->by_nclink_id.at("x_position")];
+        CHECK(shdr_lines(*second, x, *st.buffer.latest()[x.index]).find("|Mill:mill-02.x_position|2.5") != std::string::npos);
+        return 0;
+    });
+}
+
+TEST_CASE("current renders a structured value once per observation and follows its changes") {
+    const char* model = R"({
+      "id": "root", "type": "NC_LINK_ROOT", "version": "1.0",
+      "devices": [{"id": "mill", "name": "Mill", "type": "MACHINE", "guid": "mill-01", "version": "1.0",
+        "dataItems": [{"id": "tools", "type": "TOOL_TABLE", "datatype": "list"}]}]
+    })";
+    BridgeStore store(16, "test", 7);
+    REQUIRE(store.set_model("mill-01", Json::parse(model)).ok());
+    store.set_state("mill-01", "online");
+    const MtConnectApi api(store);
+    store.update("mill-01", "tools", Json::array({Json{{"id", "T1"}, {"len", 1.5}}}), 1700000000000);
+    const std::string first = api.current("", {}).body;
+    CHECK(first.find("&quot;T1&quot;") != std::string::npos);
+    CHECK(api.current("", {}).body.substr(first.find("<Streams>")) == first.substr(first.find("<Streams>")));
+    store.update("mill-01", "tools", Json::array({Json{{"id", "T2"}, {"len", 2.5}}}), 1700000000001);
+    const std::string second = api.current("", {}).body;
+    CHECK(second.find("&quot;T2&quot;") != std::string::npos);
+    CHECK(second.find("&quot;T1&quot;") == std::string::npos);
+    CHECK(validates(second, "Streams"));
+    // at= an older sequence shows the older value again.
+    const std::uint64_t last = store.read([](const BridgeState& st) { return st.buffer.last_sequence(); });
+    const std::string older = api.current("", {{"at", std::to_string(last - 1)}}).body;
+    CHECK(older.find("&quot;T1&quot;") != std::string::npos);
+    CHECK(api.current("", {}).body.find("&quot;T2&quot;") != std::string::npos);
+}
+
 TEST_CASE("SHDR lines: timestamp, device-prefixed key, escaped value, PING answered") {
     BridgeStore store(16, "test", 7);
     REQUIRE(store.set_model("mill-01", Json::parse(kModel)).ok());
@@ -246,7 +314,7 @@ TEST_CASE("SHDR lines: timestamp, device-prefixed key, escaped value, PING answe
         const DeviceEntry* d = st.find_device("mill-01");
         const ItemEntry& item = st.items[d->by_nclink_id.at("status")];
         const std::string line = shdr_lines(*d, item, *st.buffer.latest()[item.index]);
-        CHECK(line.rfind("2023-11-14T22:13:20.000Z|" + d->mt.name + ":status|", 0) == 0);
+        CHECK(line.rfind("2023-11-14T22:13:20.000Z|" + d->mt.name + ":mill-01.status|", 0) == 0);
         CHECK(line.back() == '\n');
         CHECK(std::count(line.begin(), line.end(), '\n') == 1);
         CHECK(std::count(line.begin(), line.end(), '|') == 2);

@@ -71,3 +71,40 @@ TEST_CASE("xml_escape replaces what XML 1.0 forbids with U+FFFD") {
     CHECK(xml_escape("\xE6\x95") == fffd + fffd);           // cut at the end
     CHECK(xml_escape("\x7F") == "\x7F");                    // DEL is a Char
 }
+
+TEST_CASE("id_prefix puts the escaped prefix and a dot before every MTConnect id, generated ones too") {
+    const auto model = test::load_mapping_model("sim-mill.json");
+    MappingOptions plain = test::fixed_options();
+    auto without = mtconnect_mapping(*model, plain);
+    REQUIRE(without.ok());
+    for (const std::string prefix : {"nclink-sim-mill-02", "0001"}) {
+        MappingOptions options = plain;
+        options.id_prefix = prefix;
+        const std::string expected = mtconnect_id(prefix) + ".";
+        auto with = mtconnect_mapping(*model, options);
+        REQUIRE(with.ok());
+        CHECK(with->devices().front().id == expected + without->devices().front().id);
+        CHECK(with->devices().front().availability_id == expected + without->devices().front().availability_id);
+        CHECK(with->devices().front().uuid == without->devices().front().uuid);  // only ids change
+        for (const auto& item : without->items()) {
+            if (item.id.empty()) continue;
+            const MtDataItem* prefixed = with->find(item.item_id);
+            REQUIRE(prefixed);
+            CHECK(prefixed->id == expected + item.id);
+            CHECK(prefixed->component_id == expected + item.component_id);
+            CHECK(prefixed->name == item.name);
+            CHECK(with->find_by_mtconnect_id(prefixed->id) == prefixed);
+        }
+        // Every id attribute of the document, containers included, carries the prefix.
+        auto doc = map_to_mtconnect(*model, options);
+        REQUIRE(doc.ok());
+        const std::regex id_attribute(" id=\"([^\"]*)\"");
+        int ids = 0;
+        for (auto it = std::sregex_iterator(doc->xml.begin(), doc->xml.end(), id_attribute); it != std::sregex_iterator();
+             ++it, ++ids) {
+            INFO((*it)[1]);
+            CHECK(std::string((*it)[1]).rfind(expected, 0) == 0);
+        }
+        CHECK(ids > 10);
+    }
+}
