@@ -2,6 +2,10 @@
 // follows: "A.5 0x2106" is a row of GB/T 39561.3 table A.5 (its source-model
 // index), "A.2 row 3" a row of table A.2. docs/mapping.md lists the same
 // tables with every decision where a row departs from appendix A.
+//
+// Longer than 500 lines on purpose: it is data, one row per line, and
+// keeping every table of appendices A and B in one file lets a reviewer read
+// it side by side with the standard.
 #include "mapping/mapping_table.hpp"
 
 #include "model/vocabulary.hpp"

@@ -2,6 +2,11 @@
 // device (urn:nclink:device:<dev_uuid>) holding the object types of tables
 // B.1-B.6 and the instances: the device (B.2), its components (B.3) and a
 // variable per data object typed by tables B.7-B.11.
+//
+// Longer than 500 lines on purpose: UaDeviceBuilder walks one device in one
+// pass (types, device object, components, items) and each step uses the node
+// list and the value forms defined above it; split, those would need an
+// internal header of their own for this file's sake only.
 #include "mapping/opcua_builder.hpp"
 
 #include "mapping/names.hpp"
