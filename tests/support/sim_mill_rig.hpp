@@ -67,7 +67,7 @@ struct SimMillRig {
     }
     /// Set of one item through `client`; the item must answer OK.
     void set_one(const std::string& id, Json params) {
-        auto results = client->set(device(), {SetItem{id, std::move(params)}});
+        auto results = client->set(device(), {SetItem{id, std::move(params), std::nullopt, std::nullopt}});
         REQUIRE(results.ok());
         INFO(id);
         REQUIRE(results->at(0).status.ok);

@@ -241,7 +241,7 @@ TEST_CASE("broker ACL from the agent's configuration keeps denied requests from 
     const auto adapter_requests = adapter->stats().requests;
 
     // denied: the agent answers 301 and the adapter never sees the request
-    auto denied = viewer->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}}});
+    auto denied = viewer->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}, std::nullopt, std::nullopt}});
     REQUIRE_FALSE(denied.ok());
     CHECK(denied.error().code == ErrorCode::permission_denied);
     std::this_thread::sleep_for(300ms);
@@ -255,7 +255,7 @@ TEST_CASE("broker ACL from the agent's configuration keeps denied requests from 
     CHECK((*read)[0].status.ok);
 
     // another application may set
-    auto set = mes->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}}});
+    auto set = mes->set("test-dev", {SetItem{"ovr", Json{{"value", 55}}, std::nullopt, std::nullopt}});
     REQUIRE(set.ok());
     CHECK((*set)[0].status.ok);
     CHECK(driver->writes == 1);

@@ -130,7 +130,7 @@ TEST_CASE("client state: a queued request that times out is failed with 203 and 
     auto client = make_client(broker, "app1");
     broker.set_online(false);
     REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
-    auto result = client->set("dev1", {SetItem{"ovr", Json{{"value", 1}}}}, RequestOptions{50ms, std::nullopt});
+    auto result = client->set("dev1", {SetItem{"ovr", Json{{"value", 1}}, std::nullopt, std::nullopt}}, RequestOptions{50ms, std::nullopt});
     REQUIRE_FALSE(result.ok());
     CHECK(result.error().code == ErrorCode::timeout);
     broker.set_online(true);

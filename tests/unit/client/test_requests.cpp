@@ -231,7 +231,7 @@ TEST_CASE("DEV_UNREACHABLE from the agent completes the request as unavailable")
     CHECK(result.error().message.find("DEV_UNREACHABLE") != std::string::npos);
     CHECK(client->stats().unreachable == 1);
 
-    auto set = client->set("dev1", {SetItem{"a", Json{{"value", 1}}}});
+    auto set = client->set("dev1", {SetItem{"a", Json{{"value", 1}}, std::nullopt, std::nullopt}});
     REQUIRE_FALSE(set.ok());
     CHECK(set.error().code == ErrorCode::unavailable);
 }
@@ -261,7 +261,7 @@ TEST_CASE("per-item NG results and whole-request refusals") {
     CHECK((*result)[1].status.error == 401);
     CHECK((*result)[1].status.reason == "Node not exists");
 
-    auto set = client->set("dev1", {SetItem{"a", Json{{"value", 1}}}});
+    auto set = client->set("dev1", {SetItem{"a", Json{{"value", 1}}, std::nullopt, std::nullopt}});
     REQUIRE_FALSE(set.ok());
     CHECK(set.error().code == ErrorCode::syntax_error);
 }
@@ -274,7 +274,7 @@ TEST_CASE("probe, probe set and set round trips") {
     REQUIRE(model.ok());
     CHECK((*model)["id"] == "root");
     CHECK(client->probe_set("dev1", Json{{"id", "root"}}).ok());
-    auto set = client->set("dev1", {SetItem{"x", Json{{"value", 3}}}, SetItem{"y", Json{{"value", "s"}}}});
+    auto set = client->set("dev1", {SetItem{"x", Json{{"value", 3}}, std::nullopt, std::nullopt}, SetItem{"y", Json{{"value", "s"}}, std::nullopt, std::nullopt}});
     REQUIRE(set.ok());
     REQUIRE(set->size() == 2);
     CHECK((*set)[1].id == "y");
