@@ -191,8 +191,8 @@ TEST_CASE("ResponseStatus from an Error uses the exact table-19 strings") {
 
     QueryResponse response;
     response.guid = "dev";
-    response.values.push_back({"0102", s, std::nullopt, std::nullopt});
-    response.values.push_back({"0103", ResponseStatus::success(), Json({{"operation", "get_value"}}), Json::array({1})});
+    response.values.push_back({"0102", s, std::nullopt, std::nullopt, std::nullopt});
+    response.values.push_back({"0103", ResponseStatus::success(), Json({{"operation", "get_value"}}), Json::array({1}), std::nullopt});
     CHECK(to_json(response) == Json::parse(R"({"guid":"dev","values":[
         {"id":"0102","code":"NG","reason":"Node not exists","error":401},
         {"id":"0103","code":"OK","params":{"operation":"get_value"},"values":[1]}]})"));
