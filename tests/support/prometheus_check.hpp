@@ -129,7 +129,7 @@ inline std::vector<std::string> exposition_problems(const std::string& text, std
                 for (const auto& s : samples)
                     if (family_of(s.name) == name) problems.push_back(at + "TYPE of " + name + " after its samples");
                 types[name] = type;
-                if (type == "counter" && name.size() >= 6 && name.compare(name.size() - 6, 6, "_total") != 0)
+                if (type == "counter" && (name.size() < 6 || name.compare(name.size() - 6, 6, "_total") != 0))
                     problems.push_back(at + "counter " + name + " does not end in _total");
             }
             continue;
