@@ -77,16 +77,16 @@ TEST_CASE("events adapter: normal fires on entering only and once releases the e
 
 TEST_CASE("events adapter: every filter type through the wire") {
     EventsRig f;
-    f.machine("status", "idle");
-    const auto equal = f.registered({{"id", "status"}, {"filters", {{{"type", "equal"}, {"value", "alarm"}}}}});
-    const auto include = f.registered({{"id", "status"}, {"filters", {{{"type", "include"}, {"values", {"run", "hold"}}}}}});
+    f.machine("status", "free");  // STATUS words of table 15: the SDK refuses others (chapter 7)
+    const auto equal = f.registered({{"id", "status"}, {"filters", {{{"type", "equal"}, {"value", "holding"}}}}});
+    const auto include = f.registered({{"id", "status"}, {"filters", {{{"type", "include"}, {"values", {"running"}}}}}});
     const auto range = f.registered({{"id", "ovr"}, {"filters", {{{"type", "range"}, {"from", 100}, {"to", 120}}}}});
     const auto greater = f.registered({{"id", "ovr"}, {"filters", {{{"type", "greater"}, {"value", 119}}}}});
     const auto change = f.registered({{"id", "ovr"}, {"filters", {{{"type", "change"}, {"variance", 10}}}}});
-    f.machine("status", "run");
+    f.machine("status", "running");
     f.machine("ovr", 110);
     f.poll();
-    f.machine("status", "alarm");
+    f.machine("status", "holding");
     f.machine("ovr", 120);
     f.poll();
     f.machine("ovr", 125);  // only 5 away from the last change event (120): no change event, greater fires
@@ -95,7 +95,7 @@ TEST_CASE("events adapter: every filter type through the wire") {
     std::multiset<std::pair<std::string, Json>> seen;
     for (const auto& e : f.events()) seen.emplace(e["id"].get<std::string>(), e["event"]["value"]);
     const std::multiset<std::pair<std::string, Json>> expected{
-        {include, "run"}, {range, 110}, {change, 110}, {equal, "alarm"}, {greater, 120}, {change, 120}, {greater, 125}};
+        {include, "running"}, {range, 110}, {change, 110}, {equal, "holding"}, {greater, 120}, {change, 120}, {greater, 125}};
     CHECK(seen == expected);
 }
 
@@ -254,12 +254,12 @@ TEST_CASE("events adapter: events of an application silent for the lease are rel
 TEST_CASE("events adapter: notify_value makes an event without polling") {
     EventsRig f(events_config(8, std::chrono::milliseconds(0)));  // polling off
     const auto id = f.registered({{"id", "status"}});
-    f.adapter->notify_value("status", "idle");
+    f.adapter->notify_value("status", "free");
     const Json e = f.event(1);
     CHECK(e["id"] == id);
-    CHECK(e["event"] == Json{{"id", "status"}, {"oldValue", "running"}, {"value", "idle"}});
+    CHECK(e["event"] == Json{{"id", "status"}, {"oldValue", "running"}, {"value", "free"}});
     f.adapter->notify_value("ovr", 5);  // nobody watches it: ignored
-    f.adapter->notify_value("status", "idle");  // same value: no change
+    f.adapter->notify_value("status", "free");  // same value: no change
     f.settle();
     CHECK(f.events().size() == 1);
     CHECK(f.feature_stats()["polls"] == 0);
