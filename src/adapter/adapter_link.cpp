@@ -33,6 +33,9 @@ void Adapter::Impl::fire(AdapterEvent event, std::vector<Message> response) {
         // adapter state machine's initial row): not a lost link worth a line.
         if (before == AdapterState::initial && event == AdapterEvent::link_lost)
             logger.debug("adapter state: {} -> {} (waiting for the first connection)", to_string(before), to_string(t.next));
+        else if (stopped && event == AdapterEvent::link_lost)
+            // stop() closes the link itself: not a lost link either.
+            logger.debug("adapter state: {} -> {} (stopping)", to_string(before), to_string(t.next));
         else if (t.next != before)
             logger.info("adapter state: {} -> {} ({})", to_string(before), to_string(t.next), to_string(event));
         if (actions & action_cache_response)
