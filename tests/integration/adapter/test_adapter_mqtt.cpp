@@ -92,9 +92,9 @@ TEST_CASE("probe, query and set the simulated mill through mosquitto") {
     CHECK_FALSE(r[6].status.ok);
     CHECK(r[6].status.error == 401);
 
-    auto s = app->set(kDev, {{"feed_override", Json{{"value", 50}}},
-                             {"status", Json{{"value", "free"}}},
-                             {"tools", Json{{"index", 3}, {"value", Json{{"id", "T99"}}}}}});
+    auto s = app->set(kDev, {SetItem{"feed_override", Json{{"value", 50}}, std::nullopt, std::nullopt},
+                             SetItem{"status", Json{{"value", "free"}}, std::nullopt, std::nullopt},
+                             SetItem{"tools", Json{{"index", 3}, {"value", Json{{"id", "T99"}}}}, std::nullopt, std::nullopt}});
     REQUIRE(s.ok());
     CHECK(s.value()[0].status.ok);
     CHECK(s.value()[1].status.error == 301);

@@ -123,7 +123,7 @@ TEST_CASE("query, set, probe and state through mosquitto") {
     REQUIRE(query->size() == 2);
     CHECK(*(*query)[0].values == Json::array({"v-a"}));
     CHECK((*query)[1].status.error == 401);
-    auto set = client->set("dev1", {{"a", Json{{"value", 1}}}});
+    auto set = client->set("dev1", {SetItem{"a", Json{{"value", 1}}, std::nullopt, std::nullopt}});
     REQUIRE(set.ok());
     CHECK((*set)[0].status.ok);
     auto model = client->probe("dev1");
