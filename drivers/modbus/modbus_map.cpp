@@ -72,7 +72,7 @@ Result<void> only_keys(const Json& obj, const std::string& where, std::initializ
 Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder default_order) {
     const std::string where = "points/" + id;
     if (!spec.is_object()) return config_error(where, "must be an object");
-    if (auto r = only_keys(spec, where, {"table", "address", "type", "word_order", "scale", "offset", "enum"}); !r.ok())
+    if (auto r = only_keys(spec, where, {"table", "address", "type", "word_order", "scale", "offset", "enum", "text"}); !r.ok())
         return std::move(r).error();
     Point p;
     p.id = id;
@@ -124,6 +124,11 @@ Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder def
             if (!words.insert(it.value().get<std::string>()).second) return config_error(where + "/enum/" + it.key(), "word " + it.value().dump() + " named twice");
             p.enumeration[raw] = it.value().get<std::string>();
         }
+    }
+    if (spec.contains("text")) {
+        if (!spec["text"].is_boolean()) return config_error(where + "/text", "must be true or false");
+        p.as_text = spec["text"].get<bool>();
+        if (p.as_text && !p.enumeration.empty()) return config_error(where + "/text", "cannot be combined with enum");
     }
     if (static_cast<unsigned>(p.address) + p.width() > 65536u) return config_error(where + "/address", "the value runs past address 65535");
     return p;
@@ -298,11 +303,12 @@ Result<Json> decode(const Point& p, const std::uint16_t* words) {
                 return make_error(ErrorCode::unavailable, "modbus " + p.id + ": raw value " + std::to_string(integer) + " is not in the map's enum");
             return Json(it->second);
         }
-        if (p.scale == 1.0 && p.offset == 0.0) return Json(integer);
+        if (p.scale == 1.0 && p.offset == 0.0) return p.as_text ? Json(std::to_string(integer)) : Json(integer);
         value = static_cast<double>(integer);
     }
     if (!std::isfinite(value)) return Json(nullptr);  // NaN/Inf are not JSON: the slot is null
-    return Json(value * p.scale + p.offset);
+    const Json number(value * p.scale + p.offset);
+    return p.as_text ? Json(number.dump()) : number;
 }
 
 Json decode_bit(const Point& p, bool bit) {
@@ -324,6 +330,12 @@ Result<Encoded> encode(const Point& p, const Json& value) {
         number = value.get<bool>() ? 1.0 : 0.0;
     } else if (value.is_number()) {
         number = value.get<double>();
+    } else if (p.as_text && value.is_string()) {
+        char* end = nullptr;
+        const std::string& text = value.get_ref<const std::string&>();
+        const double parsed = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0') return make_error(ErrorCode::value_type, "modbus " + p.id + ": " + value.dump() + " is not a number");
+        number = parsed;
     } else {
         return make_error(ErrorCode::value_type, "modbus " + p.id + ": cannot write " + value.dump() + " (a number or bool)");
     }

@@ -37,6 +37,9 @@ struct Point {
     double offset = 0.0;
     /// raw value -> NC-Link word (a STATUS item, "free"/"running"/...).
     std::map<std::int64_t, std::string> enumeration;
+    /// "text": true: the number goes out as its decimal text, for items
+    /// chapter 7 gives string values (PART_COUNT, LINE_NUMBER: table 13).
+    bool as_text = false;
     bool writable() const { return table == Table::coil || table == Table::holding_register; }
     /// Registers (or bits) the point spans.
     unsigned width() const;

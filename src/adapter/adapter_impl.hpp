@@ -95,6 +95,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     // ---- state (mutex)
     mutable std::mutex mutex;
     AdapterState state = AdapterState::initial;
+    bool connected_once = false;  // a link_lost before it is the transport's start, not a loss
     detail::ResponseCache responses{config.offline_buffer_bytes};  // state-machine text items 75, 79: kept while the link will not take them
     std::vector<ModelListener> listeners;
     bool started = false;

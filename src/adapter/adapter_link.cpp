@@ -29,9 +29,10 @@ void Adapter::Impl::fire(AdapterEvent event, std::vector<Message> response) {
         const auto t = adapter_transition(before, event);
         actions = t.actions;
         state = t.next;
-        // The machine starts disconnected until the first connection (the
-        // adapter state machine's initial row): not a lost link worth a line.
-        if (before == AdapterState::initial && event == AdapterEvent::link_lost)
+        // The transport reports "disconnected" before its first connection:
+        // not a lost link worth a line.
+        if (event == AdapterEvent::link_restored) connected_once = true;
+        if (event == AdapterEvent::link_lost && !connected_once)
             logger.debug("adapter state: {} -> {} (waiting for the first connection)", to_string(before), to_string(t.next));
         else if (stopped && event == AdapterEvent::link_lost)
             // stop() closes the link itself: not a lost link either.

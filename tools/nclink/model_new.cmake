@@ -1,13 +1,16 @@
 # `nclink model new` writes a model that passes `nclink validate --strict`
 # (no problem at all), for each kind and a few flag combinations.
+# NAME|ARG ARG ... (a space between arguments: a ';' would split the case
+# itself, since every quoted element of `cases` is already a list element).
 set(cases
-  "lathe|--kind;lathe"
-  "lathe-3ch|--kind;lathe;--axes;X,Z,C;--spindles;2;--channels;3"
-  "mc|--kind;machining-center;--axes;X,Y,Z,A,C"
-  "generic|--kind;generic"
-  "generic-axes|--kind;generic;--axes;X,Y;--spindles;1;--channels;0")
+  "lathe|--kind lathe"
+  "lathe-3ch|--kind lathe --axes X,Z,C --spindles 2 --channels 3"
+  "mc|--kind machining-center --axes X,Y,Z,A,C"
+  "generic|--kind generic"
+  "generic-axes|--kind generic --axes X,Y --spindles 1 --channels 0")
 foreach(case IN LISTS cases)
-  string(REPLACE "|" ";" parts "${case}")
+  string(REPLACE "|" " " parts "${case}")
+  separate_arguments(parts UNIX_COMMAND "${parts}")
   list(GET parts 0 name)
   list(REMOVE_AT parts 0)
   set(file ${WORK}/${name}.json)

@@ -54,7 +54,9 @@ TEST_CASE("bridge ops: the dashboard page, health and metrics that follow the ma
     CHECK(page->status == 200);
     CHECK(page->get_header_value("Content-Type") == "text/html; charset=utf-8");
     CHECK_THAT(page->get_header_value("Content-Security-Policy"), Catch::Contains("default-src 'self'"));
-    CHECK_THAT(page->body, Catch::Contains("<title>nclink dashboard</title>") && Catch::Contains("/nclink/v1/stream"));
+    // The page follows the JSON API's Server-Sent Events stream.
+    CHECK_THAT(page->body, Catch::Contains("<title>nclink dashboard</title>") && Catch::Contains("const api = \"/nclink/v1/\"") &&
+                               Catch::Contains("new EventSource(api + \"stream\")"));
     CHECK(rig.http->Get("/dashboard/")->status == 200);
     CHECK(rig.http->Post("/dashboard", "x", "text/plain")->status == 405);
 

@@ -57,7 +57,7 @@ TEST_CASE("Query answers the PLC's registers through the map") {
     ModbusRig rig;
     CHECK(rig.device() == "plc-lathe-01");
     CHECK(rig.query_one("status") == "running");
-    CHECK(rig.query_one("part_count") == 17);
+    CHECK(rig.query_one("part_count") == "17");  // PART_COUNT has string values (table 13): "text": true
     CHECK(rig.query_one("x_position").get<double>() == Approx(100.0));
     CHECK(rig.query_one("spindle_speed").get<double>() == Approx(1200.0));
     CHECK(rig.query_one("door_closed") == true);

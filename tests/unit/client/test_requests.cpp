@@ -126,6 +126,8 @@ TEST_CASE("a request to a device whose retained state is offline says so when it
     auto dead = make_loopback_transport(broker, o);
     REQUIRE(dead->start().ok());
     REQUIRE(dead->publish(Message{"Notify/State/dev1", R"({"tid":"dev1","state":"offline"})", 1, true}).ok());
+    // Publishing is asynchronous: the broker holds it before the adapter dies.
+    REQUIRE(eventually([&] { return broker.retained("Notify/State/dev1").has_value(); }));
     dead->stop(0ms);
 
     auto client = make_client(broker, "app1", 100ms);

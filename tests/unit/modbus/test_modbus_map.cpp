@@ -112,6 +112,20 @@ TEST_CASE("an enumeration turns raw values into words, and an unknown one is an 
     CHECK(encode(status, Json("flying")).error().code == ErrorCode::out_of_range);
 }
 
+TEST_CASE("text points send numbers as decimal text and parse a Set's text back") {
+    Config c = parse_ok(R"({"points":{"parts":{"table":"holding","address":0,"type":"uint32","text":true},
+                                      "load":{"table":"holding","address":2,"scale":0.5,"text":true}}})");
+    const std::uint16_t seventeen[] = {0, 17};
+    CHECK(decode(*c.find("parts"), seventeen).value() == "17");
+    const std::uint16_t three[] = {3};
+    CHECK(decode(*c.find("load"), three).value() == "1.5");
+    CHECK(encode(*c.find("parts"), Json("42")).value().words == std::vector<std::uint16_t>{0, 42});
+    CHECK(encode(*c.find("parts"), Json("4x")).error().code == ErrorCode::value_type);
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":0,"text":"yes"}}})"), Catch::Contains("points/a/text"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":0,"enum":{"0":"x"},"text":true}}})"),
+               Catch::Contains("cannot be combined with enum"));
+}
+
 TEST_CASE("encoding is decoding's inverse and checks the raw range") {
     Point p;
     p.type = RegType::int32;

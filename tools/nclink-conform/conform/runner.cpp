@@ -378,8 +378,10 @@ void Runner::query() {
             if (auto problems = check_whole_value(obj, *values); !problems.empty())
                 q.fail(fmt::format("{} ({}): {}", obj.id, to_string(obj.kind), join(problems)), x.reply->message.topic,
                        entry->dump());
-            else
+            else {
                 whole_values[obj.id] = (*values)[0];
+                whole_values_topic = x.reply->message.topic;
+            }
             if (obj.kind != DataKind::single) containers.push_back(&obj);
         }
     }

@@ -88,6 +88,7 @@ public:
     std::shared_ptr<const Model> model;      ///< parsed (null when unusable)
     const Device* device = nullptr;
     std::map<std::string, Json> whole_values;  ///< whole values answered by the Query item
+    std::string whole_values_topic;            ///< the topic they came on (evidence)
     std::uint64_t start_mark = 0;            ///< first message of the run
     std::set<std::string> sent_ids;          ///< "@id"s of our requests (late answers are not strays)
 };
