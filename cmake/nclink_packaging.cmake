@@ -265,13 +265,15 @@ a generated mosquitto ACL. Runs as the nclink user under systemd; reads
 # another branch; the first target name that exists is packaged).
 nclink_service(bridge TARGET nclink_bridge nclink_bridge_tool
   EXEC "/usr/bin/nclink-bridge --config /etc/nclink/bridge.json"
+  RELOAD
   CONFIG packaging/config/bridge.json
   DEPENDS "adduser"
   SUMMARY "NC-Link machines as MTConnect, GB/T 18759.6, SHDR and JSON"
   DESCRIPTION "nclink-bridge serves the NC-Link machines on a broker over MTConnect 1.4
 REST, GB/T 18759.6, SHDR and a JSON API, with a web dashboard (live
 values, sample plots, Set) and Prometheus metrics on the same port. Runs as
-the nclink user under systemd and reads /etc/nclink/bridge.json.")
+the nclink user under systemd; reads /etc/nclink/bridge.json and reloads
+it on `systemctl reload nclink-bridge`.")
 # The OPC UA server (Node.js, from another branch): shipped with the
 # node_modules `npm ci --omit=dev` put into its folder. It takes its options
 # from /etc/nclink/opcua.env.

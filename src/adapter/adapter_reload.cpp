@@ -36,6 +36,8 @@ std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const Ad
     key(a.dedup_window == b.dedup_window, "dedup_window_ms");
     key(a.dedup_capacity == b.dedup_capacity, "dedup_capacity");
     key(a.request_threads == b.request_threads, "request_threads");
+    key(a.max_pending_requests == b.max_pending_requests, "max_pending_requests");
+    key(a.max_request_bytes == b.max_request_bytes, "max_request_bytes");
     key(a.driver_timeout == b.driver_timeout, "driver_timeout_ms");
     key(a.register_timeout == b.register_timeout, "register_timeout_ms");
     key(a.register_retry_max == b.register_retry_max, "register_retry_max_ms");

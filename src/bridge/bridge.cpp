@@ -121,6 +121,58 @@ void Bridge::stop() {
     if (b.client) b.client->stop();
 }
 
+namespace {
+
+bool same_tls(const std::optional<MqttTlsOptions>& a, const std::optional<MqttTlsOptions>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    if (!a) return true;
+    return a->ca_file == b->ca_file && a->cert_file == b->cert_file && a->key_file == b->key_file &&
+           a->key_password == b->key_password && a->verify_server == b->verify_server;
+}
+
+}  // namespace
+
+ConfigReload Bridge::reload(const BridgeConfig& next) {
+    Impl& b = *impl_;
+    const BridgeConfig& c = b.config;
+    ConfigReload report;
+    auto restart = [&](bool same, const char* key) {
+        if (!same) report.restart_needed.emplace_back(key);
+    };
+    restart(c.broker_url == next.broker_url, "broker.url");
+    restart(c.client_id == next.client_id, "broker.client_id");
+    restart(c.username == next.username, "broker.username");
+    restart(c.password == next.password, "broker.password");
+    restart(c.mqtt_version == next.mqtt_version, "broker.mqtt_version");
+    restart(c.keep_alive == next.keep_alive, "broker.keep_alive_s");
+    restart(same_tls(c.tls, next.tls), "broker.tls");
+    restart(c.ex_cid == next.ex_cid, "ex_cid");
+    // A device more or less changes the MTConnect probe document, which an
+    // instanceId promises to keep (MTConnect part 1 5.1.1): a restart.
+    restart(c.devices == next.devices, "devices");
+    restart(c.http_host == next.http_host && c.http_port == next.http_port, "http");
+    restart(c.http_username == next.http_username, "http_username");
+    restart(c.http_password == next.http_password, "http_password");
+    restart(c.http_workers == next.http_workers, "http_workers");
+    restart(c.max_request_bytes == next.max_request_bytes, "max_request_bytes");
+    restart(c.shdr_host == next.shdr_host && c.shdr_port == next.shdr_port, "shdr");
+    restart(c.shdr_enabled == next.shdr_enabled, "shdr_enabled");
+    restart(c.buffer_size == next.buffer_size, "buffer_size");
+    restart(c.sender == next.sender, "sender");
+    restart(c.poll_interval == next.poll_interval, "poll_interval_ms");
+    restart(c.discovery_interval == next.discovery_interval, "discovery_interval_ms");
+    restart(c.request_timeout == next.request_timeout, "request_timeout_ms");
+    restart(c.use_events == next.use_events, "use_events");
+    restart(c.heartbeat == next.heartbeat, "heartbeat_ms");
+    if (c.log_level != next.log_level) {
+        // Every part logs through copies of one logger: they share the level.
+        b.logger.set_min_level(next.log_level);
+        b.config.log_level = next.log_level;
+        report.applied.emplace_back("log_level");
+    }
+    return report;
+}
+
 int Bridge::http_port() const noexcept { return impl_->http ? impl_->http->port() : 0; }
 int Bridge::shdr_port() const noexcept { return impl_->shdr ? impl_->shdr->port() : 0; }
 const BridgeStore& Bridge::store() const noexcept { return impl_->store; }

@@ -10,6 +10,7 @@
 
 #include "bridge/bridge_store.hpp"
 
+#include <nclink/config_reload.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/result.hpp>
@@ -74,6 +75,14 @@ public:
     /// Fails when a port cannot be bound or the client cannot be made.
     Result<void> start();
     void stop();
+
+    /// A re-read configuration (SIGHUP, docs/bridge.md "Reload"): log_level
+    /// takes effect at once; every other changed key is reported in
+    /// restart_needed and keeps its running value until the next start (the
+    /// sockets, the MQTT session and the MTConnect instance are made once).
+    /// The keys are the schema's (docs/schema/bridge.schema.json). Thread-safe
+    /// with the bridge serving; not concurrently with start() or stop().
+    ConfigReload reload(const BridgeConfig& next);
 
     int http_port() const noexcept;
     int shdr_port() const noexcept;

@@ -62,8 +62,11 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     if (const Json* defaults = top.object("defaults")) {
         if (!defaults->is_object()) return make_error(ErrorCode::value_type, "configuration: defaults must be an object");
         // Checked once here, so a typo in the defaults is named as such.
-        if (auto checked = adapter_config_from_json(*defaults); !checked)
-            return make_error(checked.error().code, "defaults: " + checked.error().message);
+        if (auto checked = adapter_config_from_json(*defaults); !checked) {
+            Error e = make_error(checked.error().code, "defaults: " + checked.error().message);
+            e.pointer = "/defaults" + checked.error().pointer;  // located by `nclink config check`
+            return e;
+        }
         c.defaults = *defaults;
     }
     NCLINK_TRY(top.count("start_threads", c.start_threads));
@@ -75,8 +78,12 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     std::set<std::string> ids, guids;
     for (std::size_t i = 0; i < machines->size(); ++i) {
         auto machine = machine_config_from_json((*machines)[i], c.defaults, base_dir);
-        if (!machine)
-            return make_error(machine.error().code, fmt::format("machines[{}]: {}", i, machine.error().message));
+        if (!machine) {
+            // The entry's own keys are where a problem is: the defaults were checked alone above.
+            Error e = make_error(machine.error().code, fmt::format("machines[{}]: {}", i, machine.error().message));
+            e.pointer = fmt::format("/machines/{}{}", i, machine.error().pointer);
+            return e;
+        }
         if (!ids.insert(machine->id).second)
             return make_error(ErrorCode::keys_of_arguments, fmt::format("machines[{}]: id '{}' is listed twice", i, machine->id));
         const std::string& guid = machine->adapter.dev_uuid;

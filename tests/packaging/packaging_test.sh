@@ -118,9 +118,11 @@ if command -v systemd-analyze >/dev/null; then
     sed "s|/usr/bin/|$root/usr/bin/|g" "$unit" >"$copy"
     out=$(systemd-analyze verify "$copy" 2>&1) || { echo "$out"; fail "systemd-analyze verify ${unit##*/}"; }
     [[ -z $out ]] || { echo "$out"; fail "systemd-analyze verify ${unit##*/} warns"; }
-    # The agent reloads on SIGHUP; the bridge does not re-read its file (restart it).
-    if [[ ${unit##*/} == nclink-agent.service ]]; then
+    # The agent and the bridge reload on SIGHUP.
+    if [[ ${unit##*/} == nclink-agent.service || ${unit##*/} == nclink-bridge.service ]]; then
       grep -q '^ExecReload=/bin/kill -HUP \$MAINPID$' "$unit" || fail "${unit##*/}: no SIGHUP reload"
+    fi
+    if [[ ${unit##*/} == nclink-agent.service ]]; then
       grep -q '^ExecStart=.* --metrics 127.0.0.1:9470$' "$unit" || fail "${unit##*/}: no loopback /metrics"
     fi
     grep -q '^ProtectSystem=strict$' "$unit" && grep -q '^User=nclink$' "$unit" || fail "${unit##*/}: not hardened"

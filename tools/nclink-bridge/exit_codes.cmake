@@ -11,7 +11,7 @@ foreach(args "" "--bogus" "--broker" "--broker tcp://127.0.0.1:1 --http nocolon"
 endforeach()
 file(WRITE ${WORK}/unknown-key.json "{\"broker\": {\"url\": \"tcp://127.0.0.1:1\"}, \"buffer_sise\": 10}")
 execute_process(COMMAND ${BRIDGE} --config ${WORK}/unknown-key.json RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET TIMEOUT 20)
-if(NOT rc EQUAL 1 OR NOT err MATCHES "unknown key buffer_sise")
+if(NOT rc EQUAL 1 OR NOT err MATCHES "buffer_sise: unknown key")
   message(FATAL_ERROR "nclink-bridge with an unknown configuration key: expected exit 1 and the key named, got ${rc}: ${err}")
 endif()
 string(REGEX MATCHALL "\n" lines "${err}")

@@ -3,6 +3,9 @@
 
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
+#include <nclink/gateway.hpp>
+
+#include "bridge/bridge.hpp"
 
 namespace nclink::cli {
 namespace {
@@ -19,12 +22,26 @@ Result<void> check_agent(const Json& document) {
     return ok_result();
 }
 
+Result<void> check_bridge(const Json& document) {
+    auto config = bridge::bridge_config_from_json(document);
+    if (!config) return std::move(config).error();
+    return ok_result();
+}
+
+Result<void> check_gateway(const Json& document) {
+    auto config = gateway_config_from_json(document);
+    if (!config) return std::move(config).error();
+    return ok_result();
+}
+
 }  // namespace
 
 const std::vector<ConfigKind>& config_kinds() {
     static const std::vector<ConfigKind> kinds = {
         {"adapter", "an adapter (nclink-sim --config, AdapterConfig)", &check_adapter},
         {"agent", "the agent (nclink-agent --config, /etc/nclink/agent.json)", &check_agent},
+        {"bridge", "the bridge (nclink-bridge --config, /etc/nclink/bridge.json)", &check_bridge},
+        {"gateway", "a gateway's machines (nclink-sim --gateway, GatewayConfig)", &check_gateway},
     };
     return kinds;
 }

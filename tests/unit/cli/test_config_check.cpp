@@ -74,3 +74,29 @@ TEST_CASE("config check: a valid file of either kind passes") {
     CHECK(check_config_text(R"({"state_dir": "/var/lib/nclink", "access": {"default": "all"}})", find_config_kind("agent")).ok());
     CHECK(find_config_kind("bridge-of-tomorrow") == nullptr);
 }
+
+TEST_CASE("config check: bridge and gateway files, a machine's problem located in its entry") {
+    std::string why;
+    CHECK(std::string(guess_config_kind(Json{{"http", "127.0.0.1:5000"}, {"devices", Json::array()}}, why)->name) == "bridge");
+    CHECK(std::string(guess_config_kind(Json{{"machines", Json::array()}}, why)->name) == "gateway");
+    CHECK(check_config_text(R"({"http": "0.0.0.0:5000", "log_level": "warn"})", find_config_kind("bridge")).ok());
+    const ConfigCheck bridge = check_config_text("{\n  \"http\": \"nocolon\"\n}\n", find_config_kind("bridge"));
+    REQUIRE(bridge.problems.size() == 1);
+    CHECK_THAT(bridge.problems[0].message, Catch::Contains("'nocolon' is not HOST:PORT"));
+
+    const std::string text =
+        "{\n"
+        "  \"defaults\": {\"broker\": {\"url\": \"tcp://10.0.0.5:1883\"}},\n"
+        "  \"machines\": [\n"
+        "    {\"id\": \"mill-1\", \"model\": \"m.json\"},\n"
+        "    {\"id\": \"mill-2\", \"modle\": \"m.json\"}\n"
+        "  ]\n"
+        "}\n";
+    const ConfigCheck gateway = check_config_text(text, nullptr);
+    REQUIRE(gateway.kind != nullptr);
+    CHECK(std::string(gateway.kind->name) == "gateway");
+    REQUIRE(gateway.problems.size() == 1);
+    CHECK(gateway.problems[0].pointer == "/machines/1/modle");
+    CHECK(where(gateway.problems[0]) == "5:22");
+    CHECK_THAT(gateway.problems[0].message, Catch::StartsWith("machines[1]: configuration: modle: unknown key"));
+}

@@ -2,13 +2,16 @@
 // every key a schema lists is accepted by the reader and every key the reader
 // accepts is in the schema (the reader lists its valid keys when it refuses an
 // unknown one); the defaults the schema states are read; the reload class
-// (x-nclink-reload) of every key is what Adapter::reload / Agent::reload do;
-// and the program carries the same schemas as the repository.
+// (x-nclink-reload) of every key is what Adapter::reload, Agent::reload and
+// Bridge::reload do; and the program carries the same schemas as the
+// repository.
 #include "config_kinds.hpp"
 
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
 #include <nclink/testing/loopback_transport.hpp>
+
+#include "bridge/bridge.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -148,7 +151,14 @@ ConfigReload agent_reload(const Json& running, const Json& next) {
     return std::move(report).value();
 }
 
-const std::map<std::string, Reload> kReloads = {{"adapter", &adapter_reload}, {"agent", &agent_reload}};
+// Bridge::reload compares and applies without the bridge started (no sockets).
+ConfigReload bridge_reload(const Json& running, const Json& next) {
+    bridge::Bridge b(bridge::bridge_config_from_json(running).value(), Logger{});
+    return b.reload(bridge::bridge_config_from_json(next).value());
+}
+
+const std::map<std::string, Reload> kReloads = {
+    {"adapter", &adapter_reload}, {"agent", &agent_reload}, {"bridge", &bridge_reload}};
 
 }  // namespace
 
