@@ -180,6 +180,7 @@ TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops), afterwards the 
     auto future = answered.get_future();
     REQUIRE(future.wait_for(30s) == std::future_status::ready);
     auto result = future.get();
+    INFO((result.ok() ? std::string("ok") : result.error().describe()));
     REQUIRE(result.ok());
     REQUIRE(result.value().size() == 1);
     CHECK(result.value()[0].status.ok);
