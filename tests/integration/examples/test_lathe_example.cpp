@@ -50,8 +50,12 @@ private:
     pid_t pid_ = -1;
 };
 
+/// `nclink COMMAND --broker URL --device DEV REST...` for "COMMAND REST...".
 std::string cli(const MosquittoBroker& broker, const std::string& args) {
-    return "--broker " + broker.url() + " --device " + kDevice + " " + args;
+    const auto space = args.find(' ');
+    const std::string command = args.substr(0, space);
+    const std::string rest = space == std::string::npos ? std::string() : args.substr(space);
+    return command + " --broker " + broker.url() + " --device " + kDevice + rest;
 }
 
 }  // namespace
@@ -86,6 +90,6 @@ TEST_CASE("the lathe example answers Query and Set, checks ranges, and passes nc
     CHECK(WEXITSTATUS(conform_status) == 0);
 
     CHECK(lathe.stop() == 0);  // SIGTERM: a clean stop, exit status 0
-    const auto dead = run_cli(cli(broker, "--timeout 500 query x_position"));
+    const auto dead = run_cli(cli(broker, "query --timeout 500 x_position"));
     CHECK(dead.status == 1);
 }
