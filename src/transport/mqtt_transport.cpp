@@ -250,7 +250,9 @@ private:
     // what a handshake of our own says (tls_check.hpp).
     void connect_failed(const mqtt::exception& e, milliseconds delay) {
         const int rc = e.get_return_code();
-        const int reason = e.get_reason_code();
+        // Over MQTT 5 paho reports the CONNACK reason code as the return
+        // code ("MQTT error [135]"), over 3.1.1 the 3.1.1 code.
+        const int reason = e.get_reason_code() != 0 ? e.get_reason_code() : (rc >= 0x80 ? rc : 0);
         if (rc == 4 || reason == 0x86) return connect_failed("the broker refused the user name or password", true, delay);
         // mosquitto answers a wrong password with this one too.
         if (rc == 5 || reason == 0x87)
