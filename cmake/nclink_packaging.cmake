@@ -261,9 +261,9 @@ MQTT broker: Register/Request, Discovery/Request, Notify/State, the model
 version cache, DEV_UNREACHABLE and timeout answers, and access control with
 a generated mosquitto ACL. Runs as the nclink user under systemd; reads
 /etc/nclink/agent.json and reloads it on `systemctl reload nclink-agent`.")
-# The bridge to MTConnect, GB/T 18759.6, SHDR and JSON (its program comes from
-# another branch; the first target name that exists is packaged).
-nclink_service(bridge TARGET nclink_bridge nclink_bridge_tool
+# The bridge to MTConnect, GB/T 18759.6, SHDR and JSON. (Its program is the
+# target nclink_bridge_tool: nclink_bridge is the library, which installs no program.)
+nclink_service(bridge TARGET nclink_bridge_tool
   EXEC "/usr/bin/nclink-bridge --config /etc/nclink/bridge.json"
   RELOAD
   CONFIG packaging/config/bridge.json
