@@ -51,6 +51,7 @@ struct World {
         AgentConfig config;
         config.client_id = "fz-agent";
         config.request_timeout = 50ms;
+        config.share_group.clear();  // the loopback broker has no shared subscriptions
         config.registration.terminals["fz-listed"] = TerminalEntry{"application", "pw"};
         config.access.applications["fz-viewer"]["*"] = access_read;
         agent = std::make_unique<Agent>(config, Logger{});
@@ -61,10 +62,15 @@ struct World {
     }
 
     void sync() {
+        // Asked again each second: the first rounds may go out before the
+        // agent's (asynchronous) subscription is in place.
         const std::string id = "sync-" + std::to_string(++round);
-        (void)peer->publish(Message{topics::discovery_request(kSync), Json{{"@id", id}, {"guid", kSync}}.dump(), 1, false});
-        std::unique_lock<std::mutex> lock(mutex);
-        if (!answered.wait_for(lock, 10s, [&] { return last_answer == id; })) std::abort();  // the agent wedged
+        for (int attempt = 0; attempt < 10; ++attempt) {
+            (void)peer->publish(Message{topics::discovery_request(kSync), Json{{"@id", id}, {"guid", kSync}}.dump(), 1, false});
+            std::unique_lock<std::mutex> lock(mutex);
+            if (answered.wait_for(lock, 1s, [&] { return last_answer == id; })) return;
+        }
+        std::abort();  // the agent wedged: no answer for 10 s
     }
 };
 
