@@ -4,3 +4,6 @@
 int hal_open(void);
 void hal_close(int handle);
 int hal_spindle_rpm(void);
+const char* hal_program_name(void);
+int hal_tool_count(void);
+double hal_tool_length(int tool);

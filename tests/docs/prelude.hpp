@@ -9,6 +9,7 @@ void hal_disconnect();
 double hal_spindle_rpm();
 bool hal_running();
 bool hal_read_registers(const std::uint16_t* registers, std::int32_t* values, std::size_t count);
+std::int32_t hal_read_register(std::uint16_t reg);
 bool hal_set_feed_override(int percent);
 void hal_warm_up_step(int step);
 double hal_axis_position(int axis);
