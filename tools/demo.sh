@@ -17,7 +17,7 @@ say() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
 tools/install-deps.sh
 say "building nclink-sim, nclink-bridge and the nclink command-line tool"
 cmake --preset default >/dev/null
-cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli nclink-bridge >/dev/null
+cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli nclink_bridge_tool >/dev/null
 
 # A free loopback port: nothing answers on it.
 port=${NCLINK_DEMO_PORT:-}
