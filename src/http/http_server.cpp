@@ -229,11 +229,34 @@ struct HttpServer::Impl {
         return r;
     }
 
+    // The query from the raw target, each pair split at its FIRST '=': a
+    // browser leaves '=' inside a value unencoded (MTConnect's
+    // path=//DataItem[@type="POSITION"]), and the library's own parse keeps
+    // only what follows the last one.
+    static std::multimap<std::string, std::string> query_of(const httplib::Request& req) {
+        const auto mark = req.target.find('?');
+        if (mark == std::string::npos) return {req.params.begin(), req.params.end()};
+        std::multimap<std::string, std::string> out;
+        const std::string raw = req.target.substr(mark + 1);
+        std::size_t at = 0;
+        while (at <= raw.size()) {
+            const auto end = std::min(raw.find('&', at), raw.size());
+            const std::string pair = raw.substr(at, end - at);
+            if (!pair.empty()) {
+                const auto eq = pair.find('=');
+                out.emplace(httplib::detail::decode_url(pair.substr(0, eq), true),
+                            eq == std::string::npos ? std::string() : httplib::detail::decode_url(pair.substr(eq + 1), true));
+            }
+            at = end + 1;
+        }
+        return out;
+    }
+
     static HttpRequest convert(const httplib::Request& req) {
         HttpRequest r;
         r.method = req.method;
         r.path = req.path;
-        r.query.insert(req.params.begin(), req.params.end());
+        r.query = query_of(req);
         r.headers.insert(req.headers.begin(), req.headers.end());
         r.body = req.body;
         r.remote_addr = req.remote_addr;

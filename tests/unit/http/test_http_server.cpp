@@ -64,6 +64,11 @@ TEST_CASE("http server routes with path parameters and answers JSON") {
     const auto body = Json::parse(res->body);
     CHECK(body["dev"] == "mill-1");
     CHECK(body["q"] == "a b");
+    // An '=' inside a value, as a browser sends it (MTConnect path=): the
+    // pair splits at its first '='.
+    res = client.Get("/devices/mill-1/model?q=//DataItem%5B@type=%22POSITION%22%5D&x=1");
+    REQUIRE(res);
+    CHECK(Json::parse(res->body)["q"] == "//DataItem[@type=\"POSITION\"]");
     server.stop();
 }
 
