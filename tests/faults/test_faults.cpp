@@ -166,9 +166,10 @@ TEST_CASE("adapter killed -9 mid-stream: what it published arrives once, and the
     INFO("ch_slow rows " << app.ledger.rows("ch_slow") << ", gaps " << app.ledger.gaps("ch_slow").size() << "; "
                          << sim.err());
     CHECK(app.ledger.duplicates() == 0);
-    // One hole only: the rows of the killed process's last upload period
-    // and the restart; none while either process ran.
-    CHECK(app.ledger.gaps("ch_slow").size() == 1);
+    // At most one hole: the rows of the killed process's last upload period
+    // and the restart (none when the restart fell inside one period); none
+    // while either process ran.
+    CHECK(app.ledger.gaps("ch_slow").size() <= 1);
     CHECK(app.ledger.gaps("ch_fast").size() <= 1);
 }
 
