@@ -263,10 +263,14 @@ private:
         {
             std::lock_guard<std::mutex> lock(engine_mutex_);
             const auto before = engine_.size();
-            if (item.activation)
+            if (item.activation) {
                 fired = engine_.activate(item.id, item.value, item.time_ms);
-            else if (item.value)
+                // The poll plan lists active events only: an activation
+                // changes what a poll must read.
+                watched_changed();
+            } else if (item.value) {
                 fired = engine_.observe(item.id, *item.value, item.time_ms);
+            }
             if (engine_.size() != before) watched_changed();  // a once trigger released its event
         }
         publish(fired);
