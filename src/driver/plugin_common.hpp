@@ -7,6 +7,7 @@
 #include <nclink/driver.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace nclink::detail {
@@ -23,6 +24,15 @@ inline Error plugin_error(int code, std::string reason) {
 /// nclink_text_output::put for a std::string context: appends.
 inline void append_text(void* context, const char* text, std::size_t length) {
     if (text != nullptr) static_cast<std::string*>(context)->append(text, length);
+}
+
+/// The DriverInfo of a plugin's descriptor (both ABI versions name it alike).
+inline DriverInfo plugin_info(const char* name, const char* version, std::uint32_t flags, std::uint32_t concurrent_flag) {
+    DriverInfo info;
+    info.name = name ? name : "plugin";
+    info.version = version ? version : "0";
+    info.concurrent = (flags & concurrent_flag) != 0;
+    return info;
 }
 
 inline int kind_to_c(DataKind kind) {

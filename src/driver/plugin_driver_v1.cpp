@@ -19,11 +19,12 @@ class PluginDriverV1 final : public Driver {
 public:
     PluginDriverV1(std::shared_ptr<void> library, const nclink_driver_descriptor_v1& d, void* instance,
                    std::unique_ptr<nclink_host_v1> host, std::unique_ptr<Logger> logger)
-        : library_(std::move(library)), d_(d), instance_(instance), host_(std::move(host)), logger_(std::move(logger)) {
-        info_.name = d_.name ? d_.name : "plugin";
-        info_.version = d_.version ? d_.version : "0";
-        info_.concurrent = (d_.flags & NCLINK_DRIVER_CONCURRENT) != 0;
-    }
+        : library_(std::move(library)),
+          d_(d),
+          instance_(instance),
+          host_(std::move(host)),
+          logger_(std::move(logger)),
+          info_(plugin_info(d_.name, d_.version, d_.flags, NCLINK_DRIVER_CONCURRENT)) {}
     ~PluginDriverV1() override { d_.destroy(instance_); }  // before library_ unloads
 
     DriverInfo info() const override { return info_; }

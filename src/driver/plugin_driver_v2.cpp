@@ -126,11 +126,12 @@ class PluginDriverV2 final : public Driver {
 public:
     PluginDriverV2(std::shared_ptr<void> library, const nclink_driver_descriptor& d, void* instance,
                    std::unique_ptr<nclink_host> host, std::unique_ptr<Logger> logger)
-        : library_(std::move(library)), d_(d), instance_(instance), host_(std::move(host)), logger_(std::move(logger)) {
-        info_.name = d_.name ? d_.name : "plugin";
-        info_.version = d_.version ? d_.version : "0";
-        info_.concurrent = (d_.flags & NCLINK_DRIVER_CONCURRENT) != 0;
-    }
+        : library_(std::move(library)),
+          d_(d),
+          instance_(instance),
+          host_(std::move(host)),
+          logger_(std::move(logger)),
+          info_(plugin_info(d_.name, d_.version, d_.flags, NCLINK_DRIVER_CONCURRENT)) {}
     ~PluginDriverV2() override { d_.destroy(instance_); }  // before library_ unloads
 
     DriverInfo info() const override { return info_; }
