@@ -172,7 +172,10 @@ void BridgeStore::update_many(const std::string& dev, const std::vector<Value>& 
     {
         std::lock_guard<std::mutex> lock(mutex_);
         DeviceEntry* device = device_locked(dev);
-        if (!device) return;
+        // A sample still in flight when the adapter said "offline" must not
+        // turn an UNAVAILABLE item back into a value: every item of an
+        // unavailable device stays UNAVAILABLE until it is online again.
+        if (!device || device->state == "offline") return;
         const std::uint64_t before = state_.buffer.next_sequence();
         for (const auto& v : values) {
             auto it = device->by_nclink_id.find(v.item_id);

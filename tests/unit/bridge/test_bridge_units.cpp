@@ -236,6 +236,20 @@ TEST_CASE("store maps a model: devices and streams documents validate, offline i
         }
         return 0;
     });
+    // A sample still in flight after "offline" leaves the item UNAVAILABLE.
+    store.update("mill-01", "x_position", 99.0, 1700000000010);
+    store.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device("mill-01");
+        CHECK(st.buffer.latest()[d->by_nclink_id.at("x_position")]->value.is_null());
+        return 0;
+    });
+    store.set_state("mill-01", "online");
+    store.update("mill-01", "x_position", 99.0, 1700000000011);
+    store.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device("mill-01");
+        CHECK(st.buffer.latest()[d->by_nclink_id.at("x_position")]->value == 99.0);
+        return 0;
+    });
 }
 
 TEST_CASE("two devices of one model make one valid document: ids unique, each a device's own") {
