@@ -108,6 +108,7 @@ struct NCLINK_API ClientStats {
     std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks (client_events.cpp)
     std::uint64_t duplicates = 0;           ///< Sample/Event DTUs received again and not handed on (QoS 1 repeats)
     std::uint64_t keepalives = 0;           ///< liveness Queries sent (ClientOptions::keepalive_interval)
+    std::uint64_t resent = 0;               ///< queued requests sent again when their device announced itself (8.3.6)
     TransportStats transport;               ///< the broker connection (last_error: why it does not connect)
 };
 

@@ -225,6 +225,7 @@ ClientStats Client::stats() const {
     s.events = c.events;
     s.duplicates = c.duplicates;
     s.keepalives = c.keepalives;
+    s.resent = c.resent;
     return s;
 }
 

@@ -56,7 +56,7 @@ struct NCLINK_LOCAL Client::Impl {
     using Clock = client_detail::Clock;
     struct Counters {
         std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0},
-            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0};
+            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0}, resent{0};
     };
 
     ClientOptions options;
@@ -73,6 +73,10 @@ struct NCLINK_LOCAL Client::Impl {
     std::mutex link_mutex;
     std::condition_variable link_changed;
     LinkState link = LinkState::disconnected;
+    LinkState current_link() {
+        std::lock_guard<std::mutex> lock(link_mutex);
+        return link;
+    }
     bool ever_connected = false;
     client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
     client_detail::EventRoutes event_routes;  // client_events.cpp
@@ -167,7 +171,14 @@ struct NCLINK_LOCAL Client::Impl {
             return;
         }
         dispatcher.poke();  // its deadline may be the nearest now
-        auto submitted = machine.submit(id, Message{std::move(topic), encode(request), 1, false}, [&] {
+        // A request made while the link is down goes out when it returns,
+        // perhaps before its adapter subscribed again: its device's
+        // Probe/Version is then what says to send it again (8.3.6,
+        // ClientStateMachine::resend). Subscribed before it is queued, so the
+        // subscription is on the broker before the queue goes out.
+        if (!dev.empty() && dev != options.ex_cid && current_link() != LinkState::connected)
+            (void)watch_device(dev);  // (Discovery's topic level is the application itself)
+        auto submitted = machine.submit(id, dev, Message{std::move(topic), encode(request), 1, false}, [&] {
             return pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout,
                                               client_detail::track_completion(responder, [this] { machine.completed(); }),
                                               dev});

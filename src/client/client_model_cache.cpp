@@ -69,6 +69,12 @@ void Client::Impl::on_device_version(const std::string& dev, const ProbeVersionR
         d.offline_seen = false;
         changed = d.followed && version.version != d.version;
     }
+    std::size_t resent = 0;
+    for (auto& [id, error] : machine.resend(dev, resent)) fail_request(id, std::move(error));
+    if (resent > 0) {
+        counters.resent += resent;
+        log.info("client: {} announced itself: {} request(s) from the reconnect queue sent again", dev, resent);
+    }
     if (changed) {
         log.info("client: {} announces model version {}: fetching its model", dev, version.version);
         reprobe(dev);

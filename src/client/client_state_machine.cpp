@@ -34,17 +34,17 @@ void ClientStateMachine::apply(ClientEvent event, bool queued, bool outstanding)
     state_ = client_transition(state_, event, queued, outstanding).next;
 }
 
-void ClientStateMachine::prune() {
-    for (auto it = queue_.begin(); it != queue_.end();)
-        it = hooks_.is_pending(it->first) ? it + 1 : queue_.erase(it);
+void ClientStateMachine::prune(std::deque<Entry>& entries) {
+    for (auto it = entries.begin(); it != entries.end();)
+        it = hooks_.is_pending(it->id) ? it + 1 : entries.erase(it);
 }
 
-Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string& id, Message message,
-                                                               const std::function<bool()>& add) {
+Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string& id, const std::string& dev,
+                                                               Message message, const std::function<bool()>& add) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto t = client_transition(state_, ClientEvent::request_made);
     if (t.actions & client_action_queue_request) {
-        if (queue_.size() >= max_queued_) prune();
+        if (queue_.size() >= max_queued_) prune(queue_);
         if (queue_.size() >= max_queued_)
             return make_error(ErrorCode::memory_configured,
                               "too many requests queued while disconnected (" + std::to_string(max_queued_) + ")");
@@ -52,7 +52,7 @@ Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string
     if (!add()) return make_error(ErrorCode::unavailable, "client stopped");
     state_ = t.next;
     if (t.actions & client_action_queue_request) {
-        queue_.emplace_back(id, std::move(message));
+        queue_.push_back(Entry{id, dev, std::move(message)});
         return Outcome::queued;
     }
     // Published under the lock: requests leave in the order they were made,
@@ -64,13 +64,17 @@ Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string
 std::vector<std::pair<std::string, Error>> ClientStateMachine::link_restored() {
     std::vector<std::pair<std::string, Error>> failed;
     std::lock_guard<std::mutex> lock(mutex_);
-    prune();
+    prune(queue_);
+    prune(unconfirmed_);
     const auto t = client_transition(state_, ClientEvent::link_restored, !queue_.empty(), hooks_.outstanding());
     state_ = t.next;
     if (t.actions & client_action_send_queued) {
-        for (auto& [id, message] : queue_)
-            if (auto published = hooks_.publish(std::move(message)); !published)
-                failed.emplace_back(id, std::move(published).error());
+        for (auto& entry : queue_) {
+            if (auto published = hooks_.publish(entry.message); !published)
+                failed.emplace_back(entry.id, std::move(published).error());
+            else
+                unconfirmed_.push_back(std::move(entry));
+        }
         queue_.clear();
     }
     return failed;
@@ -78,7 +82,33 @@ std::vector<std::pair<std::string, Error>> ClientStateMachine::link_restored() {
 
 void ClientStateMachine::link_lost() {
     std::lock_guard<std::mutex> lock(mutex_);
+    // Unanswered requests from the last flush go out again after this outage
+    // too, ahead of what is queued meanwhile (the order they were made).
+    prune(unconfirmed_);
+    queue_.insert(queue_.begin(), std::make_move_iterator(unconfirmed_.begin()), std::make_move_iterator(unconfirmed_.end()));
+    unconfirmed_.clear();
     apply(ClientEvent::link_lost);
+}
+
+std::vector<std::pair<std::string, Error>> ClientStateMachine::resend(const std::string& dev, std::size_t& sent) {
+    std::vector<std::pair<std::string, Error>> failed;
+    sent = 0;
+    std::lock_guard<std::mutex> lock(mutex_);
+    prune(unconfirmed_);
+    for (auto it = unconfirmed_.begin(); it != unconfirmed_.end();) {
+        if (it->dev != dev) {
+            ++it;
+            continue;
+        }
+        if (auto published = hooks_.publish(it->message); !published) {
+            failed.emplace_back(it->id, std::move(published).error());
+            it = unconfirmed_.erase(it);
+            continue;
+        }
+        ++sent;
+        ++it;
+    }
+    return failed;
 }
 
 void ClientStateMachine::completed() {
@@ -100,7 +130,7 @@ std::size_t ClientStateMachine::queued() const {
     std::lock_guard<std::mutex> lock(mutex_);
     std::size_t n = 0;
     for (const auto& entry : queue_)
-        if (hooks_.is_pending(entry.first)) ++n;
+        if (hooks_.is_pending(entry.id)) ++n;
     return n;
 }
 

@@ -8,6 +8,13 @@
 // never sent -- a Set must not reach a machine minutes after the caller gave
 // up on it.
 //
+// 8.3.6 (both links down, e.g. the broker restarts): the queue goes out when
+// the application's own link returns, which may be before the adapter has
+// subscribed again; the broker then drops it. Those requests are kept until
+// answered and published again (same @id: the adapter ignores a repeat) when
+// their device announces itself with Probe/Version, which it sends only after
+// subscribing (8.2.5; resend()). A second outage puts them back in the queue.
+//
 // Thread-safety: every member may be called from any thread. The table
 // callbacks (is_pending, outstanding) are called with the machine's lock
 // held; they must not call back into the machine.
@@ -46,11 +53,16 @@ public:
     /// A request was made: `add` enters it in the pending table (false: the
     /// client is closing -> unavailable). Sent at once when connected, queued
     /// otherwise (404 when max_queued requests already wait).
-    Result<Outcome> submit(const std::string& id, Message message, const std::function<bool()>& add);
+    Result<Outcome> submit(const std::string& id, const std::string& dev, Message message,
+                           const std::function<bool()>& add);
     /// The link came up: queued requests still pending are published in
     /// order. Returns those whose publish failed, with the error.
     std::vector<std::pair<std::string, Error>> link_restored();
     void link_lost();
+    /// `dev` announced itself (Probe/Version): the requests to it that went
+    /// out from the queue and still wait are published again. `sent` counts
+    /// them; returns those whose publish failed.
+    std::vector<std::pair<std::string, Error>> resend(const std::string& dev, std::size_t& sent);
     /// A request completed (answer, error or timeout).
     void completed();
     /// A response nobody waits for arrived (dropped).
@@ -61,13 +73,19 @@ public:
 
 private:
     void apply(ClientEvent event, bool queued = false, bool outstanding = false);
-    void prune();  // drops queued entries that are no longer pending
+    struct Entry {
+        std::string id;
+        std::string dev;
+        Message message;
+    };
+    void prune(std::deque<Entry>& entries);  // drops entries that are no longer pending
 
     Hooks hooks_;
     const std::size_t max_queued_;
     mutable std::mutex mutex_;
     ClientState state_ = ClientState::initial;
-    std::deque<std::pair<std::string, Message>> queue_;
+    std::deque<Entry> queue_;
+    std::deque<Entry> unconfirmed_;  ///< went out from the queue, not answered yet
 };
 
 /// Wraps a responder so that `on_done` (the machine's completed() event) runs

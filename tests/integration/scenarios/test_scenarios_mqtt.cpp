@@ -147,11 +147,48 @@ TEST_CASE("8.3.3 scenario 2: the application's link fails after its request, the
     app->stop(0ms);
 }
 
-// 8.3.6 scenario 5 (both links fail, the broker stops) is not tested here:
-// run against a real mosquitto, the application's queued request goes out
-// when its own link returns, which may be before the adapter has subscribed
-// again, and is then lost (203 at the application). docs/standard-coverage.md
-// lists it as a gap until the client re-sends on the adapter's announcement.
+TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops), afterwards the adapter registers again and queued requests are answered") {
+    MosquittoOptions persistent;
+    persistent.persistent = true;
+    Rig rig(persistent);
+    auto adapter = rig.start_adapter();
+    std::mutex mutex;
+    std::vector<Message> inbox;
+    auto monitor = rig.raw("monitor", false, inbox, mutex);
+    REQUIRE(monitor->start().ok());
+    REQUIRE(eventually([&] { return monitor->state() == LinkState::connected; }, 20s));
+    REQUIRE(monitor->subscribe({topics::register_request(), topics::probe_version(kDev)}, 1).ok());
+    std::this_thread::sleep_for(300ms);
+    auto client = started_client(rig.broker.url(), "mes", 30s);
+    REQUIRE(client->query(kDev, {QueryItem{"pos", std::nullopt}}).ok());
+    const auto registrations = count_on(inbox, mutex, topics::register_request());
+
+    rig.broker.stop();  // Time-1: neither link works
+    REQUIRE(eventually([&] { return adapter->state() == AdapterState::disconnected; }, 20s));
+    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }, 20s));
+    // The application keeps its request (b of 8.3.6: cache and send again).
+    std::promise<Result<std::vector<QueryResult>>> answered;
+    client->query_async(kDev, {QueryItem{"status", std::nullopt}},
+                        [&](Result<std::vector<QueryResult>> r) { answered.set_value(std::move(r)); });
+    CHECK(client->stats().queued == 1);
+
+    rig.broker.start();
+    // The links come back: the adapter registers again (8.3.6, last
+    // paragraph) and announces its version; the queued request is answered,
+    // sent again on that announcement if it went out before the adapter had
+    // subscribed (ClientStats::resent).
+    REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }, 30s));
+    REQUIRE(eventually([&] { return count_on(inbox, mutex, topics::register_request()) > registrations; }, 30s));
+    auto future = answered.get_future();
+    REQUIRE(future.wait_for(30s) == std::future_status::ready);
+    auto result = future.get();
+    INFO((result.ok() ? std::string("ok") : result.error().describe()));
+    REQUIRE(result.ok());
+    REQUIRE(result.value().size() == 1);
+    CHECK(result.value()[0].status.ok);
+    CHECK(result.value()[0].values == Json::array({"running"}));
+    monitor->stop(0ms);
+}
 
 TEST_CASE("client model cache: re-probes on a new version and registers again after an adapter restart") {
     Rig rig;

@@ -5,7 +5,9 @@
 
 #include <nclink/client_state.hpp>
 
+#include <atomic>
 #include <future>
+#include <thread>
 
 using namespace nclink;
 using namespace std::chrono_literals;
@@ -122,6 +124,72 @@ TEST_CASE("client state: requests made while disconnected are queued and sent in
     CHECK(Json::parse(seen[0].payload)["ids"][0]["id"] == "a");  // in the order they were made
     CHECK(Json::parse(seen[1].payload)["ids"][0]["id"] == "b");
     REQUIRE(eventually([&] { return client->state() == ClientState::normal; }));
+}
+
+TEST_CASE("client state: a queued request lost on reconnect goes out again when its device announces itself (8.3.6)") {
+    LoopbackBroker broker;
+    std::atomic<int> seen{0};
+    // The first delivery is lost, as when the broker restarted and the
+    // adapter has not subscribed again yet; the repeat is answered.
+    FakeAdapter adapter(broker, "dev1", [&](const Message& m) -> std::vector<Message> {
+        if (seen++ == 0) return {};
+        return test::echo_script(m, "dev1");
+    });
+    auto client = make_client(broker, "app1", 10000ms);
+    broker.set_online(false);
+    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
+    std::promise<Result<std::vector<QueryResult>>> answer;
+    client->query_async("dev1", items({"a"}), [&](auto r) { answer.set_value(std::move(r)); });
+    broker.set_online(true);
+    REQUIRE(eventually([&] { return adapter.request_count() == 1; }));
+    auto future = answer.get_future();
+    CHECK(future.wait_for(100ms) == std::future_status::timeout);  // lost: nothing comes back by itself
+    CHECK(client->stats().resent == 0);
+
+    // Another device announcing itself changes nothing.
+    adapter.publish(Message{topics::probe_version("dev2"), R"({"@id":"v0","guid":"dev2","version":"1.0"})", 1, false});
+    std::this_thread::sleep_for(50ms);
+    CHECK(adapter.request_count() == 1);
+
+    adapter.publish(Message{topics::probe_version("dev1"), R"({"@id":"v1","guid":"dev1","version":"1.0"})", 1, false});
+    REQUIRE(future.wait_for(5s) == std::future_status::ready);
+    auto r = future.get();
+    REQUIRE(r.ok());
+    CHECK((*r)[0].id == "a");
+    const auto requests = adapter.requests();
+    REQUIRE(requests.size() == 2);
+    CHECK(Json::parse(requests[0].payload)["@id"] == Json::parse(requests[1].payload)["@id"]);  // the same request
+    CHECK(client->stats().resent == 1);
+
+    // Answered: a later announcement sends nothing again.
+    adapter.publish(Message{topics::probe_version("dev1"), R"({"@id":"v2","guid":"dev1","version":"1.0"})", 1, false});
+    std::this_thread::sleep_for(100ms);
+    CHECK(adapter.request_count() == 2);
+    CHECK(client->stats().resent == 1);
+}
+
+TEST_CASE("client state: an unanswered request from the reconnect queue is queued again by a second outage") {
+    LoopbackBroker broker;
+    std::atomic<int> seen{0};
+    FakeAdapter adapter(broker, "dev1", [&](const Message& m) -> std::vector<Message> {
+        if (seen++ == 0) return {};
+        return test::echo_script(m, "dev1");
+    });
+    auto client = make_client(broker, "app1", 10000ms);
+    broker.set_online(false);
+    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
+    std::promise<Result<std::vector<QueryResult>>> answer;
+    client->query_async("dev1", items({"a"}), [&](auto r) { answer.set_value(std::move(r)); });
+    broker.set_online(true);
+    REQUIRE(eventually([&] { return adapter.request_count() == 1; }));
+    broker.set_online(false);
+    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
+    CHECK(client->stats().transport.buffered == 0);
+    broker.set_online(true);
+    auto future = answer.get_future();
+    REQUIRE(future.wait_for(5s) == std::future_status::ready);
+    REQUIRE(future.get().ok());
+    CHECK(adapter.request_count() == 2);
 }
 
 TEST_CASE("client state: a queued request that times out is failed with 203 and never sent") {
