@@ -27,7 +27,11 @@ const char* kModel = R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devic
      {"id":"vars","type":"VARIABLE","datatype":"list"},
      {"id":"params","type":"PARAMETER","datatype":"dict"},
      {"id":"tool","type":"TOOL_PARAM"},
-     {"id":"mine","type":"MY_OWN_TYPE"}
+     {"id":"mine","type":"MY_OWN_TYPE"},
+     {"id":"file","type":"FILE"},
+     {"id":"files","type":"FILE","datatype":"list"},
+     {"id":"prog","type":"PROGRAM","datatype":"file"},
+     {"id":"part","type":"PART"}
    ],
    "components":[
      {"id":"ax","type":"AXIS","number":"X","dataItems":[
@@ -127,4 +131,25 @@ TEST_CASE("a fixed value that breaks chapter 7 is a located conformance problem"
     for (const auto& p : r.problems)
         if (p.pointer == "/devices/0/configs/0/value" && p.severity == Severity::conformance) found = true;
     CHECK(found);
+}
+
+TEST_CASE("value rules: the file type (6.2.1, appendix A's FILE is a DICT) is an object naming the file") {
+    CHECK(check("file", R"({"name":"O1234.nc"})") == ValueFault::none);
+    CHECK(check("file", R"({"name":"O1234.nc","path":"/nc/prog","size":"2048","time":1700000000,
+                             "encoding":"base64","content":"TzEyMzQ="})") == ValueFault::none);
+    CHECK(check("file", R"({"size":2048})") == ValueFault::missing_key);  // which file?
+    CHECK(check("file", R"({"name":42})") == ValueFault::key_type);
+    CHECK(check("file", R"({"name":"a","content":[1,2]})") == ValueFault::key_type);
+    CHECK(check("file", R"("O1234.nc")") != ValueFault::none);  // a bare name is not the object
+    CHECK(check("files", R"([{"name":"a"},{"name":"b","size":3}])") == ValueFault::none);
+    CHECK(check("files", R"([{"name":"a"},{"path":"/x"}])") == ValueFault::missing_key);
+    // `datatype: "file"` makes any type's value a file object.
+    CHECK(check("prog", R"({"name":"O1.nc"})") == ValueFault::none);
+    CHECK(check("prog", R"("O1.nc")") != ValueFault::none);
+    // Files inside a table-14 object: PART's snap_shot and geometry_file.
+    CHECK(check("part", R"({"id":"P1","snap_shot":{"name":"p1.png"}})") == ValueFault::none);
+    CHECK(check("part", R"({"id":"P1","geometry_file":{"size":1}})") == ValueFault::key_type);  // not a file object
+    auto verdict = rules().verify("file", Json::parse(R"({"size":1})"));
+    REQUIRE_FALSE(verdict);
+    CHECK(verdict.error().code == ErrorCode::key_error);
 }
