@@ -4,7 +4,8 @@
 // once, other changes at the next start (Adapter::reload); a file with a
 // problem is refused and the running configuration stays. With --machines or
 // --gateway it serves many simulated machines in one process (nclink::Gateway);
-// there SIGHUP re-reads the gateway file instead. Argument parsing and wiring
+// there SIGHUP re-reads the gateway file (or, for --machines, --config) and
+// Gateway::reload() touches only the machines it changed. Argument parsing and wiring
 // only: everything else is the SDK.
 //
 //   nclink-sim [--broker URL] [--model FILE] [--guid GUID] [--config FILE]
@@ -131,32 +132,61 @@ nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(const nclink::Machine
     return std::shared_ptr<nclink::Driver>(std::move(created).value());
 }
 
+// The machines of gateway mode: those the gateway file lists, or N
+// simulated ones made from the shared configuration (alternating models,
+// one seed each). The same at start and at every SIGHUP.
+nclink::Result<nclink::GatewayConfig> gateway_machines(const Options& o, const nclink::AdapterConfig& shared) {
+    if (!o.gateway_file.empty()) return nclink::load_gateway_config(o.gateway_file);
+    nclink::GatewayConfig gateway;
+    const std::string prefix = o.guid_given ? o.guid : "sim";
+    const std::string models[] = {default_model("sim-mill.json"), default_model("appendix-b-corrected.json")};
+    for (std::size_t i = 0; i < o.machines; ++i) {
+        nclink::MachineConfig m;
+        m.adapter = shared;
+        m.adapter.model_path = o.model_given ? o.model : models[i % 2];
+        m.adapter.dev_uuid = fmt::format("{}-{:04d}", prefix, i);
+        m.adapter.device_id.clear();
+        m.adapter.driver_config = nclink::Json{{"seed", o.seed + i}};
+        if (!m.adapter.driver_plugin.empty()) m.adapter.driver_config["model"] = m.adapter.model_path;
+        m.id = m.adapter.dev_uuid;
+        gateway.machines.push_back(std::move(m));
+    }
+    return gateway;
+}
+
+nclink::Result<nclink::AdapterConfig> effective_config(const Options& o);
+std::string joined(const std::vector<std::string>& keys);
+
+// SIGHUP in gateway mode: the gateway file (or --config, for --machines) is
+// read again and Gateway::reload() serves what it now says; a file with a
+// problem is refused and every machine keeps running as it was.
+void reload_gateway(const Options& o, nclink::Gateway& gw, const nclink::Logger& logger) {
+    const std::string file = o.gateway_file.empty() ? o.config_file : o.gateway_file;
+    if (file.empty()) {
+        logger.warn("nclink-sim: SIGHUP: no --gateway or --config file to reload");
+        return;
+    }
+    auto shared = effective_config(o);
+    auto next = shared ? gateway_machines(o, *shared) : nclink::Result<nclink::GatewayConfig>(shared.error());
+    if (!next) {
+        logger.error("nclink-sim: {} not re-read, the machines keep running as they were: {}", file, next.error().message);
+        return;
+    }
+    const nclink::GatewayReload r = gw.reload(std::move(next).value());
+    logger.info("nclink-sim: {} re-read: {} machine(s) serving; added [{}], removed [{}], restarted [{}], applied in place [{}]",
+                file, gw.machines().size(), joined(r.added), joined(r.removed), joined(r.restarted), joined(r.applied));
+    for (const auto& e : r.errors) logger.error("nclink-sim: {}", e);
+}
+
 // Gateway mode: many simulated machines in this process until a signal.
 int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const sigset_t& signals,
                 const nclink::Logger& logger) {
-    nclink::GatewayConfig gateway;
-    if (!o.gateway_file.empty()) {
-        auto loaded = nclink::load_gateway_config(o.gateway_file);
-        if (!loaded) {
-            std::fprintf(stderr, "nclink-sim: %s\n", loaded.error().message.c_str());
-            return 2;
-        }
-        gateway = std::move(loaded).value();
-    } else {
-        const std::string prefix = o.guid_given ? o.guid : "sim";
-        const std::string models[] = {default_model("sim-mill.json"), default_model("appendix-b-corrected.json")};
-        for (std::size_t i = 0; i < o.machines; ++i) {
-            nclink::MachineConfig m;
-            m.adapter = shared;
-            m.adapter.model_path = o.model_given ? o.model : models[i % 2];
-            m.adapter.dev_uuid = fmt::format("{}-{:04d}", prefix, i);
-            m.adapter.device_id.clear();
-            m.adapter.driver_config = nclink::Json{{"seed", o.seed + i}};
-            if (!m.adapter.driver_plugin.empty()) m.adapter.driver_config["model"] = m.adapter.model_path;
-            m.id = m.adapter.dev_uuid;
-            gateway.machines.push_back(std::move(m));
-        }
+    auto machines = gateway_machines(o, shared);
+    if (!machines) {
+        std::fprintf(stderr, "nclink-sim: %s\n", machines.error().message.c_str());
+        return 2;
     }
+    const nclink::GatewayConfig gateway = std::move(machines).value();
     nclink::Gateway gw(gateway, &sim_driver, logger);
     if (auto started = gw.start(); !started) logger.warn("nclink-sim: {}", started.error().message);
     logger.info("nclink-sim: {} machine(s) serving (Ctrl-C to stop)", gw.machines().size());
@@ -185,22 +215,7 @@ int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const sig
         int signal_number = 0;
         sigwait(&signals, &signal_number);
         if (signal_number != SIGHUP) break;
-        if (o.gateway_file.empty()) continue;
-        // Re-read the file: machines no longer listed go, new ones come; the
-        // others are not touched (a changed entry needs a remove and an add).
-        auto loaded = nclink::load_gateway_config(o.gateway_file);
-        if (!loaded) {
-            logger.error("nclink-sim: {} not re-read: {}", o.gateway_file, loaded.error().message);
-            continue;
-        }
-        std::set<std::string> wanted;
-        for (const auto& m : loaded->machines) wanted.insert(m.id);
-        for (const auto& m : gw.machines())
-            if (!wanted.count(m.id)) (void)gw.remove_machine(m.id);
-        for (auto& m : loaded->machines)
-            if (!gw.machine(m.id))
-                if (auto added = gw.add_machine(m); !added) logger.error("nclink-sim: {}", added.error().message);
-        logger.info("nclink-sim: {} re-read, {} machine(s) serving", o.gateway_file, gw.machines().size());
+        reload_gateway(o, gw, logger);
     }
     if (metrics) metrics->stop();
     gw.stop();

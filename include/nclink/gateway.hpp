@@ -81,6 +81,15 @@ struct NCLINK_API MachineInfo {
     bool registered = false;
 };
 
+/// What Gateway::reload() did, by machine id.
+struct NCLINK_API GatewayReload {
+    std::vector<std::string> added;      ///< newly listed, started
+    std::vector<std::string> removed;    ///< no longer listed, stopped
+    std::vector<std::string> restarted;  ///< changed in a key only a start applies: stopped and started again
+    std::vector<std::string> applied;    ///< changed only in what applies at once (log_level)
+    std::vector<std::string> errors;     ///< one line per machine that could not be added or restarted
+};
+
 class NCLINK_API Gateway {
 public:
     explicit Gateway(GatewayConfig config, MachineDriverFactory drivers = {}, Logger logger = {});
@@ -103,6 +112,13 @@ public:
     Result<void> remove_machine(const std::string& id,
                                 std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
 
+    /// Serves `next` (a re-read gateway file): machines no longer listed are
+    /// removed, new ones added, a changed machine is reloaded when only its
+    /// log_level changed and otherwise restarted by itself; unchanged
+    /// machines are not touched. A machine that fails to restart stays
+    /// stopped and is named in `errors`. Thread-safe; not concurrently with
+    /// another reload().
+    GatewayReload reload(GatewayConfig next);
     std::vector<MachineInfo> machines() const;
     /// The machine's adapter (for its statistics, push channels, ...), or
     /// null. Shared: it stays valid after a remove, stopped.

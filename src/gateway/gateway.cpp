@@ -4,6 +4,9 @@
 // what takes time) and adds or removes one without touching the others.
 #include <nclink/gateway.hpp>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <atomic>
 #include <map>
@@ -170,6 +173,42 @@ Result<void> Gateway::add_machine(MachineConfig machine) { return impl_->add(std
 
 Result<void> Gateway::remove_machine(const std::string& id, std::chrono::milliseconds flush_timeout) {
     return impl_->remove(id, flush_timeout);
+}
+
+GatewayReload Gateway::reload(GatewayConfig next) {  // `next` is taken apart: machines are moved out
+    GatewayReload report;
+    std::set<std::string> wanted;
+    for (const auto& m : next.machines) wanted.insert(m.id);
+    for (const auto& m : machines())
+        if (!wanted.count(m.id)) {
+            if (auto r = impl_->remove(m.id, std::chrono::milliseconds(2000)); r) report.removed.push_back(m.id);
+        }
+    for (auto& m : next.machines) {
+        const std::string id = m.id;
+        const std::shared_ptr<Adapter> adapter = machine(id);
+        if (!adapter) {
+            if (auto r = impl_->add(std::move(m)); r)
+                report.added.push_back(id);
+            else
+                report.errors.push_back(r.error().message);
+            continue;
+        }
+        // Adapter::reload compares with the configuration the machine runs
+        // on: log_level applies at once, anything else needs a new start,
+        // which in a gateway is this machine's alone.
+        const ConfigReload changes = adapter->reload(m.adapter);
+        if (changes.restart_needed.empty()) {
+            if (!changes.applied.empty()) report.applied.push_back(id);
+            continue;
+        }
+        impl_->logger.info("gateway: machine {} changed ({}): restarting it", id, fmt::join(changes.restart_needed, ", "));
+        (void)impl_->remove(id, std::chrono::milliseconds(2000));
+        if (auto r = impl_->add(std::move(m)); r)
+            report.restarted.push_back(id);
+        else
+            report.errors.push_back(r.error().message);
+    }
+    return report;
 }
 
 std::vector<MachineInfo> Gateway::machines() const {

@@ -113,3 +113,58 @@ TEST_CASE("gateway: a machine that cannot start is named and the others serve") 
     auto client = started_client(broker.url(), "gw-app2", 10s);
     CHECK(eventually([&] { return answers(*client, "gw-00"); }, 20s));
 }
+
+TEST_CASE("gateway reload: removed, added, a changed machine restarted alone, a log level applied in place") {
+    MosquittoBroker broker;
+    GatewayConfig config;
+    for (int i = 0; i < 4; ++i) config.machines.push_back(machine(broker, i));
+    Gateway gateway(config, fake_drivers());
+    REQUIRE(gateway.start().ok());
+    REQUIRE(eventually([&] {
+        for (const auto& m : gateway.machines())
+            if (m.state != AdapterState::normal) return false;
+        return true;
+    }, 60s));
+    const auto kept = gateway.machine("gw-00");
+    const auto quieter = gateway.machine("gw-01");
+    const auto changed = gateway.machine("gw-02");
+
+    GatewayConfig next;
+    next.machines.push_back(machine(broker, 0));           // unchanged
+    next.machines.push_back(machine(broker, 1));           // log level only
+    next.machines.back().adapter.log_level = LogLevel::warn;
+    next.machines.push_back(machine(broker, 2));           // a key only a start applies
+    next.machines.back().adapter.sampling.enabled = !next.machines.back().adapter.sampling.enabled;
+    next.machines.push_back(machine(broker, 4));           // new; gw-03 is no longer listed
+    auto broken = machine(broker, 5);                      // new, and cannot start
+    broken.adapter.model_path = "/no/such/model.json";
+    next.machines.push_back(broken);
+
+    const GatewayReload report = gateway.reload(next);
+    CHECK(report.removed == std::vector<std::string>{"gw-03"});
+    CHECK(report.added == std::vector<std::string>{"gw-04"});
+    CHECK(report.restarted == std::vector<std::string>{"gw-02"});
+    CHECK(report.applied == std::vector<std::string>{"gw-01"});
+    REQUIRE(report.errors.size() == 1);
+    CHECK_THAT(report.errors[0], Catch::Contains("gw-05"));
+
+    CHECK(gateway.machine("gw-00") == kept);      // not touched
+    CHECK(gateway.machine("gw-01") == quieter);   // reloaded in place
+    CHECK(gateway.machine("gw-02") != changed);   // a new adapter
+    CHECK_FALSE(gateway.machine("gw-03"));
+    CHECK(gateway.machines().size() == 4);
+
+    auto client = started_client(broker.url(), "gw-reload-app", 10s);
+    for (int i : {0, 1, 2, 4}) CHECK(eventually([&] { return answers(*client, fmt::format("gw-{:02d}", i)); }, 20s));
+
+    // The same file again changes nothing.
+    GatewayConfig same;
+    for (const auto& m : next.machines)
+        if (m.id != "gw-05") same.machines.push_back(m);
+    const GatewayReload quiet = gateway.reload(same);
+    CHECK(quiet.added.empty());
+    CHECK(quiet.removed.empty());
+    CHECK(quiet.restarted.empty());
+    CHECK(quiet.applied.empty());
+    gateway.stop();
+}

@@ -147,3 +147,57 @@ TEST_CASE("nclink-sim: SIGHUP applies log_level, names what needs a restart and 
     CHECK(broken.wait_exit(10s) == std::optional<int>(2));
     CHECK(lines_of(broken.log()) == 1);
 }
+
+TEST_CASE("nclink-sim --machines and --gateway: SIGHUP touches only the machines the file changed") {
+    MosquittoBroker broker;
+    ScratchDir dir("nclink-itest-ops-gw-");
+    fs::create_directories(dir.path);
+
+    // --machines N on a --config: a log level applies to every machine in place.
+    const fs::path config = dir.path / "sim.json";
+    const std::string base = "{\n  \"broker\": {\"url\": \"" + broker.url() + "\"},\n  \"register_timeout_ms\": 200";
+    write(config, base + "\n}\n");
+    ChildProcess fleet({binary_path("nclink-sim"), "--machines", "2", "--config", config.string()},
+                       (dir.path / "fleet.log").string());
+    REQUIRE(eventually([&] { return fleet.count("nclink-sim: 2 machine(s) serving") == 1; }, 30s));
+    write(config, base + ",\n  \"log_level\": \"debug\"\n}\n");
+    fleet.signal(SIGHUP);
+    REQUIRE(eventually([&] { return fleet.count("applied in place [sim-0000, sim-0001]") == 1; }, 20s));
+    write(config, base + ",\n  \"log_levl\": \"warn\"\n}\n");
+    fleet.signal(SIGHUP);
+    REQUIRE(eventually([&] { return fleet.count("machines keep running as they were") == 1; }, 20s));
+    fleet.signal(SIGTERM);
+    CHECK(fleet.wait_exit(10s) == std::optional<int>(0));
+
+    // --gateway FILE: one machine removed, one added, one changed; the fourth untouched.
+    const fs::path gateway = dir.path / "gateway.json";
+    auto machine = [](const std::string& guid, const std::string& extra = "") {
+        return "{\"dev_uuid\": \"" + guid + "\", \"model\": \"" + sim_mill_path() + "\"" + extra + "}";
+    };
+    auto write_gateway = [&](const std::vector<std::string>& machines) {
+        std::string list;
+        for (const auto& m : machines) list += (list.empty() ? "" : ",\n    ") + m;
+        write(gateway, "{\n  \"defaults\": {\"broker\": {\"url\": \"" + broker.url() +
+                           "\"}, \"register_timeout_ms\": 200},\n  \"machines\": [\n    " + list + "\n  ]\n}\n");
+    };
+    write_gateway({machine("gw-a"), machine("gw-b"), machine("gw-c")});
+    ChildProcess gw({binary_path("nclink-sim"), "--gateway", gateway.string()}, (dir.path / "gw.log").string());
+    REQUIRE(eventually([&] { return gw.count("nclink-sim: 3 machine(s) serving") == 1; }, 30s));
+    auto client = started_client(broker.url(), "gw-ops-app", 5s);
+    auto answers = [&](const std::string& guid) {
+        auto values = client->query(guid, {QueryItem{"x_position", std::nullopt}});
+        return values.ok() && values->size() == 1 && (*values)[0].status.ok;
+    };
+    REQUIRE(eventually([&] { return answers("gw-a") && answers("gw-b") && answers("gw-c"); }, 20s));
+
+    write_gateway({machine("gw-a"), machine("gw-c", ", \"dedup_capacity\": 7"), machine("gw-d")});
+    gw.signal(SIGHUP);
+    REQUIRE(eventually([&] { return gw.count("added [gw-d], removed [gw-b], restarted [gw-c], applied in place []") == 1; },
+                       30s));
+    CHECK(gw.count("machine gw-a removed") == 0);
+    CHECK(eventually([&] { return answers("gw-a") && answers("gw-c") && answers("gw-d"); }, 20s));
+    CHECK_FALSE(answers("gw-b"));
+    client->stop();
+    gw.signal(SIGTERM);
+    CHECK(gw.wait_exit(10s) == std::optional<int>(0));
+}
