@@ -53,7 +53,10 @@ Json drops_by_cause(const AdapterStats& s) {
                 {"sample_spool_full", counter(s.features, {"sampling", "spool", "dropped"})},
                 {"sample_publish_refused", counter(s.features, {"sampling", "publish_errors"})},
                 {"event_values_queue_full", counter(s.features, {"events", "dropped_values"})},
-                {"events_publish_refused", counter(s.features, {"events", "publish_errors"})}};
+                {"events_publish_refused", counter(s.features, {"events", "publish_errors"})},
+                // Requests beyond max_pending_requests: dropped unanswered
+                // (the requester's timeout, 203, is its answer).
+                {"requests_shed", s.shed}};
 }
 
 }  // namespace

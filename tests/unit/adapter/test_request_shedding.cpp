@@ -55,6 +55,7 @@ TEST_CASE("requests beyond max_pending_requests are shed and counted while the d
     CHECK(f.adapter->stats().pending_requests == 0);
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
     CHECK(to_json(f.adapter->stats())["shed"] == shed);
+    CHECK(to_json(f.adapter->stats())["drops"]["requests_shed"] == shed);  // a loss by cause (nclink stats "drops")
 }
 
 TEST_CASE("a request larger than max_request_bytes is answered 404 unread") {
