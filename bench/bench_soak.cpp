@@ -23,6 +23,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <malloc.h>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
@@ -119,7 +121,8 @@ int main(int argc, char** argv) {
     c.events.poll_interval = 100ms;
     auto loaded = load_model_file(model_path);
     auto driver = SimDriver::create(loaded.model).value();
-    Adapter adapter(c, std::move(driver), Logger(stderr_sink(), LogLevel::warn));
+    auto adapter_owner = std::make_unique<Adapter>(c, std::move(driver), Logger(stderr_sink(), LogLevel::warn));
+    Adapter& adapter = *adapter_owner;
     if (!adapter.start().ok()) {
         std::fprintf(stderr, "bench_soak: the adapter does not start\n");
         return 1;
@@ -169,7 +172,7 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(events_mutex);
         return ledger.rows() >= produced && event_ids.size() >= fired;
     }, 60s);
-    std::lock_guard<std::mutex> lock(events_mutex);
+    std::unique_lock<std::mutex> lock(events_mutex);
     const auto stats = client->stats();
     const Json drops = to_json(adapter.stats())["drops"];
     std::printf("rows: produced %llu, received %llu, lost %lld, duplicated %llu (held back by the client: %llu DTUs)\n",
@@ -182,8 +185,28 @@ int main(int argc, char** argv) {
     std::printf("late (> 1 s after their last row): %llu of %llu DTUs\n", static_cast<unsigned long long>(late_dtus.load()),
                 static_cast<unsigned long long>(dtus.load()));
     std::printf("adapter drops by cause: %s\n", drops.dump().c_str());
+    // Where an event that fired but never reached the handler could have gone.
+    std::printf("client: events handed on %llu, unmatched %llu, malformed %llu, held back %llu; adapter: applications released %llu\n",
+                static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.unmatched_responses),
+                static_cast<unsigned long long>(stats.malformed), static_cast<unsigned long long>(stats.duplicates),
+                static_cast<unsigned long long>(adapter.stats().applications_released));
     std::printf("RSS: %ld kB at start, %ld kB at end, growth %ld kB over %d broker restarts\n", rss_start, rss_end,
                 rss_end - rss_start, restarts);
+    // Whose growth it was: the benchmark's own ledgers (every row time and
+    // event id) are freed first, then the adapter and the client. What stays
+    // after both are gone would be a leak.
+    ledger.clear();
+    std::set<std::string>().swap(event_ids);
+    ::malloc_trim(0);
+    const long rss_without_ledgers = rss_kb();
+    lock.unlock();  // a callback still queued on the client's thread may want it
     client->stop();
+    client.reset();
+    adapter_owner.reset();
+    ::malloc_trim(0);
+    const long rss_after = rss_kb();
+    std::printf("RSS: %ld kB without the benchmark's ledgers (they held %ld kB), %ld kB with adapter and client gone "
+                "(%+ld kB against the start)\n",
+                rss_without_ledgers, rss_end - rss_without_ledgers, rss_after, rss_after - rss_start);
     return 0;
 }

@@ -59,7 +59,11 @@ Result<void> Adapter::Impl::start() {
         return make_error(bound.error().code, "driver refused the model in bind(): " + bound.error().message);
     host.install(built.value());
     dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
-    msg_id_prefix = fmt::format("{}-{:x}-", dev, std::random_device{}());
+    instance = fmt::format("{:x}{:08x}", static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                                                    std::chrono::system_clock::now().time_since_epoch())
+                                                                    .count()),
+                           std::random_device{}());
+    msg_id_prefix = fmt::format("{}-{}-", dev, instance);
     logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s), {} driver point(s))", dev,
                 built.value()->device->id, built.value()->device->version, built.value()->store->size(),
                 built.value()->points->points().size());

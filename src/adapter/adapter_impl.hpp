@@ -84,6 +84,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::shared_ptr<detail::ValueGuard> value_guard = std::make_shared<detail::ValueGuard>(logger, config.check_values);
     std::string dev;
     std::string msg_id_prefix;
+    std::string instance;  ///< this run of the adapter, in Probe/Version's privateInfo (docs/wire.md)
 
     // ---- features (sampling, events, methods): see feature/feature.hpp
     detail::SampleTap sample_tap;

@@ -105,6 +105,10 @@ void Adapter::Impl::publish_version() {
     version.msg_id = Json(next_msg_id());
     version.guid = dev;
     version.version = current->device->version;
+    // privateInfo is the implementation's (8.2.5): which run of the adapter
+    // this is, so an application can tell a restart (its registrations are
+    // gone) from a broker or network outage (they are kept).
+    version.private_info = Json{{"instance", instance}};
     (void)transport->publish(Message{topics::probe_version(dev), encode(version), 1, false});
 }
 

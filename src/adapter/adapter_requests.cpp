@@ -176,6 +176,19 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
 }
 
 void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply) {
+    // A registration's answer names this run of the adapter in privateInfo
+    // (the implementation's, 8.2.18/8.2.28), as Probe/Version does: the
+    // application then knows, after an outage, whether the registration is
+    // still here (same run) or must be made again (docs/wire.md).
+    if ((request_topic.kind == TopicKind::event_register_request ||
+         request_topic.kind == TopicKind::sample_register_request) &&
+        reply.is_object() && (!reply.contains("privateInfo") || reply["privateInfo"].is_object() || reply["privateInfo"].is_null())) {
+        Json marked = reply;
+        if (!marked["privateInfo"].is_object()) marked["privateInfo"] = Json::object();
+        marked["privateInfo"]["instance"] = instance;
+        respond_text(request_topic, marked.dump(-1, ' ', false, Json::error_handler_t::replace));
+        return;
+    }
     respond_text(request_topic, reply.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 

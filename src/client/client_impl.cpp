@@ -162,6 +162,8 @@ void Client::Impl::handle_response(const ParsedTopic& topic, const std::string& 
         ++counters.unmatched;  // same @id on another kind of response: not ours
         return;
     }
+    if (topic.kind == TopicKind::event_register_response || topic.kind == TopicKind::sample_register_response)
+        note_instance(topic.dev, payload);  // client_model_cache.cpp
     if (!responder->decode(payload)) {
         ++counters.malformed;
         log.warn("client: malformed response {} on {} ignored", key, build_topic(topic));

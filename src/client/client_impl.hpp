@@ -213,6 +213,8 @@ struct NCLINK_LOCAL Client::Impl {
     Result<void> watch_device(const std::string& dev);
     void on_device_version(const std::string& dev, const ProbeVersionRequest& version);  ///< dispatch thread
     void on_device_state(const std::string& dev, const NotifyState& state);            ///< dispatch thread
+    /// Records the adapter run a registration answer names (privateInfo.instance); dispatch thread.
+    void note_instance(const std::string& dev, const std::string& payload);
     void reprobe(const std::string& dev);
     void reregister(const std::string& dev);
 

@@ -60,13 +60,39 @@ void Client::Impl::on_device_state(const std::string& dev, const NotifyState& st
     model_cache.devices[dev].offline_seen = true;
 }
 
+namespace {
+std::string instance_of(const std::optional<Json>& private_info) {
+    if (!private_info || !private_info->is_object()) return {};
+    const auto it = private_info->find("instance");
+    return it != private_info->end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+}  // namespace
+
+void Client::Impl::note_instance(const std::string& dev, const std::string& payload) {
+    const Json reply = Json::parse(payload, nullptr, false);
+    if (!reply.is_object() || !reply.contains("privateInfo")) return;
+    const std::string instance = instance_of(reply["privateInfo"]);
+    if (instance.empty()) return;
+    std::lock_guard<std::mutex> lock(model_cache.mutex);
+    model_cache.devices[dev].instance = instance;
+}
+
 void Client::Impl::on_device_version(const std::string& dev, const ProbeVersionRequest& version) {
     bool restarted = false, changed = false;
     {
         std::lock_guard<std::mutex> lock(model_cache.mutex);
         auto& d = model_cache.devices[dev];
-        restarted = d.offline_seen;
+        // An nclink adapter names its run in privateInfo.instance: the same
+        // run after an outage (a broker restart publishes its last will too)
+        // still holds every registration, and registering again would drop
+        // the events fired in between. Without the marker, "offline, then a
+        // version" is taken as a restart.
+        const std::string instance = instance_of(version.private_info);
+        const bool same_run = !instance.empty() && instance == d.instance;
+        restarted = d.offline_seen && !same_run;
+        if (d.offline_seen && same_run) log.info("client: {} is back, the same run: its registrations stand", dev);
         d.offline_seen = false;
+        if (!instance.empty()) d.instance = instance;
         changed = d.followed && version.version != d.version;
     }
     std::size_t resent = 0;

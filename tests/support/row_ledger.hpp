@@ -32,6 +32,11 @@ public:
         }
         ++dtus_;
     }
+    /// Forgets every row (and frees the memory).
+    void clear() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::map<std::string, std::set<std::int64_t>>().swap(rows_);
+    }
     std::uint64_t rows(const std::string& channel) const {
         std::lock_guard<std::mutex> lock(mutex_);
         const auto it = rows_.find(channel);

@@ -190,6 +190,58 @@ TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops), afterwards the 
     monitor->stop(0ms);
 }
 
+TEST_CASE("client model cache: after a broker restart the same adapter run keeps its registrations, none is made again") {
+    MosquittoOptions persistent;
+    persistent.persistent = true;
+    persistent.save_every_change = true;
+    Rig rig(persistent);
+    auto adapter = rig.start_adapter();
+    MqttOptions m;
+    m.broker_url = rig.broker.url();
+    m.client_id = "mes-persistent";
+    m.clean_session = false;
+    m.reconnect_max = 500ms;
+    ClientOptions o;
+    o.ex_cid = "mes";
+    o.default_timeout = 10s;
+    auto client = Client::create(m, o).value();
+    REQUIRE(client->start().ok());
+    REQUIRE(client->wait_connected(10s));
+    std::atomic<int> events{0};
+    std::mutex mutex;
+    Json last;
+    Client::EventRegistration registration;
+    registration.id = "ovr";
+    auto event_id = client->register_event(kDev, registration, [&](const EventData& e) {
+        std::lock_guard<std::mutex> lock(mutex);
+        last = e.event.value;
+        ++events;
+    });
+    REQUIRE(event_id.ok());
+    rig.driver->put("ovr", 110);
+    REQUIRE(eventually([&] { return events >= 1; }, 20s));
+
+    // The broker stops (a clean stop publishes the adapter's last will:
+    // Notify/State offline) and comes back; the adapter announces its version
+    // again, naming the same run.
+    rig.broker.stop();
+    REQUIRE(eventually([&] { return adapter->state() == AdapterState::disconnected; }, 20s));
+    rig.broker.start();
+    REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }, 30s));
+    REQUIRE(eventually([&] { return client->state() == ClientState::normal; }, 30s));
+    std::this_thread::sleep_for(1s);  // time for a Probe/Version and a (wrong) re-registration
+    CHECK(client->reregistrations() == 0);
+    const int before = events;
+    rig.driver->put("ovr", 120);
+    REQUIRE(eventually([&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return events > before && last == Json(120);
+    }, 20s));
+    CHECK(client->stats().unmatched_responses == 0);
+    CHECK(client->unregister_event(kDev, event_id.value()).ok());  // the first id is still the adapter's
+    client->stop();
+}
+
 TEST_CASE("client model cache: re-probes on a new version and registers again after an adapter restart") {
     Rig rig;
     auto adapter = rig.start_adapter();
