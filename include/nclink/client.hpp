@@ -1,6 +1,7 @@
 // The application side of NC-Link (an "application system" in GB/T 41970-2022):
-// register with the agent, probe, query and set a device's data items, and
-// receive samples, state and version notifications.
+// register with the agent, probe, query and set a device's data items, call
+// methods, register events, receive samples, state and version
+// notifications, and watch every application's method runs and events.
 //
 // Thread contract (see docs/client.md):
 // - Every public member function is thread-safe and may be called from any

@@ -159,7 +159,8 @@ void Client::Impl::handle_event(const ParsedTopic& topic, const Message& m) {
 }
 
 void Client::Impl::handle_method_run(const ParsedTopic& topic, const Message& m) {
-    const bool own = topic.ex && *topic.ex == options.ex_cid;
+    // As for events: a topic without the caller's level can only be ours.
+    const bool own = !topic.ex || *topic.ex == options.ex_cid;
     const bool is_result = topic.kind == TopicKind::method_result;
     // One Method/Result per call (8.2.24): a second copy (QoS 1 repeat, or
     // one per overlapping subscription) is dropped. Method/Status DTUs are
