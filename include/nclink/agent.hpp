@@ -44,7 +44,13 @@ enum AccessRight : unsigned {
     access_read = 1u << 0,    ///< Probe/Query, Query, dynamic sampling, events (and model Sample topics in the ACL)
     access_set = 1u << 1,     ///< Set, Probe/Set
     access_method = 1u << 2,  ///< Method/Call, Method/Control
-    access_all = access_read | access_set | access_method,
+    /// Reading the Method/Status, Method/Result (8.2.23, 8.2.24) and Event
+    /// (8.2.31) DTUs of every application at the adapter, not only one's own
+    /// (e.g. a dashboard). Granted by the broker ACL only (subscriptions never
+    /// reach the agent), and only by name: "all" does not include it, as it
+    /// shows other applications' traffic.
+    access_watch = 1u << 3,
+    access_all = access_read | access_set | access_method,  ///< the request rights; not watch
 };
 
 /// Which application may do what on which adapter. Precedence: the

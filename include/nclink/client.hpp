@@ -1,12 +1,13 @@
 // The application side of NC-Link (an "application system" in GB/T 41970-2022):
-// register with the agent, probe, query and set a device's data items, and
-// receive samples, state and version notifications.
+// register with the agent, probe, query and set a device's data items, call
+// methods, register events, receive samples, state and version
+// notifications, and watch every application's method runs and events.
 //
 // Thread contract (see docs/client.md):
 // - Every public member function is thread-safe and may be called from any
 //   thread, concurrently.
-// - Every callback (request completions, sample/state/version handlers, the
-//   link-state handler) runs on the client's own dispatch thread, one at a
+// - Every callback (request completions, sample/state/version/method-run/
+//   event handlers, the link-state handler) runs on the client's own dispatch thread, one at a
 //   time, in arrival order -- never on the transport's callback thread, never
 //   on the caller's thread (except: a request made when the client is not
 //   running completes at once on the caller's thread with ErrorCode::unavailable).
@@ -103,9 +104,9 @@ struct NCLINK_API ClientStats {
     std::uint64_t malformed = 0;            ///< messages that could not be decoded (dropped)
     std::uint64_t unreachable = 0;          ///< requests completed by a DEV_UNREACHABLE answer
     std::uint64_t samples = 0;              ///< Sample DTUs handed to handlers
-    std::uint64_t notifications = 0;        ///< state and version notifications handed to handlers
+    std::uint64_t notifications = 0;        ///< state, version and method-run (subscribe_method_runs) DTUs handed to handlers
     std::uint64_t queued = 0;               ///< requests made while disconnected (held, sent on reconnect)
-    std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks (client_events.cpp)
+    std::uint64_t events = 0;               ///< Event DTUs handed to event callbacks and subscribe_events handlers
     std::uint64_t duplicates = 0;           ///< Sample/Event DTUs received again and not handed on (QoS 1 repeats)
     std::uint64_t keepalives = 0;           ///< liveness Queries sent (ClientOptions::keepalive_interval)
     std::uint64_t resent = 0;               ///< queued requests sent again when their device announced itself (8.3.6)
@@ -114,10 +115,35 @@ struct NCLINK_API ClientStats {
 
 using SubscriptionId = std::uint64_t;
 
+/// A Method/Status (8.2.23) or Method/Result (8.2.24) DTU of a method call
+/// at a device, whichever application made the call (subscribe_method_runs).
+/// The status's and the result's `msg_id` is the call's @id, `id` the method.
+struct NCLINK_API MethodRun {
+    enum class Kind { status, result };
+    Kind kind = Kind::status;
+    std::string dev;                     ///< the adapter (the topic's {dev})
+    std::string ex;                      ///< the calling application (the topic's last level; "" when absent)
+    std::optional<MethodStatus> status;  ///< set when kind is status
+    std::optional<MethodResult> result;  ///< set when kind is result
+};
+
+/// "status", "result".
+NCLINK_API std::string_view to_string(MethodRun::Kind kind) noexcept;
+
+/// An Event DTU (8.2.31) of any application's registration at a device
+/// (subscribe_events).
+struct NCLINK_API WatchedEvent {
+    std::string dev;  ///< the adapter (the topic's {dev})
+    std::string ex;   ///< the application that registered the event (the topic's last level)
+    EventData event;
+};
+
 /// Handlers of subscriptions; run on the dispatch thread.
 using SampleHandler = std::function<void(const SampleDtu&)>;
 using StateHandler = std::function<void(const NotifyState&)>;
 using VersionHandler = std::function<void(const ProbeVersionRequest&)>;
+using MethodRunHandler = std::function<void(const MethodRun&)>;
+using WatchedEventHandler = std::function<void(const WatchedEvent&)>;
 
 template <class T>
 using Completion = std::function<void(Result<T>)>;
@@ -194,6 +220,25 @@ public:
     Result<SubscriptionId> subscribe_all_states(StateHandler handler);
     /// `Probe/Version/{dev}`: the adapter announces its model version.
     Result<SubscriptionId> subscribe_version(const std::string& dev, VersionHandler handler);
+    /// Method runs at `dev` of every application, not only this one's:
+    /// `Method/Status/{dev}/+` and `Method/Result/{dev}/+` (8.2.23, 8.2.24),
+    /// each DTU decoded and handed on as a MethodRun naming the caller (`ex`)
+    /// and the kind. For watching (a dashboard): this client's own calls
+    /// still answer call_method_async as before, and show up here too. A
+    /// DTU that does not decode is counted in ClientStats::malformed and
+    /// dropped; a repeated Method/Result of one call is handed on once.
+    /// On a broker with the agent's ACL this needs the `watch` right
+    /// (docs/security.md); without it the broker delivers only this
+    /// application's own. Handlers run on the dispatch thread.
+    Result<SubscriptionId> subscribe_method_runs(const std::string& dev, MethodRunHandler handler);
+    /// Event DTUs (8.2.31) at `dev` of every application's registrations:
+    /// `Event/{dev}/+`, decoded, handed on as a WatchedEvent naming the
+    /// registering application (`ex`), each once (by @id, as for
+    /// register_event). This client's own registrations still call their
+    /// register_event callbacks. Malformed DTUs are counted and dropped.
+    /// Needs the `watch` right like subscribe_method_runs. Handlers run on
+    /// the dispatch thread.
+    Result<SubscriptionId> subscribe_events(const std::string& dev, WatchedEventHandler handler);
     /// Removes a subscription (the broker subscription goes with the last
     /// handler of its filter). Called on the dispatch thread it takes effect at
     /// once; from another thread a handler call already under way may finish.

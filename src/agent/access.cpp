@@ -47,9 +47,10 @@ Result<unsigned> parse_rights(const Json& value, const std::string& where, const
         if (name == "read") return static_cast<unsigned>(access_read);
         if (name == "set") return static_cast<unsigned>(access_set);
         if (name == "method") return static_cast<unsigned>(access_method);
+        if (name == "watch") return static_cast<unsigned>(access_watch);
         if (name == "all") return static_cast<unsigned>(access_all);
         if (name == "none") return static_cast<unsigned>(access_none);
-        return fail(fmt::format("configuration: {}: unknown right '{}' (read, set, method, all, none)", where, name));
+        return fail(fmt::format("configuration: {}: unknown right '{}' (read, set, method, watch, all, none)", where, name));
     };
     if (value.is_string()) return one(value.get<std::string>());
     if (!value.is_array()) return fail(fmt::format("configuration: {} must be a list of rights", where));
@@ -68,6 +69,7 @@ std::vector<std::string> right_names(unsigned rights) {
     if (rights & access_read) out.emplace_back("read");
     if (rights & access_set) out.emplace_back("set");
     if (rights & access_method) out.emplace_back("method");
+    if (rights & access_watch) out.emplace_back("watch");
     return out;
 }
 

@@ -28,7 +28,7 @@ inline bool allowed(const AccessPolicy& policy, const std::string& ex, const std
     return (rights_of(policy, ex, dev) & right) != 0;
 }
 
-/// ["read","set","method"], "all" or "none" -> bits; 405 for anything else,
+/// ["read","set","method","watch"], "all" (read, set, method) or "none" -> bits; 405 for anything else,
 /// naming `where` (dotted, for the message) and `pointer` (Error::pointer).
 Result<unsigned> parse_rights(const Json& value, const std::string& where, const std::string& pointer = {});
 /// The names of the bits, e.g. ["read","set"].

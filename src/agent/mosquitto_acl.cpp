@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -44,6 +45,27 @@ void lines(std::ostream& out, const char* prefix, const char* access, const std:
 }
 
 const unsigned each_right[] = {access_read, access_set, access_method};
+
+// What the watch right lets an application read at `dev` ("+": every
+// adapter): the status and result DTUs of every caller's method calls
+// (8.2.23, 8.2.24) and the Event DTUs of every registration (8.2.31). Their
+// last level is the caller's {ex}; without the right an application reads
+// only its own (the %u patterns below).
+std::vector<std::string> watch_topics(const std::string& dev) {
+    return {topics::method_status(dev, "+"), topics::method_result(dev, "+"), topics::event(dev, "+")};
+}
+
+// True when `entries` give watch on every adapter: a "*" entry with it and
+// no adapter entry without it. Only then can one "+" line grant it, as
+// mosquitto cannot express "all but these" without denying the
+// application's own answers on those topics too.
+bool watches_everywhere(const std::map<std::string, unsigned>& entries) {
+    const auto any = entries.find("*");
+    if (any == entries.end() || !(any->second & access_watch)) return false;
+    for (const auto& [dev, rights] : entries)
+        if (!(rights & access_watch)) return false;
+    return true;
+}
 
 }  // namespace
 
@@ -84,7 +106,8 @@ std::string mosquitto_acl(const AgentConfig& config) {
         << "topic readwrite $share/#\n\n";
 
     for (const auto& [ex, entries] : policy.applications) {
-        out << "# Application " << ex << ": model Sample topics of the adapters it may read.\n"
+        out << "# Application " << ex << ": model Sample topics of the adapters it may read,\n"
+            << "# method runs and events of the adapters it may watch.\n"
             << "user " << ex << "\n";
         bool reads_somewhere = false;
         for (const auto& [dev, rights] : entries) {
@@ -98,12 +121,27 @@ std::string mosquitto_acl(const AgentConfig& config) {
             out << "topic read Sample/+/+\n";
         else if (!reads_somewhere && (policy.default_rights & access_read))
             out << "topic deny Sample/+/+\n";
+        // Watch is granted, never denied: a deny line would also hide the
+        // application's own answers on the same topics. So it goes by name
+        // to each adapter it may watch, or as one "+" line when it may
+        // watch them all (adapters not named in the configuration are
+        // covered by the "+" line only).
+        if (watches_everywhere(entries))
+            lines(out, "topic", "read", watch_topics("+"));
+        else
+            for (const auto& dev : adapters)
+                if (agent_detail::rights_of(policy, ex, dev) & access_watch)
+                    lines(out, "topic", "read", watch_topics(dev));
         out << "\n";
     }
-    if (closed && (policy.default_rights & access_read)) {
-        for (const auto& ex : default_users)
-            out << "# Application " << ex << " (registration allowlist): model Sample topics by default.\n"
-                << "user " << ex << "\ntopic read Sample/+/+\n\n";
+    if (closed && (policy.default_rights & (access_read | access_watch))) {
+        for (const auto& ex : default_users) {
+            out << "# Application " << ex << " (registration allowlist): its default rights to read.\n"
+                << "user " << ex << "\n";
+            if (policy.default_rights & access_read) out << "topic read Sample/+/+\n";
+            if (policy.default_rights & access_watch) lines(out, "topic", "read", watch_topics("+"));
+            out << "\n";
+        }
     }
 
     for (const auto& dev : adapters) {
@@ -182,6 +220,20 @@ std::string mosquitto_acl(const AgentConfig& config) {
     out << "pattern read " << topics::event("+", "%u") << "\n"
         << "pattern read " << topics::dynamic_sample("+", "%u", "+") << "\n";
     if (!closed && (policy.default_rights & access_read)) out << "pattern read Sample/+/+\n";
+    if (!closed && (policy.default_rights & access_watch)) {
+        // A pattern reaches every user, listed applications too: granted
+        // only when none of them lacks the right somewhere.
+        bool every_listed_watches = true;
+        for (const auto& [ex, entries] : policy.applications)
+            every_listed_watches = every_listed_watches && watches_everywhere(entries);
+        if (every_listed_watches) {
+            out << "# ... watching every application's method runs and events (default right watch).\n";
+            lines(out, "pattern", "read", watch_topics("+"));
+        } else {
+            out << "# The default right watch is not granted: a listed application lacks it,\n"
+                   "# and a pattern would reach it too. Give watch per application instead.\n";
+        }
+    }
     return out.str();
 }
 

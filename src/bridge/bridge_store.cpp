@@ -2,6 +2,8 @@
 
 #include "bridge/mtconnect_documents.hpp"
 
+#include <algorithm>
+
 namespace nclink::bridge {
 
 const DeviceEntry* BridgeState::find_device(std::string_view name_or_uuid) const {
@@ -12,8 +14,13 @@ const DeviceEntry* BridgeState::find_device(std::string_view name_or_uuid) const
     return nullptr;
 }
 
-BridgeStore::BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id)
-    : buffer_size_(buffer_size), sender_(std::move(sender)), instance_id_(instance_id), state_(buffer_size) {}
+BridgeStore::BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id,
+                         std::size_t activity_log_size)
+    : buffer_size_(buffer_size),
+      activity_log_size_(activity_log_size),
+      sender_(std::move(sender)),
+      instance_id_(instance_id),
+      state_(buffer_size) {}
 
 DeviceEntry* BridgeStore::device_locked(const std::string& dev) {
     for (auto& d : state_.devices)
@@ -189,11 +196,62 @@ void BridgeStore::update_many(const std::string& dev, const std::vector<Value>& 
     if (any) changed_.notify_all();
 }
 
+void BridgeStore::record_method_run(const std::string& dev, MethodRunUpdate update, std::int64_t time_ms) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        DeviceEntry* device = device_locked(dev);
+        if (!device || activity_log_size_ == 0) return;
+        auto& runs = device->method_runs;
+        // Newest last: the call an update belongs to is usually near the end.
+        auto it = std::find_if(runs.rbegin(), runs.rend(),
+                               [&](const MethodRunEntry& r) { return r.call == update.call && r.ex == update.ex; });
+        MethodRunEntry* run = nullptr;
+        if (it != runs.rend()) {
+            run = &*it;
+        } else {
+            MethodRunEntry fresh;
+            fresh.ex = update.ex;
+            fresh.call = update.call;
+            fresh.start_ms = time_ms;
+            runs.push_back(std::move(fresh));
+            while (runs.size() > activity_log_size_) runs.pop_front();
+            run = &runs.back();
+        }
+        if (!update.method.empty()) run->method = update.method;
+        if (update.result.empty()) {
+            // A Status after the Result (delivered out of order) does not reopen the run.
+            if (run->result.empty()) {
+                run->status = update.status;
+                if (update.progress) run->progress = update.progress;
+            }
+        } else {
+            run->result = update.result;
+            run->outcome = std::move(update.outcome);
+        }
+        run->time_ms = time_ms;
+        run->seq = ++state_.activity_sequence;
+    }
+    changed_.notify_all();
+}
+
+void BridgeStore::record_event(const std::string& dev, EventLogEntry event) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        DeviceEntry* device = device_locked(dev);
+        if (!device || activity_log_size_ == 0) return;
+        event.seq = ++state_.activity_sequence;
+        device->events.push_back(std::move(event));
+        while (device->events.size() > activity_log_size_) device->events.pop_front();
+    }
+    changed_.notify_all();
+}
+
 bool BridgeStore::wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation,
-                                  std::chrono::milliseconds timeout) const {
+                                  std::chrono::milliseconds timeout, std::uint64_t after_activity) const {
     std::unique_lock<std::mutex> lock(mutex_);
     return changed_.wait_for(lock, timeout, [&] {
-        return state_.buffer.last_sequence() > after_sequence || state_.device_generation > after_generation;
+        return state_.buffer.last_sequence() > after_sequence || state_.device_generation > after_generation ||
+               state_.activity_sequence > after_activity;
     });
 }
 

@@ -26,8 +26,10 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -46,6 +48,32 @@ struct ItemEntry {
     MtDataItem mt;              ///< its MTConnect description (mapping library)
 };
 
+/// One method call at a device, whoever made it (8.2.22-8.2.24), as its
+/// Method/Status and Method/Result DTUs tell it: one entry per call,
+/// updated by each DTU.
+struct MethodRunEntry {
+    std::uint64_t seq = 0;          ///< activity sequence of its latest change
+    std::string ex;                 ///< the calling application
+    std::string call;               ///< the call's @id
+    std::string method;             ///< the METHOD's id
+    std::string status;             ///< latest Method/Status: waiting | executing | stopped | sleep ("" = none seen)
+    std::optional<double> progress;  ///< latest percent, when the adapter sends one
+    std::string result;             ///< Method/Result: finished | canceled | error ("" = still running)
+    Json outcome;                   ///< the result's {"code","error","reason","return"} (null until then)
+    std::int64_t start_ms = 0;      ///< when its first DTU arrived
+    std::int64_t time_ms = 0;       ///< when its latest DTU arrived
+};
+
+/// One Event DTU (8.2.31) of any application's registration at a device.
+struct EventLogEntry {
+    std::uint64_t seq = 0;  ///< activity sequence
+    std::string ex;         ///< the application that registered it
+    std::string event_id;   ///< the registration's id
+    std::string item;       ///< the data item
+    Json value;
+    std::int64_t time_ms = 0;  ///< the DTU's time (arrival when it has none)
+};
+
 struct DeviceEntry {
     std::string dev;             ///< terminal id = MTConnect Device uuid
     std::string state = "unknown";  ///< online | offline | unknown
@@ -58,6 +86,11 @@ struct DeviceEntry {
     std::unordered_map<std::string, ItemIndex> by_nclink_id;
     std::unordered_map<std::string, ItemIndex> by_mtconnect_id;
     std::uint64_t generation = 0;  ///< changes with state, version or model
+    /// The newest method runs and events, oldest first, each at most
+    /// BridgeStore::activity_log_size() long (bounded: a busy machine must
+    /// not grow the bridge).
+    std::deque<MethodRunEntry> method_runs;
+    std::deque<EventLogEntry> events;
 };
 
 /// Everything a reader sees under the lock.
@@ -66,6 +99,7 @@ struct BridgeState {
     std::deque<ItemEntry> items;      ///< index = ItemIndex; stable addresses
     ObservationBuffer buffer;
     std::uint64_t device_generation = 0;  ///< grows with every device change
+    std::uint64_t activity_sequence = 0;  ///< seq of the newest method-run or event change, all devices
 
     explicit BridgeState(std::size_t capacity) : buffer(capacity) {}
     /// A device by terminal id, MTConnect name or uuid; nullptr when unknown.
@@ -74,11 +108,13 @@ struct BridgeState {
 
 class BridgeStore {
 public:
-    BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id);
+    BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id,
+                std::size_t activity_log_size = 200);
 
     const std::string& sender() const noexcept { return sender_; }
     std::uint64_t instance_id() const noexcept { return instance_id_; }
     std::size_t buffer_size() const noexcept { return buffer_size_; }
+    std::size_t activity_log_size() const noexcept { return activity_log_size_; }
 
     // ---- writers ----------------------------------------------------------
     /// Makes `dev` known (state unknown, no model yet). Idempotent.
@@ -103,16 +139,33 @@ public:
     };
     void update_many(const std::string& dev, const std::vector<Value>& values);
 
+    /// A Method/Status (`result` empty) or Method/Result of call `call` by
+    /// `ex`: updates its entry, or adds one (dropping the oldest beyond the
+    /// bound). Unknown devices are ignored.
+    struct MethodRunUpdate {
+        std::string ex, call, method;
+        std::string status;              ///< a Method/Status's status
+        std::optional<double> progress;
+        std::string result;              ///< a Method/Result's result
+        Json outcome;                    ///< and its code/error/reason/return
+    };
+    void record_method_run(const std::string& dev, MethodRunUpdate update, std::int64_t time_ms);
+    /// An Event DTU; the oldest goes beyond the bound. Unknown devices are ignored.
+    void record_event(const std::string& dev, EventLogEntry event);
+
     // ---- readers ----------------------------------------------------------
     template <class F>
     auto read(F&& f) const {
         std::lock_guard<std::mutex> lock(mutex_);
         return f(static_cast<const BridgeState&>(state_));
     }
-    /// Waits until an observation after `after_sequence` exists or a device
-    /// changed after `after_generation`, at most `timeout`. True when either happened.
+    /// Waits until an observation after `after_sequence` exists, a device
+    /// changed after `after_generation` or a method run or event changed
+    /// after `after_activity` (default: not waited for), at most `timeout`.
+    /// True when one happened.
     bool wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation,
-                         std::chrono::milliseconds timeout) const;
+                         std::chrono::milliseconds timeout,
+                         std::uint64_t after_activity = std::numeric_limits<std::uint64_t>::max()) const;
     /// Wakes every waiter (shutdown).
     void wake_all() const;
 
@@ -122,6 +175,7 @@ private:
     void touch_locked(DeviceEntry& device);
 
     const std::size_t buffer_size_;
+    const std::size_t activity_log_size_;
     const std::string sender_;
     const std::uint64_t instance_id_;
     mutable std::mutex mutex_;

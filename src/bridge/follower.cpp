@@ -74,6 +74,8 @@ void Follower::follow(const std::string& dev) {
     } else if (auto s = client_.subscribe_state(dev, [this](const NotifyState& st) { on_state(st); })) {
         subs.push_back(*s);
     }
+    if (auto s = client_.subscribe_method_runs(dev, [this](const MethodRun& r) { on_method_run(r); })) subs.push_back(*s);
+    if (auto s = client_.subscribe_events(dev, [this](const WatchedEvent& e) { on_event(e); })) subs.push_back(*s);
     if (auto s = client_.subscribe_version(dev, [this](const ProbeVersionRequest& v) {
             std::string version = v.version;
             bool changed = false;
@@ -293,6 +295,45 @@ void Follower::on_sample(const SampleDtu& dtu) {
         }
     }
     store_.update_many(dtu.guid, values);
+}
+
+void Follower::on_method_run(const MethodRun& run) {
+    auto call_id = [](const MessageId& id) {
+        if (!id) return std::string();
+        return id->is_string() ? id->get<std::string>() : id->dump();
+    };
+    BridgeStore::MethodRunUpdate update;
+    update.ex = run.ex;
+    if (run.status) {
+        update.call = call_id(run.status->msg_id);
+        update.method = run.status->id;
+        update.status = run.status->status;
+        update.progress = run.status->progress;
+    } else if (run.result) {
+        update.call = call_id(run.result->msg_id);
+        update.method = run.result->id;
+        update.result = run.result->result.empty() ? std::string("error") : run.result->result;
+        Json outcome{{"code", run.result->status.ok ? "OK" : "NG"}};
+        if (run.result->status.error) outcome["error"] = *run.result->status.error;
+        if (run.result->status.reason) outcome["reason"] = *run.result->status.reason;
+        if (run.result->return_value) outcome["return"] = *run.result->return_value;
+        update.outcome = std::move(outcome);
+    }
+    if (update.call.empty()) return;  // without the call's @id a DTU belongs to no run (8.2.23)
+    store_.record_method_run(run.dev, std::move(update), now_ms());
+}
+
+void Follower::on_event(const WatchedEvent& event) {
+    // The bridge's own registrations are its change events: their values
+    // are already in the model tree (register_events).
+    if (event.ex == client_.ex_cid()) return;
+    EventLogEntry entry;
+    entry.ex = event.ex;
+    entry.event_id = event.event.id;
+    entry.item = event.event.event.id;
+    entry.value = event.event.event.value;
+    entry.time_ms = event.event.time > 0 ? event.event.time : now_ms();
+    store_.record_event(event.dev, std::move(entry));
 }
 
 void Follower::housekeeping() {

@@ -22,7 +22,12 @@
 //  - Notify/State offline turns its items UNAVAILABLE; online brings a new
 //    Probe/Query, Query and event registration (the adapter lost its events
 //    when it restarted);
-//  - Probe/Version (8.2.5) with a new version brings a new Probe/Query.
+//  - Probe/Version (8.2.5) with a new version brings a new Probe/Query;
+//  - Method/Status and Method/Result (8.2.23, 8.2.24) of every caller and
+//    the Event DTUs (8.2.31) of every other application's registrations go
+//    to the store's per-device activity log (the broker passes them only
+//    with the agent's "watch" right; docs/security.md). The bridge's own
+//    change events are values, not log entries.
 //
 // Threading: the client's callbacks run on its dispatch thread; one
 // housekeeping thread polls and discovers; set() is called from HTTP
@@ -86,6 +91,8 @@ private:
     void consider(const std::string& tid);  // discovery candidate
     void on_state(const NotifyState& state);
     void on_sample(const SampleDtu& dtu);
+    void on_method_run(const MethodRun& run);
+    void on_event(const WatchedEvent& event);
     void refresh(const std::string& dev);
     void after_probe(const std::string& dev, std::uint64_t epoch, Result<Json> model);
     void register_events(const std::string& dev, std::uint64_t epoch);

@@ -1,5 +1,6 @@
 #include "bridge/json_api.hpp"
 
+#include <algorithm>
 #include <map>
 
 namespace nclink::bridge {
@@ -18,6 +19,45 @@ Json device_json(const DeviceEntry& d) {
 Json JsonApi::value_json(const ItemEntry& item, const Observation& o, const std::string& state) {
     const bool good = state == "online" && !o.value.is_null();
     return Json{{"id", item.nclink_id}, {"value", o.value}, {"time", o.time_ms}, {"quality", good ? "good" : "bad"}};
+}
+
+Json JsonApi::method_run_json(const std::string& dev, const MethodRunEntry& run) {
+    Json out{{"dev", dev}, {"ex", run.ex}, {"call", run.call}, {"method", run.method},
+             {"start", run.start_ms}, {"time", run.time_ms}};
+    if (!run.status.empty()) out["status"] = run.status;
+    if (run.progress) out["progress"] = *run.progress;
+    if (!run.result.empty()) out["result"] = run.result;
+    if (run.outcome.is_object())
+        for (const auto& [key, value] : run.outcome.items()) out[key] = value;
+    return out;
+}
+
+Json JsonApi::event_json(const std::string& dev, const EventLogEntry& event) {
+    return Json{{"dev", dev},          {"ex", event.ex},       {"event", event.event_id},
+                {"item", event.item}, {"value", event.value}, {"time", event.time_ms}};
+}
+
+namespace {
+
+Json activity_json(const DeviceEntry& d) {
+    Json methods = Json::array(), events = Json::array();
+    for (const auto& run : d.method_runs) methods.push_back(JsonApi::method_run_json(d.dev, run));
+    for (const auto& e : d.events) events.push_back(JsonApi::event_json(d.dev, e));
+    return Json{{"methods", std::move(methods)}, {"events", std::move(events)}};
+}
+
+std::string dump(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+}  // namespace
+
+http::HttpResponse JsonApi::activity(const std::string& dev) const {
+    return store_.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device(dev);
+        if (!d) return json_error(404, "no device " + dev);
+        Json out = activity_json(*d);
+        out["dev"] = d->dev;
+        return http::json_response(out);
+    });
 }
 
 http::HttpResponse JsonApi::devices() const {
@@ -115,6 +155,7 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
         auto wanted = [&](const DeviceEntry& d) { return dev.empty() || d.dev == dev || d.mt.name == dev; };
         std::uint64_t cursor = 0;  // next sequence to send
         std::uint64_t generation = 0;
+        std::uint64_t activity = 0;  // activity sequence sent up to
         std::map<std::string, std::pair<std::string, std::string>> seen;  // dev -> state, version
         bool need_snapshot = true;
         auto last_write = std::chrono::steady_clock::now();
@@ -131,11 +172,16 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
                             if (item.availability || i >= st.buffer.latest().size() || !st.buffer.latest()[i]) continue;
                             values.push_back(JsonApi::value_json(item, *st.buffer.latest()[i], d.state));
                         }
-                        events.emplace_back("snapshot", Json{{"dev", d.dev}, {"state", d.state}, {"values", values}}.dump());
+                        Json snapshot = activity_json(d);  // the recent method runs and events
+                        snapshot["dev"] = d.dev;
+                        snapshot["state"] = d.state;
+                        snapshot["values"] = std::move(values);
+                        events.emplace_back("snapshot", dump(snapshot));
                         seen[d.dev] = {d.state, d.version};
                     }
                     cursor = st.buffer.next_sequence();
                     generation = st.device_generation;
+                    activity = st.activity_sequence;
                     need_snapshot = false;
                     return 0;
                 }
@@ -149,6 +195,21 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
                         seen[d.dev] = now;
                         events.emplace_back("device", Json{{"dev", d.dev}, {"state", d.state}, {"version", d.version}}.dump());
                     }
+                }
+                if (st.activity_sequence > activity) {
+                    // Method runs and events changed since the last pass, in the order they changed.
+                    std::vector<std::pair<std::uint64_t, std::pair<std::string, std::string>>> changed;
+                    for (const auto& d : st.devices) {
+                        if (!wanted(d)) continue;
+                        for (const auto& run : d.method_runs)
+                            if (run.seq > activity) changed.push_back({run.seq, {"method", dump(JsonApi::method_run_json(d.dev, run))}});
+                        for (const auto& e : d.events)
+                            if (e.seq > activity) changed.push_back({e.seq, {"event", dump(JsonApi::event_json(d.dev, e))}});
+                    }
+                    std::sort(changed.begin(), changed.end(),
+                              [](const auto& a, const auto& b) { return a.first < b.first; });
+                    for (auto& c : changed) events.push_back(std::move(c.second));
+                    activity = st.activity_sequence;
                 }
                 auto range = st.buffer.range(cursor, 4096, nullptr);
                 cursor = range.next_sequence;
@@ -170,7 +231,7 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
                 if (!sse.comment("ping")) return;
                 last_write = std::chrono::steady_clock::now();
             }
-            store->wait_for_change(cursor - 1, generation, std::chrono::milliseconds(100));
+            store->wait_for_change(cursor - 1, generation, std::chrono::milliseconds(100), activity);
         }
     };
     return r;
@@ -179,6 +240,8 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
 void JsonApi::install(http::HttpServer& server) {
     server.get("/nclink/v1/devices", [this](const http::HttpRequest&) { return devices(); });
     server.get("/nclink/v1/devices/{dev}/model", [this](const http::HttpRequest& r) { return model(r.path_param("dev")); });
+    server.get("/nclink/v1/devices/{dev}/activity",
+               [this](const http::HttpRequest& r) { return activity(r.path_param("dev")); });
     server.get("/nclink/v1/devices/{dev}/nodeset.xml", [this](const http::HttpRequest& r) {
         return nodeset(r.path_param("dev"), r.param("profile").value_or("basic"));
     });

@@ -190,12 +190,31 @@ Result<SubscriptionId> Client::subscribe_version(const std::string& dev, Version
     return impl_->subscribe(topics::probe_version(dev), std::move(handler));
 }
 
+Result<SubscriptionId> Client::subscribe_method_runs(const std::string& dev, MethodRunHandler handler) {
+    if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_method_runs: bad device id");
+    return impl_->subscribe(std::vector<std::string>{topics::method_status(dev, "+"), topics::method_result(dev, "+")},
+                            std::move(handler));
+}
+
+Result<SubscriptionId> Client::subscribe_events(const std::string& dev, WatchedEventHandler handler) {
+    if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_events: bad device id");
+    return impl_->subscribe(topics::event(dev, "+"), std::move(handler));
+}
+
+std::string_view to_string(MethodRun::Kind kind) noexcept {
+    switch (kind) {
+        case MethodRun::Kind::status: return "status";
+        case MethodRun::Kind::result: return "result";
+    }
+    return "?";
+}
+
 Result<void> Client::unsubscribe(SubscriptionId id) {
     std::lock_guard<std::mutex> lock(impl_->subscribe_mutex);
     bool found = false;
     auto last = impl_->subscriptions.remove(id, found);
     if (!found) return make_error(ErrorCode::node_not_exists, "no subscription " + std::to_string(id));
-    if (last) return impl_->transport->unsubscribe({*last});
+    if (!last.empty()) return impl_->transport->unsubscribe(std::move(last));
     return ok_result();
 }
 

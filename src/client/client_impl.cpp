@@ -113,23 +113,92 @@ void Client::Impl::handle_message(const Message& m) {
         ++counters.unmatched;
         return;
     }
-    if (parsed->kind == TopicKind::event) {  // client_events.cpp
-        if (const MessageId id = peek_message_id(m.payload); id && !first_delivery("E/" + parsed->dev, id->dump()))
-            return;  // a QoS 1 repeat (client_liveness.cpp)
-        const auto delivery = event_routes.deliver(parsed->dev, m.payload, log);
-        ++(delivery == client_detail::EventRoutes::Delivery::delivered  ? counters.events
-           : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
-                                                                         : counters.unmatched);
+    if (parsed->kind == TopicKind::event) {
+        handle_event(*parsed, m);
         return;
     }
-    if (parsed->kind == TopicKind::method_status) {
-        client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
+    if (parsed->kind == TopicKind::method_status || parsed->kind == TopicKind::method_result) {
+        handle_method_run(*parsed, m);
         return;
     }
     if (is_client_response(parsed->kind))
         handle_response(*parsed, m.payload);
     else
         handle_notification(*parsed, m);
+}
+
+void Client::Impl::handle_event(const ParsedTopic& topic, const Message& m) {
+    // The last level names the application that registered (8.2.31); a
+    // topic without it can only be ours.
+    const bool own = !topic.ex || *topic.ex == options.ex_cid;
+    // A QoS 1 repeat, or a second copy from a broker that sends one per
+    // overlapping subscription (ours and a subscribe_events one; MQTT 3.1.1
+    // 3.3.5 allows it), is handed on once (client_liveness.cpp).
+    if (const MessageId id = peek_message_id(m.payload);
+        id && !first_delivery("E/" + topic.dev + "/" + topic.ex.value_or(""), id->dump()))
+        return;
+    if (own) {  // client_events.cpp
+        const auto delivery = event_routes.deliver(topic.dev, m.payload, log);
+        ++(delivery == client_detail::EventRoutes::Delivery::delivered  ? counters.events
+           : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
+                                                                         : counters.unmatched);
+    }
+    const auto subs = subscriptions.matching(m.topic);
+    if (subs.empty()) return;
+    auto dtu = decode<EventData>(std::string_view(m.payload));
+    if (!dtu) {
+        if (!own) ++counters.malformed;  // an own one was counted above
+        return;
+    }
+    WatchedEvent watched;
+    watched.dev = topic.dev;
+    watched.ex = topic.ex.value_or("");
+    watched.event = std::move(dtu).value();
+    if (watched.event.guid.empty()) watched.event.guid = topic.dev;
+    deliver_to<WatchedEventHandler>(subs, watched, counters.events);
+}
+
+void Client::Impl::handle_method_run(const ParsedTopic& topic, const Message& m) {
+    // As for events: a topic without the caller's level can only be ours.
+    const bool own = !topic.ex || *topic.ex == options.ex_cid;
+    const bool is_result = topic.kind == TopicKind::method_result;
+    // One Method/Result per call (8.2.24): a second copy (QoS 1 repeat, or
+    // one per overlapping subscription) is dropped. Method/Status DTUs are
+    // not: identical ones legitimately repeat every status period (8.2.23).
+    if (is_result) {
+        if (const MessageId id = peek_message_id(m.payload); id && !first_delivery("R/" + m.topic, id->dump())) return;
+    }
+    if (own) {
+        if (is_result)
+            handle_response(topic, m.payload);
+        else
+            client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
+    }
+    const auto subs = subscriptions.matching(m.topic);
+    if (subs.empty()) return;
+    MethodRun run;
+    run.dev = topic.dev;
+    run.ex = topic.ex.value_or("");
+    if (is_result) {
+        auto dtu = decode<MethodResult>(std::string_view(m.payload));
+        if (!dtu) {
+            if (!own) ++counters.malformed;  // an own one was counted by handle_response
+            return;
+        }
+        if (dtu->guid.empty()) dtu->guid = topic.dev;
+        run.kind = MethodRun::Kind::result;
+        run.result = std::move(dtu).value();
+    } else {
+        auto dtu = decode<MethodStatus>(std::string_view(m.payload));
+        if (!dtu) {
+            ++counters.malformed;
+            return;
+        }
+        if (dtu->guid.empty()) dtu->guid = topic.dev;
+        run.kind = MethodRun::Kind::status;
+        run.status = std::move(dtu).value();
+    }
+    deliver_to<MethodRunHandler>(subs, run, counters.notifications);
 }
 
 void Client::Impl::handle_response(const ParsedTopic& topic, const std::string& payload) {

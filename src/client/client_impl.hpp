@@ -130,6 +130,14 @@ struct NCLINK_LOCAL Client::Impl {
 
     void handle_notification(const ParsedTopic& topic, const Message& m);
 
+    /// Event/{dev}/{ex}: this client's own go to their registrations
+    /// (client_events.cpp), every one to subscribe_events() handlers.
+    void handle_event(const ParsedTopic& topic, const Message& m);
+
+    /// Method/Status and Method/Result/{dev}/{ex}: this client's own go to
+    /// their calls (client_methods.cpp), every one to subscribe_method_runs() handlers.
+    void handle_method_run(const ParsedTopic& topic, const Message& m);
+
     template <class Handler, class Dtu>
     void deliver_to(const std::vector<std::shared_ptr<client_detail::Subscription>>& subs, const Dtu& dtu,
                     std::atomic<std::uint64_t>& counter) {
@@ -223,11 +231,14 @@ struct NCLINK_LOCAL Client::Impl {
 
 
     Result<SubscriptionId> subscribe(std::string filter, client_detail::AnyHandler handler) {
+        return subscribe(std::vector<std::string>{std::move(filter)}, std::move(handler));
+    }
+    Result<SubscriptionId> subscribe(std::vector<std::string> filters, client_detail::AnyHandler handler) {
         std::lock_guard<std::mutex> lock(subscribe_mutex);
-        auto sub = subscriptions.add(filter, std::move(handler));
+        auto sub = subscriptions.add(filters, std::move(handler));
         // Subscribing again even when the filter is known: the broker then
         // re-sends retained messages (the current state) for the new handler.
-        if (auto r = transport->subscribe({std::move(filter)}, 1); !r) {
+        if (auto r = transport->subscribe(std::move(filters), 1); !r) {
             bool found = false;
             (void)subscriptions.remove(sub->id, found);
             return std::move(r).error();

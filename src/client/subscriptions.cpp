@@ -4,9 +4,9 @@
 
 namespace nclink::client_detail {
 
-std::shared_ptr<Subscription> SubscriptionRegistry::add(std::string filter, AnyHandler handler) {
+std::shared_ptr<Subscription> SubscriptionRegistry::add(std::vector<std::string> filters, AnyHandler handler) {
     auto sub = std::make_shared<Subscription>();
-    sub->filter = std::move(filter);
+    sub->filters = std::move(filters);
     sub->handler = std::move(handler);
     std::lock_guard<std::mutex> lock(mutex_);
     sub->id = next_id_++;
@@ -14,24 +14,33 @@ std::shared_ptr<Subscription> SubscriptionRegistry::add(std::string filter, AnyH
     return sub;
 }
 
-std::optional<std::string> SubscriptionRegistry::remove(SubscriptionId id, bool& found) {
+std::vector<std::string> SubscriptionRegistry::remove(SubscriptionId id, bool& found) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = by_id_.find(id);
     found = it != by_id_.end();
-    if (!found) return std::nullopt;
-    std::string filter = it->second->filter;
+    if (!found) return {};
+    const std::vector<std::string> filters = it->second->filters;
     it->second->alive = false;
     by_id_.erase(it);
-    for (const auto& [other_id, other] : by_id_)
-        if (other->filter == filter) return std::nullopt;
-    return filter;
+    std::vector<std::string> unused;
+    for (const auto& filter : filters) {
+        bool used = false;
+        for (const auto& [other_id, other] : by_id_)
+            for (const auto& f : other->filters) used = used || f == filter;
+        if (!used) unused.push_back(filter);
+    }
+    return unused;
 }
 
 std::vector<std::shared_ptr<Subscription>> SubscriptionRegistry::matching(std::string_view topic) const {
     std::vector<std::shared_ptr<Subscription>> out;
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [id, sub] : by_id_)
-        if (topic_matches(sub->filter, topic)) out.push_back(sub);
+        for (const auto& filter : sub->filters)
+            if (topic_matches(filter, topic)) {
+                out.push_back(sub);
+                break;
+            }
     return out;
 }
 

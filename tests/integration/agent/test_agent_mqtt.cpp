@@ -21,6 +21,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <thread>
 
@@ -267,6 +268,66 @@ TEST_CASE("broker ACL from the agent's configuration keeps denied requests from 
     CHECK(driver->writes == 1);
     viewer->stop();
     mes->stop();
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("broker ACL passes other applications' method runs and events only to an application with watch") {
+    AgentConfig c;
+    c.access.default_rights = access_all;
+    c.access.applications["dash"]["*"] = access_read | access_watch;
+    c.access.applications["viewer"]["*"] = access_all;  // every request right, not watch
+    c.registration.terminals["test-dev"] = TerminalEntry{"adapter", ""};
+    const std::string dir = scratch_dir("itest-acl-watch");
+    const std::string acl = dir + "/acl";
+    {
+        std::ofstream out(acl);
+        out << mosquitto_acl(c);
+    }
+    MosquittoOptions bo;
+    bo.acl_file = acl;
+    MosquittoBroker broker(bo);
+
+    struct Watcher {
+        std::mutex mutex;
+        std::vector<std::string> seen;  // "kind ex"
+        void add(std::string what) {
+            std::lock_guard<std::mutex> lock(mutex);
+            seen.push_back(std::move(what));
+        }
+        std::multiset<std::string> get() {
+            std::lock_guard<std::mutex> lock(mutex);
+            return {seen.begin(), seen.end()};
+        }
+    };
+    auto watch = [](Client& client, Watcher& w) {
+        REQUIRE(client.subscribe_method_runs("test-dev", [&w](const MethodRun& r) {
+            w.add(std::string(to_string(r.kind)) + " " + r.ex);
+        }).ok());
+        REQUIRE(client.subscribe_events("test-dev", [&w](const WatchedEvent& e) { w.add("event " + e.ex); }).ok());
+    };
+    auto dash = start_client(broker, "dash", "dash");
+    auto viewer = start_client(broker, "viewer", "viewer");
+    Watcher dash_saw, viewer_saw;
+    watch(*dash, dash_saw);
+    watch(*viewer, viewer_saw);
+    std::this_thread::sleep_for(300ms);  // the subscriptions are in place
+
+    // The adapter answers a call of mes and one of viewer, and fires an event of mes.
+    Peer adapter(broker, "test-dev", {}, "test-dev");
+    adapter.send("Method/Status/test-dev/mes", Json{{"@id", "c1"}, {"id", "home"}, {"status", "executing"}, {"progress", 10}});
+    adapter.send("Method/Result/test-dev/mes", Json{{"@id", "c1"}, {"id", "home"}, {"result", "finished"}, {"code", "OK"}});
+    adapter.send("Event/test-dev/mes",
+                 Json{{"@id", "e1"}, {"id", "ev1"}, {"time", 1}, {"event", {{"id", "ovr"}, {"value", 120}}}});
+    adapter.send("Method/Result/test-dev/viewer", Json{{"@id", "c2"}, {"id", "home"}, {"result", "finished"}, {"code", "OK"}});
+
+    const std::multiset<std::string> everything = {"status mes", "result mes", "event mes", "result viewer"};
+    REQUIRE(eventually([&] { return dash_saw.get() == everything; }, 10s));
+    REQUIRE(eventually([&] { return viewer_saw.get().count("result viewer") == 1; }, 10s));
+    std::this_thread::sleep_for(500ms);  // room for anything the broker should not have passed
+    CHECK(dash_saw.get() == everything);
+    CHECK(viewer_saw.get() == std::multiset<std::string>{"result viewer"});  // its own only
+    dash->stop();
+    viewer->stop();
     std::filesystem::remove_all(dir);
 }
 

@@ -24,6 +24,11 @@
 #include <fstream>
 #include <iostream>
 #include <regex>
+#include <sstream>
+#include <thread>
+#include <atomic>
+#include <mutex>
+#include <algorithm>
 
 using namespace nclink;
 using namespace std::chrono_literals;
@@ -305,4 +310,126 @@ TEST_CASE("bridge speaks SHDR: snapshot, line format, PING PONG, reconnect") {
         CHECK(live.find(":" + kDev + ".x_position|") != std::string::npos);
         ::close(fd);
     }
+}
+
+TEST_CASE("bridge shows other applications' method runs and events on the stream and the JSON API") {
+    Rig rig;
+    // The stream opened first: the run and the event must arrive live.
+    std::mutex mutex;
+    std::string received;
+    std::atomic<bool> done{false};
+    // Complete events only: a chunk may end inside one.
+    auto complete = [](const std::string& text) {
+        const auto end = text.rfind("\n\n");
+        return end == std::string::npos ? std::string() : text.substr(0, end + 2);
+    };
+    auto has_all = [&](const std::string& partial) {
+        const std::string text = complete(partial);
+        return text.find("event: method\ndata: ") != std::string::npos &&
+               text.find("\"result\":\"finished\"") != std::string::npos &&
+               text.find("event: event\ndata: ") != std::string::npos;
+    };
+    std::thread reader([&] {
+        httplib::Client sse("127.0.0.1", rig.the_bridge->http_port());
+        sse.set_read_timeout(5, 0);
+        const auto deadline = std::chrono::steady_clock::now() + 30s;
+        (void)sse.Get(("/nclink/v1/stream?dev=" + kDev).c_str(), [&](const char* data, size_t length) {
+            std::lock_guard<std::mutex> lock(mutex);
+            received.append(data, length);
+            return !done && !has_all(received) && std::chrono::steady_clock::now() < deadline;
+        });
+    });
+    auto read_so_far = [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return received;
+    };
+    REQUIRE(eventually([&] { return read_so_far().find("event: snapshot") != std::string::npos; }, 10s));
+
+    // Another application calls methods (one refused) and registers an event that then fires.
+    auto op = rig.make_client("operator");
+    auto run = op->call_method(kDev, "cycle_start", Json::object());
+    REQUIRE(run.ok());
+    REQUIRE(run->result == "finished");
+    auto refused = op->call_method(kDev, "self_destruct", nullptr);
+    REQUIRE(refused.ok());
+    REQUIRE(refused->status.error == 401);
+    REQUIRE(op->set(kDev, {SetItem{"feed_override", Json{{"value", 100}}, std::nullopt, std::nullopt}}).ok());
+    Client::EventRegistration registration;
+    registration.id = "feed_override";
+    registration.filters = {Json{{"type", "greater"}, {"value", 110}}};
+    std::atomic<int> fired{0};
+    auto event_id = op->register_event(kDev, registration, [&](const EventData&) { ++fired; });
+    REQUIRE(event_id.ok());
+    REQUIRE(op->set(kDev, {SetItem{"feed_override", Json{{"value", 120}}, std::nullopt, std::nullopt}}).ok());
+    REQUIRE(eventually([&] { return fired.load() >= 1; }, 10s));
+
+    // The stream: event: method with the caller, the call's @id, its result; event: event.
+    REQUIRE(eventually([&] { return has_all(read_so_far()); }, 20s));
+    done = true;
+    reader.join();
+    const std::string stream = complete(read_so_far());
+    std::vector<Json> methods, events;
+    {
+        std::istringstream lines(stream);
+        std::string line, name;
+        while (std::getline(lines, line)) {
+            if (line.rfind("event: ", 0) == 0) name = line.substr(7);
+            else if (line.rfind("data: ", 0) == 0 && name == "method") methods.push_back(Json::parse(line.substr(6)));
+            else if (line.rfind("data: ", 0) == 0 && name == "event") events.push_back(Json::parse(line.substr(6)));
+        }
+    }
+    auto finished = std::find_if(methods.begin(), methods.end(), [](const Json& m) {
+        return m.value("method", "") == "cycle_start" && m.value("result", "") == "finished";
+    });
+    REQUIRE(finished != methods.end());
+    CHECK((*finished)["dev"] == kDev);
+    CHECK((*finished)["ex"] == "operator");
+    CHECK((*finished)["code"] == "OK");
+    CHECK((*finished)["call"].is_string());
+    CHECK_FALSE((*finished)["call"].get<std::string>().empty());
+    auto fired_event = std::find_if(events.begin(), events.end(), [](const Json& e) { return e["ex"] == "operator"; });
+    REQUIRE(fired_event != events.end());
+    CHECK((*fired_event)["item"] == "feed_override");
+    CHECK((*fired_event)["value"] == 120);
+    CHECK((*fired_event)["event"] == *event_id);
+    for (const auto& e : events) CHECK(e["ex"] != "bridge-itest");  // the bridge's own change events are values
+
+    // The JSON API keeps them: the refused call too, with its table-19 code.
+    Json activity;
+    REQUIRE(eventually([&] {
+        auto r = rig.get("/nclink/v1/devices/" + kDev + "/activity");
+        if (!r || r->status != 200) return false;
+        activity = Json::parse(r->body);
+        for (const auto& m : activity["methods"])
+            if (m.value("method", "") == "self_destruct" && m.value("result", "") == "error") return true;
+        return false;
+    }, 10s));
+    bool logged_run = false, logged_refusal = false, logged_event = false;
+    for (const auto& m : activity["methods"]) {
+        logged_run = logged_run || (m["call"] == (*finished)["call"] && m["result"] == "finished");
+        logged_refusal = logged_refusal || (m["method"] == "self_destruct" && m["code"] == "NG" && m["error"] == 401);
+    }
+    for (const auto& e : activity["events"]) logged_event = logged_event || (e["ex"] == "operator" && e["value"] == 120);
+    CHECK(logged_run);
+    CHECK(logged_refusal);
+    CHECK(logged_event);
+    auto unknown = rig.get("/nclink/v1/devices/nobody/activity");
+    REQUIRE(unknown);
+    CHECK(unknown->status == 404);
+
+    // A stream opened now gets them in its snapshot.
+    httplib::Client sse("127.0.0.1", rig.the_bridge->http_port());
+    sse.set_read_timeout(10, 0);
+    std::string later;
+    (void)sse.Get(("/nclink/v1/stream?dev=" + kDev).c_str(), [&](const char* data, size_t length) {
+        later.append(data, length);
+        return later.find("\n\n") == std::string::npos;  // the first event: the snapshot
+    });
+    const std::string prefix = "event: snapshot\ndata: ";
+    REQUIRE(later.rfind(prefix, 0) == 0);
+    const Json snapshot = Json::parse(later.substr(prefix.size(), later.find('\n', prefix.size()) - prefix.size()));
+    CHECK_FALSE(snapshot["methods"].empty());
+    CHECK_FALSE(snapshot["events"].empty());
+    REQUIRE(op->unregister_event(kDev, *event_id).ok());
+    op->stop();
 }

@@ -4,7 +4,8 @@
 Starts mosquitto on a free loopback port, nclink-sim (the simulated mill) and
 nclink-bridge, then drives /dashboard with Selenium: the page loads, the mill
 shows online, a live value changes on screen, a Set sent from the page is what
-an NC-Link Query (`nclink query`) then reads, and /metrics is valid. With
+an NC-Link Query (`nclink query`) then reads, a method another application
+calls (`nclink call`) shows in the panel of method runs, and /metrics is valid. With
 --screenshot FILE it saves the page. Exit 77 (skipped, with the reason) when
 Chromium, chromedriver or python3-selenium is missing.
 
@@ -140,6 +141,16 @@ def main():
               + " (before: " + old + ")")
         eventually("the new value on screen", lambda: cell("spindle_override").text == str(target))
 
+        # Another application calls a method: the run shows up, live, in the
+        # page's panel of method runs, with its caller and result.
+        call = subprocess.run([os.path.join(bin_dir, "nclink"), "call", "--broker", broker, "--client-id", "dash-operator",
+                               "--no-progress", DEVICE, "cycle_start", "{}"], capture_output=True, text=True, timeout=60)
+        assert call.returncode == 0, call.stdout + call.stderr
+        run_row = '#runs tr[data-method="cycle_start"][data-ex="dash-operator"]'
+        eventually("the method run in the page's panel",
+                   lambda: browser.find_element(By.CSS_SELECTOR, run_row + " td.result").text.startswith("finished"))
+        print("method run on the page: " + browser.find_element(By.CSS_SELECTOR, run_row).text)
+
         # /metrics of the same server, as Prometheus scrapes it.
         with urllib.request.urlopen(base + "/metrics", timeout=5) as r:
             metrics = r.read().decode()
@@ -153,7 +164,7 @@ def main():
             time.sleep(3)  # a few seconds of plot
             browser.save_screenshot(screenshot)
             print("screenshot: " + screenshot)
-        print("dashboard: page, fleet, live value, Set and Query, metrics: all passed")
+        print("dashboard: page, fleet, live value, Set and Query, method run, metrics: all passed")
         return 0
     except Exception:
         for name, _ in processes:

@@ -9,7 +9,13 @@
 #include "agent/registrar.hpp"
 #include "agent/terminal_id.hpp"
 
+#include <nclink/topics.hpp>
+
 #include <catch2/catch.hpp>
+
+#include <map>
+#include <set>
+#include <sstream>
 
 using namespace nclink;
 using namespace nclink::agent_detail;
@@ -285,4 +291,134 @@ TEST_CASE("mosquitto ACL: a closed allowlist gives the default rights to listed 
     has("topic read Probe/Query/Request/mill-1/nclink-agent");  // the agent's model fetches
     has("user viewer\ntopic read Sample/+/+");
     has("pattern read Sample/+/+", false);
+}
+
+namespace {
+
+// The generated ACL as mosquitto reads it: the topic lines of each user, and
+// the patterns (which apply to every user).
+struct AclLines {
+    std::map<std::string, std::set<std::string>> users;
+    std::set<std::string> patterns;
+    bool user_has(const std::string& user, const std::string& line) const {
+        const auto it = users.find(user);
+        return it != users.end() && it->second.count(line) != 0;
+    }
+};
+
+AclLines parse_acl(const std::string& acl) {
+    AclLines out;
+    std::istringstream in(acl);
+    std::string line, user;
+    while (std::getline(in, line)) {
+        if (line.rfind("user ", 0) == 0) user = line.substr(5);
+        else if (line.rfind("topic ", 0) == 0) out.users[user].insert(line.substr(6));
+        else if (line.rfind("pattern ", 0) == 0) out.patterns.insert(line.substr(8));
+    }
+    return out;
+}
+
+// Any line granting a read of `topic` (as mosquitto matches it) to `user`,
+// by the user's topic lines or a pattern (%u replaced).
+bool acl_lets_read(const AclLines& acl, const std::string& user, const std::string& topic) {
+    auto grants = [&](const std::string& line, bool pattern) {
+        std::string access, filter;
+        std::istringstream words(line);
+        words >> access >> filter;
+        if (access != "read" && access != "readwrite") return false;
+        if (pattern)
+            for (std::size_t at; (at = filter.find("%u")) != std::string::npos;) filter.replace(at, 2, user);
+        return topic_matches(filter, topic);
+    };
+    if (const auto it = acl.users.find(user); it != acl.users.end()) {
+        for (const auto& l : it->second)
+            if (l.rfind("deny ", 0) == 0 && topic_matches(l.substr(5), topic)) return false;
+        for (const auto& l : it->second)
+            if (grants(l, false)) return true;
+    }
+    for (const auto& l : acl.patterns)
+        if (grants(l, true)) return true;
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("access: watch is a right of its own that all does not include") {
+    CHECK(parse_rights(Json::array({"read", "watch"}), "x").value() == (access_read | access_watch));
+    CHECK(parse_rights(Json("watch"), "x").value() == access_watch);
+    CHECK((parse_rights(Json("all"), "x").value() & access_watch) == 0);
+    CHECK(right_names(access_read | access_watch) == std::vector<std::string>{"read", "watch"});
+    auto c = agent_config_from_json(Json::parse(R"({"access": {"applications": {"dash": {"mill-1": ["read", "watch"]}}}})"));
+    REQUIRE(c.ok());
+    CHECK(c->access.applications.at("dash").at("mill-1") == (access_read | access_watch));
+}
+
+TEST_CASE("mosquitto ACL: only watch lets an application read other applications' method runs and events") {
+    AgentConfig c;
+    c.access.default_rights = access_all;
+    c.access.applications["mes"]["*"] = access_all;
+    c.access.applications["dash"]["mill-1"] = access_read | access_watch;
+    c.access.applications["ops"]["*"] = access_read | access_watch;
+    c.registration.terminals["mill-2"] = TerminalEntry{"adapter", ""};
+    const AclLines acl = parse_acl(mosquitto_acl(c));
+    // the runs and events of application cam at mill-1
+    const std::vector<std::string> others = {"Method/Status/mill-1/cam", "Method/Result/mill-1/cam", "Event/mill-1/cam"};
+    for (const auto& topic : others) {
+        INFO(topic);
+        CHECK(acl_lets_read(acl, "dash", topic));      // watch on mill-1
+        CHECK(acl_lets_read(acl, "ops", topic));       // watch everywhere
+        CHECK_FALSE(acl_lets_read(acl, "mes", topic));       // all, but not watch
+        CHECK_FALSE(acl_lets_read(acl, "stranger", topic));  // the default: all, not watch
+    }
+    CHECK(acl.user_has("dash", "read Method/Status/mill-1/+"));
+    CHECK(acl.user_has("dash", "read Method/Result/mill-1/+"));
+    CHECK(acl.user_has("dash", "read Event/mill-1/+"));
+    CHECK(acl.user_has("ops", "read Event/+/+"));
+    // dash may not watch mill-2 (named, no entry), ops may
+    CHECK_FALSE(acl_lets_read(acl, "dash", "Event/mill-2/mes"));
+    CHECK(acl_lets_read(acl, "ops", "Method/Result/mill-2/mes"));
+    // everybody still reads its own answers, with or without watch
+    CHECK(acl_lets_read(acl, "mes", "Method/Result/mill-1/mes"));
+    CHECK(acl_lets_read(acl, "dash", "Event/mill-2/dash"));
+    CHECK(acl_lets_read(acl, "stranger", "Method/Status/mill-2/stranger"));
+}
+
+TEST_CASE("mosquitto ACL: a star watch narrowed for one adapter is granted by name only") {
+    AgentConfig c;
+    c.access.default_rights = access_none;
+    c.access.applications["ops"]["*"] = access_read | access_watch;
+    c.access.applications["ops"]["mill-2"] = access_read;  // not this one
+    c.registration.terminals["mill-1"] = TerminalEntry{"adapter", ""};
+    c.registration.terminals["mill-2"] = TerminalEntry{"adapter", ""};
+    const AclLines acl = parse_acl(mosquitto_acl(c));
+    CHECK(acl_lets_read(acl, "ops", "Event/mill-1/mes"));
+    CHECK_FALSE(acl_lets_read(acl, "ops", "Event/mill-2/mes"));
+    CHECK_FALSE(acl_lets_read(acl, "ops", "Method/Status/mill-2/mes"));
+    CHECK(acl_lets_read(acl, "ops", "Method/Status/mill-2/ops"));  // its own
+}
+
+TEST_CASE("mosquitto ACL: a default watch is a pattern only when no listed application lacks it") {
+    AgentConfig c;
+    c.access.default_rights = access_read | access_watch;
+    SECTION("open, every listed application watches") {
+        c.access.applications["ops"]["*"] = access_all | access_watch;
+        const AclLines acl = parse_acl(mosquitto_acl(c));
+        CHECK(acl_lets_read(acl, "stranger", "Method/Result/mill-1/mes"));
+        CHECK(acl_lets_read(acl, "ops", "Event/mill-1/mes"));
+    }
+    SECTION("open, a listed application does not") {
+        c.access.applications["viewer"]["*"] = access_read;
+        const AclLines acl = parse_acl(mosquitto_acl(c));
+        CHECK_FALSE(acl_lets_read(acl, "viewer", "Event/mill-1/mes"));
+        CHECK_FALSE(acl_lets_read(acl, "stranger", "Event/mill-1/mes"));  // fails closed
+        CHECK(acl_lets_read(acl, "viewer", "Event/mill-1/viewer"));
+    }
+    SECTION("closed: by name to the listed applications") {
+        c.registration.open = false;
+        c.registration.terminals["mill-1"] = TerminalEntry{"adapter", ""};
+        c.registration.terminals["dash"] = TerminalEntry{"application", ""};
+        const AclLines acl = parse_acl(mosquitto_acl(c));
+        CHECK(acl_lets_read(acl, "dash", "Method/Status/mill-1/mes"));
+        CHECK_FALSE(acl_lets_read(acl, "stranger", "Method/Status/mill-1/mes"));
+    }
 }

@@ -3,6 +3,7 @@
 // schemas when present), SHDR lines, the data-write parser.
 #include "bridge/bridge_store.hpp"
 #include "bridge/gbt_api.hpp"
+#include "bridge/json_api.hpp"
 #include "bridge/mtconnect_api.hpp"
 #include "bridge/mtconnect_documents.hpp"
 #include "bridge/observation_buffer.hpp"
@@ -355,4 +356,104 @@ TEST_CASE("data-write requests parse, and malformed ones are INVALID_REQUEST") {
     CHECK(GbtApi::parse_write("<Other/>", bad)->code == MtErrorCode::invalid_request);
     CHECK(GbtApi::parse_write("<DataWriteRequest><Operation command=\"DELETE\"><Value dataItemId=\"a\">1</Value></Operation></DataWriteRequest>", bad)->code ==
           MtErrorCode::unsupported);
+}
+
+namespace {
+
+BridgeStore::MethodRunUpdate status_of(const std::string& ex, const std::string& call, const std::string& status,
+                                       std::optional<double> progress = std::nullopt) {
+    BridgeStore::MethodRunUpdate u;
+    u.ex = ex;
+    u.call = call;
+    u.method = "G_HOME";
+    u.status = status;
+    u.progress = progress;
+    return u;
+}
+
+BridgeStore::MethodRunUpdate result_of(const std::string& ex, const std::string& call, const std::string& result) {
+    BridgeStore::MethodRunUpdate u;
+    u.ex = ex;
+    u.call = call;
+    u.method = "G_HOME";
+    u.result = result;
+    u.outcome = Json{{"code", "OK"}, {"return", {{"n", 1}}}};
+    return u;
+}
+
+}  // namespace
+
+TEST_CASE("store activity: one entry per method run, updated by its status and result DTUs") {
+    BridgeStore store(16, "test", 7);
+    store.add_device("mill-01");
+    const std::uint64_t before = store.read([](const BridgeState& st) { return st.activity_sequence; });
+    store.record_method_run("mill-01", status_of("mes", "c-1", "executing", 10), 1000);
+    store.record_method_run("mill-01", status_of("cam", "c-1", "waiting"), 1001);  // same @id, another caller
+    store.record_method_run("mill-01", status_of("mes", "c-1", "executing", 60), 1002);
+    store.record_method_run("mill-01", result_of("mes", "c-1", "finished"), 1003);
+    store.record_method_run("mill-01", status_of("mes", "c-1", "executing", 70), 1004);  // late: stays finished
+    store.record_method_run("mill-99", status_of("mes", "c-2", "executing"), 1005);     // unknown device
+    CHECK(store.wait_for_change(std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint64_t>::max(),
+                                std::chrono::milliseconds(0), before));
+    store.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device("mill-01");
+        REQUIRE(d);
+        REQUIRE(d->method_runs.size() == 2);
+        const MethodRunEntry& mes = d->method_runs[0];
+        CHECK(mes.ex == "mes");
+        CHECK(mes.call == "c-1");
+        CHECK(mes.method == "G_HOME");
+        CHECK(mes.status == "executing");
+        CHECK(mes.progress == 60);
+        CHECK(mes.result == "finished");
+        CHECK(mes.start_ms == 1000);
+        CHECK(mes.time_ms == 1004);
+        CHECK(d->method_runs[1].ex == "cam");
+        CHECK(mes.seq > d->method_runs[1].seq);  // changed last
+        CHECK(st.activity_sequence == before + 5);
+        const Json j = JsonApi::method_run_json(d->dev, mes);
+        CHECK(j["dev"] == "mill-01");
+        CHECK(j["result"] == "finished");
+        CHECK(j["code"] == "OK");
+        CHECK(j["return"] == Json{{"n", 1}});
+        CHECK(j["progress"] == 60);
+        CHECK_FALSE(JsonApi::method_run_json(d->dev, d->method_runs[1]).contains("result"));
+        return 0;
+    });
+    const std::uint64_t now = store.read([](const BridgeState& st) { return st.activity_sequence; });
+    CHECK_FALSE(store.wait_for_change(std::numeric_limits<std::uint64_t>::max(),
+                                      std::numeric_limits<std::uint64_t>::max(), std::chrono::milliseconds(0), now));
+}
+
+TEST_CASE("store activity: the method-run and event logs keep the newest entries within their bound") {
+    BridgeStore store(16, "test", 7, 3);
+    CHECK(store.activity_log_size() == 3);
+    store.add_device("mill-01");
+    for (int i = 1; i <= 5; ++i) {
+        store.record_method_run("mill-01", result_of("mes", "c-" + std::to_string(i), "finished"), i);
+        EventLogEntry e;
+        e.ex = "mes";
+        e.event_id = "ev-1";
+        e.item = "feed_override";
+        e.value = i * 10;
+        e.time_ms = i;
+        store.record_event("mill-01", e);
+    }
+    store.record_method_run("mill-01", status_of("mes", "c-1", "executing"), 6);  // c-1 fell out: a new entry
+    store.read([&](const BridgeState& st) {
+        const DeviceEntry* d = st.find_device("mill-01");
+        REQUIRE(d);
+        REQUIRE(d->method_runs.size() == 3);
+        CHECK(d->method_runs[0].call == "c-4");
+        CHECK(d->method_runs[1].call == "c-5");
+        CHECK(d->method_runs[2].call == "c-1");
+        CHECK(d->method_runs[2].result.empty());
+        REQUIRE(d->events.size() == 3);
+        CHECK(d->events.front().value == 30);
+        CHECK(d->events.back().value == 50);
+        const Json j = JsonApi::event_json(d->dev, d->events.back());
+        CHECK(j == Json{{"dev", "mill-01"}, {"ex", "mes"}, {"event", "ev-1"}, {"item", "feed_override"},
+                        {"value", 50}, {"time", 5}});
+        return 0;
+    });
 }
