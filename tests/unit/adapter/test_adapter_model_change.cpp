@@ -148,9 +148,10 @@ TEST_CASE("a model change releases registrations that no longer resolve and tell
 }
 
 TEST_CASE("a restart serves the shipped model when it is newer than the persisted one, and says so") {
-    AdapterFixture f;
+    // Declared before the fixture: its adapter still logs while it stops.
     std::vector<std::string> lines;
     std::mutex mutex;
+    AdapterFixture f;
     Json persisted = test_model();
     persisted["devices"][0]["version"] = "1.1.0";
     REQUIRE(f.adapter->replace_model(persisted.dump()).ok());
