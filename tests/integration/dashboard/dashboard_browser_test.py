@@ -162,6 +162,10 @@ def main():
 
         if screenshot:
             time.sleep(3)  # a few seconds of plot
+            # Tall enough for every panel, down to the method runs and events.
+            height = browser.execute_script("return document.documentElement.scrollHeight")
+            browser.set_window_size(1400, max(1000, int(height) + 40))
+            time.sleep(1)
             browser.save_screenshot(screenshot)
             print("screenshot: " + screenshot)
         print("dashboard: page, fleet, live value, Set and Query, method run, metrics: all passed")

@@ -70,12 +70,13 @@ TEST_CASE("liveness: the client's keep-alive keeps its event and dynamic channel
     auto config = sim_config(broker);
     config.application_lease = 1500ms;
     auto adapter = started_adapter(config, sim_for(sim_mill_path()));
+    // Before the client: its thread may still deliver while it stops.
+    Collected<EventData> events;
+    Collected<SampleDtu> samples;
     auto client = app(broker, "keeper", 200ms);
 
-    Collected<EventData> events;
     auto event = client->register_event(kDev, moving_x(), events.handler());
     REQUIRE(event.ok());
-    Collected<SampleDtu> samples;
     auto channel = client->register_sampling(kDev, {"x_position"}, 10ms, 100ms, samples.handler());
     REQUIRE(channel.ok());
 
@@ -95,10 +96,11 @@ TEST_CASE("liveness: without keep-alive the adapter releases after the lease and
     auto config = sim_config(broker);
     config.application_lease = 1000ms;
     auto adapter = started_adapter(config, sim_for(sim_mill_path()));
-    auto client = app(broker, "silent", 0ms);
+    // Before the client: its thread may still deliver while it stops.
     Collected<EventData> events;
-    REQUIRE(client->register_event(kDev, moving_x(), events.handler()).ok());
     Collected<SampleDtu> samples;
+    auto client = app(broker, "silent", 0ms);
+    REQUIRE(client->register_event(kDev, moving_x(), events.handler()).ok());
     REQUIRE(client->register_sampling(kDev, {"x_position"}, 10ms, 100ms, samples.handler()).ok());
     REQUIRE(registered_events(*adapter) == 1);
     REQUIRE(eventually([&] { return adapter->stats().applications_released == 1; }));
@@ -120,8 +122,9 @@ TEST_CASE("QoS: Sample and Event DTUs go at QoS 1 by default") {
     inbox.attach(*peer);
     REQUIRE(peer->subscribe({"Sample/" + kDev + "/+", topics::event(kDev, "qos-app")}, 1).ok());
     REQUIRE(peer->start().ok());
-    auto client = app(broker, "qos-app", 60s);
+    // Before the client: its thread may still deliver while it stops.
     Collected<EventData> events;
+    auto client = app(broker, "qos-app", 60s);
     REQUIRE(client->register_event(kDev, moving_x(), events.handler()).ok());
     REQUIRE(eventually([&] {
         std::lock_guard<std::mutex> lock(inbox.mutex);
