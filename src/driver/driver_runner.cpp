@@ -7,6 +7,22 @@
 namespace nclink::detail {
 namespace {
 
+// Takes `lock` within `wait`. libstdc++ waits on the steady clock with
+// pthread_rwlock_clock*lock, which gcc 12's ThreadSanitizer does not
+// intercept: it would not see the lock held and report races between calls
+// that `calls` keeps apart. Under TSan the wall-clock variant is used (it
+// calls pthread_rwlock_timed*lock, which TSan knows); elsewhere the steady
+// clock, which a clock step cannot stretch.
+template <typename Lock>
+bool lock_within(Lock& lock, std::chrono::nanoseconds wait) {
+#if defined(__SANITIZE_THREAD__)
+    return lock.try_lock_until(std::chrono::system_clock::now() +
+                               std::chrono::duration_cast<std::chrono::system_clock::duration>(wait));
+#else
+    return lock.try_lock_for(wait);
+#endif
+}
+
 // The queue whose worker this thread is (null elsewhere): a read made from a
 // task already running on the driver's worker calls the driver directly
 // instead of queueing behind itself.
@@ -280,7 +296,7 @@ namespace {
 template <typename Lock, typename Call>
 bool call_locked(std::shared_timed_mutex& calls, std::chrono::nanoseconds wait, Call& call) {
     Lock lock(calls, std::defer_lock);
-    if (!lock.try_lock_for(wait)) return false;
+    if (!lock_within(lock, wait)) return false;
     call();
     return true;
 }
@@ -341,7 +357,7 @@ Result<std::shared_ptr<const PointTable>> DriverRunner::bind(const std::vector<B
     // Exclusive whatever info().concurrent says: no read may straddle two
     // bindings.
     std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
-    if (!calls.try_lock_for(options_.call_timeout)) {
+    if (!lock_within(calls, options_.call_timeout)) {
         count_timeout();
         return make_error(ErrorCode::timeout, fmt::format("driver busy: bind() could not start within {} ms",
                                                           options_.call_timeout.count()));
@@ -422,7 +438,7 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
     {
         // No read_direct() may be inside the driver when it closes.
         std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
-        if (!calls.try_lock_for(grace)) {
+        if (!lock_within(calls, grace)) {
             logger_.error("driver '{}': a direct read did not return within {} ms of shutdown; not closing it", name_,
                           grace.count());
             return;
