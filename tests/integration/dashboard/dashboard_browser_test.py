@@ -162,9 +162,10 @@ def main():
 
         if screenshot:
             time.sleep(3)  # a few seconds of plot
-            # Tall enough for every panel, down to the method runs and events.
-            height = browser.execute_script("return document.documentElement.scrollHeight")
-            browser.set_window_size(1400, max(1000, int(height) + 40))
+            # Every panel on one picture, down to the method runs and events.
+            browser.execute_script("document.body.style.zoom = '0.75'")
+            height = browser.execute_script("return Math.ceil(document.documentElement.scrollHeight * 0.75)")
+            browser.set_window_size(1400, max(1000, int(height) + 120))
             time.sleep(1)
             browser.save_screenshot(screenshot)
             print("screenshot: " + screenshot)
