@@ -18,6 +18,7 @@
 #include "support/mosquitto_broker.hpp"
 #include "support/row_ledger.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -185,6 +186,13 @@ int main(int argc, char** argv) {
     std::printf("late (> 1 s after their last row): %llu of %llu DTUs\n", static_cast<unsigned long long>(late_dtus.load()),
                 static_cast<unsigned long long>(dtus.load()));
     std::printf("adapter drops by cause: %s\n", drops.dump().c_str());
+    // Messages the application's connection received, against what was
+    // handed on: an event lost before the client shows as fewer messages.
+    const auto& link = stats.transport;
+    std::printf("application connection: %llu messages received = %llu Sample DTUs + %llu events handed on + %llu held back + %llu other\n",
+                static_cast<unsigned long long>(link.received), static_cast<unsigned long long>(dtus.load()),
+                static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.duplicates),
+                static_cast<unsigned long long>(link.received - std::min<std::uint64_t>(link.received, dtus.load() + stats.events + stats.duplicates)));
     // Where an event that fired but never reached the handler could have gone.
     std::printf("client: events handed on %llu, unmatched %llu, malformed %llu, held back %llu; adapter: applications released %llu\n",
                 static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.unmatched_responses),
