@@ -102,6 +102,36 @@ std::size_t count_on(std::vector<Message>& inbox, std::mutex& mutex, const std::
     return n;
 }
 
+/// A standing event registration on "ovr" and what it delivered: `arrives`
+/// puts a value into the machine and waits for its event.
+struct OvrEvents {
+    std::atomic<int> events{0};
+    std::mutex mutex;
+    Json last;
+    std::string id;  ///< the id the application was given
+
+    void register_on(Client& client, MapDriver& driver) {
+        Client::EventRegistration registration;
+        registration.id = "ovr";
+        auto made = client.register_event(kDev, registration, [this](const EventData& e) {
+            std::lock_guard<std::mutex> lock(mutex);
+            last = e.event.value;
+            ++events;
+        });
+        REQUIRE(made.ok());
+        id = made.value();
+        REQUIRE(arrives(driver, 110));
+    }
+    bool arrives(MapDriver& driver, int value) {
+        const int before = events;
+        driver.put("ovr", value);
+        return eventually([&] {
+            std::lock_guard<std::mutex> lock(mutex);
+            return events > before && last == Json(value);
+        }, 20s);
+    }
+};
+
 }  // namespace
 
 TEST_CASE("8.3.3 scenario 2: the application's link fails after its request, the adapter answers, the response waits for it") {
@@ -207,19 +237,8 @@ TEST_CASE("client model cache: after a broker restart the same adapter run keeps
     auto client = Client::create(m, o).value();
     REQUIRE(client->start().ok());
     REQUIRE(client->wait_connected(10s));
-    std::atomic<int> events{0};
-    std::mutex mutex;
-    Json last;
-    Client::EventRegistration registration;
-    registration.id = "ovr";
-    auto event_id = client->register_event(kDev, registration, [&](const EventData& e) {
-        std::lock_guard<std::mutex> lock(mutex);
-        last = e.event.value;
-        ++events;
-    });
-    REQUIRE(event_id.ok());
-    rig.driver->put("ovr", 110);
-    REQUIRE(eventually([&] { return events >= 1; }, 20s));
+    OvrEvents ovr;
+    ovr.register_on(*client, *rig.driver);
 
     // The broker stops (a clean stop publishes the adapter's last will:
     // Notify/State offline) and comes back; the adapter announces its version
@@ -231,14 +250,9 @@ TEST_CASE("client model cache: after a broker restart the same adapter run keeps
     REQUIRE(eventually([&] { return client->state() == ClientState::normal; }, 30s));
     std::this_thread::sleep_for(1s);  // time for a Probe/Version and a (wrong) re-registration
     CHECK(client->reregistrations() == 0);
-    const int before = events;
-    rig.driver->put("ovr", 120);
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        return events > before && last == Json(120);
-    }, 20s));
+    REQUIRE(ovr.arrives(*rig.driver, 120));
     CHECK(client->stats().unmatched_responses == 0);
-    CHECK(client->unregister_event(kDev, event_id.value()).ok());  // the first id is still the adapter's
+    CHECK(client->unregister_event(kDev, ovr.id).ok());  // the first id is still the adapter's
     client->stop();
 }
 
@@ -260,30 +274,14 @@ TEST_CASE("client model cache: re-probes on a new version and registers again af
     CHECK(eventually([&] { return models >= 2; }, 10s));  // the callback runs just after the cache is updated
 
     // A standing event registration survives an adapter restart.
-    std::atomic<int> events{0};
-    std::mutex mutex;
-    Json last;
-    Client::EventRegistration registration;
-    registration.id = "ovr";
-    auto event_id = client->register_event(kDev, registration, [&](const EventData& e) {
-        std::lock_guard<std::mutex> lock(mutex);
-        last = e.event.value;
-        ++events;
-    });
-    REQUIRE(event_id.ok());
-    rig.driver->put("ovr", 110);
-    REQUIRE(eventually([&] { return events >= 1; }, 20s));
+    OvrEvents ovr;
+    ovr.register_on(*client, *rig.driver);
 
     adapter->stop();
     adapter.reset();
     adapter = rig.start_adapter();  // a new run: it knows no registration
     REQUIRE(eventually([&] { return client->reregistrations() >= 1; }, 30s));
-    const int before = events;
-    rig.driver->put("ovr", 120);
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        return events > before && last == Json(120);
-    }, 20s));
+    REQUIRE(ovr.arrives(*rig.driver, 120));
     // The id the application holds still unregisters it.
-    CHECK(client->unregister_event(kDev, event_id.value()).ok());
+    CHECK(client->unregister_event(kDev, ovr.id).ok());
 }

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <future>
+#include <memory>
 #include <thread>
 
 using namespace nclink;
@@ -126,24 +127,38 @@ TEST_CASE("client state: requests made while disconnected are queued and sent in
     REQUIRE(eventually([&] { return client->state() == ClientState::normal; }));
 }
 
-TEST_CASE("client state: a queued request lost on reconnect goes out again when its device announces itself (8.3.6)") {
+namespace {
+
+// A query made while disconnected whose first delivery is lost, as when the
+// broker restarted and the adapter has not subscribed again yet; the
+// adapter answers every repeat. Ready when the lost copy has arrived.
+struct LostFirstQuery {
     LoopbackBroker broker;
     std::atomic<int> seen{0};
-    // The first delivery is lost, as when the broker restarted and the
-    // adapter has not subscribed again yet; the repeat is answered.
-    FakeAdapter adapter(broker, "dev1", [&](const Message& m) -> std::vector<Message> {
-        if (seen++ == 0) return {};
-        return test::echo_script(m, "dev1");
-    });
-    auto client = make_client(broker, "app1", 10000ms);
-    broker.set_online(false);
-    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
+    FakeAdapter adapter{broker, "dev1", [this](const Message& m) -> std::vector<Message> {
+                            if (seen++ == 0) return {};
+                            return test::echo_script(m, "dev1");
+                        }};
+    std::unique_ptr<Client> client = make_client(broker, "app1", 10000ms);
     std::promise<Result<std::vector<QueryResult>>> answer;
-    client->query_async("dev1", items({"a"}), [&](auto r) { answer.set_value(std::move(r)); });
-    broker.set_online(true);
-    REQUIRE(eventually([&] { return adapter.request_count() == 1; }));
-    auto future = answer.get_future();
-    CHECK(future.wait_for(100ms) == std::future_status::timeout);  // lost: nothing comes back by itself
+    std::future<Result<std::vector<QueryResult>>> future = answer.get_future();
+
+    LostFirstQuery() {
+        broker.set_online(false);
+        REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
+        client->query_async("dev1", items({"a"}), [this](auto r) { answer.set_value(std::move(r)); });
+        broker.set_online(true);
+        REQUIRE(eventually([&] { return adapter.request_count() == 1; }));
+    }
+};
+
+}  // namespace
+
+TEST_CASE("client state: a queued request lost on reconnect goes out again when its device announces itself (8.3.6)") {
+    LostFirstQuery q;
+    auto& adapter = q.adapter;
+    auto& client = q.client;
+    CHECK(q.future.wait_for(100ms) == std::future_status::timeout);  // lost: nothing comes back by itself
     CHECK(client->stats().resent == 0);
 
     // Another device announcing itself changes nothing.
@@ -152,8 +167,8 @@ TEST_CASE("client state: a queued request lost on reconnect goes out again when 
     CHECK(adapter.request_count() == 1);
 
     adapter.publish(Message{topics::probe_version("dev1"), R"({"@id":"v1","guid":"dev1","version":"1.0"})", 1, false});
-    REQUIRE(future.wait_for(5s) == std::future_status::ready);
-    auto r = future.get();
+    REQUIRE(q.future.wait_for(5s) == std::future_status::ready);
+    auto r = q.future.get();
     REQUIRE(r.ok());
     CHECK((*r)[0].id == "a");
     const auto requests = adapter.requests();
@@ -169,27 +184,14 @@ TEST_CASE("client state: a queued request lost on reconnect goes out again when 
 }
 
 TEST_CASE("client state: an unanswered request from the reconnect queue is queued again by a second outage") {
-    LoopbackBroker broker;
-    std::atomic<int> seen{0};
-    FakeAdapter adapter(broker, "dev1", [&](const Message& m) -> std::vector<Message> {
-        if (seen++ == 0) return {};
-        return test::echo_script(m, "dev1");
-    });
-    auto client = make_client(broker, "app1", 10000ms);
-    broker.set_online(false);
-    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
-    std::promise<Result<std::vector<QueryResult>>> answer;
-    client->query_async("dev1", items({"a"}), [&](auto r) { answer.set_value(std::move(r)); });
-    broker.set_online(true);
-    REQUIRE(eventually([&] { return adapter.request_count() == 1; }));
-    broker.set_online(false);
-    REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
-    CHECK(client->stats().transport.buffered == 0);
-    broker.set_online(true);
-    auto future = answer.get_future();
-    REQUIRE(future.wait_for(5s) == std::future_status::ready);
-    REQUIRE(future.get().ok());
-    CHECK(adapter.request_count() == 2);
+    LostFirstQuery q;
+    q.broker.set_online(false);
+    REQUIRE(eventually([&] { return q.client->state() == ClientState::disconnected; }));
+    CHECK(q.client->stats().transport.buffered == 0);
+    q.broker.set_online(true);
+    REQUIRE(q.future.wait_for(5s) == std::future_status::ready);
+    REQUIRE(q.future.get().ok());
+    CHECK(q.adapter.request_count() == 2);
 }
 
 TEST_CASE("client state: a queued request that times out is failed with 203 and never sent") {
