@@ -47,6 +47,15 @@ pid_t spawn_program(const std::vector<std::string>& args) {
     return pid;
 }
 
+/// A broker enforcing the mosquitto ACL the agent writes for `c` (in `dir`).
+MosquittoOptions acl_broker(const AgentConfig& c, const std::string& dir) {
+    const std::string acl = dir + "/acl";
+    std::ofstream(acl) << mosquitto_acl(c);
+    MosquittoOptions options;
+    options.acl_file = acl;
+    return options;
+}
+
 AgentConfig agent_config(const MosquittoBroker& broker, const std::string& name = "agent-a") {
     AgentConfig c;
     c.broker_url = broker.url();
@@ -221,14 +230,7 @@ TEST_CASE("broker ACL from the agent's configuration keeps denied requests from 
     AgentConfig c;
     c.access.applications["viewer"]["*"] = access_read;
     const std::string dir = scratch_dir("itest-acl");
-    const std::string acl = dir + "/acl";
-    {
-        std::ofstream out(acl);
-        out << mosquitto_acl(c);
-    }
-    MosquittoOptions bo;
-    bo.acl_file = acl;
-    MosquittoBroker broker(bo);
+    MosquittoBroker broker(acl_broker(c, dir));
     AgentConfig ac = agent_config(broker);
     ac.access = c.access;
     ac.username = "nclink-agent";
@@ -278,14 +280,7 @@ TEST_CASE("broker ACL passes other applications' method runs and events only to 
     c.access.applications["viewer"]["*"] = access_all;  // every request right, not watch
     c.registration.terminals["test-dev"] = TerminalEntry{"adapter", ""};
     const std::string dir = scratch_dir("itest-acl-watch");
-    const std::string acl = dir + "/acl";
-    {
-        std::ofstream out(acl);
-        out << mosquitto_acl(c);
-    }
-    MosquittoOptions bo;
-    bo.acl_file = acl;
-    MosquittoBroker broker(bo);
+    MosquittoBroker broker(acl_broker(c, dir));
 
     struct Watcher {
         std::mutex mutex;
