@@ -23,6 +23,7 @@
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
 #include <nclink/sampling.hpp>
+#include <nclink/shared_threads.hpp>
 #include <nclink/traffic_stats.hpp>
 #include <nclink/transport.hpp>
 
@@ -84,6 +85,12 @@ public:
     void use_transport(std::unique_ptr<Transport> transport);
     /// For tests: the clock for dedup windows and registration retries.
     void use_clock(std::shared_ptr<const Clock> clock);
+    /// Gateway mode: take the sampling scheduler, uploader, housekeeping,
+    /// request workers and deadline watchdog from `threads` (shared with
+    /// other adapters of the process) instead of starting them (set before
+    /// start(); include/nclink/shared_threads.hpp says what stays per
+    /// adapter). `threads` must outlive the adapter's stop().
+    void use_shared_threads(std::shared_ptr<SharedThreads> threads);
 
     /// Loads and validates the model (refusing fatal problems, and
     /// conformance problems when strict, listing every one), opens the

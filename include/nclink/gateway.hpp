@@ -54,6 +54,17 @@ struct NCLINK_API GatewayConfig {
     /// "start_threads": machines started (or stopped) at once; connecting
     /// is what takes time. 0 = 4.
     std::size_t start_threads = 0;
+    /// "timer_threads": threads every machine's sampling scheduler, uploader
+    /// and housekeeping share (include/nclink/shared_threads.hpp). 0 = the
+    /// box's cores (at least 2).
+    std::size_t timer_threads = 0;
+    /// "request_threads": threads handling every machine's requests. 0 = the
+    /// box's cores (at least 2).
+    std::size_t request_threads = 0;
+    /// "driver_threads": threads calling every machine's driver (one call
+    /// at a time per driver unless it is concurrent). 0 = the box's cores
+    /// (at least 2).
+    std::size_t driver_threads = 0;
     LogLevel log_level = LogLevel::info;  ///< "log_level"
 };
 

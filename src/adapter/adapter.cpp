@@ -3,6 +3,8 @@
 // request intake, Probe/Set and statistics live beside this file
 // (adapter_impl.hpp lists them).
 #include "adapter/adapter_impl.hpp"
+#include "core/thread_name.hpp"
+#include "core/shared_threads_impl.hpp"
 #include "adapter/adapter_reload.hpp"
 #include "adapter/request_handlers.hpp"
 #include "events/events_service.hpp"
@@ -51,6 +53,7 @@ Result<void> Adapter::Impl::start() {
 
     DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
+    if (shared_threads) runner_options.pool = &shared_threads->impl().drivers;
     runner = std::make_unique<DriverRunner>(driver, runner_options, logger);
 
     auto built = host.build(loaded.value(), config.device_id, *driver);
@@ -67,8 +70,16 @@ Result<void> Adapter::Impl::start() {
     logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s), {} driver point(s))", dev,
                 built.value()->device->id, built.value()->device->version, built.value()->store->size(),
                 built.value()->points->points().size());
-    executor = std::make_unique<detail::Executor>(config.request_threads);
-    watchdog = std::make_unique<detail::DeadlineWatchdog>();
+    if (shared_threads) {
+        auto& shared = shared_threads->impl();
+        executor = std::make_unique<detail::TaskGroup>(shared.requests);
+        watchdog = std::make_unique<detail::WatchdogScope>(shared.watchdog);
+    } else {
+        own_executor = std::make_shared<detail::Executor>(config.request_threads);
+        executor = std::make_unique<detail::TaskGroup>(own_executor);
+        own_watchdog = std::make_unique<detail::DeadlineWatchdog>();
+        watchdog = std::make_unique<detail::WatchdogScope>(*own_watchdog);
+    }
     gate = std::make_shared<detail::RequestGate>(config.max_pending_requests, config.max_request_bytes, logger);
     dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);
     applications = std::make_unique<detail::ApplicationTracker>(config.application_lease);
@@ -87,7 +98,16 @@ Result<void> Adapter::Impl::start() {
     if (auto made = make_features(); !made) return made;
     fire(AdapterEvent::initialized);
     fire(AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
-    housekeeping = std::thread([this] { housekeep(); });
+    if (shared_threads)
+        housekeeping_entry = shared_threads->impl().timers.add([this](detail::PollHost::Time now) {
+            housekeep_once();
+            return now + kHousekeepingPeriod;
+        });
+    else
+        housekeeping = std::thread([this] {
+            detail::name_this_thread("nclink-house");
+            housekeep();
+        });
     return transport->start();
 }
 
@@ -197,7 +217,8 @@ Result<void> Adapter::Impl::make_features() {
         dev, logger, clock, *transport, *runner, host, sample_tap, *value_guard,
         [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
         [this] { return next_msg_id(); },
-        config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
+        config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout,
+        shared_threads ? &shared_threads->impl().timers : nullptr});
     // (factories: features.push_back(detail::make_..._service(*feature_host));)
     features.push_back(detail::make_sampling_service(*feature_host));
     features.push_back(detail::make_methods_service(*feature_host));
@@ -227,8 +248,11 @@ void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
     }
     housekeeping_wake.notify_all();
     if (housekeeping.joinable()) housekeeping.join();
-    if (watchdog) watchdog->stop();
-    if (executor) executor->stop();  // answers what is queued
+    if (shared_threads) shared_threads->impl().timers.remove(housekeeping_entry);
+    if (watchdog) watchdog->close();
+    if (own_watchdog) own_watchdog->stop();
+    if (executor) executor->close();  // answers what is queued
+    if (own_executor) own_executor->stop();
     for (auto it = features.rbegin(); it != features.rend(); ++it) (*it)->stop();
     if (transport) {
         (void)transport->publish(state_message("offline"));  // a clean stop sends no last will
@@ -256,6 +280,7 @@ Adapter::~Adapter() { stop(std::chrono::milliseconds(500)); }
 
 void Adapter::use_transport(std::unique_ptr<Transport> transport) { impl_->transport = std::move(transport); }
 void Adapter::use_clock(std::shared_ptr<const Clock> clock) { impl_->clock = std::move(clock); }
+void Adapter::use_shared_threads(std::shared_ptr<SharedThreads> threads) { impl_->shared_threads = std::move(threads); }
 Result<void> Adapter::start() { return impl_->start(); }
 void Adapter::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
 std::string Adapter::dev_uuid() const { return impl_->dev; }

@@ -23,6 +23,9 @@
 #include "core/deadline_watchdog.hpp"
 #include "core/latency_histogram.hpp"
 #include "core/executor.hpp"
+#include "core/poll_host.hpp"
+#include "core/task_group.hpp"
+#include "core/watchdog_scope.hpp"
 #include "driver/driver_runner.hpp"
 #include "feature/feature.hpp"
 #include "transport/dtu_counting_transport.hpp"
@@ -43,6 +46,10 @@
 #include <vector>
 
 namespace nclink {
+
+/// How often housekeeping looks at registration retries, leases and drops
+/// (real time; the registration and lease clocks are the injected clock).
+inline constexpr std::chrono::milliseconds kHousekeepingPeriod{50};
 
 struct NCLINK_LOCAL Adapter::Impl {
     Impl(AdapterConfig c, std::shared_ptr<Driver> d, Logger l)
@@ -75,10 +82,13 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
     detail::ModelHost host;
     std::unique_ptr<detail::DriverRunner> runner;
-    std::unique_ptr<detail::Executor> executor;
+    std::shared_ptr<SharedThreads> shared_threads;  // gateway mode; null: the adapter's own threads
+    std::shared_ptr<detail::Executor> own_executor;  // without shared_threads
+    std::unique_ptr<detail::TaskGroup> executor;     // this adapter's request tasks (on either)
     std::unique_ptr<detail::DedupWindow> dedup;
     std::shared_ptr<detail::RequestGate> gate;  // bounded request intake (request_gate.hpp)
-    std::unique_ptr<detail::DeadlineWatchdog> watchdog;
+    std::unique_ptr<detail::DeadlineWatchdog> own_watchdog;  // without shared_threads
+    std::unique_ptr<detail::WatchdogScope> watchdog;         // this adapter's deadlines (on either)
     std::shared_ptr<Lifetime> lifetime = std::make_shared<Lifetime>();
     /// Chapter 7 checks of driver values (shared: a driver-affine task may outlive the adapter).
     std::shared_ptr<detail::ValueGuard> value_guard = std::make_shared<detail::ValueGuard>(logger, config.check_values);
@@ -107,8 +117,10 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::mutex housekeeping_mutex;
     std::condition_variable housekeeping_wake;
     bool housekeeping_stopping = false;
-    std::thread housekeeping;
-    detail::DropReporter drop_reporter{logger};  // housekeeping thread only
+    std::thread housekeeping;                  // without shared_threads
+    detail::PollHost::Handle housekeeping_entry;  // with shared_threads
+    detail::DropReporter drop_reporter{logger};  // housekeeping only
+    std::chrono::steady_clock::time_point last_drop_check{};  // housekeeping only
 
     std::atomic<std::uint64_t> requests{0}, ignored_retained{0}, ignored_duplicates{0}, rejected{0}, msg_counter{0},
         affine_timeouts{0}, applications_released{0};
@@ -137,7 +149,9 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::string next_msg_id();
     void send_registration();
     void publish_version();
-    void housekeep();  ///< the housekeeping thread's loop
+    void housekeep();  ///< the housekeeping thread's loop (own threads)
+    void housekeep_once();  ///< one pass of it (also a pollable on shared threads)
+    void wake_housekeeping();
     void on_register_response(const std::string& payload);
     void application_gone(const std::string& ex, std::string_view why);
     void on_notify_state(const ParsedTopic& topic, const std::string& payload);

@@ -3,6 +3,7 @@
 // Probe/Version (8.2.5), the state-machine state machine, and application
 // liveness (8.2.18.3).
 #include "adapter/adapter_impl.hpp"
+#include "core/shared_threads_impl.hpp"
 
 namespace nclink {
 
@@ -96,7 +97,7 @@ void Adapter::Impl::send_registration() {
     request.cli_uuid = dev;
     registration.sent(id, clock->now());
     (void)transport->publish(Message{topics::register_request(), encode(request), 1, false});
-    housekeeping_wake.notify_all();
+    wake_housekeeping();
 }
 
 void Adapter::Impl::publish_version() {
@@ -117,30 +118,41 @@ void Adapter::Impl::publish_version() {
 // no agent answers). Releases what silent applications registered. Polls the
 // injected clock every 50 ms, so tests drive it with a ManualClock.
 void Adapter::Impl::housekeep() {
-    auto last_drop_check = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(housekeeping_mutex);
     while (!housekeeping_stopping) {
-        const auto now = clock->now();
         lock.unlock();
-        const auto tick = registration.tick(now, transport->state() == LinkState::connected);
-        if (tick.gave_up.count() > 0)
-            // Said once at info; the retries that follow are routine.
-            logger.log(tick.first_give_up ? LogLevel::info : LogLevel::debug,
-                       "no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
-                       config.register_timeout.count(), tick.gave_up.count());
-        if (tick.resend) send_registration();
-        for (const auto& ex : applications->expire(now)) application_gone(ex, fmt::format("no DTU from it for the application lease of {} ms", config.application_lease.count()));
-        if (transport->state() == LinkState::connected) fire(AdapterEvent::retry_due);
-        // Once a second (real time: the statistics are not cheap): every
-        // loss logged once per burst (drop_reporter.hpp).
-        if (const auto real = std::chrono::steady_clock::now(); real - last_drop_check >= std::chrono::seconds(1)) {
-            last_drop_check = real;
-            if (features_ready.load(std::memory_order_acquire)) drop_reporter.observe(to_json(self->stats())["drops"]);
-        }
+        housekeep_once();
         lock.lock();
         if (housekeeping_stopping) break;
-        housekeeping_wake.wait_for(lock, std::chrono::milliseconds(50));
+        housekeeping_wake.wait_for(lock, kHousekeepingPeriod);
     }
+}
+
+void Adapter::Impl::housekeep_once() {
+    const auto now = clock->now();
+    const auto tick = registration.tick(now, transport->state() == LinkState::connected);
+    if (tick.gave_up.count() > 0)
+        // Said once at info; the retries that follow are routine.
+        logger.log(tick.first_give_up ? LogLevel::info : LogLevel::debug,
+                   "no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
+                   config.register_timeout.count(), tick.gave_up.count());
+    if (tick.resend) send_registration();
+    for (const auto& ex : applications->expire(now)) application_gone(ex, fmt::format("no DTU from it for the application lease of {} ms", config.application_lease.count()));
+    if (transport->state() == LinkState::connected) fire(AdapterEvent::retry_due);
+    // Once a second (real time: the statistics are not cheap): every
+    // loss logged once per burst (drop_reporter.hpp).
+    if (const auto real = std::chrono::steady_clock::now(); real - last_drop_check >= std::chrono::seconds(1)) {
+        last_drop_check = real;
+        if (features_ready.load(std::memory_order_acquire)) drop_reporter.observe(to_json(self->stats())["drops"]);
+    }
+}
+
+void Adapter::Impl::wake_housekeeping() {
+    if (shared_threads) {
+        shared_threads->impl().timers.wake(housekeeping_entry);
+        return;
+    }
+    housekeeping_wake.notify_all();
 }
 
 void Adapter::Impl::on_register_response(const std::string& payload) {
@@ -154,7 +166,7 @@ void Adapter::Impl::on_register_response(const std::string& payload) {
                          response->status.reason.value_or("(no reason)"));
             break;
     }
-    housekeeping_wake.notify_all();
+    wake_housekeeping();
 }
 
 // 3.22: the application is offline for this adapter. Said in the log and

@@ -1,4 +1,5 @@
 #include "core/deadline_watchdog.hpp"
+#include "core/thread_name.hpp"
 
 namespace nclink::detail {
 
@@ -31,6 +32,7 @@ void DeadlineWatchdog::stop() {
 }
 
 void DeadlineWatchdog::loop() {
+    name_this_thread("nclink-deadline");
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {
         const auto now = std::chrono::steady_clock::now();

@@ -1,4 +1,5 @@
 #include "core/executor.hpp"
+#include "core/thread_name.hpp"
 
 namespace nclink::detail {
 
@@ -36,6 +37,7 @@ std::size_t Executor::queued() const {
 }
 
 void Executor::work() {
+    name_this_thread("nclink-request");
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
         wake_.wait(lock, [this] { return stopping_ || !tasks_.empty(); });

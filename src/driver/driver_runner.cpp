@@ -1,4 +1,5 @@
 #include "driver/driver_runner.hpp"
+#include "core/thread_name.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -180,14 +181,34 @@ Result<void> DriverRunner::write_locked(Driver& driver, const Queue& queue, cons
 DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger)
     : driver_(std::move(driver)), options_(options), logger_(std::move(logger)), name_(driver_->info().name) {
     const std::size_t count = driver_->info().concurrent ? std::max<std::size_t>(1, options_.concurrent_workers) : 1;
-    queue_->running_workers = count;
     queue_->concurrent = driver_->info().concurrent;
+    if (options_.pool) {
+        queue_->pool = options_.pool;
+        queue_->max_drains = count;
+        return;
+    }
+    queue_->running_workers = count;
     for (std::size_t i = 0; i < count; ++i) workers_.emplace_back([queue = queue_] { work(queue); });
 }
 
 DriverRunner::~DriverRunner() { stop(); }
 
+void DriverRunner::run_task(Queue& queue, std::function<void()>& task) {
+    if (queue.concurrent) {
+        std::shared_lock<std::shared_timed_mutex> call(queue.calls);
+        task();
+    } else {
+        yield_to_priority(queue);
+        std::unique_lock<std::shared_timed_mutex> call(queue.calls);
+        tls_exclusive_call = &call;
+        task();
+        tls_exclusive_call = nullptr;
+    }
+    task = nullptr;  // what it captured goes before the next one
+}
+
 void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
+    name_this_thread("nclink-driver");
     tls_worker_of = queue.get();
     std::unique_lock<std::mutex> lock(queue->mutex);
     for (;;) {
@@ -196,20 +217,42 @@ void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
         auto task = std::move(queue->tasks.front());
         queue->tasks.pop_front();
         lock.unlock();
-        if (queue->concurrent) {
-            std::shared_lock<std::shared_timed_mutex> call(queue->calls);
-            task();
-        } else {
-            yield_to_priority(*queue);
-            std::unique_lock<std::shared_timed_mutex> call(queue->calls);
-            tls_exclusive_call = &call;
-            task();
-            tls_exclusive_call = nullptr;
-        }
+        run_task(*queue, task);
         lock.lock();
     }
     --queue->running_workers;
     queue->exited.notify_all();
+}
+
+void DriverRunner::drain(const std::shared_ptr<Queue>& queue) {
+    // Tasks of one driver per turn before the drain goes to the back of the
+    // pool's queue: other machines' calls wait at most this many of its calls.
+    constexpr int kTurn = 8;
+    const void* const previous = tls_worker_of;
+    tls_worker_of = queue.get();
+    std::unique_lock<std::mutex> lock(queue->mutex);
+    for (int served = 0; !queue->tasks.empty(); ++served) {
+        if (served == kTurn) {
+            lock.unlock();
+            if (queue->pool->post([queue] { drain(queue); })) {
+                tls_worker_of = previous;
+                return;  // still counted in running_workers: the re-posted drain goes on
+            }
+            lock.lock();  // the pool is stopping: finish here
+            served = 0;
+            if (queue->tasks.empty()) break;
+        }
+        auto task = std::move(queue->tasks.front());
+        queue->tasks.pop_front();
+        lock.unlock();
+        run_task(*queue, task);
+        lock.lock();
+    }
+    // Still under the lock that saw the queue empty: a post() after this
+    // sees no drain running and starts one.
+    --queue->running_workers;
+    queue->exited.notify_all();
+    tls_worker_of = previous;
 }
 
 void DriverRunner::yield_to_priority(const Queue& queue) {
@@ -225,12 +268,27 @@ void DriverRunner::count_timeout() {
 }
 
 bool DriverRunner::post(std::function<void(Driver&)> task) {
+    bool start_drain = false;
     {
         std::lock_guard<std::mutex> lock(queue_->mutex);
         if (queue_->stopping) return false;
         queue_->tasks.emplace_back([driver = driver_, task = std::move(task)] { task(*driver); });
+        if (queue_->pool && queue_->running_workers < queue_->max_drains) {
+            ++queue_->running_workers;
+            start_drain = true;
+        }
     }
-    queue_->wake.notify_one();
+    if (!queue_->pool) {
+        queue_->wake.notify_one();
+        return true;
+    }
+    if (start_drain && !queue_->pool->post([queue = queue_] { drain(queue); })) {
+        std::lock_guard<std::mutex> lock(queue_->mutex);
+        queue_->tasks.pop_back();
+        --queue_->running_workers;
+        queue_->exited.notify_all();
+        return false;
+    }
     return true;
 }
 

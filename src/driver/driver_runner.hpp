@@ -17,6 +17,7 @@
 //   out when they plan.
 #pragma once
 
+#include "core/worker_pool.hpp"
 #include "driver/point_table.hpp"
 
 #include <nclink/driver.hpp>
@@ -39,6 +40,11 @@ public:
     struct Options {
         std::chrono::milliseconds call_timeout{1000};
         std::size_t concurrent_workers = 2;  ///< used only when the driver is concurrent
+        /// Gateway mode (include/nclink/shared_threads.hpp): run the calls on
+        /// this shared pool instead of the runner's own worker(s), still one
+        /// at a time (or concurrent_workers at a time for a concurrent
+        /// driver). Must outlive stop().
+        WorkerPool* pool = nullptr;
     };
 
     DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger);
@@ -114,7 +120,9 @@ private:
         std::condition_variable exited;
         std::deque<std::function<void()>> tasks;
         bool stopping = false;
-        std::size_t running_workers = 0;
+        std::size_t running_workers = 0;  // own workers alive; on a pool: drains posted or running
+        WorkerPool* pool = nullptr;
+        std::size_t max_drains = 1;       // on a pool: drains at once
         // Serializes driver calls between the workers and read_direct():
         // exclusive per call for a serialized driver, shared for a concurrent
         // one; stop() takes it exclusively before close().
@@ -135,6 +143,11 @@ private:
         std::uint64_t generations = 0;
     };
     static void work(const std::shared_ptr<Queue>& queue);
+    /// On a pool: runs the queue's tasks until it is empty (re-posting
+    /// itself now and then, so one busy driver shares the pool's threads).
+    static void drain(const std::shared_ptr<Queue>& queue);
+    /// One task under the calls lock (shared for a concurrent driver).
+    static void run_task(Queue& queue, std::function<void()>& task);
     // The bodies of the calls, run under the calls lock (see the top).
     static void read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
                             std::uint64_t generation, std::vector<Result<Json>>& results);

@@ -1,4 +1,5 @@
 #include "events/events_service.hpp"
+#include "core/thread_name.hpp"
 
 #include "events/event_engine.hpp"
 #include "events/value_inbox.hpp"
@@ -42,7 +43,10 @@ public:
     }
 
     Result<void> start() override {
-        thread_ = std::thread([this] { run(); });
+        thread_ = std::thread([this] {
+            name_this_thread("nclink-events");
+            run();
+        });
         return ok_result();
     }
 

@@ -17,6 +17,7 @@
 // - stats(): any thread.
 #pragma once
 
+#include "core/poll_host.hpp"
 #include "driver/driver_runner.hpp"
 #include "feature/model_state.hpp"
 #include "feature/sample_tap.hpp"
@@ -59,6 +60,9 @@ struct FeatureHost {
     const MethodsConfig& methods;
     const std::string& persistence_dir;   ///< "" = nothing persisted
     std::chrono::milliseconds driver_timeout;
+    /// Gateway mode: shared timer threads for periodic work (the sampling
+    /// scheduler and uploader); null: each feature runs its own threads.
+    PollHost* timers = nullptr;
 };
 
 class Feature {

@@ -16,10 +16,23 @@
 
 namespace nclink {
 
+namespace {
+SharedThreadsOptions shared_options(const GatewayConfig& config) {
+    SharedThreadsOptions o;
+    o.timer_threads = config.timer_threads;
+    o.request_threads = config.request_threads;
+    o.driver_threads = config.driver_threads;
+    return o;
+}
+}  // namespace
+
 struct NCLINK_LOCAL Gateway::Impl {
     GatewayConfig config;
     MachineDriverFactory drivers;
     Logger logger;
+    // Every machine takes its timers, request workers and deadline watchdog
+    // from these (shared_threads.hpp): a fixed set for the process.
+    std::shared_ptr<SharedThreads> threads;
 
     mutable std::mutex mutex;
     std::map<std::string, std::shared_ptr<Adapter>> running;  // by machine id
@@ -29,7 +42,10 @@ struct NCLINK_LOCAL Gateway::Impl {
     bool stopped = false;
 
     Impl(GatewayConfig c, MachineDriverFactory d, Logger l)
-        : config(std::move(c)), drivers(std::move(d)), logger(std::move(l)) {}
+        : config(std::move(c)),
+          drivers(std::move(d)),
+          logger(std::move(l)),
+          threads(std::make_shared<SharedThreads>(shared_options(config))) {}
 
     Result<void> add(MachineConfig machine) {
         const std::string id = machine.id;
@@ -68,6 +84,7 @@ struct NCLINK_LOCAL Gateway::Impl {
             driver = std::move(made).value();
         }
         auto adapter = std::make_shared<Adapter>(machine.adapter, std::move(driver), logger);
+        adapter->use_shared_threads(threads);
         if (auto r = adapter->start(); !r) {
             adapter->stop(std::chrono::milliseconds(0));
             release(guid);

@@ -70,6 +70,9 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
         c.defaults = *defaults;
     }
     NCLINK_TRY(top.count("start_threads", c.start_threads));
+    NCLINK_TRY(top.count("timer_threads", c.timer_threads));
+    NCLINK_TRY(top.count("request_threads", c.request_threads));
+    NCLINK_TRY(top.count("driver_threads", c.driver_threads));
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
     const Json* machines = top.object("machines");
     NCLINK_TRY(top.no_unknown_keys());

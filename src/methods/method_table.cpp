@@ -1,4 +1,5 @@
 #include "methods/method_table.hpp"
+#include "core/thread_name.hpp"
 #include "protocol/driver_failure.hpp"
 
 #include <fmt/format.h>
@@ -55,6 +56,7 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, co
     entry.next_status = clock_->now() + config_.status_period;
     ++active_;
     ++accepted_;
+    wake_.notify_all();    // an idle ticker has a run to watch now
     publish_status(*run);  // "waiting": the call is accepted (8.2.22.3)
     try {
         entry.thread = std::thread([self = shared_from_this(), run, method, driver = std::move(driver)] {
@@ -185,7 +187,11 @@ void MethodTable::answer(const ParsedTopic& request, const Json& reply) {
 
 void MethodTable::start_ticker() {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!ticker_.joinable()) ticker_ = std::thread([this] { ticker(); });
+    if (!ticker_.joinable())
+        ticker_ = std::thread([this] {
+            name_this_thread("nclink-methods");
+            ticker();
+        });
 }
 
 void MethodTable::ticker() {
@@ -215,7 +221,13 @@ void MethodTable::ticker() {
             lock.lock();
             continue;
         }
-        wake_.wait_for(lock, kTickerPoll);
+        // Idle (no run under way): sleep until start() or shutdown() wakes
+        // it, so a gateway of many idle machines costs no wake-ups. With runs,
+        // poll the injected clock (tests drive it by hand).
+        if (entries_.empty())
+            wake_.wait(lock, [this] { return ticker_stop_ || !entries_.empty(); });
+        else
+            wake_.wait_for(lock, kTickerPoll);
     }
 }
 

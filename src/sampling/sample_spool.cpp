@@ -1,4 +1,5 @@
 #include "sampling/sample_spool.hpp"
+#include "core/thread_name.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -90,7 +91,10 @@ Result<void> SampleSpool::start() {
         }
     }
     link_up_ = transport_.state() == LinkState::connected;
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this] {
+        name_this_thread("nclink-spool");
+        run();
+    });
     return ok_result();
 }
 

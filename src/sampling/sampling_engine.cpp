@@ -1,4 +1,5 @@
 #include "sampling/sampling_engine.hpp"
+#include "core/thread_name.hpp"
 
 #include "sampling/channel_core.hpp"
 #include "sampling/engine_shared.hpp"
@@ -37,8 +38,40 @@ const std::string& PushChannel::id() const noexcept { return core_ ? core_->spec
 
 namespace nclink::detail {
 
+namespace {
+
+// On shared timer threads the engine's wake-ups (a channel added or removed,
+// a removed channel's last rows sampled) make its two pollables due now.
+class HostWaker final : public Sleeper {
+public:
+    explicit HostWaker(PollHost& host) : host_(host) {}
+    void sleep_until(Clock::Steady, std::uint64_t) override {}  // the host waits, never the engine
+    void wake() override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        host_.wake(sampler_);
+        host_.wake(uploader_);
+    }
+    void set(PollHost::Handle sampler, PollHost::Handle uploader) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        sampler_ = std::move(sampler);
+        uploader_ = std::move(uploader);
+    }
+
+private:
+    PollHost& host_;
+    std::mutex mutex_;
+    PollHost::Handle sampler_, uploader_;
+};
+
+}  // namespace
+
 struct SamplingEngine::State {
-    explicit State(EngineDeps deps) : shared(std::move(deps)), scheduler(shared), uploader(shared) {}
+    explicit State(EngineDeps deps) : shared(std::move(deps)), scheduler(shared), uploader(shared) {
+        if (shared.deps.timers) {
+            waker = std::make_shared<HostWaker>(*shared.deps.timers);
+            shared.deps.sleeper = waker;
+        }
+    }
 
     EngineShared shared;
     Scheduler scheduler;
@@ -50,6 +83,40 @@ struct SamplingEngine::State {
     std::atomic<bool> stop_uploader{false};
     std::thread sampler_thread;
     std::thread uploader_thread;
+    // gateway mode: the pollables on the shared timer threads instead
+    std::shared_ptr<HostWaker> waker;
+    PollHost::Handle sampler_entry, uploader_entry;
+
+    // Safety net of the shared mode: a pollable is looked at at least once
+    // a second even if a wake-up were missed (the own threads wait at most
+    // Sleeper::max_wait(), 20 ms, because clock_nanosleep cannot be woken).
+    static Clock::Steady capped(Clock::Steady next) {
+        return std::min(next, std::chrono::steady_clock::now() + std::chrono::seconds(1));
+    }
+
+    void start_on_host() {
+        const auto& config = shared.deps.config;
+        RealtimeStatus rt;
+        rt.fifo_priority = config.rt_priority;
+        rt.timer_slack_ns = config.timer_slack_ns;
+        rt.cpu = config.cpu;
+        if (config.rt_priority > 0 || config.timer_slack_ns > 0 || config.cpu >= 0)
+            shared.deps.logger.warn("sampling: the real-time options are not applied on shared timer threads (gateway mode)");
+        {
+            std::lock_guard<std::mutex> lock(shared.mutex);
+            shared.realtime = rt;
+        }
+        PollHost& host = *shared.deps.timers;
+        sampler_entry = host.add([this](PollHost::Time) {
+            if (stop_sampler.load(std::memory_order_acquire)) return PollHost::Time::max();
+            return capped(scheduler.poll());
+        });
+        uploader_entry = host.add([this](PollHost::Time) {
+            if (stop_uploader.load(std::memory_order_acquire)) return PollHost::Time::max();
+            return capped(uploader.poll(false));
+        });
+        waker->set(sampler_entry, uploader_entry);
+    }
 
     void sample_loop() {
         RealtimeStatus rt = apply_realtime(shared.deps.config, shared.deps.logger);
@@ -164,9 +231,19 @@ void SamplingEngine::start() {
     state_->stop_sampler = false;
     state_->stop_uploader = false;
     state_->running = true;
+    if (shared.deps.timers) {
+        state_->start_on_host();
+        return;
+    }
     auto* state = state_.get();
-    state_->sampler_thread = std::thread([state] { state->sample_loop(); });
-    state_->uploader_thread = std::thread([state] { state->upload_loop(); });
+    state_->sampler_thread = std::thread([state] {
+        name_this_thread("nclink-sampler");
+        state->sample_loop();
+    });
+    state_->uploader_thread = std::thread([state] {
+        name_this_thread("nclink-upload");
+        state->upload_loop();
+    });
 }
 
 void SamplingEngine::stop() {
@@ -174,8 +251,12 @@ void SamplingEngine::stop() {
     if (!state_->running) return;
     auto& shared = state_->shared;
     state_->stop_sampler = true;
-    shared.deps.sleeper->wake();
-    state_->sampler_thread.join();
+    if (shared.deps.timers) {
+        shared.deps.timers->remove(state_->sampler_entry);  // returns when no poll of it runs
+    } else {
+        shared.deps.sleeper->wake();
+        state_->sampler_thread.join();
+    }
     {
         std::lock_guard<std::mutex> lock(shared.mutex);
         shared.sampler_running = false;
@@ -183,8 +264,14 @@ void SamplingEngine::stop() {
     }
     state_->scheduler.reset();  // the timelines restart at the next start()
     state_->stop_uploader = true;
-    shared.deps.sleeper->wake();
-    state_->uploader_thread.join();
+    if (shared.deps.timers) {
+        shared.deps.timers->remove(state_->uploader_entry);
+        state_->waker->set(nullptr, nullptr);
+        state_->uploader.poll(true);  // what every ring holds goes out (on the stopping thread: no poll runs now)
+    } else {
+        shared.deps.sleeper->wake();
+        state_->uploader_thread.join();
+    }
     state_->running = false;
 }
 

@@ -21,6 +21,7 @@
 #include "feature/model_state.hpp"
 #include "feature/sample_tap.hpp"
 #include "feature/value_guard.hpp"
+#include "core/poll_host.hpp"
 #include "driver/driver_runner.hpp"
 #include "sampling/sleeper.hpp"
 
@@ -73,6 +74,12 @@ struct EngineDeps {
     /// every tick (served or missed) with how late (ns) the pass that produced
     /// its row started after the tick's deadline. Must be quick.
     std::function<void(const std::string& channel, std::int64_t late_ns)> tick_observer;
+    /// Optional (gateway mode, include/nclink/shared_threads.hpp): run the
+    /// scheduler and the uploader on these shared threads instead of two of
+    /// the engine's own. Only with a SystemClock (the host waits on real
+    /// time); `sleeper` is then unused and the real-time options are not
+    /// applied (logged).
+    PollHost* timers = nullptr;
 };
 
 class Scheduler;
@@ -93,7 +100,8 @@ public:
     /// Thread-safe.
     std::vector<ChannelStats> stats() const;
 
-    /// Starts the sampling and uploader threads (idempotent).
+    /// Starts the sampling and uploader threads, or adds both to
+    /// EngineDeps::timers (idempotent).
     void start();
     /// Stops producing, publishes what every ring holds, joins both threads.
     /// Idempotent. Channels stay registered (start() resumes them).

@@ -30,6 +30,8 @@ SamplingService::SamplingService(FeatureHost& host) : host_(host) {
     deps.model = [this] { return host_.model.current(); };
     deps.clock = host_.clock;
     deps.sleeper = sleeper_for(host_.clock);
+    // Shared timer threads wait on real time: only for a real clock.
+    if (dynamic_cast<const SystemClock*>(host_.clock.get()) != nullptr) deps.timers = host_.timers;
     deps.logger = host_.logger;
     deps.config = host_.sampling;
     deps.dev = host_.dev;

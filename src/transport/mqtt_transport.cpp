@@ -1,6 +1,7 @@
 #include <nclink/mqtt_transport.hpp>
 
 #include "transport/outbox.hpp"
+#include "core/thread_name.hpp"
 #include "transport/tcp_nodelay.hpp"
 #include "transport/tls_check.hpp"
 
@@ -47,7 +48,10 @@ public:
         client_.set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
         client_.set_connected_handler([this](const std::string&) { on_connected(); });
         client_.set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
-        supervisor_ = std::thread([this] { supervise(); });
+        supervisor_ = std::thread([this] {
+            detail::name_this_thread("nclink-mqtt");
+            supervise();
+        });
         return ok_result();
     }
 

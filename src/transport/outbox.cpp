@@ -1,4 +1,5 @@
 #include "transport/outbox.hpp"
+#include "core/thread_name.hpp"
 
 #include <algorithm>
 
@@ -6,7 +7,10 @@ namespace nclink::detail {
 
 Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger)
     : limits_(limits), send_(std::move(send)), logger_(std::move(logger)), window_(limits.max_in_flight) {
-    thread_ = std::thread([this] { run(); });
+    thread_ = std::thread([this] {
+        name_this_thread("nclink-outbox");
+        run();
+    });
 }
 
 Outbox::~Outbox() { stop(); }

@@ -12,6 +12,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+#include <set>
+
 using namespace nclink;
 using namespace nclink::test;
 using namespace std::chrono_literals;
@@ -167,4 +170,62 @@ TEST_CASE("gateway reload: removed, added, a changed machine restarted alone, a 
     CHECK(quiet.restarted.empty());
     CHECK(quiet.applied.empty());
     gateway.stop();
+}
+
+namespace {
+std::size_t threads_in_process() {
+    std::size_t n = 0;
+    for (const auto& e : std::filesystem::directory_iterator("/proc/self/task")) {
+        (void)e;
+        ++n;
+    }
+    return n;
+}
+}  // namespace
+
+TEST_CASE("gateway: machines share the timer, request and driver threads, and each still samples") {
+    MosquittoBroker broker;
+    GatewayConfig config;
+    config.timer_threads = 2;
+    config.request_threads = 2;
+    config.driver_threads = 2;
+    constexpr int kMachines = 20;
+    for (int i = 0; i < kMachines; ++i) config.machines.push_back(machine(broker, i));
+    const std::size_t before = threads_in_process();
+    Gateway gateway(config, fake_drivers());
+    REQUIRE(gateway.start().ok());
+    REQUIRE(eventually([&] {
+        for (const auto& m : gateway.machines())
+            if (m.state != AdapterState::normal) return false;
+        return true;
+    }, 60s));
+    // Shared: 2 timer + 2 request + 2 driver threads + the watchdog. Each
+    // machine adds its connection's supervisor and sender, its events engine,
+    // its method ticker and its sample spool, which all sleep while idle.
+    // With threads of their own it was 12 each.
+    const std::size_t added = threads_in_process() - before;
+    INFO("threads added by the gateway: " << added);
+    CHECK(added <= 7 + 5 * kMachines + 2);  // + paho's two library threads
+
+    // Every machine's channel delivers Sample DTUs, sampled on the shared timers.
+    MqttOptions o;
+    o.broker_url = broker.url();
+    o.client_id = "gw-samples";
+    auto watcher = make_mqtt_transport(o).value();
+    Inbox inbox;
+    inbox.attach(*watcher);
+    REQUIRE(watcher->subscribe({"Sample/+/ch1"}, 0).ok());
+    REQUIRE(watcher->start().ok());
+    REQUIRE(eventually([&] {
+        std::set<std::string> seen;
+        std::lock_guard<std::mutex> lock(inbox.mutex);
+        for (const auto& m : inbox.messages)
+            if (auto d = decode<SampleDtu>(m.payload)) seen.insert(d->guid);
+        return seen.size() == kMachines;
+    }, 30s));
+    // Requests and driver calls of every machine on the shared workers.
+    auto client = started_client(broker.url(), "gw-app-shared", 10s);
+    for (int i = 0; i < kMachines; ++i) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));
+    gateway.stop();
+    watcher->stop();
 }

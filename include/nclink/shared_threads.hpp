@@ -1,0 +1,66 @@
+// Threads that several adapters in one process share (gateway mode,
+// docs/gateway.md "Threads"). Without it every adapter starts its own
+// sampling scheduler, uploader, housekeeping, request workers, driver worker
+// and deadline watchdog; with it they take that work from a fixed set of threads sized to
+// the box, so a process serving 1,000 machines does not run thousands of
+// mostly idle threads that each wake up on their own.
+//
+//   auto threads = std::make_shared<nclink::SharedThreads>();
+//   nclink::Adapter a(config_a, driver_a, logger, threads);
+//   nclink::Adapter b(config_b, driver_b, logger, threads);
+//
+// What stays per adapter: its MQTT connection (the terminal's own last will)
+// with its supervisor and publishing thread, the events engine, the method
+// status ticker and method runs. A single adapter is better off without SharedThreads: its sampling
+// thread then sleeps in clock_nanosleep on absolute deadlines and may run at
+// real-time priority (docs/sampling.md); shared timer threads wait on a
+// condition variable, which is precise to tens of microseconds, enough for
+// the 10 ms .. 1 s channels of a gateway.
+//
+// Threading: thread-safe; must outlive every adapter using it.
+#pragma once
+
+#include <nclink/export.hpp>
+
+#include <cstddef>
+#include <memory>
+
+namespace nclink {
+
+struct NCLINK_API SharedThreadsOptions {
+    /// Threads running every adapter's sampling scheduler, uploader and
+    /// housekeeping at their deadlines. 0 = the box's cores (at least 2).
+    std::size_t timer_threads = 0;
+    /// Threads handling requests (Query, Set, Probe, ...) of every adapter.
+    /// 0 = the box's cores (at least 2).
+    std::size_t request_threads = 0;
+    /// Threads calling every adapter's driver (Query reads, Set writes,
+    /// bind): calls into one driver stay serialized unless the driver is
+    /// concurrent. 0 = the box's cores (at least 2). A call still inside
+    /// its driver after `driver_stuck_ms` no longer counts: the pool starts
+    /// another thread, so one stuck driver never holds up the others.
+    std::size_t driver_threads = 0;
+    std::size_t driver_stuck_ms = 1000;
+};
+
+class NCLINK_API SharedThreads {
+public:
+    explicit SharedThreads(SharedThreadsOptions options = {});
+    ~SharedThreads();
+    SharedThreads(const SharedThreads&) = delete;
+    SharedThreads& operator=(const SharedThreads&) = delete;
+
+    std::size_t timer_threads() const;
+    std::size_t request_threads() const;
+    /// Driver threads now: driver_threads plus replacements of stuck ones.
+    std::size_t driver_threads() const;
+
+    struct Impl;
+    /// The SDK's own access (not part of the API).
+    Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nclink

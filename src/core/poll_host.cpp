@@ -1,0 +1,134 @@
+#include "core/poll_host.hpp"
+#include "core/thread_name.hpp"
+
+#include <pthread.h>
+
+namespace nclink::detail {
+
+struct PollHost::Entry {
+    Poll poll;
+    // All under the host's mutex:
+    std::uint64_t generation = 0;  // bumped on every (re)schedule: older heap items are stale
+    bool running = false;
+    bool woken = false;            // wake() while running: poll again at once
+    bool removed = false;
+    std::thread::id runner;        // the thread running the poll, while `running`
+};
+
+PollHost::PollHost(std::size_t threads, std::string name) : name_(std::move(name)) {
+    if (threads == 0) threads = 1;
+    for (std::size_t i = 0; i < threads; ++i) threads_.emplace_back([this, i] { work(i); });
+}
+
+PollHost::~PollHost() { stop(); }
+
+void PollHost::schedule_locked(const Handle& entry, Time at) {
+    ++entry->generation;
+    const bool earlier = due_.empty() || at < due_.top().at;
+    due_.push(Due{at, entry->generation, entry});
+    if (earlier) wake_.notify_one();
+}
+
+PollHost::Handle PollHost::add(Poll poll) {
+    auto entry = std::make_shared<Entry>();
+    entry->poll = std::move(poll);
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++entries_;
+    schedule_locked(entry, std::chrono::steady_clock::now());
+    return entry;
+}
+
+void PollHost::wake(const Handle& entry) {
+    if (!entry) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (entry->removed) return;
+    if (entry->running) {
+        entry->woken = true;
+        return;
+    }
+    schedule_locked(entry, std::chrono::steady_clock::now());
+}
+
+void PollHost::remove(const Handle& entry) {
+    if (!entry) return;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!entry->removed) {
+        entry->removed = true;
+        ++entry->generation;  // its heap items are stale now
+        --entries_;
+    }
+    if (entry->running && entry->runner == std::this_thread::get_id()) return;  // from inside its own poll
+    finished_.wait(lock, [&] { return !entry->running; });
+}
+
+void PollHost::stop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : threads_)
+        if (t.joinable() && t.get_id() != std::this_thread::get_id()) t.join();
+    threads_.clear();
+    std::lock_guard<std::mutex> lock(mutex_);
+    due_ = {};
+}
+
+std::size_t PollHost::size() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return entries_;
+}
+
+std::uint64_t PollHost::polls() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return polls_;
+}
+
+void PollHost::work(std::size_t index) {
+    name_this_thread(name_ + "-" + std::to_string(index));
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+        if (due_.empty()) {
+            wake_.wait(lock);
+            continue;
+        }
+        const Due top = due_.top();
+        if (top.generation != top.entry->generation || top.entry->removed || top.entry->running) {
+            // Stale (rescheduled, removed) or another thread runs it: that
+            // thread schedules it again when done.
+            due_.pop();
+            continue;
+        }
+        const auto now = std::chrono::steady_clock::now();
+        if (top.at > now) {
+            wake_.wait_until(lock, top.at);  // an earlier item, or stop, notifies
+            continue;
+        }
+        due_.pop();
+        const Handle entry = top.entry;
+        entry->running = true;
+        entry->woken = false;
+        entry->runner = std::this_thread::get_id();
+        ++polls_;
+        // Another thread may take the next due item while this one polls.
+        if (!due_.empty()) wake_.notify_one();
+        lock.unlock();
+        Time next;
+        try {
+            next = entry->poll(now);
+        } catch (...) {
+            next = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+        }
+        lock.lock();
+        entry->running = false;
+        entry->runner = {};
+        if (entry->removed) {
+            finished_.notify_all();
+            continue;
+        }
+        if (entry->woken) next = std::chrono::steady_clock::now();
+        if (next != Time::max()) schedule_locked(entry, next);
+    }
+}
+
+}  // namespace nclink::detail

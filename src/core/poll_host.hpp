@@ -1,0 +1,83 @@
+// A few threads that serve many pieces of periodic work ("pollables") at the
+// deadlines the work itself names. Gateway mode (docs/gateway.md, "Threads")
+// puts every machine's sampling scheduler, uploader and housekeeping on one
+// host, so a process with N machines runs a fixed number of such threads
+// instead of several per machine, and an idle machine costs no wake-ups
+// between its deadlines.
+//
+// Contract:
+// - add() schedules the first poll at once; a poll returns the steady time
+//   of its next one (time_point::max(): only when woken).
+// - One pollable never runs on two threads at once; different pollables run
+//   in parallel on different threads. Whichever thread is free takes the
+//   earliest due pollable.
+// - wake() makes a pollable due now (also while it runs: it runs again right
+//   after). Thread-safe, cheap, never blocks on a running poll.
+// - remove() returns once the pollable is not running and never will again
+//   (called from inside its own poll, it returns at once and the poll is not
+//   run again). Thread-safe.
+// - A poll must not throw (a throw is swallowed and it is polled again in
+//   one second, so one broken pollable cannot stop the host).
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <queue>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink::detail {
+
+class PollHost {
+public:
+    using Time = std::chrono::steady_clock::time_point;
+    using Poll = std::function<Time(Time now)>;
+    struct Entry;
+    using Handle = std::shared_ptr<Entry>;
+
+    /// `threads` (at least 1) serving threads; `name` shows in `top -H`.
+    PollHost(std::size_t threads, std::string name);
+    ~PollHost();  ///< stop()s
+    PollHost(const PollHost&) = delete;
+    PollHost& operator=(const PollHost&) = delete;
+
+    Handle add(Poll poll);
+    void wake(const Handle& handle);
+    void remove(const Handle& handle);
+    /// Joins the threads; pollables still added are not polled again. Idempotent.
+    void stop();
+
+    std::size_t threads() const { return threads_.size(); }
+    /// Pollables added and not removed.
+    std::size_t size() const;
+    /// Polls run so far (for benchmarks).
+    std::uint64_t polls() const;
+
+private:
+    struct Due {
+        Time at;
+        std::uint64_t generation;
+        Handle entry;
+        bool operator>(const Due& other) const { return at > other.at; }
+    };
+    void work(std::size_t index);
+    void schedule_locked(const Handle& entry, Time at);
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;       // serving threads: earlier work, or stop
+    std::condition_variable finished_;   // remove(): a poll finished
+    std::priority_queue<Due, std::vector<Due>, std::greater<Due>> due_;
+    std::size_t entries_ = 0;
+    std::uint64_t polls_ = 0;
+    bool stopping_ = false;
+    const std::string name_;
+    std::vector<std::thread> threads_;
+};
+
+}  // namespace nclink::detail

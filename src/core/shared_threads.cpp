@@ -1,0 +1,34 @@
+#include "core/shared_threads_impl.hpp"
+
+#include <algorithm>
+#include <thread>
+
+namespace nclink {
+
+namespace {
+std::size_t sized_to_box(std::size_t asked) {
+    if (asked > 0) return asked;
+    return std::max<std::size_t>(2, std::thread::hardware_concurrency());
+}
+}  // namespace
+
+SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
+    : timers(sized_to_box(options.timer_threads), "nclink-timer"),
+      requests(std::make_shared<detail::Executor>(sized_to_box(options.request_threads))),
+      drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
+      request_threads(sized_to_box(options.request_threads)) {}
+
+SharedThreads::SharedThreads(SharedThreadsOptions options) : impl_(std::make_unique<Impl>(options)) {}
+
+SharedThreads::~SharedThreads() {
+    impl_->timers.stop();
+    impl_->watchdog.stop();
+    impl_->requests->stop();
+    impl_->drivers.stop();
+}
+
+std::size_t SharedThreads::timer_threads() const { return impl_->timers.threads(); }
+std::size_t SharedThreads::request_threads() const { return impl_->request_threads; }
+std::size_t SharedThreads::driver_threads() const { return impl_->drivers.threads(); }
+
+}  // namespace nclink

@@ -1,0 +1,162 @@
+#include "core/poll_host.hpp"
+#include "support/wait.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+using namespace nclink::detail;
+using nclink::test::eventually;
+using namespace std::chrono_literals;
+using Time = PollHost::Time;
+
+TEST_CASE("a pollable runs at once, then at the deadline it names, never before") {
+    PollHost host(2, "t-host");
+    std::mutex mutex;
+    std::vector<Time> polled, asked;
+    auto entry = host.add([&](Time now) {
+        std::lock_guard<std::mutex> lock(mutex);
+        polled.push_back(std::chrono::steady_clock::now());
+        const Time next = now + 20ms;
+        asked.push_back(next);
+        return polled.size() < 4 ? next : Time::max();
+    });
+    REQUIRE(eventually([&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return polled.size() == 4;
+    }));
+    std::this_thread::sleep_for(60ms);  // Time::max(): not polled again
+    std::lock_guard<std::mutex> lock(mutex);
+    REQUIRE(polled.size() == 4);
+    for (std::size_t i = 1; i < polled.size(); ++i) CHECK(polled[i] >= asked[i - 1]);
+    host.remove(entry);
+}
+
+TEST_CASE("many pollables share few threads, each on its own period") {
+    PollHost host(2, "t-host");
+    REQUIRE(host.threads() == 2);
+    constexpr int kEntries = 300;
+    std::vector<std::atomic<int>> counts(kEntries);
+    std::vector<PollHost::Handle> entries;
+    for (int i = 0; i < kEntries; ++i)
+        entries.push_back(host.add([&counts, i](Time now) {
+            ++counts[i];
+            return now + std::chrono::milliseconds(5 + i % 7);
+        }));
+    CHECK(host.size() == kEntries);
+    REQUIRE(eventually([&] {
+        for (auto& c : counts)
+            if (c.load() < 5) return false;
+        return true;
+    }));
+    for (auto& e : entries) host.remove(e);
+    CHECK(host.size() == 0);
+    std::vector<int> after;
+    for (auto& c : counts) after.push_back(c.load());
+    std::this_thread::sleep_for(30ms);
+    for (int i = 0; i < kEntries; ++i) CHECK(counts[i].load() == after[i]);  // removed: never polled again
+}
+
+TEST_CASE("one pollable never runs on two threads at once, however often it is woken") {
+    PollHost host(4, "t-host");
+    std::atomic<int> inside{0}, overlaps{0}, polls{0};
+    auto entry = host.add([&](Time now) {
+        if (++inside > 1) ++overlaps;
+        std::this_thread::sleep_for(200us);
+        --inside;
+        ++polls;
+        return now + 1ms;
+    });
+    std::vector<std::thread> wakers;
+    std::atomic<bool> stop{false};
+    for (int i = 0; i < 3; ++i)
+        wakers.emplace_back([&] {
+            while (!stop) host.wake(entry);
+        });
+    REQUIRE(eventually([&] { return polls.load() >= 200; }));
+    stop = true;
+    for (auto& t : wakers) t.join();
+    host.remove(entry);
+    CHECK(overlaps == 0);
+}
+
+TEST_CASE("wake() runs a sleeping pollable now, and again after a poll it interrupted") {
+    PollHost host(2, "t-host");
+    std::atomic<int> polls{0};
+    std::atomic<bool> hold{false}, holding{false};
+    auto entry = host.add([&](Time) {
+        ++polls;
+        if (hold.exchange(false)) {
+            holding = true;
+            std::this_thread::sleep_for(30ms);
+            holding = false;
+        }
+        return Time::max();  // only when woken
+    });
+    REQUIRE(eventually([&] { return polls == 1; }));
+    std::this_thread::sleep_for(20ms);
+    CHECK(polls == 1);
+    hold = true;
+    host.wake(entry);
+    REQUIRE(eventually([&] { return holding.load(); }));
+    host.wake(entry);  // while it runs: once more right after
+    REQUIRE(eventually([&] { return polls == 3; }));
+    std::this_thread::sleep_for(20ms);
+    CHECK(polls == 3);
+    host.remove(entry);
+}
+
+TEST_CASE("remove() waits for a running poll, from inside the poll it returns at once") {
+    PollHost host(2, "t-host");
+    SECTION("from another thread") {
+        std::atomic<bool> started{false}, finished{false};
+        auto entry = host.add([&](Time now) {
+            started = true;
+            std::this_thread::sleep_for(50ms);
+            finished = true;
+            return now;
+        });
+        REQUIRE(eventually([&] { return started.load(); }));
+        host.remove(entry);
+        CHECK(finished);
+    }
+    SECTION("from its own poll") {
+        std::atomic<int> polls{0};
+        PollHost::Handle entry;
+        std::mutex mutex;
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            entry = host.add([&](Time now) {
+                ++polls;
+                std::lock_guard<std::mutex> inner(mutex);
+                host.remove(entry);
+                return now;  // asks to run again: removed, so it does not
+            });
+        }
+        REQUIRE(eventually([&] { return polls == 1; }));
+        std::this_thread::sleep_for(20ms);
+        CHECK(polls == 1);
+        CHECK(host.size() == 0);
+    }
+}
+
+TEST_CASE("a throwing pollable does not stop the others") {
+    PollHost host(1, "t-host");
+    std::atomic<int> throws{0}, good{0};
+    auto bad = host.add([&](Time) -> Time {
+        ++throws;
+        throw std::runtime_error("broken");
+    });
+    auto fine = host.add([&](Time now) {
+        ++good;
+        return now + 1ms;
+    });
+    REQUIRE(eventually([&] { return good >= 20; }));
+    CHECK(throws >= 1);  // polled again a second later, meanwhile the other runs
+    host.remove(bad);
+    host.remove(fine);
+}
