@@ -93,7 +93,10 @@ Result<void> Adapter::Impl::start() {
     transport->set_message_handler([this](const Message& m) { on_message(m); });
     transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
     auto subscriptions = topics::adapter_subscriptions(dev);
-    subscriptions.push_back(topics::notify_state("+"));  // applications going offline (8.2.18.3)
+    // Applications going offline (8.2.18.3): each application's Notify/State
+    // is subscribed when it first sends a DTU (adapter_link.cpp), not
+    // Notify/State/+: that would bring every terminal's retained state to
+    // every adapter, N x N messages when a plant of N terminals (re)connects.
     if (auto subscribed = transport->subscribe(subscriptions, 1); !subscribed) return subscribed;
     if (auto made = make_features(); !made) return made;
     fire(AdapterEvent::initialized);
@@ -101,7 +104,7 @@ Result<void> Adapter::Impl::start() {
     if (shared_threads)
         housekeeping_entry = shared_threads->impl().timers.add([this](detail::PollHost::Time now) {
             housekeep_once();
-            return now + kHousekeepingPeriod;
+            return now + kSharedHousekeepingPeriod;
         });
     else
         housekeeping = std::thread([this] {

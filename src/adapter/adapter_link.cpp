@@ -92,7 +92,11 @@ std::string Adapter::Impl::next_msg_id() { return msg_id_prefix + std::to_string
 
 void Adapter::Impl::send_registration() {
     RegisterRequest request;
-    const std::string id = next_msg_id();
+    // One @id for every Register/Request of this run: a retry, or a request
+    // sent again after a reconnect the broker had in fact accepted, is the
+    // same request (8.3.6), which an agent answers OK instead of refusing it
+    // as a second live registration of the id (docs/agent.md).
+    const std::string id = msg_id_prefix + "register";
     request.msg_id = Json(id);
     request.cli_uuid = dev;
     registration.sent(id, clock->now());
@@ -137,7 +141,10 @@ void Adapter::Impl::housekeep_once() {
                    "no Register/Response from an agent within {} ms; serving anyway, retrying in {} ms",
                    config.register_timeout.count(), tick.gave_up.count());
     if (tick.resend) send_registration();
-    for (const auto& ex : applications->expire(now)) application_gone(ex, fmt::format("no DTU from it for the application lease of {} ms", config.application_lease.count()));
+    for (const auto& ex : applications->expire(now)) {
+        (void)transport->unsubscribe({topics::notify_state(ex)});
+        application_gone(ex, fmt::format("no DTU from it for the application lease of {} ms", config.application_lease.count()));
+    }
     if (transport->state() == LinkState::connected) fire(AdapterEvent::retry_due);
     // Once a second (real time: the statistics are not cheap): every
     // loss logged once per burst (drop_reporter.hpp).
@@ -185,7 +192,15 @@ void Adapter::Impl::on_notify_state(const ParsedTopic& topic, const std::string&
     if (topic.dev == dev) return;
     auto notify = decode<NotifyState>(payload);
     if (!notify || notify->state != "offline") return;
-    if (applications->gone(topic.dev)) application_gone(topic.dev, "Notify/State offline");
+    if (applications->gone(topic.dev)) {
+        (void)transport->unsubscribe({topics::notify_state(topic.dev)});
+        application_gone(topic.dev, "Notify/State offline");
+    }
+}
+
+void Adapter::Impl::watch_application(const std::string& ex) {
+    if (ex == dev) return;
+    (void)transport->subscribe({topics::notify_state(ex)}, 1);
 }
 
 }  // namespace nclink

@@ -30,14 +30,16 @@ void Adapter::Impl::on_message(const Message& message) {
         return;
     }
     if (parsed->kind == TopicKind::notify_state) {
-        on_notify_state(*parsed, message.payload);
+        // A retained state comes from subscribing, not from a change: the
+        // one stored before this application's current run may say offline.
+        if (!message.retained) on_notify_state(*parsed, message.payload);
         return;
     }
     if (!response_kind(parsed->kind) || parsed->kind == TopicKind::probe_version ||
         parsed->kind == TopicKind::register_request || parsed->kind == TopicKind::discovery_request)
         return;  // not a request to an adapter (version-check answers and the like)
     if (parsed->dev != dev) return;
-    if (parsed->ex) applications->seen(*parsed->ex, clock->now());
+    if (parsed->ex && applications->seen(*parsed->ex, clock->now())) watch_application(*parsed->ex);
     if (message.retained) {
         // A retained request is replayed by the broker to every new
         // subscription: acting on it would repeat a stale Set.

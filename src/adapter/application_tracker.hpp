@@ -18,9 +18,13 @@ class ApplicationTracker {
 public:
     explicit ApplicationTracker(std::chrono::milliseconds lease) : lease_(lease) {}
 
-    void seen(const std::string& ex, Clock::Steady now) {
+    /// True when `ex` was not known (its first DTU, or the first since it
+    /// was gone): the adapter then watches its Notify/State.
+    bool seen(const std::string& ex, Clock::Steady now) {
         std::lock_guard<std::mutex> lock(mutex_);
-        last_seen_[ex] = now;
+        const auto [it, added] = last_seen_.insert_or_assign(ex, now);
+        (void)it;
+        return added;
     }
     /// Forgets `ex`; true when it was known (so its resources may exist).
     bool gone(const std::string& ex) {

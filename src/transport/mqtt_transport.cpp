@@ -2,6 +2,7 @@
 
 #include "transport/outbox.hpp"
 #include "core/thread_name.hpp"
+#include "transport/backoff.hpp"
 #include "transport/tcp_nodelay.hpp"
 #include "transport/tls_check.hpp"
 
@@ -289,6 +290,7 @@ private:
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
             if (state_ == LinkState::disconnected) {
+                const milliseconds retry = detail::jittered(delay, rng_);
                 lock.unlock();
                 set_state(LinkState::connecting, options_.broker_url);
                 bool ok = false;
@@ -297,10 +299,10 @@ private:
                     auto token = client_.connect(opts);
                     ok = token->wait_for(options_.connect_timeout + milliseconds(500));
                     if (!ok) connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()),
-                                            false, delay);
+                                            false, retry);
                     if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
                 } catch (const mqtt::exception& e) {
-                    connect_failed(e, delay);
+                    connect_failed(e, retry);
                 }
                 ok = ok && client_.is_connected();  // paho call: before taking mutex_
                 if (ok && options_.mqtt_version >= 5) {
@@ -321,7 +323,7 @@ private:
                         set_state(LinkState::disconnected, "connect failed");
                         lock.lock();
                     }
-                    wake_.wait_for(lock, delay, [this] { return stopping_; });
+                    wake_.wait_for(lock, retry, [this] { return stopping_; });
                     delay = std::min(delay * 2, options_.reconnect_max);
                     continue;
                 }
@@ -331,6 +333,7 @@ private:
         }
     }
 
+    std::mt19937 rng_{std::random_device{}()};  // supervisor thread only: reconnect jitter
     const MqttOptions options_;
     const Logger logger_;
     const std::string host_;

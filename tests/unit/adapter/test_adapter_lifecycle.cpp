@@ -136,7 +136,7 @@ TEST_CASE("registration: an agent's OK is recorded, without an agent the adapter
         return f.app->on("Register/Request").size() >= 2;
     }));
     const Json second = f.app->wait("Register/Request", 2);
-    CHECK(second["@id"] != first["@id"]);
+    CHECK(second["@id"] == first["@id"]);  // the same request again: an agent never takes it for a second registration
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");  // served all along
     // An agent answers the pending request.
     RegisterResponse ok;
@@ -173,4 +173,26 @@ TEST_CASE("an abrupt drop publishes the offline will, a clean stop publishes off
     f.adapter->stop();
     CHECK(f.app->wait("Notify/State/test-dev", 4)["state"] == "offline");
     CHECK(f.broker.retained("Notify/State/test-dev")->payload == R"({"state":"offline","tid":"test-dev"})");
+}
+
+TEST_CASE("the adapter watches the Notify/State of the applications that talk to it, not every terminal's") {
+    // Notify/State/+ would bring every terminal's retained state to every
+    // adapter: N x N messages when a plant of N terminals reconnects.
+    AdapterFixture f(AdapterConfig{}, false);
+    for (int i = 0; i < 20; ++i)
+        f.app->send(fmt::format("Notify/State/other-{}", i), fmt::format(R"({{"tid":"other-{}","state":"online"}})", i), true);
+    // A stale retained "offline" of the application, from an earlier run of it.
+    f.app->send("Notify/State/app", R"({"tid":"app","state":"offline"})", true);
+    f.start();
+    (void)f.query(Json::array({"pos"}));  // its first DTU: the adapter watches Notify/State/app now
+    f.app->send("fixture/after", "x");
+    REQUIRE(eventually([&] { return !f.app->on("fixture/after").empty(); }));
+    // The retained offline it got on subscribing released nothing.
+    CHECK(f.adapter->stats().applications_released == 0);
+    const auto in = f.adapter->traffic_stats().dtus_in;
+    const auto states = in.count("notify_state") ? in.at("notify_state") : 0;
+    CHECK(states <= 1);  // that retained one at most, none of the 20 others
+    // A live offline releases it.
+    f.app->send("Notify/State/app", R"({"tid":"app","state":"offline"})", true);
+    CHECK(eventually([&] { return f.adapter->stats().applications_released == 1; }));
 }

@@ -13,7 +13,10 @@ TEST_CASE("gateway config: each machine is the defaults with its own keys over t
             {"id": "mill-1", "dev_uuid": "guid-1", "driver": {"config": {"seed": 7}}},
             {"dev_uuid": "guid-2", "model": "/abs/lathe.json", "broker": {"url": "tcp://10.0.0.6:1883"}}
         ],
-        "start_threads": 8
+        "start_threads": 8,
+        "timer_threads": 3,
+        "request_threads": 5,
+        "driver_threads": 6
     })");
     auto config = gateway_config_from_json(json, "/etc/nclink");
     REQUIRE(config.ok());
@@ -30,6 +33,17 @@ TEST_CASE("gateway config: each machine is the defaults with its own keys over t
     CHECK(b.adapter.model_path == "/abs/lathe.json");
     CHECK(b.adapter.broker_url == "tcp://10.0.0.6:1883");
     CHECK(config->start_threads == 8);
+    CHECK(config->timer_threads == 3);
+    CHECK(config->request_threads == 5);
+    CHECK(config->driver_threads == 6);
+    // unset: sized to the box at start
+    auto plain = gateway_config_from_json(Json::parse(R"({"machines": []})"));
+    REQUIRE(plain.ok());
+    CHECK(plain->timer_threads == 0);
+    CHECK(plain->driver_threads == 0);
+    auto negative = gateway_config_from_json(Json::parse(R"({"machines": [], "driver_threads": -1})"));
+    REQUIRE_FALSE(negative.ok());
+    CHECK(negative.error().message.find("driver_threads") != std::string::npos);
 }
 
 TEST_CASE("gateway config: a GUID or an id listed twice is refused with 413") {
