@@ -1,7 +1,7 @@
-// Query round trip through a real mosquitto: an application (bare paho)
-// sends Query/Request/{dev}/{ex} and waits for Query/Response/{dev}/{ex},
-// answered by an nclink Adapter with an in-memory driver; 1 item and 100
-// items. The floor, measured in the same run through the same broker: a bare
+// Query and Set round trips through a real mosquitto: an application (bare
+// paho) sends Query/Request/{dev}/{ex} (or Set/Request) and waits for the
+// response, answered by an nclink Adapter with an in-memory driver; Query of
+// 1 item and 100 items, Set of 1 value. The floor, measured in the same run through the same broker: a bare
 // paho echo answering the same request with a payload of the adapter's
 // response size. TCP_NODELAY is on for every client and the broker.
 //
@@ -36,6 +36,7 @@ public:
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
         for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(123.456 + static_cast<double>(i));
     }
+    Result<void> write(const WriteRequest&) override { return ok_result(); }
 };
 
 void connect_and_subscribe(mqtt::async_client& client, const std::string& topic, int port) {
@@ -113,6 +114,11 @@ std::vector<double> measure(Requester& requester, const std::string& topic, cons
     return us;
 }
 
+std::string set_payload() {
+    const Json values = Json::array({Json{{"id", "feed_ovr_cfg"}, {"params", {{"value", 42}}}}});
+    return Json{{"guid", kDev}, {"values", values}}.dump().substr(1);
+}
+
 std::string query_payload(int items) {
     Json ids = Json::array();
     for (int i = 0; i < items; ++i) ids.push_back(Json{{"id", i % 2 ? "pos" : "ovr"}});
@@ -141,16 +147,22 @@ int main(int argc, char** argv) {
     }
     while (adapter.state() != AdapterState::normal) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 
-    const std::string request_topic = topics::query_request(kDev, kEx);
-    const std::string reply_topic = topics::query_response(kDev, kEx);
     const std::string floor_request_topic = "Floor/Request";
     const std::string floor_reply_topic = "Floor/Response";
 
-    std::printf("Query round trip through mosquitto (QoS 1, TCP_NODELAY everywhere), %d round trips x %d rounds\n", n,
+    std::printf("Query and Set round trips through mosquitto (QoS 1, TCP_NODELAY everywhere), %d round trips x %d rounds\n", n,
                 rounds);
-    std::printf("%-10s %-8s %10s %10s %10s %8s\n", "items", "path", "p50 us", "p99 us", "max us", "bytes");
-    for (int items : {1, 100}) {
-        const std::string payload = query_payload(items);
+    std::printf("%-10s %-8s %10s %10s %10s %8s\n", "request", "path", "p50 us", "p99 us", "max us", "bytes");
+    struct Case {
+        const char* kind;
+        int items;
+    };
+    for (const Case c : {Case{"Query", 1}, Case{"Query", 100}, Case{"Set", 1}}) {
+        const int items = c.items;
+        const bool set = std::string(c.kind) == "Set";
+        const std::string payload = set ? set_payload() : query_payload(items);
+        const std::string request_topic = set ? topics::set_request(kDev, kEx) : topics::query_request(kDev, kEx);
+        const std::string reply_topic = set ? topics::set_response(kDev, kEx) : topics::query_response(kDev, kEx);
         // Size the floor's answer like the adapter's.
         std::string adapter_reply;
         {
@@ -163,9 +175,10 @@ int main(int argc, char** argv) {
                 cv.notify_one();
             });
             probe.connect()->wait();
-            probe.subscribe(topics::query_response(kDev, "sizer"), 1)->wait();
-            const std::string sized = "{\"@id\":\"sizer-" + std::to_string(items) + "\"," + payload;
-            probe.publish(topics::query_request(kDev, "sizer"), sized.data(), sized.size(), 1, false);
+            probe.subscribe(set ? topics::set_response(kDev, "sizer") : topics::query_response(kDev, "sizer"), 1)->wait();
+            const std::string sized = "{\"@id\":\"sizer-" + std::string(c.kind) + std::to_string(items) + "\"," + payload;
+            const std::string sizer_topic = set ? topics::set_request(kDev, "sizer") : topics::query_request(kDev, "sizer");
+            probe.publish(sizer_topic, sized.data(), sized.size(), 1, false);
             std::unique_lock<std::mutex> lock(m);
             cv.wait(lock, [&] { return !adapter_reply.empty(); });
             lock.unlock();
@@ -180,11 +193,12 @@ int main(int argc, char** argv) {
             sdk.add(measure(app, request_topic, payload, n));
         }
         const double f50 = bench::median(floor.samples), s50 = bench::median(sdk.samples);
-        std::printf("%-10d %-8s %10.1f %10.1f %10.1f %8zu\n", items, "floor", f50, bench::percentile(floor.samples, 99),
+        const std::string label = std::string(c.kind) + " " + std::to_string(items);
+        std::printf("%-10s %-8s %10.1f %10.1f %10.1f %8zu\n", label.c_str(), "floor", f50, bench::percentile(floor.samples, 99),
                     bench::maximum(floor.samples), adapter_reply.size());
-        std::printf("%-10d %-8s %10.1f %10.1f %10.1f %8zu\n", items, "adapter", s50, bench::percentile(sdk.samples, 99),
+        std::printf("%-10s %-8s %10.1f %10.1f %10.1f %8zu\n", label.c_str(), "adapter", s50, bench::percentile(sdk.samples, 99),
                     bench::maximum(sdk.samples), adapter_reply.size());
-        std::printf("%-10d ratio    %10.2fx (median adapter / median floor; target %s)\n", items, s50 / f50,
+        std::printf("%-10s ratio    %10.2fx (median adapter / median floor; target %s)\n", label.c_str(), s50 / f50,
                     items == 1 ? "<= 1.2x" : "<= 1.5x");
     }
     adapter.stop();
