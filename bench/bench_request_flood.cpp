@@ -32,7 +32,7 @@ namespace {
 const std::string kDev = "nclink-sim-mill-01";
 
 struct ChannelCount {
-    std::uint64_t rows = 0, nulls = 0, points = 1;
+    std::uint64_t rows = 0, nulls = 0, points = 1, overruns = 0;
 };
 
 ChannelCount fast_channel(const Adapter& adapter) {
@@ -46,8 +46,17 @@ ChannelCount fast_channel(const Adapter& adapter) {
         c.rows = ch.value("rows_sampled", std::uint64_t{0});
         c.nulls = ch.value("null_values", std::uint64_t{0});
         c.points = std::max<std::uint64_t>(1, ch.value("points", std::uint64_t{1}));
+        c.overruns = ch.value("overruns", std::uint64_t{0});
     }
     return c;
+}
+
+/// Share of the rows between two counts that were missed ticks (the sampler
+/// ran late), as opposed to reads that found the driver busy.
+double missed_row_share(const ChannelCount& a, const ChannelCount& b) {
+    const double rows = static_cast<double>(b.rows - a.rows);
+    if (rows <= 0) return 0;
+    return static_cast<double>(b.overruns - a.overruns) / rows;
 }
 
 /// Share of null rows between two counts (a busy driver nulls whole rows).
@@ -123,9 +132,9 @@ void run(const std::string& label, std::size_t max_pending, std::size_t requests
     for (int i = 0; i < 600 && adapter.stats().pending_requests > 0; ++i) std::this_thread::sleep_for(100ms);
     const auto after = adapter.stats();
     const double send_ms = std::chrono::duration<double, std::milli>(sent - t0).count();
-    std::printf("%-10s %10.0f %10.2f %10.2f %10.0f %9llu %9llu %9llu %9ld\n", label.c_str(),
+    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10.0f %9llu %9llu %9llu %9ld\n", label.c_str(),
                 static_cast<double>(requests) / (send_ms / 1000.0), 100.0 * null_row_share(quiet_start, quiet_end),
-                100.0 * null_row_share(flood_start, flood_end),
+                100.0 * null_row_share(flood_start, flood_end), 100.0 * missed_row_share(flood_start, flood_end),
                 std::chrono::duration<double, std::milli>(back - sent).count(),
                 static_cast<unsigned long long>(after.requests - before.requests),
                 static_cast<unsigned long long>(after.shed - before.shed),
@@ -143,8 +152,8 @@ int main(int argc, char** argv) {
     const auto quiet = std::chrono::milliseconds(argc > 2 ? std::atoi(argv[2]) : 2000);
     std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0\n",
                 requests);
-    std::printf("%-10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
-                "answer ms", "handled", "shed", "rejected", "RSS KiB");
+    std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
+                "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB");
     run("bounded", 256, requests, quiet);
     run("unbounded", std::numeric_limits<std::size_t>::max() / 2, requests, quiet);
     return 0;

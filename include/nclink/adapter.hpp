@@ -12,6 +12,8 @@
 // not from a driver callback). Every other public call is thread-safe.
 // Requests are handled on the adapter's request workers, never on the MQTT
 // callback thread; drivers are called on their own workers (driver.hpp).
+// With use_shared_threads() those workers belong to a SharedThreads pool that
+// several adapters use; calls into one driver stay serialized either way.
 #pragma once
 
 #include <nclink/adapter_config.hpp>
