@@ -7,7 +7,10 @@
 // RSS. Each run is done twice: with the bounded intake (max_pending_requests
 // 256, the default) and with it effectively unbounded, in the same run.
 //
-//   bench_request_flood [requests=20000] [quiet_ms=2000]
+//   bench_request_flood [--rt-priority N] [requests=20000] [quiet_ms=2000]
+//
+// --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
+// needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
 #include <nclink/adapter.hpp>
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
@@ -23,6 +26,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <vector>
 
 using namespace nclink;
 using namespace std::chrono_literals;
@@ -80,7 +84,8 @@ long rss_kib() {
     return 0;
 }
 
-void run(const std::string& label, std::size_t max_pending, std::size_t requests, std::chrono::milliseconds quiet) {
+void run(const std::string& label, std::size_t max_pending, std::size_t requests, std::chrono::milliseconds quiet,
+         int rt_priority) {
     test::MosquittoBroker broker;
     AdapterConfig config;
     config.broker_url = broker.url();
@@ -88,6 +93,7 @@ void run(const std::string& label, std::size_t max_pending, std::size_t requests
     config.log_level = LogLevel::error;
     config.max_pending_requests = max_pending;
     config.register_timeout = 200ms;
+    config.sampling.rt_priority = rt_priority;  // 0: normal scheduling
     const auto loaded = load_model_file(config.model_path);
     auto created = SimDriver::create(loaded.model, SimOptions{});
     std::shared_ptr<SimDriver> sim = std::move(created).value();
@@ -148,13 +154,19 @@ void run(const std::string& label, std::size_t max_pending, std::size_t requests
 
 int main(int argc, char** argv) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
-    const std::size_t requests = argc > 1 ? std::strtoull(argv[1], nullptr, 10) : 20000;
-    const auto quiet = std::chrono::milliseconds(argc > 2 ? std::atoi(argv[2]) : 2000);
-    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0\n",
-                requests);
+    int rt_priority = 0;
+    std::vector<std::string> args(argv + 1, argv + argc);
+    if (args.size() >= 2 && args[0] == "--rt-priority") {
+        rt_priority = std::atoi(args[1].c_str());
+        args.erase(args.begin(), args.begin() + 2);
+    }
+    const std::size_t requests = !args.empty() ? std::strtoull(args[0].c_str(), nullptr, 10) : 20000;
+    const auto quiet = std::chrono::milliseconds(args.size() > 1 ? std::atoi(args[1].c_str()) : 2000);
+    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s\n",
+                requests, rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling");
     std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
                 "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB");
-    run("bounded", 256, requests, quiet);
-    run("unbounded", std::numeric_limits<std::size_t>::max() / 2, requests, quiet);
+    run("bounded", 256, requests, quiet, rt_priority);
+    run("unbounded", std::numeric_limits<std::size_t>::max() / 2, requests, quiet, rt_priority);
     return 0;
 }

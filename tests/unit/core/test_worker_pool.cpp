@@ -34,10 +34,11 @@ TEST_CASE("a task stuck past stuck_after gets a replacement thread, so others st
     WorkerPool pool(1, 20ms, "t-pool");
     std::promise<void> unstick;
     std::shared_future<void> stuck_may_go = unstick.get_future().share();
-    std::atomic<bool> inside{false};
+    std::atomic<bool> inside{false}, left{false};
     REQUIRE(pool.post([&] {
         inside = true;
         stuck_may_go.wait();
+        left = true;
     }));
     REQUIRE(eventually([&] { return inside.load(); }));
     std::this_thread::sleep_for(40ms);  // now past stuck_after
@@ -47,6 +48,7 @@ TEST_CASE("a task stuck past stuck_after gets a replacement thread, so others st
     CHECK(pool.replacements() == 1);
     CHECK(pool.threads() == 2);
     unstick.set_value();
+    REQUIRE(eventually([&] { return left.load(); }));  // the task is done with this test's locals
 }
 
 TEST_CASE("a busy task that is not stuck yet gets no replacement: tasks queue") {
