@@ -92,7 +92,10 @@ bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::
     auto claim = std::make_shared<detail::AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
     // lives until the deadline even when the driver answered long before.
-    const bool posted = runner->post([this, life = lifetime, claim, topic, payload, ticket, received](Driver&) {
+    // Unlocked: the task holds the driver only while it reads, not while it
+    // parses the request or encodes the answer, so sampling gets in (a flood
+    // of huge requests left a 1 ms channel a third null rows otherwise).
+    const bool posted = runner->post_unlocked([this, life = lifetime, claim, topic, payload, ticket, received] {
         handle(topic, payload, Affine{claim.get(), life.get()});
         std::lock_guard<std::mutex> alive_lock(life->mutex);
         if (life->alive) observe_request(topic.kind, received);

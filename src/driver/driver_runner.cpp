@@ -31,6 +31,9 @@ thread_local const void* tls_worker_of = nullptr;
 // The exclusive hold on `calls` of the task running on this worker (a
 // serialized driver), so an in-place read can let sampling in between chunks.
 thread_local std::unique_lock<std::shared_timed_mutex>* tls_exclusive_call = nullptr;
+// Whether the task running on this worker holds `calls` (shared or
+// exclusive); false in a post_unlocked() task.
+thread_local bool tls_holds_calls = false;
 
 // Points read per driver call by an in-place (request) read before sampling
 // may cut in: a 10,000-item Query must not hold the driver for its whole read.
@@ -193,18 +196,24 @@ DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logg
 
 DriverRunner::~DriverRunner() { stop(); }
 
-void DriverRunner::run_task(Queue& queue, std::function<void()>& task) {
-    if (queue.concurrent) {
+void DriverRunner::run_task(Queue& queue, Queue::Task& task) {
+    if (!task.hold_calls) {
+        task.run();
+    } else if (queue.concurrent) {
         std::shared_lock<std::shared_timed_mutex> call(queue.calls);
-        task();
+        tls_holds_calls = true;
+        task.run();
+        tls_holds_calls = false;
     } else {
         yield_to_priority(queue);
         std::unique_lock<std::shared_timed_mutex> call(queue.calls);
         tls_exclusive_call = &call;
-        task();
+        tls_holds_calls = true;
+        task.run();
+        tls_holds_calls = false;
         tls_exclusive_call = nullptr;
     }
-    task = nullptr;  // what it captured goes before the next one
+    task.run = nullptr;  // what it captured goes before the next one
 }
 
 void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
@@ -268,11 +277,17 @@ void DriverRunner::count_timeout() {
 }
 
 bool DriverRunner::post(std::function<void(Driver&)> task) {
+    return enqueue(Queue::Task{[driver = driver_, task = std::move(task)] { task(*driver); }, true});
+}
+
+bool DriverRunner::post_unlocked(std::function<void()> task) { return enqueue(Queue::Task{std::move(task), false}); }
+
+bool DriverRunner::enqueue(Queue::Task task) {
     bool start_drain = false;
     {
         std::lock_guard<std::mutex> lock(queue_->mutex);
         if (queue_->stopping) return false;
-        queue_->tasks.emplace_back([driver = driver_, task = std::move(task)] { task(*driver); });
+        queue_->tasks.push_back(std::move(task));
         if (queue_->pool && queue_->running_workers < queue_->max_drains) {
             ++queue_->running_workers;
             start_drain = true;
@@ -306,6 +321,28 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         const std::shared_ptr<Driver> driver = driver_;
         const std::shared_ptr<Queue> queue = queue_;
         Results results;
+        if (!tls_holds_calls) {
+            // A post_unlocked() task: take the driver per chunk, and let a
+            // waiting sampler in before each (a 1,000-item Query must not
+            // keep a 1 ms channel from its reads).
+            results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+            std::vector<PointRef> chunk;
+            Results chunk_results;
+            for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
+                const std::size_t end = std::min(points.size(), at + kReadChunk);
+                chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
+                if (queue->concurrent) {
+                    std::shared_lock<std::shared_timed_mutex> call(queue->calls);
+                    read_locked(*driver, *queue, chunk, generation, chunk_results);
+                } else {
+                    yield_to_priority(*queue);
+                    std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+                    read_locked(*driver, *queue, chunk, generation, chunk_results);
+                }
+                std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
+            }
+            return results;
+        }
         std::unique_lock<std::shared_timed_mutex>* hold = tls_exclusive_call;
         if (hold == nullptr || points.size() <= kReadChunk) {
             read_locked(*driver, *queue, points, generation, results);

@@ -94,6 +94,13 @@ public:
     /// Queues `task` on a worker without waiting (long-running work such as
     /// methods). Thread-safe. False after stop().
     bool post(std::function<void(Driver&)> task);
+    /// Like post(), but the task does not hold the driver while it runs: the
+    /// calls it makes through this runner (read()) take the driver one by
+    /// one (a long read in chunks), so sampling reads get in between them
+    /// and while the task does other work (parsing a request, encoding the
+    /// answer). The task must reach the driver only through this runner.
+    /// Thread-safe. False after stop().
+    bool post_unlocked(std::function<void()> task);
 
     /// Stops taking calls, waits up to `grace` for running calls, closes the
     /// driver. A worker stuck in the driver past `grace` is abandoned (and
@@ -118,7 +125,11 @@ private:
         std::mutex mutex;
         std::condition_variable wake;
         std::condition_variable exited;
-        std::deque<std::function<void()>> tasks;
+        struct Task {
+            std::function<void()> run;
+            bool hold_calls = true;  // false: post_unlocked(), it takes the driver per call
+        };
+        std::deque<Task> tasks;
         bool stopping = false;
         std::size_t running_workers = 0;  // own workers alive; on a pool: drains posted or running
         WorkerPool* pool = nullptr;
@@ -147,7 +158,8 @@ private:
     /// itself now and then, so one busy driver shares the pool's threads).
     static void drain(const std::shared_ptr<Queue>& queue);
     /// One task under the calls lock (shared for a concurrent driver).
-    static void run_task(Queue& queue, std::function<void()>& task);
+    static void run_task(Queue& queue, Queue::Task& task);
+    bool enqueue(Queue::Task task);
     // The bodies of the calls, run under the calls lock (see the top).
     static void read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
                             std::uint64_t generation, std::vector<Result<Json>>& results);

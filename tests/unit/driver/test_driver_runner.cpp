@@ -304,3 +304,37 @@ TEST_CASE("while the machine link is down the runner answers 202 with the reason
     CHECK(runner.link().state == MachineLink::disconnected);
     runner.stop(std::chrono::milliseconds(1000));
 }
+
+TEST_CASE("a post_unlocked task holds the driver only while it reads, so a direct (sampling) read gets in meanwhile") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    driver->release();  // reads answer at once
+    DriverRunner runner(driver, {}, Logger());
+    for (const bool unlocked : {true, false}) {
+        std::promise<void> go;
+        std::shared_future<void> may_go = go.get_future().share();
+        std::atomic<bool> started{false}, done{false};
+        std::vector<Result<Json>> in_task;
+        auto body = [&] {
+            started = true;
+            may_go.wait();  // the task's own work: parsing a request, encoding an answer
+            in_task = runner.read(points({"a"}));
+            done = true;
+        };
+        REQUIRE((unlocked ? runner.post_unlocked(body) : runner.post([&](Driver&) { body(); })));
+        while (!started.load()) std::this_thread::yield();
+        std::vector<Result<Json>> direct;
+        runner.read_direct(points({"b"}), direct, std::chrono::milliseconds(20));
+        REQUIRE(direct.size() == 1);
+        if (unlocked) {
+            CHECK(direct[0].ok());
+        } else {
+            // post(): the task holds the driver the whole time.
+            REQUIRE_FALSE(direct[0].ok());
+            CHECK(direct[0].error().code == ErrorCode::timeout);
+        }
+        go.set_value();
+        while (!done.load()) std::this_thread::yield();
+        REQUIRE(in_task.size() == 1);
+        CHECK(in_task[0].ok());  // its own read went through, in place
+    }
+}
