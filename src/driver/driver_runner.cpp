@@ -321,45 +321,36 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         const std::shared_ptr<Driver> driver = driver_;
         const std::shared_ptr<Queue> queue = queue_;
         Results results;
-        if (!tls_holds_calls) {
-            // A post_unlocked() task: take the driver per chunk, and let a
-            // waiting sampler in before each (a 1,000-item Query must not
-            // keep a 1 ms channel from its reads).
-            results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-            std::vector<PointRef> chunk;
-            Results chunk_results;
-            for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
-                const std::size_t end = std::min(points.size(), at + kReadChunk);
-                chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
-                if (queue->concurrent) {
-                    std::shared_lock<std::shared_timed_mutex> call(queue->calls);
-                    read_locked(*driver, *queue, chunk, generation, chunk_results);
-                } else {
-                    yield_to_priority(*queue);
-                    std::unique_lock<std::shared_timed_mutex> call(queue->calls);
-                    read_locked(*driver, *queue, chunk, generation, chunk_results);
-                }
-                std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
-            }
-            return results;
-        }
+        // A post_unlocked() task takes the driver per chunk (and lets a
+        // waiting sampler in before each: a 1,000-item Query must not keep a
+        // 1 ms channel from its reads). A task holding it exclusively lets
+        // the sampler in between chunks.
+        const bool per_chunk_lock = !tls_holds_calls;
         std::unique_lock<std::shared_timed_mutex>* hold = tls_exclusive_call;
-        if (hold == nullptr || points.size() <= kReadChunk) {
+        if (!per_chunk_lock && (hold == nullptr || points.size() <= kReadChunk)) {
             read_locked(*driver, *queue, points, generation, results);
             return results;
         }
-        // In chunks, letting a waiting sampler in between them. Each chunk
-        // goes through read_locked() under the re-taken lock, so a bind()
-        // that got in between re-resolves the rest against its new table.
+        // Each chunk goes through read_locked() under the (re-)taken lock, so
+        // a bind() that got in between re-resolves the rest against its table.
         results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
         std::vector<PointRef> chunk;
         Results chunk_results;
         for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
             const std::size_t end = std::min(points.size(), at + kReadChunk);
             chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
-            read_locked(*driver, *queue, chunk, generation, chunk_results);
+            if (!per_chunk_lock) {
+                read_locked(*driver, *queue, chunk, generation, chunk_results);
+            } else if (queue->concurrent) {
+                std::shared_lock<std::shared_timed_mutex> call(queue->calls);
+                read_locked(*driver, *queue, chunk, generation, chunk_results);
+            } else {
+                yield_to_priority(*queue);
+                std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+                read_locked(*driver, *queue, chunk, generation, chunk_results);
+            }
             std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
-            if (end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
+            if (!per_chunk_lock && end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
                 hold->unlock();
                 yield_to_priority(*queue);
                 hold->lock();

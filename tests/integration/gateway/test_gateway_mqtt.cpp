@@ -35,6 +35,12 @@ MachineDriverFactory fake_drivers() {
     return [](const MachineConfig&) -> Result<std::shared_ptr<Driver>> { return std::shared_ptr<Driver>(std::make_shared<FakeDriver>()); };
 }
 
+bool all_normal(const Gateway& gateway) {
+    for (const auto& m : gateway.machines())
+        if (m.state != AdapterState::normal) return false;
+    return true;
+}
+
 bool answers(Client& client, const std::string& guid) {
     auto values = client.query(guid, {QueryItem{"pos", std::nullopt}});
     return values.ok() && values->size() == 1 && (*values)[0].status.ok;
@@ -58,11 +64,7 @@ TEST_CASE("gateway: 20 machines each answer Query as their own GUID and one remo
     Gateway gateway(config, fake_drivers());
     REQUIRE(gateway.start().ok());
     REQUIRE(gateway.machines().size() == 20);
-    REQUIRE(eventually([&] {
-        for (const auto& m : gateway.machines())
-            if (m.state != AdapterState::normal) return false;
-        return true;
-    }, 60s));
+    REQUIRE(eventually([&] { return all_normal(gateway); }, 60s));
 
     auto client = started_client(broker.url(), "gw-app", 10s);
     for (int i = 0; i < 20; ++i) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));
@@ -123,11 +125,7 @@ TEST_CASE("gateway reload: removed, added, a changed machine restarted alone, a 
     for (int i = 0; i < 4; ++i) config.machines.push_back(machine(broker, i));
     Gateway gateway(config, fake_drivers());
     REQUIRE(gateway.start().ok());
-    REQUIRE(eventually([&] {
-        for (const auto& m : gateway.machines())
-            if (m.state != AdapterState::normal) return false;
-        return true;
-    }, 60s));
+    REQUIRE(eventually([&] { return all_normal(gateway); }, 60s));
     const auto kept = gateway.machine("gw-00");
     const auto quieter = gateway.machine("gw-01");
     const auto changed = gateway.machine("gw-02");
@@ -194,11 +192,7 @@ TEST_CASE("gateway: machines share the timer, request and driver threads, and ea
     const std::size_t before = threads_in_process();
     Gateway gateway(config, fake_drivers());
     REQUIRE(gateway.start().ok());
-    REQUIRE(eventually([&] {
-        for (const auto& m : gateway.machines())
-            if (m.state != AdapterState::normal) return false;
-        return true;
-    }, 60s));
+    REQUIRE(eventually([&] { return all_normal(gateway); }, 60s));
     // Shared: 2 timer + 2 request + 2 driver threads + the watchdog. Each
     // machine adds its connection's supervisor and sender, its events engine,
     // its method ticker and its sample spool, which all sleep while idle.

@@ -1,4 +1,5 @@
 #include "driver/driver_runner.hpp"
+#include "gated_driver.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -10,44 +11,9 @@
 
 using namespace nclink;
 using detail::DriverRunner;
+using test::GatedDriver;
 
 namespace {
-
-// A read blocks until the test opens the gate; counts overlapping calls.
-class GatedDriver : public Driver {
-public:
-    explicit GatedDriver(bool concurrent) : concurrent_(concurrent) {}
-    DriverInfo info() const override { return {"gated", "1", concurrent_}; }
-
-    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
-        const int now = ++inside;
-        int seen = max_inside.load();
-        while (now > seen && !max_inside.compare_exchange_weak(seen, now)) {}
-        {
-            std::unique_lock<std::mutex> lock(mutex);
-            gate_cv.wait(lock, [&] { return open; });
-        }
-        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(points[i].id);
-        --inside;
-        ++reads;
-    }
-    void close() override { closed = true; }
-
-    void release() {
-        std::lock_guard<std::mutex> lock(mutex);
-        open = true;
-        gate_cv.notify_all();
-    }
-
-    std::atomic<int> inside{0}, max_inside{0}, reads{0};
-    std::atomic<bool> closed{false};
-
-private:
-    bool concurrent_;
-    std::mutex mutex;
-    std::condition_variable gate_cv;
-    bool open = false;
-};
 
 class ThrowingDriver : public SimpleDriver {
 public:

@@ -3,6 +3,7 @@
 // abandoning a stuck driver at stop) plus: one machine's stuck driver does
 // not hold up another machine's calls.
 #include "driver/driver_runner.hpp"
+#include "gated_driver.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -21,38 +22,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// read() blocks while the gate is closed; counts overlapping calls.
-class Gate : public Driver {
-public:
-    explicit Gate(bool concurrent, bool open = false) : concurrent_(concurrent), open_(open) {}
-    DriverInfo info() const override { return {"gate", "1", concurrent_}; }
-    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
-        const int now = ++inside;
-        int seen = max_inside.load();
-        while (now > seen && !max_inside.compare_exchange_weak(seen, now)) {}
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            cv_.wait(lock, [&] { return open_; });
-        }
-        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(points[i].id);
-        --inside;
-        ++reads;
-    }
-    void close() override { closed = true; }
-    void release() {
-        std::lock_guard<std::mutex> lock(mutex_);
-        open_ = true;
-        cv_.notify_all();
-    }
-    std::atomic<int> inside{0}, max_inside{0}, reads{0};
-    std::atomic<bool> closed{false};
-
-private:
-    bool concurrent_;
-    std::mutex mutex_;
-    std::condition_variable cv_;
-    bool open_;
-};
+using Gate = test::GatedDriver;
 
 std::vector<PointRef> points(std::initializer_list<const char*> ids) {
     std::vector<PointRef> out;
