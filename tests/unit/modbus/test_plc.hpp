@@ -96,8 +96,10 @@ private:
                 if (n == 0) continue;  // not for this unit
                 if (n < 0) break;      // client gone
                 std::lock_guard lock(mutex_);
-                modbus_reply(ctx_, query, n, map_);
+                // Counted before the reply goes out: the driver may look at
+                // the count as soon as it has the answer.
                 ++requests_;
+                modbus_reply(ctx_, query, n, map_);
             }
             ::close(client);
         }
