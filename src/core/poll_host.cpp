@@ -1,7 +1,6 @@
 #include "core/poll_host.hpp"
 #include "core/thread_name.hpp"
 
-#include <pthread.h>
 
 namespace nclink::detail {
 

@@ -1,7 +1,6 @@
 #include "core/worker_pool.hpp"
 #include "core/thread_name.hpp"
 
-#include <pthread.h>
 
 #include <algorithm>
 
