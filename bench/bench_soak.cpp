@@ -25,11 +25,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <malloc.h>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 using namespace nclink;
 using namespace std::chrono_literals;
@@ -91,6 +93,9 @@ int main(int argc, char** argv) {
     std::atomic<std::uint64_t> late_dtus{0}, dtus{0};
     std::mutex events_mutex;
     std::set<std::string> event_ids;
+    // @id counter -> event time, to place lost events against the restarts.
+    std::map<std::uint64_t, std::int64_t> event_times;
+    std::vector<std::pair<std::int64_t, std::int64_t>> outages;  // wall ms: broker stopped, started again
     std::uint64_t event_repeats = 0;
     MqttOptions m;
     m.broker_url = broker.url();
@@ -136,6 +141,12 @@ int main(int argc, char** argv) {
         auto id = client->register_event(dev, r, [&](const EventData& e) {
             std::lock_guard<std::mutex> lock(events_mutex);
             if (!event_ids.insert(e.msg_id ? e.msg_id->dump() : std::to_string(event_ids.size())).second) ++event_repeats;
+            if (e.msg_id && e.msg_id->is_string()) {
+                const std::string& text = e.msg_id->get_ref<const std::string&>();
+                const auto digits = text.find_last_not_of("0123456789");
+                if (digits != std::string::npos && digits + 1 < text.size())
+                    event_times[std::stoull(text.substr(digits + 1))] = e.time;
+            }
         });
         if (id) ++registered;
     }
@@ -151,12 +162,17 @@ int main(int argc, char** argv) {
         const auto next = begun + std::chrono::seconds(period * (restarts + 1));
         std::this_thread::sleep_until(std::min(next, begun + std::chrono::seconds(seconds)));
         if (std::chrono::steady_clock::now() - begun >= std::chrono::seconds(seconds)) break;
+        const auto stopped_at = wall_ms();
         if (crash)
             broker.crash();
         else
             broker.stop();
         std::this_thread::sleep_for(1s);
         broker.start();
+        {
+            std::lock_guard<std::mutex> guard(events_mutex);
+            outages.emplace_back(stopped_at, wall_ms());
+        }
         ++restarts;
         std::printf("  restart %d at %lld s: rows %llu, RSS %ld kB\n", restarts,
                     static_cast<long long>(std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - begun).count()),
@@ -183,6 +199,27 @@ int main(int argc, char** argv) {
     std::printf("events: fired %llu, received %zu, lost %lld, duplicated %llu\n", static_cast<unsigned long long>(fired),
                 event_ids.size(), static_cast<long long>(fired) - static_cast<long long>(event_ids.size()),
                 static_cast<unsigned long long>(event_repeats));
+    // Where the lost events were: gaps in the adapter's @id counter between
+    // two received events (the counter also numbers a few other DTUs, so a
+    // gap of one or two may be one of those), placed against the outages.
+    {
+        std::size_t gaps_shown = 0;
+        std::uint64_t previous = 0;
+        std::int64_t previous_time = 0;
+        for (const auto& [counter, time] : event_times) {
+            if (previous != 0 && counter > previous + 2 && gaps_shown < 40) {
+                std::int64_t nearest = 0;
+                for (const auto& [down, up] : outages)
+                    if (nearest == 0 || std::llabs(previous_time - down) < std::llabs(previous_time - nearest)) nearest = down;
+                std::printf("  gap: %llu @ids missing after %llu (event time %+lld ms from the nearest broker stop, next received %+lld ms)\n",
+                            static_cast<unsigned long long>(counter - previous - 1), static_cast<unsigned long long>(previous),
+                            static_cast<long long>(previous_time - nearest), static_cast<long long>(time - nearest));
+                ++gaps_shown;
+            }
+            previous = counter;
+            previous_time = time;
+        }
+    }
     std::printf("late (> 1 s after their last row): %llu of %llu DTUs\n", static_cast<unsigned long long>(late_dtus.load()),
                 static_cast<unsigned long long>(dtus.load()));
     std::printf("adapter drops by cause: %s\n", drops.dump().c_str());

@@ -69,7 +69,7 @@ void Adapter::Impl::on_message(const Message& message) {
         }
     }
     const auto received = std::chrono::steady_clock::now();
-    if (parsed->kind == TopicKind::query_request &&
+    if ((parsed->kind == TopicKind::query_request || parsed->kind == TopicKind::set_request) &&
         dispatch_driver_affine(*parsed, message.payload, admission.ticket, received))
         return;
     executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket), received] {
@@ -78,14 +78,18 @@ void Adapter::Impl::on_message(const Message& message) {
     });
 }
 
-// A Query runs on the driver's own worker, which reads in place: one
-// thread hand-off fewer than request worker -> driver worker -> back
-// (bench_query_roundtrip: 100 items went from ~1.8x to ~1.55x the bare
-// paho floor). The worker cannot give up on a stuck driver, so the
-// watchdog answers for it at the deadline: on a request worker, with 203
-// for the driver's items. Whichever comes first answers; the other is
-// dropped. Reads are idempotent, so the late duplicate work is harmless;
-// Set stays on the request workers, where a write is never repeated.
+// A Query or a Set runs on the driver's own worker, which reads and writes
+// in place: one thread hand-off where request worker -> driver worker ->
+// back took three per driver call (bench_query_roundtrip: a 100-item Query
+// went from ~1.8x to ~1.55x the bare paho floor; a Set made two driver calls,
+// a read then a write, so five hand-offs). The worker cannot give up on a
+// stuck driver, so the watchdog answers for it at the deadline: on a request
+// worker, with 203 for the driver's items. Whichever comes first answers;
+// the other is dropped. Reads are idempotent, so a Query's late duplicate
+// work is harmless. A Set is marked started before the worker touches
+// anything: a deadline that comes first owns it and the worker never writes
+// (a write never follows a 203); one that comes after answers 203 for the
+// whole Set, saying the write may still take effect.
 bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                            std::shared_ptr<detail::RequestGate::Ticket> ticket,
                                            std::chrono::steady_clock::time_point received) {
@@ -102,12 +106,29 @@ bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::
     });
     if (!posted) return false;
     watchdog->arm(std::chrono::steady_clock::now() + config.driver_timeout, [this, claim, topic, payload] {
-        if (!claim->claim_for_deadline()) return;
+        const auto deadline = claim->claim_deadline();
+        if (deadline == detail::AnswerClaim::Deadline::lost) return;
         ++affine_timeouts;
-        logger.warn("driver '{}' did not answer a Query within {} ms", driver->info().name, config.driver_timeout.count());
+        const char* what = topic.kind == TopicKind::set_request ? "Set" : "Query";
+        logger.warn("driver '{}' did not answer a {} within {} ms", driver->info().name, what, config.driver_timeout.count());
+        if (deadline == detail::AnswerClaim::Deadline::during_work && topic.kind == TopicKind::set_request) {
+            // The worker is inside the driver with this Set: which items it
+            // has written is not known here, so the whole Set answers 203.
+            const Error unknown = make_error(ErrorCode::timeout,
+                                             fmt::format("driver did not finish the Set within {} ms: it may still take effect",
+                                                         config.driver_timeout.count()));
+            if (auto reply = make_error_reply(topic.kind, peek_message_id(payload), dev, unknown)) {
+                (*reply)["privateInfo"] = Json{{"message", unknown.message}};
+                executor->post([this, topic, reply = std::move(*reply)] { respond(topic, reply); });
+            }
+            return;
+        }
         executor->post([this, topic, payload] {
-            const Error expired = make_error(ErrorCode::timeout, fmt::format("driver did not answer within {} ms",
-                                                                             config.driver_timeout.count()));
+            const auto ms = config.driver_timeout.count();
+            const Error expired = make_error(ErrorCode::timeout,
+                                             topic.kind == TopicKind::set_request
+                                                 ? fmt::format("driver busy for {} ms: not written", ms)
+                                                 : fmt::format("driver did not answer within {} ms", ms));
             handle(topic, payload, Affine{nullptr, nullptr}, &expired);
         });
     });
@@ -121,6 +142,14 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload)
 
 void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
                            const Error* driver_expired) {
+    if (affine.claim && topic.kind == TopicKind::set_request) {
+        std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
+        if (!affine.life->alive) return;  // the adapter is gone
+        if (!affine.claim->start_for_worker()) {
+            logger.debug("Set on {} dropped before it was started: the deadline answered it", to_string(topic.kind));
+            return;
+        }
+    }
     ++requests;
     const auto current = host.current();
     // Copies, not references into the adapter: a driver-affine task may
@@ -174,7 +203,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
     if (!affine.life->alive) return;  // the adapter is gone
     if (!affine.claim->claim_for_worker()) {
-        logger.debug("late Query answer on {} dropped: the deadline answered it", to_string(topic.kind));
+        logger.debug("late {} answer dropped: the deadline answered it", to_string(topic.kind));
         return;
     }
     respond(topic, *reply);

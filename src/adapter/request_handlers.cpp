@@ -185,7 +185,11 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         driver_items.push_back(DriverItem{i, std::move(parsed).value(), object, params});
     }
 
-    if (!driver_items.empty()) {
+    if (!driver_items.empty() && context.driver_expired) {
+        // The deadline answers for a worker that never started this Set:
+        // nothing reaches the driver, its items say why.
+        for (const DriverItem& d : driver_items) put_driver_failure(response.results[d.slot], *context.driver_expired);
+    } else if (!driver_items.empty()) {
         // Read current values once, so the operation is checked against the
         // machine's value (out of range, unknown key...) before anything is
         // written, and drivers that write whole items get the new value.

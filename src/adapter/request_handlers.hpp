@@ -26,8 +26,9 @@ struct HandlerContext {
     std::string stats_item = {};
     std::function<Json()> stats = {};
     /// Set when the request's deadline passed while the driver still had it
-    /// (driver-affine Query): driver items answer this error, the driver is
-    /// not called again; SDK-held items answer as usual.
+    /// (driver-affine Query, or a driver-affine Set its worker never
+    /// started): driver items answer this error, the driver is not called;
+    /// SDK-held items answer (and are set) as usual.
     const Error* driver_expired = nullptr;
     /// Checks the driver's values against chapter 7 (null: not checked).
     ValueGuard* values = nullptr;

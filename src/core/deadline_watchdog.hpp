@@ -54,18 +54,34 @@ private:
 
 /// The one answer to a request, claimed either by the worker that did the
 /// work or by the watchdog when the deadline passed first. Exactly one wins.
+/// A worker about to do what must not happen after a timeout answer (a
+/// write) first marks the work started: a deadline that comes before that
+/// mark owns the request (the work is then never done), one that comes after
+/// it still answers, knowing the work may take effect.
 class AnswerClaim {
 public:
+    enum class Deadline { lost, before_start, during_work };
+
+    /// The worker, before work that must not follow a timeout answer: true
+    /// when the deadline has not claimed the request (do the work), false
+    /// when it has (drop the request untouched).
+    bool start_for_worker() noexcept { return move(kOpen, kStarted); }
     /// The worker: true when it may answer (the deadline has not claimed it).
-    bool claim_for_worker() noexcept { return claim(kWorker); }
+    bool claim_for_worker() noexcept { return move(kOpen, kWorker) || move(kStarted, kWorker); }
     /// The watchdog: true when the worker has not answered yet.
-    bool claim_for_deadline() noexcept { return claim(kDeadline); }
+    bool claim_for_deadline() noexcept { return claim_deadline() != Deadline::lost; }
+    /// The watchdog, telling apart a request the worker never started from
+    /// one it is still working on.
+    Deadline claim_deadline() noexcept {
+        if (move(kOpen, kDeadline)) return Deadline::before_start;
+        if (move(kStarted, kDeadline)) return Deadline::during_work;
+        return Deadline::lost;
+    }
 
 private:
-    static constexpr int kOpen = 0, kWorker = 1, kDeadline = 2;
-    bool claim(int by) noexcept {
-        int expected = kOpen;
-        return state_.compare_exchange_strong(expected, by, std::memory_order_acq_rel);
+    static constexpr int kOpen = 0, kStarted = 1, kWorker = 2, kDeadline = 3;
+    bool move(int from, int to) noexcept {
+        return state_.compare_exchange_strong(from, to, std::memory_order_acq_rel);
     }
     std::atomic<int> state_{kOpen};
 };

@@ -477,11 +477,32 @@ PointRef DriverRunner::current_ref(const std::string& id) const {
 MachineLinkStatus DriverRunner::link() const { return ask_link(*driver_); }
 
 Result<void> DriverRunner::write(const WriteRequest& request, std::uint64_t generation) {
+    if (tls_worker_of == queue_.get()) {
+        // On the driver's own worker (a driver-affine Set): call in place,
+        // under the driver's lock unless the task already holds it.
+        const std::shared_ptr<Driver> driver = driver_;
+        const std::shared_ptr<Queue> queue = queue_;
+        if (tls_holds_calls) return write_locked(*driver, *queue, request, generation);
+        if (queue->concurrent) {
+            std::shared_lock<std::shared_timed_mutex> call(queue->calls);
+            return write_locked(*driver, *queue, request, generation);
+        }
+        yield_to_priority(*queue);
+        std::unique_lock<std::shared_timed_mutex> call(queue->calls);
+        return write_locked(*driver, *queue, request, generation);
+    }
     struct Outcome {
         Result<void> result = make_error(ErrorCode::unavailable);
     };
+    // Who moves first: the task taking the write to the driver, or the
+    // caller giving up at its deadline. A write must not reach the machine
+    // after the application was told 203.
+    enum : int { kQueued = 0, kStarted = 1, kWithdrawn = 2 };
+    auto stage = std::make_shared<std::atomic<int>>(kQueued);
     auto pending = std::make_shared<Pending<Outcome>>();
-    const bool queued = post([pending, request, generation, queue = queue_](Driver& driver) {
+    const bool queued = post([pending, stage, request, generation, queue = queue_](Driver& driver) {
+        int expected = kQueued;
+        if (!stage->compare_exchange_strong(expected, kStarted, std::memory_order_acq_rel)) return;
         Outcome outcome;
         outcome.result = write_locked(driver, *queue, request, generation);
         pending->finish(std::move(outcome));
@@ -489,8 +510,15 @@ Result<void> DriverRunner::write(const WriteRequest& request, std::uint64_t gene
     if (!queued) return make_error(ErrorCode::unavailable, "driver stopped");
     if (!pending->wait(options_.call_timeout)) {
         count_timeout();
+        int expected = kQueued;
+        if (stage->compare_exchange_strong(expected, kWithdrawn, std::memory_order_acq_rel)) {
+            logger_.warn("driver '{}': write of {} withdrawn: the driver was busy for {} ms", name_, request.id,
+                         options_.call_timeout.count());
+            return make_error(ErrorCode::timeout, fmt::format("driver busy for {} ms: not written", options_.call_timeout.count()));
+        }
         logger_.warn("driver '{}': write of {} did not finish within {} ms", name_, request.id, options_.call_timeout.count());
-        return make_error(ErrorCode::timeout, fmt::format("driver did not answer within {} ms", options_.call_timeout.count()));
+        return make_error(ErrorCode::timeout, fmt::format("driver did not finish the write within {} ms: it may still take effect",
+                                                          options_.call_timeout.count()));
     }
     std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(pending->value.result);

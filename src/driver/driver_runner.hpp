@@ -90,6 +90,12 @@ public:
     TypedRead read_samples_direct(const std::vector<PointRef>& points, SampleValue* out, std::chrono::nanoseconds wait,
                                   std::uint64_t generation = unbound);
     /// Thread-safe. `request.handle` from the PointTable of `generation`.
+    /// A write still queued when the caller's deadline passes is withdrawn:
+    /// it never reaches the driver after the caller answered 203 (the 203
+    /// then says "not written"). One the driver had already started answers
+    /// 203 saying it may still take effect. Called from a task on this
+    /// runner's own worker (a driver-affine Set), the driver is called in
+    /// place without a deadline, as read() is.
     Result<void> write(const WriteRequest& request, std::uint64_t generation = unbound);
     /// Queues `task` on a worker without waiting (long-running work such as
     /// methods). Thread-safe. False after stop().

@@ -55,6 +55,7 @@ public:
         }
     }
     Result<void> write(const WriteRequest& request) override {
+        if (const auto d = write_delay.load(); d.count() > 0) std::this_thread::sleep_for(d);
         std::lock_guard<std::mutex> lock(mutex);
         ++writes;
         if (request.new_value.is_null()) return make_error(ErrorCode::unavailable, "no new value");
@@ -69,7 +70,12 @@ public:
     std::mutex mutex;
     std::map<std::string, Json> values;
     std::atomic<std::chrono::milliseconds> delay{std::chrono::milliseconds(0)};  // set by tests while reads run
-    int writes = 0;
+    std::atomic<std::chrono::milliseconds> write_delay{std::chrono::milliseconds(0)};
+    int writes = 0;  // under mutex
+    int write_count() {
+        std::lock_guard<std::mutex> lock(mutex);
+        return writes;
+    }
 };
 
 inline std::string test_model_path() { return std::string(NCLINK_TEST_DATA_DIR) + "/adapter-test-model.json"; }

@@ -170,6 +170,48 @@ TEST_CASE("a slow driver answers Timeout (203) per item, and SDK items still ans
     f.driver->delay = std::chrono::milliseconds(0);
 }
 
+TEST_CASE("a Set still queued behind a busy driver at its deadline answers 203 and is never written later") {
+    AdapterConfig c;
+    c.driver_timeout = std::chrono::milliseconds(60);
+    AdapterFixture f(c);
+    f.driver->delay = std::chrono::milliseconds(400);
+    // A Query holds the (serialized) driver; the Set queues behind it.
+    f.app->send("Query/Request/test-dev/app", R"({"@id":"slow","guid":"test-dev","ids":[{"id":"pos"}]})");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const Json r = f.set(Json::array({Json{{"id", "ovr"}, {"params", {{"value", 80}}}},
+                                      Json{{"id", "feed_ovr_cfg"}, {"params", {{"value", 55}}}}}));
+    CHECK(r["results"][0]["error"] == 203);
+    CHECK(r["results"][0]["privateInfo"]["message"].get<std::string>().find("not written") != std::string::npos);
+    CHECK(r["results"][1]["code"] == "OK");  // an SDK-held item does not wait for the driver
+    // The driver gets free: the withdrawn Set does not reach it, nor answers twice.
+    f.driver->delay = std::chrono::milliseconds(0);
+    f.app->wait("Query/Response/test-dev/app", 1);  // the slow Query's 203, from its own deadline
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // its read (400 ms) is over
+    CHECK(f.query(Json::array({Json{{"id", "ovr"}}}))["values"][0]["values"] == Json::array({100}));
+    CHECK(f.driver->write_count() == 0);
+    CHECK(f.app->on("Set/Response/test-dev/app").size() == 1);
+}
+
+TEST_CASE("a Set the driver is still writing at its deadline gets one 203 for the whole Set") {
+    AdapterConfig c;
+    c.driver_timeout = std::chrono::milliseconds(60);
+    AdapterFixture f(c);
+    f.driver->write_delay = std::chrono::milliseconds(300);
+    const Json r = f.set(Json::array({Json{{"id", "ovr"}, {"params", {{"value", 80}}}}}));
+    CHECK(r["error"] == 203);
+    CHECK(r["privateInfo"]["message"].get<std::string>().find("may still take effect") != std::string::npos);
+    // The write was under way: it lands, and its late answer is dropped.
+    f.driver->write_delay = std::chrono::milliseconds(0);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (f.driver->write_count() == 0 && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    CHECK(f.driver->write_count() == 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the worker drops its late answer
+    CHECK(f.query(Json::array({Json{{"id", "ovr"}}}))["values"][0]["values"] == Json::array({80}));
+    CHECK(f.app->on("Set/Response/test-dev/app").size() == 1);
+    CHECK(f.adapter->stats().driver_timeouts >= 1);
+}
+
 TEST_CASE("an adapter stopped while a Query is stuck in the driver shuts down and stays quiet") {
     AdapterConfig c;
     c.driver_timeout = std::chrono::milliseconds(100);  // also the grace stop() gives a driver call

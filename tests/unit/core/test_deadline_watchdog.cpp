@@ -57,6 +57,41 @@ TEST_CASE("an answer is claimed exactly once, by the worker or by the deadline")
         CHECK(claim.claim_for_deadline());
         CHECK_FALSE(claim.claim_for_worker());
     }
+    SECTION("a deadline before the work started: the work is never done") {
+        AnswerClaim claim;
+        CHECK(claim.claim_deadline() == AnswerClaim::Deadline::before_start);
+        CHECK_FALSE(claim.start_for_worker());
+        CHECK_FALSE(claim.claim_for_worker());
+    }
+    SECTION("a deadline during the work: it answers, knowing the work may take effect") {
+        AnswerClaim claim;
+        CHECK(claim.start_for_worker());
+        CHECK(claim.claim_deadline() == AnswerClaim::Deadline::during_work);
+        CHECK_FALSE(claim.claim_for_worker());
+    }
+    SECTION("work started and answered in time: the deadline finds nothing") {
+        AnswerClaim claim;
+        CHECK(claim.start_for_worker());
+        CHECK(claim.claim_for_worker());
+        CHECK(claim.claim_deadline() == AnswerClaim::Deadline::lost);
+        CHECK_FALSE(claim.start_for_worker());
+    }
+    SECTION("racing a started worker") {
+        for (int round = 0; round < 200; ++round) {
+            AnswerClaim claim;
+            std::atomic<int> started{0}, wins{0};
+            std::thread a([&] {
+                if (claim.start_for_worker()) {
+                    ++started;
+                    wins += claim.claim_for_worker();
+                }
+            });
+            std::thread b([&] { wins += claim.claim_for_deadline(); });
+            a.join();
+            b.join();
+            REQUIRE(wins == 1);
+        }
+    }
     SECTION("racing threads") {
         for (int round = 0; round < 200; ++round) {
             AnswerClaim claim;

@@ -1,5 +1,6 @@
-// A driver whose read() blocks until the test opens its gate, counting the
-// calls inside it at once: for the DriverRunner tests (own workers and pool).
+// A driver whose read() and write() block until the test opens its gate,
+// counting the calls inside it at once: for the DriverRunner tests (own
+// workers and pool).
 #pragma once
 
 #include <nclink/driver.hpp>
@@ -27,6 +28,16 @@ public:
         --inside;
         ++reads;
     }
+    Result<void> write(const WriteRequest&) override {
+        ++inside;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            gate_.wait(lock, [&] { return open_; });
+        }
+        --inside;
+        ++writes;
+        return {};
+    }
     void close() override { closed = true; }
 
     void release() {
@@ -35,7 +46,7 @@ public:
         gate_.notify_all();
     }
 
-    std::atomic<int> inside{0}, max_inside{0}, reads{0};
+    std::atomic<int> inside{0}, max_inside{0}, reads{0}, writes{0};
     std::atomic<bool> closed{false};
 
 private:

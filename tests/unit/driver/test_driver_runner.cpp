@@ -114,6 +114,64 @@ TEST_CASE("a driver stuck at shutdown is abandoned, not waited for forever") {
     while (driver->reads.load() < 1) std::this_thread::yield();
 }
 
+TEST_CASE("a write still queued at its deadline is withdrawn: it never reaches the driver after the 203") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    DriverRunner::Options o;
+    o.call_timeout = std::chrono::milliseconds(30);
+    DriverRunner runner(driver, o, Logger());
+    // A read holds the (serialized) driver: the write queues behind it.
+    std::thread stuck([&] { runner.read(points({"a"}), std::chrono::seconds(30)); });
+    while (driver->inside.load() == 0) std::this_thread::yield();
+    WriteRequest write;
+    write.id = "b";
+    const auto written = runner.write(write);
+    REQUIRE_FALSE(written.ok());
+    CHECK(written.error().code == ErrorCode::timeout);
+    CHECK_THAT(written.error().message, Catch::Contains("not written"));
+    driver->release();
+    stuck.join();
+    // The queue has drained past where the write was: it was not run.
+    CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
+    CHECK(driver->writes.load() == 0);
+}
+
+TEST_CASE("a write the driver started but did not finish by the deadline says it may still take effect") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    DriverRunner::Options o;
+    o.call_timeout = std::chrono::milliseconds(30);
+    DriverRunner runner(driver, o, Logger());
+    WriteRequest write;
+    write.id = "b";
+    const auto written = runner.write(write);
+    REQUIRE_FALSE(written.ok());
+    CHECK(written.error().code == ErrorCode::timeout);
+    CHECK_THAT(written.error().message, Catch::Contains("may still take effect"));
+    driver->release();
+    CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
+    CHECK(driver->writes.load() == 1);
+}
+
+TEST_CASE("a write from a task on the driver's own worker calls the driver in place") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    driver->release();
+    DriverRunner::Options o;
+    o.call_timeout = std::chrono::milliseconds(5000);
+    DriverRunner runner(driver, o, Logger());
+    for (const bool unlocked : {true, false}) {
+        std::promise<Result<void>> got;
+        WriteRequest write;
+        write.id = "b";
+        auto body = [&] { got.set_value(runner.write(write)); };
+        REQUIRE((unlocked ? runner.post_unlocked(body) : runner.post([&](Driver&) { body(); })));
+        auto future = got.get_future();
+        // Queued behind itself, a serialized runner would answer only at the deadline.
+        REQUIRE(future.wait_for(std::chrono::seconds(2)) == std::future_status::ready);
+        CHECK(future.get().ok());
+    }
+    CHECK(driver->writes.load() == 2);
+    CHECK(runner.timeouts() == 0);
+}
+
 TEST_CASE("a read from a task on the driver's own worker calls the driver in place") {
     // Without the in-place path a serialized runner would queue the read
     // behind the very task waiting for it, and answer 203 after the deadline.
