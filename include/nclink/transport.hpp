@@ -41,6 +41,11 @@ struct NCLINK_API TransportStats {
     std::size_t in_flight = 0;           ///< handed to the connection, not yet acknowledged
     int tcp_nodelay_sockets = 0;         ///< sockets TCP_NODELAY was applied to at the last connect (MQTT)
     std::uint64_t connect_failures = 0;  ///< connection attempts that failed
+    /// Reconnections of a persistent session (clean_session false) that found
+    /// no session kept by the broker: what it queued for this client while it
+    /// was away is gone (the broker restarted without working persistence, or
+    /// expired the session). Logged as a warning each time.
+    std::uint64_t sessions_lost = 0;
     /// Why the last connection attempt failed, one line ("" once connected):
     /// e.g. "the broker refused the user name or password", "the broker's
     /// certificate did not verify: certificate has expired".

@@ -173,6 +173,8 @@ struct NCLINK_LOCAL Adapter::Impl {
                 const Error* driver_expired = nullptr);
     template <class Request, class Handler>
     std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
+    /// The NG answer to an undecodable request (counted and logged).
+    std::optional<Json> malformed(const ParsedTopic& topic, const std::string& payload, const Error& error);
     void respond(const ParsedTopic& request_topic, const Json& reply);
     /// respond() with the payload already serialized (Probe/Query's verbatim model).
     void respond_text(const ParsedTopic& request_topic, const std::string& payload);

@@ -12,12 +12,14 @@ using detail::DriverRunner;
 template <class Request, class Handler>
 std::optional<Json> Adapter::Impl::answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler) {
     auto request = decode<Request>(payload);
-    if (!request) {
-        ++rejected;
-        logger.info("malformed {} answered NG: {}", to_string(topic.kind), request.error().describe());
-        return make_error_reply(topic.kind, peek_message_id(payload), dev, request.error());
-    }
+    if (!request) return malformed(topic, payload, request.error());
     return handler(request.value());
+}
+
+std::optional<Json> Adapter::Impl::malformed(const ParsedTopic& topic, const std::string& payload, const Error& error) {
+    ++rejected;
+    logger.info("malformed {} answered NG: {}", to_string(topic.kind), error.describe());
+    return make_error_reply(topic.kind, peek_message_id(payload), dev, error);
 }
 
 // Thread: transport callback. Filters, then hands the work to a request
@@ -161,10 +163,17 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     detail::HandlerContext context{*current, *runner, host, task_dev, task_logger, config.sampling.stats_item,
                                    [this] { return to_json(self->stats()); }, driver_expired, guard.get()};
     std::optional<Json> reply;
+    std::optional<std::string> text;  // an answer already written out (a Query's)
     switch (topic.kind) {
-        case TopicKind::query_request:
-            reply = answer<QueryRequest>(topic, payload, [&](const QueryRequest& r) { return to_json(detail::handle_query(r, context)); });
+        case TopicKind::query_request: {
+            auto request = decode<QueryRequest>(payload);
+            if (!request) {
+                reply = malformed(topic, payload, request.error());
+                break;
+            }
+            text = encode(detail::handle_query(request.value(), context));
             break;
+        }
         case TopicKind::set_request:
             reply = answer<SetRequest>(topic, payload, [&](const SetRequest& r) { return to_json(detail::handle_set(r, context)); });
             break;
@@ -174,8 +183,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                 respond_text(topic, detail::handle_probe_query(request.value(), context));
                 return;
             }
-            ++rejected;
-            reply = make_error_reply(topic.kind, peek_message_id(payload), dev, request.error());
+            reply = malformed(topic, payload, request.error());
             break;
         }
         case TopicKind::probe_set_request:
@@ -195,9 +203,15 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                                      make_error(ErrorCode::unavailable, "not supported by this adapter"));
             break;
     }
-    if (!reply) return;
+    if (!reply && !text) return;
+    const auto deliver = [&] {
+        if (text)
+            respond_text(topic, *text);
+        else
+            respond(topic, *reply);
+    };
     if (!affine.claim) {
-        respond(topic, *reply);
+        deliver();
         return;
     }
     std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
@@ -206,7 +220,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
         logger.debug("late {} answer dropped: the deadline answered it", to_string(topic.kind));
         return;
     }
-    respond(topic, *reply);
+    deliver();
 }
 
 void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply) {

@@ -121,6 +121,7 @@ public:
         s.received = received_;
         s.connects = connects_;
         s.tcp_nodelay_sockets = nodelay_sockets_;
+        s.sessions_lost = sessions_lost_;
         s.connect_failures = connect_failures_;
         std::lock_guard<std::mutex> lock(failure_mutex_);
         s.last_error = last_error_;
@@ -219,6 +220,25 @@ private:
         }
     }
 
+    // Thread: supervisor. A persistent session that the broker no longer has
+    // after a reconnection means messages queued for us are gone: the one
+    // outage docs/delivery.md cannot cover, so it is never silent.
+    void check_session(const mqtt::token& token) {
+        bool present = true;
+        try {
+            present = token.get_connect_response().is_session_present();
+        } catch (const std::exception&) {
+            return;  // no CONNACK details: nothing to judge
+        }
+        if (session_established_ && !present) {
+            ++sessions_lost_;
+            logger_.warn("mqtt: the broker kept no session for client id '{}': what it held for us while we were away is "
+                         "lost (broker restarted without working persistence, or the session expired)",
+                         options_.client_id);
+        }
+        session_established_ = true;
+    }
+
     mqtt::connect_options connect_options() const {
         mqtt::connect_options_builder builder;
         builder.mqtt_version(options_.mqtt_version >= 5 ? MQTTVERSION_5 : MQTTVERSION_3_1_1);
@@ -301,6 +321,7 @@ private:
                     if (!ok) connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()),
                                             false, retry);
                     if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
+                    if (ok && !options_.clean_session) check_session(*token);
                 } catch (const mqtt::exception& e) {
                     connect_failed(e, retry);
                 }
@@ -356,6 +377,8 @@ private:
     std::atomic<std::uint64_t> connects_{0};
     std::atomic<int> nodelay_sockets_{0};
     std::atomic<std::uint64_t> connect_failures_{0};
+    std::atomic<std::uint64_t> sessions_lost_{0};
+    bool session_established_ = false;  // supervisor only: a connection has had a session
     mutable std::mutex failure_mutex_;  // last_error_, refused_
     std::string last_error_;
     bool refused_ = false;

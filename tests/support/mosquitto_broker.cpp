@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
+#include <pwd.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/socket.h>
@@ -58,6 +59,17 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
     char pattern[] = "/tmp/nclink-mosquitto-XXXXXX";
     if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
     dir_ = pattern;
+    // Started as root (CI, containers), mosquitto drops to its own user
+    // ("mosquitto", else "nobody"): that user must be able to write the
+    // persistence file here, or every save fails ("Permission denied", unseen
+    // with log_dest none) and a restart forgets every session and queued
+    // message, as a plant's /var/lib/mosquitto owned by root would.
+    if (::geteuid() == 0) {
+        const passwd* user = ::getpwnam("mosquitto");
+        if (!user) user = ::getpwnam("nobody");
+        if (user && ::chown(dir_.c_str(), user->pw_uid, user->pw_gid) != 0)
+            throw std::runtime_error("cannot hand the broker's directory to its user");
+    }
     config_ = dir_ + "/mosquitto.conf";
     port_ = options.port ? options.port : free_loopback_port();
     std::ofstream conf(config_);

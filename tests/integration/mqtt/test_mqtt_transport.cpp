@@ -10,6 +10,7 @@
 
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <mutex>
 #include <set>
@@ -143,6 +144,69 @@ TEST_CASE("messages published while the broker restarts are delivered after it, 
     for (int i = 0; i < 50; ++i) CHECK(unique[static_cast<std::size_t>(i)] == "e" + std::to_string(i));
     CHECK(pub->stats().dropped == 0);
     CHECK(pub->stats().connects >= 2);
+}
+
+TEST_CASE("a persistent broker keeps an absent subscriber's session and queued messages over a restart") {
+    // What docs/delivery.md's table rests on, and what every persistence
+    // test assumes of the test broker: it really saves (started as root it
+    // runs as its own user, who must own the directory it saves in).
+    MosquittoOptions persistent;
+    persistent.persistent = true;
+    MosquittoBroker broker(persistent);
+    auto sub_options = options_for(broker, "nclink-test-sub-persistent");
+    sub_options.clean_session = false;
+    {
+        auto sub = connect(sub_options);
+        REQUIRE(sub->start().ok());
+        REQUIRE(sub->subscribe({"Event/dev/app"}, 1).ok());
+        REQUIRE(eventually([&] { return sub->state() == LinkState::connected; }));
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the SUBACK
+        sub->stop();
+    }
+    auto pub = connect(options_for(broker, "nclink-test-pub-persistent"));
+    REQUIRE(pub->start().ok());
+    for (int i = 0; i < 20; ++i) REQUIRE(pub->publish({"Event/dev/app", "q" + std::to_string(i), 1, false}).ok());
+    REQUIRE(pub->flush(std::chrono::seconds(10)));
+    pub->stop();
+    broker.restart();
+    // The same session, not subscribing again: only the broker's saved
+    // session can bring the messages.
+    auto back = connect(sub_options);
+    Inbox inbox;
+    inbox.attach(*back);
+    REQUIRE(back->start().ok());
+    REQUIRE(eventually([&] { return inbox.count() >= 20; }, std::chrono::seconds(10)));
+    const auto got = inbox.payloads();
+    for (int i = 0; i < 20; ++i) CHECK(got[static_cast<std::size_t>(i)] == "q" + std::to_string(i));
+    // Reconnected after another restart, the session is still there: nothing to warn about.
+    broker.restart();
+    REQUIRE(eventually([&] { return back->stats().connects >= 2 && back->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    CHECK(back->stats().sessions_lost == 0);
+}
+
+TEST_CASE("a persistent session the broker forgot over a restart is counted and logged, never silent") {
+    MosquittoBroker broker;  // no persistence: a restart forgets every session
+    auto options = options_for(broker, "nclink-test-sub-forgotten");
+    options.clean_session = false;
+    std::vector<std::string> warnings;
+    std::mutex warnings_mutex;
+    auto made = make_mqtt_transport(options, Logger([&](LogLevel level, std::string_view message) {
+        if (level != LogLevel::warn) return;
+        std::lock_guard<std::mutex> lock(warnings_mutex);
+        warnings.emplace_back(message);
+    }, LogLevel::debug));
+    REQUIRE(made.ok());
+    auto sub = std::move(made).value();
+    REQUIRE(sub->start().ok());
+    REQUIRE(eventually([&] { return sub->state() == LinkState::connected; }));
+    CHECK(sub->stats().sessions_lost == 0);  // a first connection has no session to lose
+    broker.restart();
+    REQUIRE(eventually([&] { return sub->stats().connects >= 2 && sub->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    CHECK(sub->stats().sessions_lost == 1);
+    std::lock_guard<std::mutex> lock(warnings_mutex);
+    CHECK(std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) {
+              return w.find("kept no session for client id 'nclink-test-sub-forgotten'") != std::string::npos;
+          }) == 1);
 }
 
 TEST_CASE("an abrupt disconnect publishes the last will, the transport reconnects") {

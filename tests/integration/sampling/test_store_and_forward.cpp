@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <mutex>
 #include <random>
+#include <set>
 
 using namespace nclink;
 using namespace std::chrono_literals;
@@ -122,9 +123,17 @@ struct Rig {
             if (m.topic == topic) out.push_back(m);
         return out;
     }
+    /// Each DTU once, in arrival order. QoS 1 is at-least-once: the broker
+    /// sends again, after its restart, what it had sent but not seen
+    /// acknowledged when it stopped; the client library drops such repeats
+    /// by beginTime (docs/delivery.md), and so does this raw subscriber.
     std::vector<Json> dtus() {
         std::vector<Json> out;
-        for (const auto& m : on(topics::dynamic_sample(kDev, "app", channel))) out.push_back(Json::parse(m.payload));
+        std::set<std::string> seen;
+        for (const auto& m : on(topics::dynamic_sample(kDev, "app", channel))) {
+            Json dtu = Json::parse(m.payload);
+            if (seen.insert(dtu["beginTime"].dump()).second) out.push_back(std::move(dtu));
+        }
         return out;
     }
     std::size_t rows() {
