@@ -7,9 +7,11 @@
 // (received more than 1 s after their last row's time), and the process's
 // RSS growth. Not a test: run it by hand.
 //
-//   bench_soak [seconds=600] [restart_period_s=60] [--crash]
+//   bench_soak [seconds=600] [restart_period_s=60] [--crash] [--save-every N]
 //
-// --crash kills the broker (-9) instead of stopping it cleanly.
+// --crash kills the broker (-9) instead of stopping it cleanly. --save-every
+// N: the broker saves after every N changes (autosave_interval N; default 1,
+// after every change).
 #include <nclink/adapter.hpp>
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
@@ -66,11 +68,14 @@ bool wait_for(P&& done, std::chrono::milliseconds timeout) {
 int main(int argc, char** argv) {
     int seconds = 600, period = 60;
     bool crash = false;
+    int save_every = 1;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (arg == "--crash")
             crash = true;
+        else if (arg == "--save-every" && i + 1 < argc)
+            save_every = std::max(1, std::atoi(argv[++i]));
         else if (positional++ == 0)
             seconds = std::atoi(argv[i]);
         else
@@ -86,6 +91,7 @@ int main(int argc, char** argv) {
     test::MosquittoOptions broker_options;
     broker_options.persistent = true;
     broker_options.save_every_change = true;
+    broker_options.save_after_changes = save_every;
     test::MosquittoBroker broker(broker_options);
 
     // The application first: every row the adapter publishes is meant for it.
@@ -152,8 +158,8 @@ int main(int argc, char** argv) {
     }
     std::this_thread::sleep_for(2s);
     const long rss_start = rss_kb();
-    std::printf("soak: %d s, broker %s every %d s, %zu events registered, RSS at start %ld kB\n", seconds,
-                crash ? "killed -9" : "restarted", period, registered, rss_start);
+    std::printf("soak: %d s, broker %s every %d s (saving after every %d change(s)), %zu events registered, RSS at start %ld kB\n",
+                seconds, crash ? "killed -9" : "restarted", period, save_every, registered, rss_start);
     std::fflush(stdout);
 
     const auto begun = std::chrono::steady_clock::now();
@@ -242,6 +248,7 @@ int main(int argc, char** argv) {
     // after both are gone would be a leak.
     ledger.clear();
     std::set<std::string>().swap(event_ids);
+    std::map<std::uint64_t, std::int64_t>().swap(event_times);
     ::malloc_trim(0);
     const long rss_without_ledgers = rss_kb();
     lock.unlock();  // a callback still queued on the client's thread may want it

@@ -78,7 +78,8 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
     if (!options.acl_file.empty()) conf << "acl_file " << options.acl_file << "\n";
     if (!options.password_file.empty()) conf << "password_file " << options.password_file << "\n";
     if (options.persistent && options.save_every_change)
-        conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_on_changes true\nautosave_interval 1\n";
+        conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_on_changes true\nautosave_interval "
+             << options.save_after_changes << "\n";
     else if (options.persistent)
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
     else

@@ -16,6 +16,8 @@ struct MosquittoOptions {
     /// autosave_interval 1), so sessions and queued messages survive a
     /// kill -9 too (crash(); docs/delivery.md).
     bool save_every_change = false;
+    /// With save_every_change: save after this many changes (autosave_interval).
+    int save_after_changes = 1;
     int port = 0;         ///< 0 = pick a free one
     bool start = true;    ///< false: construct stopped, call start() later
     /// mosquitto acl_file to enforce ("" = none). Without a password_file
