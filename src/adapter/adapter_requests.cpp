@@ -148,7 +148,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
         std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
         if (!affine.life->alive) return;  // the adapter is gone
         if (!affine.claim->start_for_worker()) {
-            logger.debug("Set on {} dropped before it was started: the deadline answered it", to_string(topic.kind));
+            logger.debug("Set dropped before it was started: the deadline answered it (not written)");
             return;
         }
     }

@@ -114,41 +114,36 @@ TEST_CASE("a driver stuck at shutdown is abandoned, not waited for forever") {
     while (driver->reads.load() < 1) std::this_thread::yield();
 }
 
-TEST_CASE("a write still queued at its deadline is withdrawn: it never reaches the driver after the 203") {
-    auto driver = std::make_shared<GatedDriver>(false);
-    DriverRunner::Options o;
-    o.call_timeout = std::chrono::milliseconds(30);
-    DriverRunner runner(driver, o, Logger());
-    // A read holds the (serialized) driver: the write queues behind it.
-    std::thread stuck([&] { runner.read(points({"a"}), std::chrono::seconds(30)); });
-    while (driver->inside.load() == 0) std::this_thread::yield();
-    WriteRequest write;
-    write.id = "b";
-    const auto written = runner.write(write);
-    REQUIRE_FALSE(written.ok());
-    CHECK(written.error().code == ErrorCode::timeout);
-    CHECK_THAT(written.error().message, Catch::Contains("not written"));
-    driver->release();
-    stuck.join();
-    // The queue has drained past where the write was: it was not run.
-    CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
-    CHECK(driver->writes.load() == 0);
-}
-
-TEST_CASE("a write the driver started but did not finish by the deadline says it may still take effect") {
+TEST_CASE("a write past its deadline: withdrawn while queued, may still take effect once started") {
     auto driver = std::make_shared<GatedDriver>(false);
     DriverRunner::Options o;
     o.call_timeout = std::chrono::milliseconds(30);
     DriverRunner runner(driver, o, Logger());
     WriteRequest write;
     write.id = "b";
-    const auto written = runner.write(write);
-    REQUIRE_FALSE(written.ok());
-    CHECK(written.error().code == ErrorCode::timeout);
-    CHECK_THAT(written.error().message, Catch::Contains("may still take effect"));
-    driver->release();
-    CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
-    CHECK(driver->writes.load() == 1);
+    SECTION("still queued: it never reaches the driver after the 203") {
+        // A read holds the (serialized) driver: the write queues behind it.
+        std::thread stuck([&] { runner.read(points({"a"}), std::chrono::seconds(30)); });
+        while (driver->inside.load() == 0) std::this_thread::yield();
+        const auto written = runner.write(write);
+        REQUIRE_FALSE(written.ok());
+        CHECK(written.error().code == ErrorCode::timeout);
+        CHECK_THAT(written.error().message, Catch::Contains("not written"));
+        driver->release();
+        stuck.join();
+        // The queue has drained past where the write was: it was not run.
+        CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
+        CHECK(driver->writes.load() == 0);
+    }
+    SECTION("started by the driver, not finished: it says so, and it lands") {
+        const auto written = runner.write(write);
+        REQUIRE_FALSE(written.ok());
+        CHECK(written.error().code == ErrorCode::timeout);
+        CHECK_THAT(written.error().message, Catch::Contains("may still take effect"));
+        driver->release();
+        CHECK(runner.read(points({"c"}), std::chrono::seconds(10))[0].ok());
+        CHECK(driver->writes.load() == 1);
+    }
 }
 
 TEST_CASE("a write from a task on the driver's own worker calls the driver in place") {
