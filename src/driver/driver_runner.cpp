@@ -311,6 +311,20 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     return read(points, options_.call_timeout, generation);
 }
 
+template <typename Call>
+void DriverRunner::call_in_place(Queue& queue, Call&& call) {
+    if (tls_holds_calls) {
+        call();
+    } else if (queue.concurrent) {
+        std::shared_lock<std::shared_timed_mutex> hold(queue.calls);
+        call();
+    } else {
+        yield_to_priority(queue);
+        std::unique_lock<std::shared_timed_mutex> hold(queue.calls);
+        call();
+    }
+}
+
 std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points, std::chrono::milliseconds timeout,
                                              std::uint64_t generation) {
     using Results = std::vector<Result<Json>>;
@@ -339,16 +353,7 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
             const std::size_t end = std::min(points.size(), at + kReadChunk);
             chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
-            if (!per_chunk_lock) {
-                read_locked(*driver, *queue, chunk, generation, chunk_results);
-            } else if (queue->concurrent) {
-                std::shared_lock<std::shared_timed_mutex> call(queue->calls);
-                read_locked(*driver, *queue, chunk, generation, chunk_results);
-            } else {
-                yield_to_priority(*queue);
-                std::unique_lock<std::shared_timed_mutex> call(queue->calls);
-                read_locked(*driver, *queue, chunk, generation, chunk_results);
-            }
+            call_in_place(*queue, [&] { read_locked(*driver, *queue, chunk, generation, chunk_results); });
             std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
             if (!per_chunk_lock && end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
                 hold->unlock();
@@ -482,14 +487,9 @@ Result<void> DriverRunner::write(const WriteRequest& request, std::uint64_t gene
         // under the driver's lock unless the task already holds it.
         const std::shared_ptr<Driver> driver = driver_;
         const std::shared_ptr<Queue> queue = queue_;
-        if (tls_holds_calls) return write_locked(*driver, *queue, request, generation);
-        if (queue->concurrent) {
-            std::shared_lock<std::shared_timed_mutex> call(queue->calls);
-            return write_locked(*driver, *queue, request, generation);
-        }
-        yield_to_priority(*queue);
-        std::unique_lock<std::shared_timed_mutex> call(queue->calls);
-        return write_locked(*driver, *queue, request, generation);
+        Result<void> written = make_error(ErrorCode::unavailable);
+        call_in_place(*queue, [&] { written = write_locked(*driver, *queue, request, generation); });
+        return written;
     }
     struct Outcome {
         Result<void> result = make_error(ErrorCode::unavailable);

@@ -173,6 +173,10 @@ private:
                                      std::uint64_t generation);
     /// Waits (bounded) while a sampling read waits for `calls`.
     static void yield_to_priority(const Queue& queue);
+    /// From a task on this runner's own worker: runs `call` in place, taking
+    /// `calls` for it (after a waiting sampler) unless the task holds it.
+    template <typename Call>
+    static void call_in_place(Queue& queue, Call&& call);
     /// Runs `call` on the calling thread, serialized with the workers' calls;
     /// false (and a counted timeout) when the lock was not had within `wait`.
     template <typename Call>

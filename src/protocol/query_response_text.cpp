@@ -93,10 +93,7 @@ std::string encode<QueryResponse>(const QueryResponse& dtu) {
         w.raw("\"privateInfo\":");
         w.value(*dtu.private_info);
     }
-    if (dtu.status && dtu.status->reason) {
-        first = false;
-        w.reason(*dtu.status);
-    }
+    if (dtu.status) w.reason(*dtu.status);  // after "code": its comma is due
     comma();
     w.raw("\"values\":[");
     for (std::size_t i = 0; i < dtu.values.size(); ++i) {
