@@ -202,6 +202,9 @@ TEST_CASE("a persistent session the broker forgot over a restart is counted and 
     CHECK(sub->stats().sessions_lost == 0);  // a first connection has no session to lose
     broker.restart();
     REQUIRE(eventually([&] { return sub->stats().connects >= 2 && sub->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    // Counted by the supervisor once the CONNACK's token is back, a moment
+    // after paho's connected callback: wait for it, it must become 1.
+    CHECK(eventually([&] { return sub->stats().sessions_lost == 1; }, std::chrono::seconds(5)));
     CHECK(sub->stats().sessions_lost == 1);
     std::lock_guard<std::mutex> lock(warnings_mutex);
     CHECK(std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) {
