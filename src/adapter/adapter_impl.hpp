@@ -165,12 +165,14 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- requests (adapter_requests.cpp)
     void on_message(const Message& message);  ///< transport thread; never blocks
+    /// `decoded`: the Query already decoded on the transport thread (or null).
     bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                 std::shared_ptr<detail::RequestGate::Ticket> ticket,
-                                std::chrono::steady_clock::time_point received);
+                                std::chrono::steady_clock::time_point received,
+                                std::shared_ptr<const QueryRequest> decoded);
     void handle(const ParsedTopic& topic, const std::string& payload);
     void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                const Error* driver_expired = nullptr);
+                const Error* driver_expired = nullptr, const QueryRequest* decoded = nullptr);
     template <class Request, class Handler>
     std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
     /// The NG answer to an undecodable request (counted and logged).

@@ -4,6 +4,7 @@
 // published on the topic mirroring the request (docs/wire.md).
 #include "adapter/adapter_impl.hpp"
 #include "adapter/request_handlers.hpp"
+#include "protocol/query_request_fast.hpp"
 
 namespace nclink {
 
@@ -61,7 +62,15 @@ void Adapter::Impl::on_message(const Message& message) {
             respond(*parsed, *reply);
         return;
     }
-    const MessageId msg_id = peek_message_id(message.payload);
+    // A Query is decoded here when the streaming decoder can (the common
+    // case): that pass reads its @id too, and the worker then decodes
+    // nothing. Any other request, or a Query only the tree decoder reads,
+    // has its @id peeked and is decoded on the worker.
+    std::shared_ptr<const QueryRequest> decoded;
+    if (parsed->kind == TopicKind::query_request)
+        if (auto fast = protocol_detail::fast_decode_query_request(message.payload))
+            decoded = std::make_shared<const QueryRequest>(std::move(*fast));
+    const MessageId msg_id = decoded ? decoded->msg_id : peek_message_id(message.payload);
     if (msg_id) {
         const std::string key = fmt::format("{}|{}|{}", to_string(parsed->kind), parsed->ex.value_or(""), msg_id->dump());
         if (!dedup->first_sighting(key)) {
@@ -72,7 +81,7 @@ void Adapter::Impl::on_message(const Message& message) {
     }
     const auto received = std::chrono::steady_clock::now();
     if ((parsed->kind == TopicKind::query_request || parsed->kind == TopicKind::set_request) &&
-        dispatch_driver_affine(*parsed, message.payload, admission.ticket, received))
+        dispatch_driver_affine(*parsed, message.payload, admission.ticket, received, decoded))
         return;
     executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket), received] {
         handle(topic, payload);
@@ -94,15 +103,16 @@ void Adapter::Impl::on_message(const Message& message) {
 // whole Set, saying the write may still take effect.
 bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                            std::shared_ptr<detail::RequestGate::Ticket> ticket,
-                                           std::chrono::steady_clock::time_point received) {
+                                           std::chrono::steady_clock::time_point received,
+                                           std::shared_ptr<const QueryRequest> decoded) {
     auto claim = std::make_shared<detail::AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
     // lives until the deadline even when the driver answered long before.
     // Unlocked: the task holds the driver only while it reads, not while it
     // parses the request or encodes the answer, so sampling gets in (a flood
     // of huge requests left a 1 ms channel a third null rows otherwise).
-    const bool posted = runner->post_unlocked([this, life = lifetime, claim, topic, payload, ticket, received] {
-        handle(topic, payload, Affine{claim.get(), life.get()});
+    const bool posted = runner->post_unlocked([this, life = lifetime, claim, topic, payload, ticket, received, decoded] {
+        handle(topic, payload, Affine{claim.get(), life.get()}, nullptr, decoded.get());
         std::lock_guard<std::mutex> alive_lock(life->mutex);
         if (life->alive) observe_request(topic.kind, received);
     });
@@ -143,7 +153,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload)
 }
 
 void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                           const Error* driver_expired) {
+                           const Error* driver_expired, const QueryRequest* decoded) {
     if (affine.claim && topic.kind == TopicKind::set_request) {
         std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
         if (!affine.life->alive) return;  // the adapter is gone
@@ -166,6 +176,10 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     std::optional<std::string> text;  // an answer already written out (a Query's)
     switch (topic.kind) {
         case TopicKind::query_request: {
+            if (decoded) {
+                text = encode(detail::handle_query(*decoded, context));
+                break;
+            }
             auto request = decode<QueryRequest>(payload);
             if (!request) {
                 reply = malformed(topic, payload, request.error());

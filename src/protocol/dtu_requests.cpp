@@ -1,6 +1,7 @@
 // Request DTUs (what applications and agents send to an adapter, and the
 // adapter's own Register/Request and Probe/Version): liberal decode, strict encode.
 #include "protocol/dtu_codec.hpp"
+#include "protocol/query_request_fast.hpp"
 
 #include <fmt/format.h>
 
@@ -201,7 +202,17 @@ NCLINK_DEFINE_DECODE(DiscoveryRequest, false)
 NCLINK_DEFINE_DECODE(ProbeVersionRequest, false)
 NCLINK_DEFINE_DECODE(ProbeQueryRequest, true)  // an empty payload is a valid Probe/Query
 NCLINK_DEFINE_DECODE(ProbeSetRequest, false)
-NCLINK_DEFINE_DECODE(QueryRequest, false)
+// A Query decodes by streaming when it can (query_request_fast.hpp), else by
+// the tree, which gives every refusal its table-19 code and message.
+template <>
+Result<QueryRequest> decode<QueryRequest>(const Json& dtu) {
+    return protocol_detail::decode_json<QueryRequest>(dtu);
+}
+template <>
+Result<QueryRequest> decode<QueryRequest>(std::string_view payload) {
+    if (auto fast = protocol_detail::fast_decode_query_request(payload)) return std::move(*fast);
+    return protocol_detail::decode_payload<QueryRequest>(payload, false);
+}
 NCLINK_DEFINE_DECODE(SetRequest, false)
 NCLINK_DEFINE_DECODE(SampleRegisterRequest, false)
 NCLINK_DEFINE_DECODE(SampleUnregisterRequest, false)

@@ -143,6 +143,33 @@ TEST_CASE("a retained request is ignored, a repeated @id is answered once") {
     CHECK(f.app->wait("Set/Response/test-dev/other")["@id"] == "once");
 }
 
+// A Query is decoded on the transport thread by the streaming decoder when
+// it can, else (here: a key given twice) by the tree decoder on the worker.
+TEST_CASE("a Query is answered and its repeated @id dropped whichever decoder reads it") {
+    AdapterFixture f;
+    const std::string reply = "Query/Response/test-dev/app";
+    const std::string streamed = R"({"@id":"s1","ids":[{"id":"pos"},"ovr"],"privateInfo":{"t":[1]}})";
+    const std::string tree_only = R"({"@id":"t1","ids":[{"id":"nope","id":"pos"}]})";  // the tree keeps the last
+    f.app->send("Query/Request/test-dev/app", streamed);
+    f.app->send("Query/Request/test-dev/app", streamed);
+    f.app->send("Query/Request/test-dev/app", tree_only);
+    f.app->send("Query/Request/test-dev/app", tree_only);
+    const Json first = f.app->wait(reply, 1);
+    CHECK(first["@id"] == "s1");
+    CHECK(first["values"][0]["id"] == "pos");
+    CHECK(first["values"][0]["code"] == "OK");
+    CHECK(first["values"][1]["id"] == "ovr");
+    CHECK(first["values"][1]["code"] == "OK");
+    const Json second = f.app->wait(reply, 2);
+    CHECK(second["@id"] == "t1");
+    CHECK(second["values"][0]["id"] == "pos");
+    CHECK(second["values"][0]["code"] == "OK");
+    // A request after them proves the repeats were processed (and dropped).
+    f.query(Json::array({Json{{"id", "pos"}}}));
+    CHECK(f.app->on(reply).size() == 3);
+    CHECK(f.adapter->stats().ignored_duplicates == 2);
+}
+
 TEST_CASE("a repeated @id is handled again once the dedup window has passed") {
     AdapterFixture f;
     const Json body = Json{{"@id", "again"}, {"ids", Json::array({Json{{"id", "pos"}}})}};
