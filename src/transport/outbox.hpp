@@ -54,6 +54,11 @@ public:
     void stop();
 
     void fill_stats(TransportStats& stats) const;
+    /// How often the sender thread woke up (tests: no futile wake-ups).
+    std::uint64_t sender_wakeups() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return sender_wakeups_;
+    }
 
 private:
     struct Entry {
@@ -93,6 +98,7 @@ private:
     std::uint64_t dropped_ = 0;
     std::uint64_t dropped_bytes_ = 0;
     std::uint64_t drop_burst_ = 0;  // drops since the last log line
+    std::uint64_t sender_wakeups_ = 0;
     std::thread thread_;
 };
 
