@@ -101,6 +101,9 @@ NCLINK_API Result<QueryParams> parse_query(const Json& params, DataKind kind);
 /// selected element. A null `current` (value unknown) answers the whole-item
 /// query with [null] and every element operation with 202.
 NCLINK_API Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind kind);
+/// The same, consuming `current`: a whole-item answer takes the value over
+/// instead of copying it (the common Query, answered per item).
+NCLINK_API Result<Json> evaluate(const QueryParams& request, Json&& current, DataKind kind);
 
 /// parse_query + evaluate.
 NCLINK_API Result<Json> evaluate_query(const Json& params, const Json& current, DataKind kind);

@@ -63,16 +63,20 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
     };
     std::vector<PointRef> points;
     std::vector<DriverItem> driver_items;
+    points.reserve(request.ids.size());
+    driver_items.reserve(request.ids.size());
+    static const Json no_params;
 
     for (std::size_t i = 0; i < request.ids.size(); ++i) {
         const QueryItem& item = request.ids[i];
+        const Json& params = item.params ? *item.params : no_params;
         QueryResult& result = response.values[i];
         result.id = item.id;
         result.params = item.params;
         const DataObject* object = context.state.item(item.id);
         if (!object && context.stats && !context.stats_item.empty() && item.id == context.stats_item) {
             // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
-            auto values = evaluate_query(item.params.value_or(Json(nullptr)), context.stats(), DataKind::dict);
+            auto values = evaluate_query(params, context.stats(), DataKind::dict);
             if (values)
                 result.values = std::move(values).value();
             else
@@ -83,13 +87,13 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             result.status = ResponseStatus(unknown_item(item.id));
             continue;
         }
-        auto parsed = parse_query(item.params.value_or(Json(nullptr)), object->kind);
+        auto parsed = parse_query(params, object->kind);
         if (!parsed) {
             result.status = ResponseStatus(parsed.error());
             continue;
         }
         if (context.state.sdk_held(item.id)) {
-            auto values = context.state.store->query(item.id, item.params.value_or(Json(nullptr)));
+            auto values = context.state.store->query(item.id, params);
             if (values)
                 result.values = std::move(values).value();
             else
@@ -117,7 +121,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
                 put_driver_failure(result, read[k].error());
                 continue;
             }
-            auto values = evaluate(driver_items[k].params, read[k].value(), driver_items[k].kind);
+            auto values = evaluate(driver_items[k].params, std::move(read[k]).value(), driver_items[k].kind);
             if (values)
                 result.values = std::move(values).value();
             else

@@ -22,10 +22,23 @@ Json element_answer(const Json& element, QueryOperation op) {
     return element;
 }
 
+// `[value]`, built without an initializer list (which copies through a
+// proxy and checks whether the list looks like an object).
+Json whole(Json value) {
+    Json out(Json::value_t::array);
+    out.get_ref<Json::array_t&>().push_back(std::move(value));
+    return out;
+}
+
 }  // namespace
 
+Result<Json> evaluate(const QueryParams& request, Json&& current, DataKind kind) {
+    if (request.whole_item()) return whole(std::move(current));
+    return evaluate(request, static_cast<const Json&>(current), kind);
+}
+
 Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind kind) {
-    if (request.whole_item()) return Json::array({current});
+    if (request.whole_item()) return whole(current);
     if (auto shape = check_shape(current, kind); !shape) return std::move(shape).error();
 
     Json out = Json::array();

@@ -30,6 +30,30 @@ TEST_CASE("whole-item query answers (value) for every kind") {
     CHECK(parsed->whole_item());
 }
 
+TEST_CASE("evaluate consuming the value answers as evaluate reading it") {
+    const Json list = example_list();
+    for (const char* params : {"null", "{}", R"({"operation":"get_value","indexes":[0,2]})", R"({"operation":"get_length"})",
+                               R"({"operation":"get_attributes","indexes":"0-1"})", R"({"indexes":[99]})"}) {
+        INFO(params);
+        const auto parsed = parse_query(Json::parse(params), DataKind::list);
+        REQUIRE(parsed.ok());
+        const auto reading = evaluate(*parsed, list, DataKind::list);
+        Json taken = list;
+        const auto consuming = evaluate(*parsed, std::move(taken), DataKind::list);
+        REQUIRE(reading.ok() == consuming.ok());
+        if (reading.ok())
+            CHECK(*reading == *consuming);
+        else
+            CHECK(reading.error().code == consuming.error().code);
+    }
+    // The whole item is taken over, not copied: the source is left moved-from (null).
+    Json big = Json::array({1, 2, 3});
+    const auto whole = evaluate(*parse_query(Json(), DataKind::list), std::move(big), DataKind::list);
+    REQUIRE(whole.ok());
+    CHECK(*whole == Json::parse("[[1,2,3]]"));
+    CHECK(big.is_null());
+}
+
 TEST_CASE("dict queries of examples 8.2.11-2 / 8.2.12-2") {
     const Json dict = example_dict();
     CHECK(q(R"({"operation": "get_keys"})", dict, DataKind::dict) == Json::parse(R"(["k1","k2","k3"])"));
