@@ -16,6 +16,7 @@ struct PollHost::Entry {
 
 PollHost::PollHost(std::size_t threads, std::string name) : name_(std::move(name)) {
     if (threads == 0) threads = 1;
+    watching_.assign(threads, Time::max());
     for (std::size_t i = 0; i < threads; ++i) threads_.emplace_back([this, i] { work(i); });
 }
 
@@ -25,7 +26,13 @@ void PollHost::schedule_locked(const Handle& entry, Time at) {
     ++entry->generation;
     const bool earlier = due_.empty() || at < due_.top().at;
     due_.push(Due{at, entry->generation, entry});
-    if (earlier) wake_.notify_one();
+    if (earlier && !watched_locked(at)) wake_.notify_one();
+}
+
+bool PollHost::watched_locked(Time at) const {
+    for (const Time watch : watching_)
+        if (watch <= at) return true;
+    return false;
 }
 
 PollHost::Handle PollHost::add(Poll poll) {
@@ -83,12 +90,18 @@ std::uint64_t PollHost::polls() const {
     return polls_;
 }
 
+std::uint64_t PollHost::wakeups() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return wakeups_;
+}
+
 void PollHost::work(std::size_t index) {
     name_this_thread(name_ + "-" + std::to_string(index));
     std::unique_lock<std::mutex> lock(mutex_);
     while (!stopping_) {
         if (due_.empty()) {
             wake_.wait(lock);
+            ++wakeups_;
             continue;
         }
         const Due top = due_.top();
@@ -100,7 +113,20 @@ void PollHost::work(std::size_t index) {
         }
         const auto now = std::chrono::steady_clock::now();
         if (top.at > now) {
-            wake_.wait_until(lock, top.at);  // an earlier item, or stop, notifies
+            // One thread watches the next deadline; the others only back it
+            // up (kBackstop later), in case its watcher is then stuck in a
+            // long poll. All of them waiting for the same deadline woke
+            // together and all but one went back to sleep: at 1,000
+            // machines tens of thousands of futile wake-ups a second, each
+            // a futex call and a fight for this mutex.
+            if (watched_locked(top.at)) {
+                wake_.wait_until(lock, top.at + kBackstop);
+            } else {
+                watching_[index] = top.at;
+                wake_.wait_until(lock, top.at);  // an earlier item, or stop, notifies
+                watching_[index] = Time::max();
+            }
+            ++wakeups_;
             continue;
         }
         due_.pop();
@@ -109,8 +135,10 @@ void PollHost::work(std::size_t index) {
         entry->woken = false;
         entry->runner = std::this_thread::get_id();
         ++polls_;
-        // Another thread may take the next due item while this one polls.
-        if (!due_.empty()) wake_.notify_one();
+        // Another thread takes the next item if it is due already; one due
+        // later is this thread's after the poll (or a backstop's, if the
+        // poll outlasts kBackstop past it).
+        if (!due_.empty() && due_.top().at <= now) wake_.notify_one();
         lock.unlock();
         Time next;
         try {

@@ -10,7 +10,10 @@
 //   of its next one (time_point::max(): only when woken).
 // - One pollable never runs on two threads at once; different pollables run
 //   in parallel on different threads. Whichever thread is free takes the
-//   earliest due pollable.
+//   earliest due pollable. One free thread waits for the next deadline; a
+//   pollable that comes due while that thread is still in a poll waits for
+//   it, at most kBackstop, then another thread takes it (so a stuck poll
+//   holds the others back by kBackstop, not for as long as it is stuck).
 // - wake() makes a pollable due now (also while it runs: it runs again right
 //   after). Thread-safe, cheap, never blocks on a running poll.
 // - remove() returns once the pollable is not running and never will again
@@ -58,6 +61,13 @@ public:
     std::size_t size() const;
     /// Polls run so far (for benchmarks).
     std::uint64_t polls() const;
+    /// How often a serving thread woke from waiting (tests: few futile wake-ups).
+    std::uint64_t wakeups() const;
+
+    /// How long past a deadline the threads not watching it wait before they
+    /// take it over from a watcher still busy in a poll: the most a stuck or
+    /// slow poll delays the others.
+    static constexpr std::chrono::milliseconds kBackstop{5};
 
 private:
     struct Due {
@@ -68,6 +78,8 @@ private:
     };
     void work(std::size_t index);
     void schedule_locked(const Handle& entry, Time at);
+    /// Whether a serving thread waits for a deadline at or before `at`.
+    bool watched_locked(Time at) const;
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;       // serving threads: earlier work, or stop
@@ -75,6 +87,8 @@ private:
     std::priority_queue<Due, std::vector<Due>, std::greater<Due>> due_;
     std::size_t entries_ = 0;
     std::uint64_t polls_ = 0;
+    std::uint64_t wakeups_ = 0;
+    std::vector<Time> watching_;  // per serving thread: the deadline it waits for (max: none)
     bool stopping_ = false;
     const std::string name_;
     std::vector<std::thread> threads_;

@@ -160,3 +160,50 @@ TEST_CASE("a throwing pollable does not stop the others") {
     host.remove(bad);
     host.remove(fine);
 }
+
+// With N threads all waiting for the next deadline, all N woke at it and
+// all but one went back to sleep; a gateway's tens of thousands of polls a
+// second made that the timer threads' main cost.
+TEST_CASE("one thread waits for the next deadline: the others do not wake for every poll") {
+    PollHost host(2, "t-host");
+    std::vector<PollHost::Handle> entries;
+    for (int i = 0; i < 4; ++i) {
+        const Time phase = std::chrono::steady_clock::now() + std::chrono::microseconds(500 * i);
+        entries.push_back(host.add([phase, first = true](Time now) mutable {
+            if (first) {
+                first = false;
+                return phase;
+            }
+            return now + 2ms;
+        }));
+    }
+    std::this_thread::sleep_for(300ms);
+    for (auto& e : entries) host.remove(e);
+    const auto polls = host.polls(), wakeups = host.wakeups();
+    INFO("polls " << polls << ", wake-ups " << wakeups);
+    REQUIRE(polls > 100);
+    CHECK(static_cast<double>(wakeups) < 1.5 * static_cast<double>(polls));
+}
+
+TEST_CASE("a poll stuck far past the next deadline holds the others back by the backstop only") {
+    PollHost host(2, "t-host");
+    std::atomic<bool> release{false};
+    std::atomic<int> fast{0};
+    std::atomic<bool> stuck_started{false};
+    auto stuck = host.add([&](Time now) {
+        stuck_started = true;
+        while (!release) std::this_thread::sleep_for(1ms);
+        return now + 1h;
+    });
+    REQUIRE(eventually([&] { return stuck_started.load(); }));
+    auto other = host.add([&](Time now) {
+        ++fast;
+        return now + 10ms;
+    });
+    // 300 ms at a 10 ms period while one poll is stuck the whole time.
+    std::this_thread::sleep_for(300ms);
+    CHECK(fast.load() >= 10);
+    release = true;
+    host.remove(other);
+    host.remove(stuck);
+}
