@@ -179,7 +179,9 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::optional<Json> malformed(const ParsedTopic& topic, const std::string& payload, const Error& error);
     void respond(const ParsedTopic& request_topic, const Json& reply);
     /// respond() with the payload already serialized (Probe/Query's verbatim model).
-    void respond_text(const ParsedTopic& request_topic, const std::string& payload);
+    /// Publishes `payload` on the response topic(s); taken by value: the
+    /// last topic's message takes it over (a Query answer can be megabytes).
+    void respond_text(const ParsedTopic& request_topic, std::string payload);
 
     // ---- Probe/Set (adapter_probe_set.cpp)
     ProbeSetResponse probe_set(const ProbeSetRequest& request);

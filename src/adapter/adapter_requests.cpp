@@ -220,7 +220,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     if (!reply && !text) return;
     const auto deliver = [&] {
         if (text)
-            respond_text(topic, *text);
+            respond_text(topic, std::move(*text));
         else
             respond(topic, *reply);
     };
@@ -254,10 +254,12 @@ void Adapter::Impl::respond(const ParsedTopic& request_topic, const Json& reply)
     respond_text(request_topic, reply.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
-void Adapter::Impl::respond_text(const ParsedTopic& request_topic, const std::string& payload) {
+void Adapter::Impl::respond_text(const ParsedTopic& request_topic, std::string payload) {
     std::vector<Message> response;
-    for (const auto& topic : response_topics(request_topic, config.standard_typo_topics))
-        response.push_back(Message{topic, payload, 1, false});
+    auto topics = response_topics(request_topic, config.standard_typo_topics);
+    response.reserve(topics.size());
+    for (std::size_t i = 0; i < topics.size(); ++i)
+        response.push_back(Message{std::move(topics[i]), i + 1 == topics.size() ? std::move(payload) : payload, 1, false});
     // Sent, or kept for later: the state machine's row decides (the state-machine text 69, 74, 79).
     fire(AdapterEvent::request_handled, std::move(response));
 }

@@ -2,6 +2,7 @@
 #include "core/thread_name.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <atomic>
 #include <optional>
 
@@ -347,14 +348,15 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         }
         // Each chunk goes through read_locked() under the (re-)taken lock, so
         // a bind() that got in between re-resolves the rest against its table.
-        results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
+        // Each chunk answers for every one of its points, in order.
+        results.reserve(points.size());
         std::vector<PointRef> chunk;
         Results chunk_results;
         for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
             const std::size_t end = std::min(points.size(), at + kReadChunk);
             chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
             call_in_place(*queue, [&] { read_locked(*driver, *queue, chunk, generation, chunk_results); });
-            std::move(chunk_results.begin(), chunk_results.end(), results.begin() + static_cast<std::ptrdiff_t>(at));
+            std::move(chunk_results.begin(), chunk_results.end(), std::back_inserter(results));
             if (!per_chunk_lock && end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
                 hold->unlock();
                 yield_to_priority(*queue);
