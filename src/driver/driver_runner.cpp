@@ -2,8 +2,8 @@
 #include "core/thread_name.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <atomic>
+#include <iterator>
 #include <optional>
 
 namespace nclink::detail {
@@ -347,8 +347,8 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
             return results;
         }
         // Each chunk goes through read_locked() under the (re-)taken lock, so
-        // a bind() that got in between re-resolves the rest against its table.
-        // Each chunk answers for every one of its points, in order.
+        // a bind() that got in between re-resolves the rest against its table;
+        // it answers for every one of its points, in order, appended here.
         results.reserve(points.size());
         std::vector<PointRef> chunk;
         Results chunk_results;
