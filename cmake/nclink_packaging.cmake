@@ -104,7 +104,7 @@ application client and the agent.
 This package holds the shared library.")
 
 nclink_package(dev NAME libnclink-dev SECTION libdevel
-  DEPENDS "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libpaho-mqttpp-dev, libpaho-mqtt-dev"
+  DEPENDS "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libpaho-mqttpp-dev, libpaho-mqtt-dev, libmosquitto-dev"
   SUMMARY "NC-Link (GB/T 41970-2022) SDK - development files"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT.

@@ -7,7 +7,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 
 packages=(build-essential cmake pkg-config git
-          nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev catch2
+          nlohmann-json3-dev libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev libmosquitto-dev catch2
           libssl-dev openssl
           mosquitto mosquitto-clients
           libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools

@@ -4,6 +4,8 @@
 #include "support/mosquitto_broker.hpp"
 #include "support/inbox.hpp"
 #include "support/wait.hpp"
+#include "transport/mosquitto_transport.hpp"
+#include "transport/mqtt_loop.hpp"
 #include "transport/tcp_nodelay.hpp"
 
 #include <catch2/catch.hpp>
@@ -11,6 +13,9 @@
 #include <sys/socket.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <cstdlib>
 #include <mutex>
 #include <set>
@@ -37,8 +42,31 @@ MqttOptions options_for(const MosquittoBroker& broker, const std::string& id) {
     return o;
 }
 
+// Which client the tests marked GENERATE_CLIENT() run on: paho (single
+// adapters) or libmosquitto on a shared loop (gateways). Both keep one contract.
+bool g_mosquitto = false;
+#define GENERATE_CLIENT()                 \
+    g_mosquitto = GENERATE(false, true); \
+    INFO((g_mosquitto ? "libmosquitto on a shared loop" : "paho"))
+
+// One loop for the transports alive at once, as in a gateway.
+std::shared_ptr<detail::MqttLoop> shared_loop() {
+    static std::weak_ptr<detail::MqttLoop> current;
+    auto loop = current.lock();
+    if (!loop) {
+        loop = std::make_shared<detail::MqttLoop>(o_logger);
+        current = loop;
+    }
+    return loop;
+}
+
+Result<std::unique_ptr<Transport>> make_transport(MqttOptions o, Logger logger = o_logger) {
+    if (g_mosquitto) return detail::make_mosquitto_transport(std::move(o), std::move(logger), shared_loop());
+    return make_mqtt_transport(std::move(o), std::move(logger));
+}
+
 std::unique_ptr<Transport> connect(MqttOptions o) {
-    auto made = make_mqtt_transport(std::move(o), o_logger);
+    auto made = make_transport(std::move(o));
     REQUIRE(made.ok());
     return std::move(made).value();
 }
@@ -52,6 +80,7 @@ std::set<int> broker_fds(int port) {
 }  // namespace
 
 TEST_CASE("publish and subscribe through mosquitto, in order, with TCP_NODELAY on the socket") {
+    GENERATE_CLIENT();
     MosquittoBroker broker;
     auto pub = connect(options_for(broker, "nclink-test-pub"));
     auto sub = connect(options_for(broker, "nclink-test-sub"));
@@ -85,6 +114,7 @@ TEST_CASE("publish and subscribe through mosquitto, in order, with TCP_NODELAY o
 }
 
 TEST_CASE("without the option no TCP_NODELAY is set (the test above can fail)") {
+    GENERATE_CLIENT();
     MosquittoBroker broker;
     auto o = options_for(broker, "nclink-test-nagle");
     o.tcp_nodelay = false;
@@ -99,6 +129,7 @@ TEST_CASE("without the option no TCP_NODELAY is set (the test above can fail)") 
 }
 
 TEST_CASE("messages published while the broker restarts are delivered after it, in order") {
+    GENERATE_CLIENT();
     // What is tested is the publisher's buffer: kept while the broker is
     // away, sent in order after it. The subscriber reconnects (and
     // resubscribes) within ~50 ms of the restart; the publisher waits 1.5 s
@@ -147,6 +178,7 @@ TEST_CASE("messages published while the broker restarts are delivered after it, 
 }
 
 TEST_CASE("a persistent broker keeps an absent subscriber's session and queued messages over a restart") {
+    GENERATE_CLIENT();
     // What docs/delivery.md's table rests on, and what every persistence
     // test assumes of the test broker: it really saves (started as root it
     // runs as its own user, who must own the directory it saves in).
@@ -185,12 +217,13 @@ TEST_CASE("a persistent broker keeps an absent subscriber's session and queued m
 }
 
 TEST_CASE("a persistent session the broker forgot over a restart is counted and logged, never silent") {
+    GENERATE_CLIENT();
     MosquittoBroker broker;  // no persistence: a restart forgets every session
     auto options = options_for(broker, "nclink-test-sub-forgotten");
     options.clean_session = false;
     std::vector<std::string> warnings;
     std::mutex warnings_mutex;
-    auto made = make_mqtt_transport(options, Logger([&](LogLevel level, std::string_view message) {
+    auto made = make_transport(options, Logger([&](LogLevel level, std::string_view message) {
         if (level != LogLevel::warn) return;
         std::lock_guard<std::mutex> lock(warnings_mutex);
         warnings.emplace_back(message);
@@ -213,6 +246,7 @@ TEST_CASE("a persistent session the broker forgot over a restart is counted and 
 }
 
 TEST_CASE("an abrupt disconnect publishes the last will, the transport reconnects") {
+    GENERATE_CLIENT();
     MosquittoBroker broker;
     auto adapter_options = options_for(broker, "nclink-test-adapter");
     adapter_options.last_will = Message{"Notify/State/dev1", R"({"tid":"dev1","state":"offline"})", 1, true};
@@ -243,6 +277,7 @@ TEST_CASE("an abrupt disconnect publishes the last will, the transport reconnect
 }
 
 TEST_CASE("a transport started before its broker connects when the broker comes up") {
+    GENERATE_CLIENT();
     MosquittoOptions bo;
     bo.start = false;
     MosquittoBroker broker(bo);
@@ -316,4 +351,79 @@ TEST_CASE("broker round trip: an unreachable broker is an error, not a hang") {
     const auto measured = nclink::measure_broker_round_trip(options, 1, std::chrono::milliseconds(500));
     REQUIRE_FALSE(measured.ok());
     CHECK(measured.error().code == nclink::ErrorCode::unavailable);
+}
+
+namespace {
+int threads_named(const std::string& name) {
+    int n = 0;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task")) {
+        std::ifstream comm(entry.path() / "comm");
+        std::string line;
+        if (std::getline(comm, line) && line == name) ++n;
+    }
+    return n;
+}
+}  // namespace
+
+TEST_CASE("two hundred connections share one I/O thread and each gets exactly its own messages") {
+    g_mosquitto = true;
+    MosquittoBroker broker;
+    constexpr int kMachines = 200;
+    auto loop = std::make_shared<detail::MqttLoop>(o_logger);
+    std::vector<std::unique_ptr<Transport>> machines;
+    for (int i = 0; i < kMachines; ++i) {
+        auto o = options_for(broker, "nclink-test-gw-" + std::to_string(i));
+        o.last_will = Message{"Notify/State/gw-" + std::to_string(i), "offline", 1, false};
+        auto made = detail::make_mosquitto_transport(o, o_logger, loop);
+        REQUIRE(made.ok());
+        machines.push_back(std::move(made).value());
+        // Each machine answers on its own connection what it received on it.
+        Transport* self = machines.back().get();
+        self->set_message_handler([self, i](const Message& m) {
+            (void)self->publish({"Query/Response/gw-" + std::to_string(i) + "/app", m.payload, 1, false});
+        });
+        REQUIRE(machines.back()->subscribe({"Query/Request/gw-" + std::to_string(i) + "/+"}, 1).ok());
+        REQUIRE(machines.back()->start().ok());
+    }
+    CHECK(threads_named("nclink-mqtt-io") >= 1);
+    REQUIRE(eventually([&] {
+        return std::all_of(machines.begin(), machines.end(), [](const auto& t) { return t->state() == LinkState::connected; });
+    }, std::chrono::seconds(20)));
+
+    auto app = connect(options_for(broker, "nclink-test-gw-app"));
+    Inbox replies;
+    replies.attach(*app);
+    REQUIRE(app->subscribe({"Query/Response/+/app", "Notify/State/+"}, 1).ok());
+    REQUIRE(app->start().ok());
+    REQUIRE(eventually([&] { return app->state() == LinkState::connected; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // SUBACKs
+
+    for (int round = 0; round < 5; ++round)
+        for (int i = 0; i < kMachines; ++i)
+            REQUIRE(app->publish({"Query/Request/gw-" + std::to_string(i) + "/app", std::to_string(i) + ":" + std::to_string(round), 1, false}).ok());
+    REQUIRE(eventually([&] { return replies.count() >= 5 * kMachines; }, std::chrono::seconds(20)));
+    {
+        std::lock_guard<std::mutex> lock(replies.mutex);
+        std::map<std::string, std::vector<std::string>> by_topic;
+        for (const auto& m : replies.messages) by_topic[m.topic].push_back(m.payload);
+        REQUIRE(by_topic.size() == kMachines);
+        for (int i = 0; i < kMachines; ++i) {
+            const auto& got = by_topic["Query/Response/gw-" + std::to_string(i) + "/app"];
+            REQUIRE(got.size() == 5);
+            for (int round = 0; round < 5; ++round) CHECK(got[static_cast<std::size_t>(round)] == std::to_string(i) + ":" + std::to_string(round));
+        }
+    }
+    for (const auto& t : machines) CHECK(t->stats().in_flight == 0);
+
+    // A clean stop says goodbye: no last will.
+    machines[0]->stop();
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    {
+        std::lock_guard<std::mutex> lock(replies.mutex);
+        for (const auto& m : replies.messages) CHECK(m.topic != "Notify/State/gw-0");
+    }
+    CHECK(machines[1]->state() == LinkState::connected);
+    CHECK(threads_named("nclink-mqtt-io") >= 1);
+    for (auto& t : machines) t->stop();
+    app->stop();
 }

@@ -1,0 +1,534 @@
+#include "transport/mosquitto_transport.hpp"
+
+#include "transport/backoff.hpp"
+#include "transport/mqtt_loop.hpp"
+#include "transport/outbox.hpp"
+#include "transport/tcp_nodelay.hpp"
+#include "transport/tls_check.hpp"
+
+#include <mosquitto.h>
+#include <mqtt_protocol.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <random>
+#include <shared_mutex>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace nclink::detail {
+namespace {
+
+using std::chrono::milliseconds;
+using Steady = std::chrono::steady_clock;
+
+void init_library_once() {
+    static std::once_flag once;
+    std::call_once(once, [] { mosquitto_lib_init(); });
+}
+
+// All socket work happens on the loop thread. Other threads only queue:
+// libmosquitto in "threaded" mode queues a publish and leaves the writing to
+// whoever runs its loop, here MqttLoop, woken by wake(this).
+//
+// Each connection attempt uses a fresh libmosquitto client: the outbox owns
+// every unacknowledged message and sends it again after a reconnect, so the
+// library must not also replay its own copy (a duplicate, out of order).
+class MosquittoTransport final : public Transport, private LoopMember {
+public:
+    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop)
+        : options_(std::move(options)),
+          logger_(std::move(logger)),
+          loop_(std::move(loop)),
+          outbox_(options_.outbox, [this](const Message& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
+
+    ~MosquittoTransport() override {
+        stop(milliseconds(0));
+        destroy_client();
+    }
+
+    void set_message_handler(MessageHandler handler) override { on_message_ = std::move(handler); }
+    void set_state_handler(LinkStateHandler handler) override { on_state_ = std::move(handler); }
+
+    Result<void> start() override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (started_) return make_error(ErrorCode::unavailable, "transport already started");
+            started_ = true;
+        }
+        retry_at_ = Steady::now();  // the first attempt at once
+        loop_->add(this);
+        loop_->wake(this);
+        return ok_result();
+    }
+
+    void stop(milliseconds flush_timeout) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!started_ || stopping_) return;
+        }
+        if (state_ == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
+        outbox_.stop();
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            stopping_ = true;
+            lock.unlock();
+            loop_->wake(this);
+            lock.lock();
+            // The loop sends DISCONNECT (no last will for a clean stop) and closes.
+            closed_cv_.wait_for(lock, milliseconds(2000), [this] { return closed_; });
+        }
+        loop_->remove(this);
+        set_state(LinkState::disconnected, "stopped");
+    }
+
+    Result<void> publish(Message message) override { return outbox_.push(std::move(message)); }
+
+    Result<void> subscribe(std::vector<std::string> filters, int qos) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& f : filters) subscriptions_[f] = qos;
+        }
+        // Sent at once when connected; every (re)connection subscribes to all.
+        std::shared_lock<std::shared_mutex> client(client_mutex_);
+        if (state_ == LinkState::connected && mosq_ != nullptr) {
+            subscribe_now(filters, qos);
+            loop_->wake(this);
+        }
+        return ok_result();
+    }
+
+    Result<void> unsubscribe(std::vector<std::string> filters) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& f : filters) subscriptions_.erase(f);
+        }
+        std::shared_lock<std::shared_mutex> client(client_mutex_);
+        if (state_ == LinkState::connected && mosq_ != nullptr && !filters.empty()) {
+            std::vector<char*> list;
+            for (auto& f : filters) list.push_back(f.data());
+            mosquitto_unsubscribe_multiple(mosq_, nullptr, static_cast<int>(list.size()), list.data(), nullptr);
+            loop_->wake(this);
+        }
+        return ok_result();
+    }
+
+    LinkState state() const override { return state_; }
+
+    TransportStats stats() const override {
+        TransportStats s;
+        outbox_.fill_stats(s);
+        s.received = received_;
+        s.connects = connects_;
+        s.tcp_nodelay_sockets = nodelay_sockets_;
+        s.sessions_lost = sessions_lost_;
+        s.connect_failures = connect_failures_;
+        std::lock_guard<std::mutex> lock(failure_mutex_);
+        s.last_error = last_error_;
+        s.refused = refused_;
+        return s;
+    }
+
+    bool flush(milliseconds timeout) override { return outbox_.wait_drained(timeout); }
+
+private:
+    // ---- any thread -------------------------------------------------------
+
+    // Outbox sender or a publishing thread. The acknowledgement (or, at QoS
+    // 0, the write) comes back through on_publish on the loop thread,
+    // possibly before mosquitto_publish() has returned the message id.
+    bool send(const Message& m, std::uint64_t attempt) {
+        std::shared_lock<std::shared_mutex> client(client_mutex_);
+        if (mosq_ == nullptr || state_ != LinkState::connected) return false;
+        int mid = 0;
+        const int rc = mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()),
+                                         m.payload.data(), m.qos, m.retained);
+        if (rc != MOSQ_ERR_SUCCESS) {
+            logger_.debug("mqtt: publish to {} refused: {}", m.topic, mosquitto_strerror(rc));
+            return false;
+        }
+        bool done = false;
+        {
+            std::lock_guard<std::mutex> lock(acks_mutex_);
+            if (early_acks_.erase(mid) > 0)
+                done = true;
+            else
+                in_flight_[mid] = attempt;
+        }
+        if (done) outbox_.delivered(attempt);
+        loop_->wake(this);
+        return true;
+    }
+
+    void subscribe_now(std::vector<std::string> filters, int qos) {
+        std::vector<char*> list;
+        for (auto& f : filters) list.push_back(f.data());
+        const int rc = mosquitto_subscribe_multiple(mosq_, nullptr, static_cast<int>(list.size()), list.data(), qos, 0, nullptr);
+        if (rc != MOSQ_ERR_SUCCESS) logger_.warn("mqtt: subscribe failed (retried on reconnect): {}", mosquitto_strerror(rc));
+    }
+
+    void set_state(LinkState next, std::string_view detail) {
+        std::lock_guard<std::mutex> lock(state_mutex_);
+        if (state_ == next) return;
+        state_ = next;
+        logger_.info("mqtt: {} ({})", to_string(next), detail);
+        if (on_state_) on_state_(next, detail);
+    }
+
+    void connect_failed(const std::string& why, bool refused) {
+        const milliseconds retry = jittered(delay_, rng_);
+        logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, why, retry.count());
+        ++connect_failures_;
+        {
+            std::lock_guard<std::mutex> lock(failure_mutex_);
+            last_error_ = why;
+            refused_ = refused;
+        }
+        retry_at_ = Steady::now() + retry;
+        delay_ = std::min(delay_ * 2, options_.reconnect_max);
+    }
+
+    // ---- loop thread ------------------------------------------------------
+
+    void on_io(bool readable, bool writable) override {
+        if (mosq_ == nullptr) return;
+        // A TLS handshake moves on in loop_read whichever way the socket turned ready.
+        if (readable || (writable && options_.tls && !connected_)) mosquitto_loop_read(mosq_, 1);
+        if (writable && mosq_ != nullptr && mosquitto_socket(mosq_) >= 0) mosquitto_loop_write(mosq_, 1);
+        after_io();
+    }
+
+    void on_wake() override {
+        bool stopping = false, closed = false;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping = stopping_;
+            closed = closed_;
+        }
+        if (stopping) {
+            if (!closed) close_for_stop();
+            return;
+        }
+        if (mosq_ == nullptr && Steady::now() >= retry_at_) begin_connect();
+        if (mosq_ != nullptr && mosquitto_want_write(mosq_)) mosquitto_loop_write(mosq_, 1);
+        after_io();
+    }
+
+    void on_tick(Steady::time_point now) override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (stopping_) return;
+        }
+        if (mosq_ == nullptr) {
+            if (now >= retry_at_) begin_connect();
+        } else if (!connected_ && now >= attempt_deadline_) {
+            connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()), false);
+            drop_connection("connect failed");
+        } else if (now >= next_misc_) {
+            // Keep-alive: PINGREQ when due, and a broker that stopped answering is noticed.
+            next_misc_ = now + std::chrono::seconds(1);
+            mosquitto_loop_misc(mosq_);
+        }
+        after_io();
+    }
+
+    // After any libmosquitto call: a socket it closed is unwatched, a lost
+    // connection is dropped, queued output is written or waited for.
+    void after_io() {
+        if (lost_) {
+            lost_ = false;
+            drop_connection(lost_reason_);
+            return;
+        }
+        if (mosq_ == nullptr) {
+            loop_->watch(this, -1, false);
+            return;
+        }
+        const int fd = mosquitto_socket(mosq_);
+        // Until the TCP connection is up the CONNECT waits in the queue:
+        // writable is when it has come up (or failed).
+        loop_->watch(this, fd, fd >= 0 && mosquitto_want_write(mosq_));
+    }
+
+    void begin_connect() {
+        destroy_client();
+        init_library_once();
+        set_state(LinkState::connecting, options_.broker_url);
+        mosquitto* m = mosquitto_new(options_.client_id.c_str(), options_.clean_session, this);
+        if (m == nullptr) return connect_failed("libmosquitto could not create a client", false);
+        mosquitto_threaded_set(m, true);
+        mosquitto_int_option(m, MOSQ_OPT_PROTOCOL_VERSION, options_.mqtt_version >= 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
+        mosquitto_int_option(m, MOSQ_OPT_TCP_NODELAY, options_.tcp_nodelay ? 1 : 0);
+        mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM, static_cast<int>(std::min<std::size_t>(options_.outbox.max_in_flight, 65535)));
+        mosquitto_connect_v5_callback_set(m, &MosquittoTransport::on_connack);
+        mosquitto_disconnect_callback_set(m, &MosquittoTransport::on_disconnected);
+        mosquitto_publish_callback_set(m, &MosquittoTransport::on_published);
+        mosquitto_message_callback_set(m, &MosquittoTransport::on_received);
+        if (!options_.username.empty())
+            mosquitto_username_pw_set(m, options_.username.c_str(), options_.password.c_str());
+        if (options_.last_will) {
+            const auto& w = *options_.last_will;
+            mosquitto_will_set(m, w.topic.c_str(), static_cast<int>(w.payload.size()), w.payload.data(), w.qos, w.retained);
+        }
+        if (options_.tls) {
+            const auto& t = *options_.tls;
+            if (auto problem = tls_file_problem(t)) {
+                mosquitto_destroy(m);
+                return connect_failed(*problem, true);
+            }
+            // No CA file: the system's trust store, as paho does.
+            const int rc = mosquitto_tls_set(m, t.ca_file.empty() ? nullptr : t.ca_file.c_str(),
+                                             t.ca_file.empty() ? "/etc/ssl/certs" : nullptr,
+                                             t.cert_file.empty() ? nullptr : t.cert_file.c_str(),
+                                             t.key_file.empty() ? nullptr : t.key_file.c_str(),
+                                             t.key_password.empty() ? nullptr : &MosquittoTransport::key_password);
+            if (rc != MOSQ_ERR_SUCCESS) {
+                mosquitto_destroy(m);
+                return connect_failed(fmt::format("TLS files not usable: {}", mosquitto_strerror(rc)), true);
+            }
+            mosquitto_tls_opts_set(m, t.verify_server ? 1 : 0, nullptr, nullptr);
+            mosquitto_tls_insecure_set(m, !t.verify_server);
+        }
+        {
+            std::unique_lock<std::shared_mutex> client(client_mutex_);
+            mosq_ = m;
+        }
+        connected_ = false;
+        lost_ = false;
+        attempt_deadline_ = Steady::now() + options_.connect_timeout;
+        next_misc_ = Steady::now() + std::chrono::seconds(1);
+        const int keep_alive = static_cast<int>(std::max<std::chrono::seconds::rep>(5, options_.keep_alive.count()));
+        const int rc = mosquitto_connect_async(m, host_.c_str(), port_, keep_alive);
+        if (rc != MOSQ_ERR_SUCCESS) {
+            connect_failed(rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc)), false);
+            drop_connection("connect failed");
+        }
+    }
+
+    // Loop thread, never inside a libmosquitto callback.
+    void drop_connection(const std::string& why) {
+        const bool was_connected = connected_;
+        connected_ = false;
+        destroy_client();
+        loop_->watch(this, -1, false);
+        {
+            std::lock_guard<std::mutex> lock(acks_mutex_);
+            in_flight_.clear();
+            early_acks_.clear();
+        }
+        if (was_connected) {
+            // Unacknowledged messages wait again, in order, for the next connection.
+            outbox_.link_down();
+            retry_at_ = Steady::now() + jittered(delay_, rng_);
+        }
+        set_state(LinkState::disconnected, why);
+    }
+
+    void destroy_client() {
+        mosquitto* m = nullptr;
+        {
+            std::unique_lock<std::shared_mutex> client(client_mutex_);
+            m = mosq_;
+            mosq_ = nullptr;
+        }
+        if (m != nullptr) mosquitto_destroy(m);
+    }
+
+    void close_for_stop() {
+        if (mosq_ != nullptr && connected_) {
+            mosquitto_disconnect(mosq_);
+            mosquitto_loop_write(mosq_, 1);  // best effort: a few bytes on an idle socket
+        }
+        connected_ = false;
+        loop_->watch(this, -1, false);
+        destroy_client();
+        std::lock_guard<std::mutex> lock(mutex_);
+        closed_ = true;
+        closed_cv_.notify_all();
+    }
+
+    // libmosquitto callbacks: loop thread, inside mosquitto_loop_*().
+
+    static void on_connack(mosquitto*, void* self, int rc, int flags, const mosquitto_property*) {
+        static_cast<MosquittoTransport*>(self)->connack(rc, flags);
+    }
+    void connack(int rc, int flags) {
+        if (rc != 0) {
+            // 3.1.1 return codes (3.2.2.3) and MQTT 5 reason codes (3.2.2.2).
+            if (rc == 4 || rc == 0x86)
+                connect_failed("the broker refused the user name or password", true);
+            else if (rc == 5 || rc == 0x87)
+                connect_failed("the broker refused the connection: not authorized (user name, password or certificate)", true);
+            else if (rc == 2 || rc == 0x85)
+                connect_failed("the broker refused the client id", true);
+            else
+                connect_failed(fmt::format("the broker refused the connection: {}",
+                                           options_.mqtt_version >= 5 ? mosquitto_reason_string(rc) : mosquitto_connack_string(rc)),
+                               false);
+            lose("refused by the broker");
+            return;
+        }
+        const bool session_present = (flags & 1) != 0;
+        if (!options_.clean_session) {
+            if (session_established_ && !session_present) {
+                ++sessions_lost_;
+                logger_.warn("mqtt: the broker kept no session for client id '{}': what it held for us while we were away "
+                             "is lost (broker restarted without working persistence, or the session expired)",
+                             options_.client_id);
+            }
+            session_established_ = true;
+        }
+        connected_ = true;
+        delay_ = options_.reconnect_min;
+        nodelay_sockets_ = options_.tcp_nodelay ? 1 : 0;
+        std::map<int, std::vector<std::string>> by_qos;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
+        }
+        for (auto& [qos, filters] : by_qos) subscribe_now(std::move(filters), qos);
+        ++connects_;
+        {
+            std::lock_guard<std::mutex> lock(failure_mutex_);
+            last_error_.clear();
+            refused_ = false;
+        }
+        set_state(LinkState::connected, options_.broker_url);
+        outbox_.link_up();
+    }
+
+    static void on_disconnected(mosquitto*, void* self, int rc) {
+        auto* t = static_cast<MosquittoTransport*>(self);
+        if (!t->connected_ && !t->lost_) {
+            // Never got a CONNACK: the attempt failed (refused TCP, TLS, ...).
+            std::string why = rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc));
+            if (t->options_.tls) why = "TLS connection failed: " + why;
+            t->connect_failed(why, false);
+        }
+        t->lose(rc == MOSQ_ERR_SUCCESS ? "disconnected" : mosquitto_strerror(rc));
+    }
+    // The client cannot be destroyed inside its own callback: after_io() drops it.
+    void lose(const std::string& why) {
+        if (lost_) return;
+        lost_ = true;
+        lost_reason_ = why;
+    }
+
+    static void on_published(mosquitto*, void* self, int mid) { static_cast<MosquittoTransport*>(self)->published(mid); }
+    void published(int mid) {
+        std::uint64_t attempt = 0;
+        {
+            std::lock_guard<std::mutex> lock(acks_mutex_);
+            auto found = in_flight_.find(mid);
+            if (found == in_flight_.end()) {
+                early_acks_.insert(mid);  // send() has not recorded it yet
+                return;
+            }
+            attempt = found->second;
+            in_flight_.erase(found);
+        }
+        outbox_.delivered(attempt);
+    }
+
+    static void on_received(mosquitto*, void* self, const mosquitto_message* msg) {
+        static_cast<MosquittoTransport*>(self)->received(msg);
+    }
+    void received(const mosquitto_message* msg) {
+        if (msg == nullptr || msg->topic == nullptr) return;
+        ++received_;
+        if (!on_message_) return;
+        Message m{msg->topic, std::string(static_cast<const char*>(msg->payload), static_cast<std::size_t>(msg->payloadlen)),
+                  msg->qos, msg->retain};
+        on_message_(m);
+    }
+
+    // OpenSSL's user data here is the libmosquitto client, not ours.
+    static int key_password(char* buf, int size, int, void* client) {
+        auto* self = static_cast<MosquittoTransport*>(mosquitto_userdata(static_cast<mosquitto*>(client)));
+        const std::string& pw = self->options_.tls->key_password;
+        const int n = static_cast<int>(std::min<std::size_t>(pw.size(), static_cast<std::size_t>(size > 0 ? size - 1 : 0)));
+        std::memcpy(buf, pw.data(), static_cast<std::size_t>(n));
+        buf[n] = '\0';
+        return n;
+    }
+
+    friend Result<std::unique_ptr<Transport>> detail::make_mosquitto_transport(MqttOptions, Logger, std::shared_ptr<MqttLoop>);
+
+    const MqttOptions options_;
+    const Logger logger_;
+    std::shared_ptr<MqttLoop> loop_;
+    std::string host_;
+    int port_ = 0;
+    Outbox outbox_;
+    MessageHandler on_message_;
+    LinkStateHandler on_state_;
+
+    // The client is replaced on each attempt (loop thread, exclusive) while
+    // other threads publish through it (shared).
+    mutable std::shared_mutex client_mutex_;
+    mosquitto* mosq_ = nullptr;
+
+    std::mutex acks_mutex_;  // message id -> outbox attempt
+    std::unordered_map<int, std::uint64_t> in_flight_;
+    std::unordered_set<int> early_acks_;
+
+    std::mutex mutex_;  // subscriptions_, started_, stopping_, closed_
+    std::condition_variable closed_cv_;
+    std::map<std::string, int> subscriptions_;
+    bool started_ = false;
+    bool stopping_ = false;
+    bool closed_ = false;
+
+    // loop thread only
+    std::mt19937 rng_{std::random_device{}()};
+    milliseconds delay_ = options_.reconnect_min;
+    Steady::time_point retry_at_{};
+    Steady::time_point attempt_deadline_{};
+    Steady::time_point next_misc_{};
+    bool lost_ = false;
+    std::string lost_reason_;
+    bool session_established_ = false;
+    std::atomic<bool> connected_{false};
+
+    std::mutex state_mutex_;
+    std::atomic<LinkState> state_{LinkState::disconnected};
+    std::atomic<std::uint64_t> received_{0};
+    std::atomic<std::uint64_t> connects_{0};
+    std::atomic<int> nodelay_sockets_{0};
+    std::atomic<std::uint64_t> connect_failures_{0};
+    std::atomic<std::uint64_t> sessions_lost_{0};
+    mutable std::mutex failure_mutex_;
+    std::string last_error_;
+    bool refused_ = false;
+};
+
+}  // namespace
+
+bool mosquitto_supports(const std::string& broker_url) {
+    std::string host, scheme;
+    int port = 0;
+    if (!parse_broker_url(broker_url, host, port, scheme)) return false;
+    return scheme == "tcp" || scheme == "mqtt" || scheme == "ssl" || scheme == "mqtts";
+}
+
+Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop) {
+    if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
+    if (!loop) return make_error(ErrorCode::parameter_missing, "MQTT loop missing");
+    std::string host, scheme;
+    int port = 0;
+    if (!parse_broker_url(options.broker_url, host, port, scheme)) return check_broker_url(options.broker_url).error();
+    if (!mosquitto_supports(options.broker_url))
+        return make_error(ErrorCode::value_type, fmt::format("{}: the multiplexed MQTT client speaks tcp:// and ssl:// only",
+                                                             options.broker_url));
+    if ((scheme == "ssl" || scheme == "mqtts") && !options.tls) options.tls = MqttTlsOptions{};
+    if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
+    auto t = std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop));
+    t->host_ = host;
+    t->port_ = port;
+    return std::unique_ptr<Transport>(std::move(t));
+}
+
+}  // namespace nclink::detail

@@ -1,0 +1,176 @@
+#include "transport/mqtt_loop.hpp"
+
+#include "core/shared_threads_impl.hpp"
+#include "core/thread_name.hpp"
+
+#include <sys/epoll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+namespace nclink::detail {
+
+MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick) : logger_(std::move(logger)), tick_(tick) {
+    epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
+    event_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (epoll_fd_ < 0 || event_fd_ < 0) {
+        if (epoll_fd_ >= 0) ::close(epoll_fd_);
+        if (event_fd_ >= 0) ::close(event_fd_);
+        throw std::runtime_error(std::string("MQTT loop: ") + std::strerror(errno));
+    }
+    epoll_event e{};
+    e.events = EPOLLIN;
+    e.data.ptr = nullptr;  // the wake-up descriptor
+    ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, event_fd_, &e);
+    thread_ = std::thread([this] {
+        name_this_thread("nclink-mqtt-io");
+        thread_id_ = std::this_thread::get_id();
+        run();
+    });
+}
+
+MqttLoop::~MqttLoop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
+    signal();
+    if (thread_.joinable()) thread_.join();
+    ::close(event_fd_);
+    ::close(epoll_fd_);
+}
+
+void MqttLoop::signal() {
+    const std::uint64_t one = 1;
+    // A full counter (never in practice) still leaves the descriptor readable.
+    [[maybe_unused]] const auto n = ::write(event_fd_, &one, sizeof one);
+}
+
+void MqttLoop::add(LoopMember* member) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        adds_.push_back(member);
+    }
+    signal();
+}
+
+void MqttLoop::remove(LoopMember* member) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    removes_.push_back(member);
+    const std::uint64_t ticket = ++removals_asked_;
+    wakes_.erase(member);
+    lock.unlock();
+    signal();
+    lock.lock();
+    removed_.wait(lock, [&] { return removals_done_ >= ticket || stopping_; });
+}
+
+void MqttLoop::wake(LoopMember* member) {
+    bool first = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        first = wakes_.empty();
+        wakes_.insert(member);
+    }
+    // One signal per batch: the loop takes every pending wake at once.
+    if (first) signal();
+}
+
+void MqttLoop::watch(LoopMember* member, int fd, bool want_write) {
+    auto found = watches_.find(member);
+    if (found == watches_.end()) return;  // not (or no longer) a member
+    Watch& w = found->second;
+    if (w.fd == fd && w.want_write == want_write) return;
+    epoll_event e{};
+    e.events = EPOLLIN | (want_write ? EPOLLOUT : 0u);
+    e.data.ptr = member;
+    if (w.fd != fd) {
+        // The old socket may be closed already (the MQTT library closes it
+        // on an error): the kernel then dropped it from the set by itself.
+        if (w.fd >= 0) ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, w.fd, nullptr);
+        if (fd >= 0 && ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &e) != 0)
+            logger_.warn("mqtt loop: cannot watch socket {}: {}", fd, std::strerror(errno));
+    } else if (fd >= 0) {
+        ::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &e);
+    }
+    w.fd = fd;
+    w.want_write = want_write;
+}
+
+void MqttLoop::take_requests() {
+    std::vector<LoopMember*> adds, removes;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        adds.swap(adds_);
+        removes.swap(removes_);
+        woken_.assign(wakes_.begin(), wakes_.end());
+        wakes_.clear();
+    }
+    for (LoopMember* m : adds) {
+        members_.push_back(m);
+        watches_.emplace(m, Watch{});
+    }
+    if (!removes.empty()) {
+        for (LoopMember* m : removes) {
+            watch(m, -1, false);
+            watches_.erase(m);
+            members_.erase(std::remove(members_.begin(), members_.end(), m), members_.end());
+            woken_.erase(std::remove(woken_.begin(), woken_.end(), m), woken_.end());
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            removals_done_ += removes.size();
+        }
+        removed_.notify_all();
+    }
+}
+
+void MqttLoop::run() {
+    constexpr int kBatch = 256;
+    epoll_event events[kBatch];
+    auto next_tick = std::chrono::steady_clock::now() + tick_;
+    for (;;) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (stopping_) break;
+        }
+        take_requests();
+        for (LoopMember* m : woken_) m->on_wake();
+        woken_.clear();
+
+        auto now = std::chrono::steady_clock::now();
+        if (now >= next_tick) {
+            for (LoopMember* m : members_) m->on_tick(now);
+            next_tick = now + tick_;
+        }
+        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next_tick - now).count() + 1;
+        const int n = ::epoll_wait(epoll_fd_, events, kBatch, static_cast<int>(wait));
+        ++iterations_;
+        for (int i = 0; i < n; ++i) {
+            auto* member = static_cast<LoopMember*>(events[i].data.ptr);
+            if (member == nullptr) {
+                std::uint64_t count = 0;
+                [[maybe_unused]] const auto r = ::read(event_fd_, &count, sizeof count);
+                continue;
+            }
+            // Members only leave in take_requests(), between batches: a
+            // pointer in this batch is alive.
+            const bool error = (events[i].events & (EPOLLERR | EPOLLHUP)) != 0;
+            member->on_io(error || (events[i].events & EPOLLIN) != 0, error || (events[i].events & EPOLLOUT) != 0);
+        }
+    }
+    // Whoever still waits in remove() is released (the loop is going away).
+    removed_.notify_all();
+}
+
+std::shared_ptr<MqttLoop> shared_mqtt_loop(SharedThreads::Impl& threads, const Logger& logger) {
+    std::lock_guard<std::mutex> lock(threads.mqtt_loop_mutex);
+    if (!threads.mqtt_loop) threads.mqtt_loop = std::make_shared<MqttLoop>(logger);
+    return threads.mqtt_loop;
+}
+
+}  // namespace nclink::detail
