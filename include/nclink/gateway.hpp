@@ -65,6 +65,13 @@ struct NCLINK_API GatewayConfig {
     /// at a time per driver unless it is concurrent). 0 = the box's cores
     /// (at least 2).
     std::size_t driver_threads = 0;
+    /// "mqtt_client": "mosquitto" (default): every machine's broker
+    /// connection is served by one epoll thread of the gateway over
+    /// libmosquitto, so a packet costs the same at 10 or 1,000 machines;
+    /// "paho": each machine on paho like a single adapter (whose one
+    /// receive thread polls every connection of the process on each packet).
+    /// ws:// and wss:// brokers always use paho.
+    std::string mqtt_client = "mosquitto";
     LogLevel log_level = LogLevel::info;  ///< "log_level"
 };
 

@@ -10,6 +10,8 @@
 #include "events/events_service.hpp"
 #include "methods/methods_service.hpp"
 #include "sampling/sampling_service.hpp"
+#include "transport/mosquitto_transport.hpp"
+#include "transport/mqtt_loop.hpp"
 
 #include <nclink/driver_plugin_loader.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -85,7 +87,11 @@ Result<void> Adapter::Impl::start() {
     applications = std::make_unique<detail::ApplicationTracker>(config.application_lease);
 
     if (!transport) {
-        auto made = make_mqtt_transport(mqtt_options(), logger);
+        auto options = mqtt_options();
+        auto made = shared_threads && shared_threads->impl().multiplexed_mqtt && detail::mosquitto_supports(options.broker_url)
+                        ? detail::make_mosquitto_transport(std::move(options), logger,
+                                                           detail::shared_mqtt_loop(shared_threads->impl(), logger))
+                        : make_mqtt_transport(std::move(options), logger);
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }

@@ -4,8 +4,12 @@
 // what takes time) and adds or removes one without touching the others.
 #include <nclink/gateway.hpp>
 
+#include "core/shared_threads_impl.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <atomic>
@@ -17,6 +21,27 @@
 namespace nclink {
 
 namespace {
+// Descriptors a machine may hold: its broker connection (3 with
+// libmosquitto: the socket and a wake-up pair), spool and persistence files.
+constexpr rlim_t kFilesPerMachine = 8;
+
+// The soft limit is 1024 on a stock Debian while the hard one is far higher:
+// a gateway of a few hundred machines would fail to connect the rest with
+// EMFILE. Raised (never lowered) to what the machines need, within the hard limit.
+void raise_open_file_limit(std::size_t machines, const Logger& logger) {
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return;
+    const rlim_t wanted = 256 + kFilesPerMachine * static_cast<rlim_t>(machines);
+    if (limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= wanted) return;
+    const rlim_t before = limit.rlim_cur;
+    limit.rlim_cur = limit.rlim_max == RLIM_INFINITY ? wanted : std::min(wanted, limit.rlim_max);
+    if (limit.rlim_cur > before && ::setrlimit(RLIMIT_NOFILE, &limit) == 0)
+        logger.info("gateway: open file limit raised from {} to {} for {} machine(s)", before, limit.rlim_cur, machines);
+    if (limit.rlim_cur < wanted)
+        logger.warn("gateway: {} machine(s) may need {} open files, the limit is {} (raise LimitNOFILE / ulimit -n)",
+                    machines, wanted, limit.rlim_cur);
+}
+
 SharedThreadsOptions shared_options(const GatewayConfig& config) {
     SharedThreadsOptions o;
     o.timer_threads = config.timer_threads;
@@ -45,7 +70,9 @@ struct NCLINK_LOCAL Gateway::Impl {
         : config(std::move(c)),
           drivers(std::move(d)),
           logger(std::move(l)),
-          threads(std::make_shared<SharedThreads>(shared_options(config))) {}
+          threads(std::make_shared<SharedThreads>(shared_options(config))) {
+        threads->impl().multiplexed_mqtt = config.mqtt_client != "paho";
+    }
 
     Result<void> add(MachineConfig machine) {
         const std::string id = machine.id;
@@ -155,6 +182,7 @@ Result<void> Gateway::start() {
         impl_->started = true;
     }
     std::vector<MachineConfig> machines = impl_->config.machines;
+    raise_open_file_limit(machines.size(), impl_->logger);
     std::mutex errors_mutex;
     std::vector<std::string> errors;
     const std::size_t threads = impl_->config.start_threads ? impl_->config.start_threads : 4;
@@ -186,7 +214,15 @@ void Gateway::stop(std::chrono::milliseconds flush_timeout) {
     Impl::in_parallel(adapters, threads, [&](std::shared_ptr<Adapter>& a) { a->stop(flush_timeout); });
 }
 
-Result<void> Gateway::add_machine(MachineConfig machine) { return impl_->add(std::move(machine)); }
+Result<void> Gateway::add_machine(MachineConfig machine) {
+    std::size_t count = 0;
+    {
+        std::lock_guard<std::mutex> lock(impl_->mutex);
+        count = impl_->running.size() + impl_->reserved.size() + 1;
+    }
+    raise_open_file_limit(count, impl_->logger);
+    return impl_->add(std::move(machine));
+}
 
 Result<void> Gateway::remove_machine(const std::string& id, std::chrono::milliseconds flush_timeout) {
     return impl_->remove(id, flush_timeout);

@@ -73,6 +73,10 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     NCLINK_TRY(top.count("timer_threads", c.timer_threads));
     NCLINK_TRY(top.count("request_threads", c.request_threads));
     NCLINK_TRY(top.count("driver_threads", c.driver_threads));
+    NCLINK_TRY(top.str("mqtt_client", c.mqtt_client));
+    if (c.mqtt_client != "mosquitto" && c.mqtt_client != "paho")
+        return make_error(ErrorCode::out_of_range,
+                          fmt::format("configuration: mqtt_client must be \"mosquitto\" or \"paho\", not \"{}\"", c.mqtt_client));
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
     const Json* machines = top.object("machines");
     NCLINK_TRY(top.no_unknown_keys());

@@ -87,3 +87,19 @@ TEST_CASE("gateway: a machine without a driver is refused and nothing is left re
     CHECK(gateway.machines().empty());
     CHECK_FALSE(gateway.remove_machine("x").ok());
 }
+
+TEST_CASE("gateway config: mqtt_client picks the machines' MQTT client and refuses anything else") {
+    auto plain = gateway_config_from_json(Json::parse(R"({"machines": []})"));
+    REQUIRE(plain.ok());
+    CHECK(plain->mqtt_client == "mosquitto");  // one epoll thread for every machine's connection
+    auto paho = gateway_config_from_json(Json::parse(R"({"machines": [], "mqtt_client": "paho"})"));
+    REQUIRE(paho.ok());
+    CHECK(paho->mqtt_client == "paho");
+    auto other = gateway_config_from_json(Json::parse(R"({"machines": [], "mqtt_client": "hivemq"})"));
+    REQUIRE_FALSE(other.ok());
+    CHECK(other.error().code == ErrorCode::out_of_range);
+    CHECK(other.error().message.find("mqtt_client") != std::string::npos);
+    auto typed = gateway_config_from_json(Json::parse(R"({"machines": [], "mqtt_client": 1})"));
+    REQUIRE_FALSE(typed.ok());
+    CHECK(typed.error().code == ErrorCode::value_type);
+}
