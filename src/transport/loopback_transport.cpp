@@ -236,7 +236,7 @@ public:
         : broker_(broker),
           options_(std::move(options)),
           logger_(std::move(logger)),
-          outbox_(options_.outbox, [this](const Message& m, std::uint64_t attempt) { return send(m, attempt); },
+          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); },
                   logger_) {}
 
     ~LoopbackTransport() override { stop(std::chrono::milliseconds(0)); }

@@ -43,7 +43,7 @@ public:
         : options_(std::move(options)),
           logger_(std::move(logger)),
           loop_(std::move(loop)),
-          outbox_(options_.outbox, [this](const Message& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
+          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_) {}
 
     ~MosquittoTransport() override {
         stop(milliseconds(0));

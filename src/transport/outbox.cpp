@@ -71,7 +71,7 @@ bool Outbox::send_first_waiting() {
     ++in_flight_;
     const std::shared_ptr<const Message> message = next->message;  // the entry may be erased while we send
     lock.unlock();
-    const bool accepted = send_(*message, attempt);
+    const bool accepted = send_(message, attempt);
     if (!accepted) {
         lock.lock();
         put_back_locked(attempt);

@@ -29,7 +29,9 @@ public:
     /// refused it outright (the message stays queued and is retried shortly).
     /// Called on the sender thread or a publishing thread, one call at a time,
     /// without the outbox's state lock held.
-    using SendFn = std::function<bool(const Message&, std::uint64_t attempt)>;
+    /// The message is the outbox's own, shared: a link may keep a reference
+    /// to the payload instead of copying it (a Sample DTU can be megabytes).
+    using SendFn = std::function<bool(const std::shared_ptr<const Message>&, std::uint64_t attempt)>;
 
     Outbox(OutboxLimits limits, SendFn send, Logger logger);
     ~Outbox();

@@ -37,9 +37,9 @@ TEST_CASE("acknowledgements wake the outbox's sender only when messages wait beh
     FakeLink link;
     OutboxLimits limits;
     limits.max_in_flight = 2;
-    detail::Outbox outbox(limits, [&](const Message& m, std::uint64_t attempt) {
+    detail::Outbox outbox(limits, [&](const std::shared_ptr<const Message>& m, std::uint64_t attempt) {
         std::lock_guard<std::mutex> lock(link.mutex);
-        link.sent.emplace_back(m.payload, attempt);
+        link.sent.emplace_back(m->payload, attempt);
         return true;
     }, Logger());
     outbox.link_up();
