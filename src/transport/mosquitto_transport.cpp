@@ -8,9 +8,13 @@
 
 #include <mosquitto.h>
 #include <mqtt_protocol.h>
+#include <openssl/ssl.h>
+#include <openssl/x509.h>
 
 #include <atomic>
 #include <condition_variable>
+#include <future>
+#include <optional>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -196,8 +200,8 @@ private:
     void on_io(bool readable, bool writable) override {
         if (mosq_ == nullptr) return;
         // A TLS handshake moves on in loop_read whichever way the socket turned ready.
-        if (readable || (writable && options_.tls && !connected_)) mosquitto_loop_read(mosq_, 1);
-        if (writable && mosq_ != nullptr && mosquitto_socket(mosq_) >= 0) mosquitto_loop_write(mosq_, 1);
+        if (readable || (writable && options_.tls && !connected_)) checked(mosquitto_loop_read(mosq_, 1));
+        if (writable && !lost_ && mosquitto_socket(mosq_) >= 0) checked(mosquitto_loop_write(mosq_, 1));
         after_io();
     }
 
@@ -213,14 +217,60 @@ private:
             return;
         }
         if (mosq_ == nullptr && Steady::now() >= retry_at_) begin_connect();
-        if (mosq_ != nullptr && mosquitto_want_write(mosq_)) mosquitto_loop_write(mosq_, 1);
+        if (mosq_ != nullptr && mosquitto_want_write(mosq_)) checked(mosquitto_loop_write(mosq_, 1));
         after_io();
+    }
+
+    // A failed read or write normally ends in on_disconnected(); a failed
+    // TLS handshake returns its error without it, and would otherwise be
+    // noticed only by the connect timeout.
+    void checked(int rc) {
+        if (rc == MOSQ_ERR_SUCCESS || lost_) return;
+        if (!connected_) attempt_failed(rc);
+        lose(mosquitto_strerror(rc));
+    }
+
+    // Loop thread: why an attempt that got no CONNACK failed. A TLS error
+    // is named by OpenSSL's verdict on the broker's certificate, as the paho
+    // path names it (tls_check.hpp).
+    void attempt_failed(int rc) {
+        if (rc == MOSQ_ERR_TLS && mosq_ != nullptr) {
+            const auto* ssl = static_cast<const SSL*>(mosquitto_ssl_get(mosq_));
+            const long verify = ssl != nullptr ? SSL_get_verify_result(ssl) : X509_V_OK;
+            if (verify != X509_V_OK)
+                return connect_failed(fmt::format("the broker's certificate did not verify: {}", X509_verify_cert_error_string(verify)),
+                                      true);
+            // The verdict of an earlier attempt's own handshake stands until a connection succeeds.
+            if (tls_verdict_) return connect_failed(*tls_verdict_, true);
+            connect_failed("the TLS handshake with the broker failed", false);
+            // libmosquitto freed the handshake before we could read its
+            // verdict: a handshake of our own names it, off this thread (it
+            // may take up to the connect timeout; the loop serves everyone).
+            if (!diagnosis_.valid())
+                diagnosis_ = std::async(std::launch::async, [host = host_, port = port_, tls = *options_.tls,
+                                                             timeout = options_.connect_timeout] {
+                    return tls_handshake_problem(host, port, tls, timeout);
+                });
+            return;
+        }
+        std::string why = rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc));
+        if (options_.tls) why = "TLS connection failed: " + why;
+        connect_failed(why, false);
     }
 
     void on_tick(Steady::time_point now) override {
         {
             std::lock_guard<std::mutex> lock(mutex_);
             if (stopping_) return;
+        }
+        if (diagnosis_.valid() && diagnosis_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+            if (auto problem = diagnosis_.get(); problem && !connected_) {
+                tls_verdict_ = problem;
+                logger_.warn("mqtt: connect to {} failed: {}", options_.broker_url, *problem);
+                std::lock_guard<std::mutex> lock(failure_mutex_);
+                last_error_ = *problem;
+                refused_ = true;  // retrying will not help until the configuration changes
+            }
         }
         if (mosq_ == nullptr) {
             if (now >= retry_at_) begin_connect();
@@ -303,7 +353,8 @@ private:
         const int keep_alive = static_cast<int>(std::max<std::chrono::seconds::rep>(5, options_.keep_alive.count()));
         const int rc = mosquitto_connect_async(m, host_.c_str(), port_, keep_alive);
         if (rc != MOSQ_ERR_SUCCESS) {
-            connect_failed(rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc)), false);
+            // On loopback the TCP connection, and so the TLS handshake, can fail right here.
+            attempt_failed(rc);
             drop_connection("connect failed");
         }
     }
@@ -382,6 +433,7 @@ private:
             session_established_ = true;
         }
         connected_ = true;
+        tls_verdict_.reset();
         delay_ = options_.reconnect_min;
         nodelay_sockets_ = options_.tcp_nodelay ? 1 : 0;
         std::map<int, std::vector<std::string>> by_qos;
@@ -402,12 +454,7 @@ private:
 
     static void on_disconnected(mosquitto*, void* self, int rc) {
         auto* t = static_cast<MosquittoTransport*>(self);
-        if (!t->connected_ && !t->lost_) {
-            // Never got a CONNACK: the attempt failed (refused TCP, TLS, ...).
-            std::string why = rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc));
-            if (t->options_.tls) why = "TLS connection failed: " + why;
-            t->connect_failed(why, false);
-        }
+        if (!t->connected_ && !t->lost_) t->attempt_failed(rc);  // never got a CONNACK: refused TCP, TLS, ...
         t->lose(rc == MOSQ_ERR_SUCCESS ? "disconnected" : mosquitto_strerror(rc));
     }
     // The client cannot be destroyed inside its own callback: after_io() drops it.
@@ -492,6 +539,8 @@ private:
     std::string lost_reason_;
     bool session_established_ = false;
     std::atomic<bool> connected_{false};
+    std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way
+    std::optional<std::string> tls_verdict_;              // what it found
 
     std::mutex state_mutex_;
     std::atomic<LinkState> state_{LinkState::disconnected};

@@ -2,6 +2,7 @@
 #include <nclink/mqtt_transport.hpp>
 
 #include "support/mosquitto_broker.hpp"
+#include "support/test_pki.hpp"
 #include "support/inbox.hpp"
 #include "support/wait.hpp"
 #include "transport/mosquitto_transport.hpp"
@@ -426,4 +427,74 @@ TEST_CASE("two hundred connections share one I/O thread and each gets exactly it
     CHECK(threads_named("nclink-mqtt-io") >= 1);
     for (auto& t : machines) t->stop();
     app->stop();
+}
+
+namespace {
+test::TestPki& tls_pki() {
+    static test::TestPki made({"tls-user"});
+    return made;
+}
+}  // namespace
+
+TEST_CASE("over TLS: server verification with a password and mutual TLS connect; a bad password or a wrong CA never does") {
+    GENERATE_CLIENT();
+    if (auto missing = test::tls_tools_missing()) {
+        WARN("TLS test skipped: " << *missing);
+        return;
+    }
+    const bool mutual = GENERATE(false, true);
+    INFO((mutual ? "mutual TLS" : "server verification and a password"));
+    test::TlsListener listener;
+    listener.require_certificate = mutual;
+    MosquittoOptions bo;
+    bo.password_file = tls_pki().password_file({{"tls-user", "pw-tls-user"}});
+    bo.extra_config = test::tls_listener_config(tls_pki(), listener);
+    MosquittoBroker broker(bo);
+
+    auto tls_options = [&](const std::string& ca, const std::string& password) {
+        MqttOptions o = options_for(broker, "nclink-test-tls");
+        o.broker_url = "ssl://127.0.0.1:" + std::to_string(listener.port);
+        o.username = "tls-user";
+        if (!mutual) o.password = password;
+        MqttTlsOptions t;
+        t.ca_file = tls_pki().file(ca);
+        if (mutual) {
+            t.cert_file = tls_pki().file("tls-user.pem");
+            t.key_file = tls_pki().file("tls-user.key");
+        }
+        o.tls = t;
+        return o;
+    };
+
+    auto good = connect(tls_options("ca.pem", "pw-tls-user"));
+    Inbox inbox;
+    inbox.attach(*good);
+    REQUIRE(good->subscribe({"tls/echo"}, 1).ok());
+    REQUIRE(good->start().ok());
+    REQUIRE(eventually([&] { return good->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    REQUIRE(eventually([&] {
+        (void)good->publish({"tls/echo", "over TLS", 1, false});
+        return eventually([&] { return inbox.count() > 0; }, std::chrono::milliseconds(300));
+    }));
+    CHECK(inbox.payloads().front() == "over TLS");
+    good->stop();
+
+    if (!mutual) {
+        auto bad_password = connect(tls_options("ca.pem", "wrong"));
+        REQUIRE(bad_password->start().ok());
+        REQUIRE(eventually([&] { return bad_password->stats().connect_failures > 0; }, std::chrono::seconds(10)));
+        CHECK(bad_password->state() != LinkState::connected);
+        CHECK(bad_password->stats().refused);  // retrying will not help: programs exit on it at start
+        CHECK(bad_password->stats().last_error.find("refused") != std::string::npos);
+        bad_password->stop();
+    }
+    auto wrong_ca = connect(tls_options("other-ca.pem", "pw-tls-user"));
+    REQUIRE(wrong_ca->start().ok());
+    // Named without waiting for the connect timeout, and marked refused.
+    REQUIRE(eventually([&] { return wrong_ca->stats().connect_failures > 0; }, std::chrono::seconds(3)));
+    CHECK(eventually([&] { return wrong_ca->stats().refused; }, std::chrono::seconds(3)));
+    CHECK(wrong_ca->stats().last_error.find("certificate did not verify") != std::string::npos);
+    CHECK(wrong_ca->state() != LinkState::connected);
+    CHECK(wrong_ca->stats().connects == 0);
+    wrong_ca->stop();
 }
