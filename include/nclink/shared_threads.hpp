@@ -41,6 +41,12 @@ struct NCLINK_API SharedThreadsOptions {
     /// another thread, so one stuck driver never holds up the others.
     std::size_t driver_threads = 0;
     std::size_t driver_stuck_ms = 1000;
+    /// The adapters' broker connections (each still its own, with its own
+    /// last will) served by one I/O thread over libmosquitto and epoll
+    /// instead of paho, whose one receive thread polls every connection of
+    /// the process on each packet. tcp:// and ssl:// brokers; ws:// stays on
+    /// paho. A gateway turns it on ("mqtt_client", docs/gateway.md).
+    bool shared_mqtt_io = false;
 };
 
 class NCLINK_API SharedThreads {

@@ -16,7 +16,8 @@ SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
     : timers(sized_to_box(options.timer_threads), "nclink-timer"),
       requests(std::make_shared<detail::Executor>(sized_to_box(options.request_threads))),
       drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
-      request_threads(sized_to_box(options.request_threads)) {}
+      request_threads(sized_to_box(options.request_threads)),
+      multiplexed_mqtt(options.shared_mqtt_io) {}
 
 SharedThreads::SharedThreads(SharedThreadsOptions options) : impl_(std::make_unique<Impl>(options)) {}
 

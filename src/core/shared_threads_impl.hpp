@@ -25,9 +25,8 @@ struct NCLINK_LOCAL SharedThreads::Impl {
     detail::DeadlineWatchdog watchdog;
     detail::WorkerPool drivers;
     std::size_t request_threads = 0;
-    /// The machines' broker connections share one I/O thread (libmosquitto
-    /// over epoll) instead of paho's per-process polling thread. The first
-    /// adapter that connects makes the loop (transport/mqtt_loop.hpp).
+    /// SharedThreadsOptions::shared_mqtt_io. The first adapter that connects
+    /// makes the loop (transport/mqtt_loop.hpp).
     bool multiplexed_mqtt = false;
     std::mutex mqtt_loop_mutex;
     std::shared_ptr<detail::MqttLoop> mqtt_loop;

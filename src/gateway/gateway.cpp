@@ -4,8 +4,6 @@
 // what takes time) and adds or removes one without touching the others.
 #include <nclink/gateway.hpp>
 
-#include "core/shared_threads_impl.hpp"
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -47,6 +45,7 @@ SharedThreadsOptions shared_options(const GatewayConfig& config) {
     o.timer_threads = config.timer_threads;
     o.request_threads = config.request_threads;
     o.driver_threads = config.driver_threads;
+    o.shared_mqtt_io = config.mqtt_client != "paho";
     return o;
 }
 }  // namespace
@@ -70,9 +69,7 @@ struct NCLINK_LOCAL Gateway::Impl {
         : config(std::move(c)),
           drivers(std::move(d)),
           logger(std::move(l)),
-          threads(std::make_shared<SharedThreads>(shared_options(config))) {
-        threads->impl().multiplexed_mqtt = config.mqtt_client != "paho";
-    }
+          threads(std::make_shared<SharedThreads>(shared_options(config))) {}
 
     Result<void> add(MachineConfig machine) {
         const std::string id = machine.id;
