@@ -436,7 +436,7 @@ test::TestPki& tls_pki() {
 }
 }  // namespace
 
-TEST_CASE("over TLS: server verification with a password and mutual TLS connect; a bad password or a wrong CA never does") {
+TEST_CASE("over TLS: server verification with a password and mutual TLS connect but a bad password or a wrong CA never does") {
     GENERATE_CLIENT();
     if (auto missing = test::tls_tools_missing()) {
         WARN("TLS test skipped: " << *missing);
