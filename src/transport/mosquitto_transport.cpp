@@ -280,7 +280,7 @@ private:
         } else if (now >= next_misc_) {
             // Keep-alive: PINGREQ when due, and a broker that stopped answering is noticed.
             next_misc_ = now + std::chrono::seconds(1);
-            mosquitto_loop_misc(mosq_);
+            checked(mosquitto_loop_misc(mosq_));
         }
         after_io();
     }
