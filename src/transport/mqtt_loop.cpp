@@ -127,6 +127,10 @@ void MqttLoop::take_requests() {
         }
         removed_.notify_all();
     }
+    // A wake() may come after its member left (a late publish on a stopped
+    // transport): only members are called.
+    woken_.erase(std::remove_if(woken_.begin(), woken_.end(), [this](LoopMember* m) { return watches_.count(m) == 0; }),
+                 woken_.end());
 }
 
 void MqttLoop::run() {

@@ -47,7 +47,8 @@ public:
     /// Thread-safe, never from the loop thread: returns once the loop has
     /// dropped the member and will not call it again.
     void remove(LoopMember* member);
-    /// Thread-safe: on_wake() soon, on the loop thread.
+    /// Thread-safe: on_wake() soon, on the loop thread; nothing for a member
+    /// that has been removed (the pointer is not touched).
     void wake(LoopMember* member);
 
     /// Loop thread only: the socket to watch for `member` (-1: none) and
