@@ -27,7 +27,7 @@ struct Recorder : detail::LoopMember {
     std::atomic<int> wakes{0}, ticks{0}, reads{0}, writes{0};
     std::atomic<bool> off_thread{false};
     int fd = -1;
-    bool want_write = false;
+    std::atomic<bool> want_write{false};  // set by the test thread, read on the loop
     std::atomic<bool> after_remove{false};
 
     void note() {
