@@ -1,6 +1,7 @@
 #include "transport/mosquitto_transport.hpp"
 
 #include "transport/backoff.hpp"
+#include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
 #include "transport/outbox.hpp"
 #include "transport/tcp_nodelay.hpp"
@@ -47,6 +48,7 @@ public:
         : options_(std::move(options)),
           logger_(std::move(logger)),
           loop_(std::move(loop)),
+          link_(logger_, options_.broker_url, options_.client_id),
           outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_) {}
 
     ~MosquittoTransport() override {
@@ -74,7 +76,7 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             if (!started_ || stopping_) return;
         }
-        if (state_ == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
+        if (link_.state() == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
         outbox_.stop();
         {
             std::unique_lock<std::mutex> lock(mutex_);
@@ -98,7 +100,7 @@ public:
         }
         // Sent at once when connected; every (re)connection subscribes to all.
         std::shared_lock<std::shared_mutex> client(client_mutex_);
-        if (state_ == LinkState::connected && mosq_ != nullptr) {
+        if (link_.state() == LinkState::connected && mosq_ != nullptr) {
             subscribe_now(filters, qos);
             loop_->wake(this);
         }
@@ -111,7 +113,7 @@ public:
             for (const auto& f : filters) subscriptions_.erase(f);
         }
         std::shared_lock<std::shared_mutex> client(client_mutex_);
-        if (state_ == LinkState::connected && mosq_ != nullptr && !filters.empty()) {
+        if (link_.state() == LinkState::connected && mosq_ != nullptr && !filters.empty()) {
             std::vector<char*> list;
             for (auto& f : filters) list.push_back(f.data());
             mosquitto_unsubscribe_multiple(mosq_, nullptr, static_cast<int>(list.size()), list.data(), nullptr);
@@ -120,19 +122,12 @@ public:
         return ok_result();
     }
 
-    LinkState state() const override { return state_; }
+    LinkState state() const override { return link_.state(); }
 
     TransportStats stats() const override {
         TransportStats s;
         outbox_.fill_stats(s);
-        s.received = received_;
-        s.connects = connects_;
-        s.tcp_nodelay_sockets = nodelay_sockets_;
-        s.sessions_lost = sessions_lost_;
-        s.connect_failures = connect_failures_;
-        std::lock_guard<std::mutex> lock(failure_mutex_);
-        s.last_error = last_error_;
-        s.refused = refused_;
+        link_.fill(s);
         return s;
     }
 
@@ -146,7 +141,7 @@ private:
     // possibly before mosquitto_publish() has returned the message id.
     bool send(const Message& m, std::uint64_t attempt) {
         std::shared_lock<std::shared_mutex> client(client_mutex_);
-        if (mosq_ == nullptr || state_ != LinkState::connected) return false;
+        if (mosq_ == nullptr || link_.state() != LinkState::connected) return false;
         int mid = 0;
         const int rc = mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()),
                                          m.payload.data(), m.qos, m.retained);
@@ -174,23 +169,11 @@ private:
         if (rc != MOSQ_ERR_SUCCESS) logger_.warn("mqtt: subscribe failed (retried on reconnect): {}", mosquitto_strerror(rc));
     }
 
-    void set_state(LinkState next, std::string_view detail) {
-        std::lock_guard<std::mutex> lock(state_mutex_);
-        if (state_ == next) return;
-        state_ = next;
-        logger_.info("mqtt: {} ({})", to_string(next), detail);
-        if (on_state_) on_state_(next, detail);
-    }
+    void set_state(LinkState next, std::string_view detail) { link_.set_state(next, detail, on_state_); }
 
     void connect_failed(const std::string& why, bool refused) {
         const milliseconds retry = jittered(delay_, rng_);
-        logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, why, retry.count());
-        ++connect_failures_;
-        {
-            std::lock_guard<std::mutex> lock(failure_mutex_);
-            last_error_ = why;
-            refused_ = refused;
-        }
+        link_.attempt_failed(why, refused, retry);
         retry_at_ = Steady::now() + retry;
         delay_ = std::min(delay_ * 2, options_.reconnect_max);
     }
@@ -266,10 +249,7 @@ private:
         if (diagnosis_.valid() && diagnosis_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
             if (auto problem = diagnosis_.get(); problem && !connected_) {
                 tls_verdict_ = problem;
-                logger_.warn("mqtt: connect to {} failed: {}", options_.broker_url, *problem);
-                std::lock_guard<std::mutex> lock(failure_mutex_);
-                last_error_ = *problem;
-                refused_ = true;  // retrying will not help until the configuration changes
+                link_.attempt_named(*problem, true);  // retrying will not help until the configuration changes
             }
         }
         if (mosq_ == nullptr) {
@@ -424,30 +404,20 @@ private:
         }
         const bool session_present = (flags & 1) != 0;
         if (!options_.clean_session) {
-            if (session_established_ && !session_present) {
-                ++sessions_lost_;
-                logger_.warn("mqtt: the broker kept no session for client id '{}': what it held for us while we were away "
-                             "is lost (broker restarted without working persistence, or the session expired)",
-                             options_.client_id);
-            }
+            if (session_established_ && !session_present) link_.session_lost();
             session_established_ = true;
         }
         connected_ = true;
         tls_verdict_.reset();
         delay_ = options_.reconnect_min;
-        nodelay_sockets_ = options_.tcp_nodelay ? 1 : 0;
+        link_.nodelay_sockets(options_.tcp_nodelay ? 1 : 0);
         std::map<int, std::vector<std::string>> by_qos;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
         }
         for (auto& [qos, filters] : by_qos) subscribe_now(std::move(filters), qos);
-        ++connects_;
-        {
-            std::lock_guard<std::mutex> lock(failure_mutex_);
-            last_error_.clear();
-            refused_ = false;
-        }
+        link_.connected();
         set_state(LinkState::connected, options_.broker_url);
         outbox_.link_up();
     }
@@ -485,7 +455,7 @@ private:
     }
     void received(const mosquitto_message* msg) {
         if (msg == nullptr || msg->topic == nullptr) return;
-        ++received_;
+        link_.received();
         if (!on_message_) return;
         Message m{msg->topic, std::string(static_cast<const char*>(msg->payload), static_cast<std::size_t>(msg->payloadlen)),
                   msg->qos, msg->retain};
@@ -507,6 +477,7 @@ private:
     const MqttOptions options_;
     const Logger logger_;
     std::shared_ptr<MqttLoop> loop_;
+    LinkRecord link_;
     std::string host_;
     int port_ = 0;
     Outbox outbox_;
@@ -541,17 +512,6 @@ private:
     std::atomic<bool> connected_{false};
     std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way
     std::optional<std::string> tls_verdict_;              // what it found
-
-    std::mutex state_mutex_;
-    std::atomic<LinkState> state_{LinkState::disconnected};
-    std::atomic<std::uint64_t> received_{0};
-    std::atomic<std::uint64_t> connects_{0};
-    std::atomic<int> nodelay_sockets_{0};
-    std::atomic<std::uint64_t> connect_failures_{0};
-    std::atomic<std::uint64_t> sessions_lost_{0};
-    mutable std::mutex failure_mutex_;
-    std::string last_error_;
-    bool refused_ = false;
 };
 
 }  // namespace

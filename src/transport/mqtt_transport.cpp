@@ -3,6 +3,7 @@
 #include "transport/outbox.hpp"
 #include "core/thread_name.hpp"
 #include "transport/backoff.hpp"
+#include "transport/link_record.hpp"
 #include "transport/tcp_nodelay.hpp"
 #include "transport/tls_check.hpp"
 
@@ -27,6 +28,7 @@ public:
           logger_(std::move(logger)),
           host_(std::move(host)),
           port_(port),
+          link_(logger_, options_.broker_url, options_.client_id),
           client_(options_.broker_url, options_.client_id,
                   mqtt::create_options(options_.mqtt_version,
                                        static_cast<int>(options_.outbox.max_in_flight) + 16),
@@ -61,7 +63,7 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             if (!started_ || stopping_) return;
         }
-        if (state_ == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
+        if (link_.state() == LinkState::connected && flush_timeout.count() > 0) outbox_.wait_drained(flush_timeout);
         {
             std::lock_guard<std::mutex> lock(mutex_);
             stopping_ = true;
@@ -81,7 +83,7 @@ public:
         } catch (const mqtt::exception& e) {
             logger_.debug("mqtt: disable callbacks: {}", e.what());
         }
-        set_state(LinkState::disconnected, "stopped");
+        link_.set_state(LinkState::disconnected, "stopped", on_state_);
     }
 
     Result<void> publish(Message message) override { return outbox_.push(std::move(message)); }
@@ -94,7 +96,7 @@ public:
             for (const auto& f : filters) subscriptions_[f] = qos;
         }
         // If the link comes up meanwhile, on_connected() subscribes too: harmless.
-        if (state_ == LinkState::connected) subscribe_now(filters, qos);
+        if (link_.state() == LinkState::connected) subscribe_now(filters, qos);
         return ok_result();
     }
 
@@ -103,7 +105,7 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             for (const auto& f : filters) subscriptions_.erase(f);
         }
-        if (state_ == LinkState::connected) {
+        if (link_.state() == LinkState::connected) {
             try {
                 client_.unsubscribe(mqtt::string_collection::create(filters));
             } catch (const mqtt::exception& e) {
@@ -113,19 +115,12 @@ public:
         return ok_result();
     }
 
-    LinkState state() const override { return state_; }
+    LinkState state() const override { return link_.state(); }
 
     TransportStats stats() const override {
         TransportStats s;
         outbox_.fill_stats(s);
-        s.received = received_;
-        s.connects = connects_;
-        s.tcp_nodelay_sockets = nodelay_sockets_;
-        s.sessions_lost = sessions_lost_;
-        s.connect_failures = connect_failures_;
-        std::lock_guard<std::mutex> lock(failure_mutex_);
-        s.last_error = last_error_;
-        s.refused = refused_;
+        link_.fill(s);
         return s;
     }
 
@@ -161,7 +156,7 @@ private:
     // Thread: paho callback thread.
     void deliver(const mqtt::const_message_ptr& msg) {
         if (!msg) return;
-        ++received_;
+        link_.received();
         if (!on_message_) return;
         Message m{msg->get_topic(), msg->to_string(), msg->get_qos(), msg->is_retained()};
         on_message_(m);
@@ -170,8 +165,9 @@ private:
     // Thread: paho callback thread.
     void on_connected() {
         if (options_.tcp_nodelay) {
-            nodelay_sockets_ = detail::apply_tcp_nodelay_to_peer(host_, port_);
-            if (nodelay_sockets_ == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
+            const int nodelay = detail::apply_tcp_nodelay_to_peer(host_, port_);
+            link_.nodelay_sockets(nodelay);
+            if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
         std::map<int, std::vector<std::string>> by_qos;
         {
@@ -179,13 +175,8 @@ private:
             for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
         }
         for (const auto& [qos, filters] : by_qos) subscribe_now(filters, qos);
-        ++connects_;
-        {
-            std::lock_guard<std::mutex> lock(failure_mutex_);
-            last_error_.clear();
-            refused_ = false;
-        }
-        set_state(LinkState::connected, options_.broker_url);
+        link_.connected();
+        link_.set_state(LinkState::connected, options_.broker_url, on_state_);
         // MQTT 5: the supervisor opens the outbox once it has read the
         // broker's Receive Maximum from the CONNACK (see supervise()).
         if (options_.mqtt_version < 5) outbox_.link_up();
@@ -194,8 +185,8 @@ private:
     // Thread: paho callback thread.
     void on_lost(const std::string& cause) {
         outbox_.link_down();
-        set_state(LinkState::disconnected, cause.empty() ? "connection lost" : cause);
-        { std::lock_guard<std::mutex> lock(mutex_); }  // the supervisor checks state_ under mutex_: no lost wake-up
+        link_.set_state(LinkState::disconnected, cause.empty() ? "connection lost" : cause, on_state_);
+        { std::lock_guard<std::mutex> lock(mutex_); }  // the supervisor checks the state under mutex_: no lost wake-up
         wake_.notify_all();
     }
 
@@ -205,14 +196,6 @@ private:
         } catch (const mqtt::exception& e) {
             logger_.warn("mqtt: subscribe failed (retried on reconnect): {}", e.what());
         }
-    }
-
-    void set_state(LinkState next, std::string_view detail) {
-        std::lock_guard<std::mutex> lock(state_mutex_);
-        if (state_ == next) return;
-        state_ = next;
-        logger_.info("mqtt: {} ({})", to_string(next), detail);
-        if (on_state_) on_state_(next, detail);
     }
 
     // The CONNACK's Receive Maximum (MQTT 5, 3.2.2.3.3); absent = 65535.
@@ -236,12 +219,7 @@ private:
         } catch (const std::exception&) {
             return;  // no CONNACK details: nothing to judge
         }
-        if (session_established_ && !present) {
-            ++sessions_lost_;
-            logger_.warn("mqtt: the broker kept no session for client id '{}': what it held for us while we were away is "
-                         "lost (broker restarted without working persistence, or the session expired)",
-                         options_.client_id);
-        }
+        if (session_established_ && !present) link_.session_lost();
         session_established_ = true;
     }
 
@@ -298,15 +276,7 @@ private:
         connect_failed(e.what(), false, delay);
     }
 
-    void connect_failed(const std::string& why, bool refused, milliseconds delay) {
-        // Logged before it is published: a program that exits on a refusal
-        // prints its own line last.
-        logger_.warn("mqtt: connect to {} failed: {} (retry in {} ms)", options_.broker_url, why, delay.count());
-        ++connect_failures_;
-        std::lock_guard<std::mutex> lock(failure_mutex_);
-        last_error_ = why;
-        refused_ = refused;
-    }
+    void connect_failed(const std::string& why, bool refused, milliseconds delay) { link_.attempt_failed(why, refused, delay); }
 
     // Thread: supervisor. Connects, and reconnects with exponential backoff
     // whenever the link is lost, until stop().
@@ -315,10 +285,10 @@ private:
         const auto opts = connect_options();
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
-            if (state_ == LinkState::disconnected) {
+            if (link_.state() == LinkState::disconnected) {
                 const milliseconds retry = detail::jittered(delay, rng_);
                 lock.unlock();
-                set_state(LinkState::connecting, options_.broker_url);
+                link_.set_state(LinkState::connecting, options_.broker_url, on_state_);
                 bool ok = false;
                 std::optional<std::size_t> receive_maximum;
                 try {
@@ -345,9 +315,9 @@ private:
                 }
                 lock.lock();
                 if (!ok) {
-                    if (state_ != LinkState::connected) {
+                    if (link_.state() != LinkState::connected) {
                         lock.unlock();
-                        set_state(LinkState::disconnected, "connect failed");
+                        link_.set_state(LinkState::disconnected, "connect failed", on_state_);
                         lock.lock();
                     }
                     wake_.wait_for(lock, retry, [this] { return stopping_; });
@@ -356,7 +326,7 @@ private:
                 }
                 delay = options_.reconnect_min;
             }
-            wake_.wait(lock, [this] { return stopping_ || state_ == LinkState::disconnected; });
+            wake_.wait(lock, [this] { return stopping_ || link_.state() == LinkState::disconnected; });
         }
     }
 
@@ -365,6 +335,7 @@ private:
     const Logger logger_;
     const std::string host_;
     const int port_;
+    detail::LinkRecord link_;
     mqtt::async_client client_;
     detail::Outbox outbox_;
     MessageHandler on_message_;
@@ -377,17 +348,7 @@ private:
     bool stopping_ = false;
     std::thread supervisor_;
 
-    std::mutex state_mutex_;  // serializes state transitions and the state handler
-    std::atomic<LinkState> state_{LinkState::disconnected};
-    std::atomic<std::uint64_t> received_{0};
-    std::atomic<std::uint64_t> connects_{0};
-    std::atomic<int> nodelay_sockets_{0};
-    std::atomic<std::uint64_t> connect_failures_{0};
-    std::atomic<std::uint64_t> sessions_lost_{0};
     bool session_established_ = false;  // supervisor only: a connection has had a session
-    mutable std::mutex failure_mutex_;  // last_error_, refused_
-    std::string last_error_;
-    bool refused_ = false;
 };
 
 }  // namespace
