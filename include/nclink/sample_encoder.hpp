@@ -42,6 +42,15 @@ struct NCLINK_API SampleBlock {
     std::size_t rows = 0;
 };
 
+/// Row-major block, as a sampler fills it: row r (0..rows-1), point p
+/// (0..points-1) is values[r * points + p]. Encoded exactly as the
+/// SampleBlock of its transpose, without transposing it first.
+struct NCLINK_API SampleRows {
+    const SampleValue* values = nullptr;
+    std::size_t points = 0;
+    std::size_t rows = 0;
+};
+
 /// One point's values in time order (columns may differ in length).
 struct NCLINK_API SampleColumn {
     const SampleValue* values = nullptr;
@@ -56,6 +65,7 @@ public:
     explicit SampleEncoder(std::size_t initial_capacity = 16 * 1024);
 
     std::string_view encode(const SampleDtuHeader& header, const SampleBlock& block);
+    std::string_view encode(const SampleDtuHeader& header, const SampleRows& rows);
     std::string_view encode(const SampleDtuHeader& header, const SampleColumn* columns, std::size_t count);
 
     /// Bytes currently reserved (for tests and statistics).

@@ -93,6 +93,11 @@ public:
     ValueFault check(const SampleValue& value) const noexcept;
     /// True when `value` is pre-serialized JSON whose full check needs it parsed.
     bool needs_parse(const SampleValue& value) const noexcept;
+    /// For a single-valued number item: true, with its bounds (-inf / +inf
+    /// where chapter 7 gives none), so a hot loop can check a float64 sample
+    /// inline; `v < min || v > max` is then exactly check()'s range fault
+    /// (NaN passes, as it does there). False for every other rule.
+    bool number_bounds(double& min, double& max) const noexcept;
 
     /// check() as an Error: the table-19 code and a message naming the item,
     /// its type and what was wrong (for logs and driver authors; the wire

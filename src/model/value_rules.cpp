@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace nclink {
@@ -374,6 +375,13 @@ bool ValueRule::needs_parse(const SampleValue& value) const noexcept {
     if (value.kind() != SampleValue::Kind::json) return false;
     if (container_ != kWhole) return shape_ != ValueShape::any || whole_object_;
     return shape_ != ValueShape::any && shape_ != ValueShape::array && shape_ != ValueShape::dict;
+}
+
+bool ValueRule::number_bounds(double& min, double& max) const noexcept {
+    if (container_ != kWhole || shape_ != ValueShape::number) return false;
+    min = has_min_ ? min_ : -std::numeric_limits<double>::infinity();
+    max = has_max_ ? max_ : std::numeric_limits<double>::infinity();
+    return true;
 }
 
 // ---- messages ------------------------------------------------------------------------

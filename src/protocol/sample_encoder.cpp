@@ -227,17 +227,25 @@ void write_trailer(Writer& w, const SampleDtuHeader& h) {
     w.put('}');
 }
 
+/// One point's values: `size` of them, `stride` apart.
+struct Strided {
+    const SampleValue* values;
+    std::size_t size;
+    std::size_t stride;
+};
+
 template <class ColumnAt>
 std::string_view encode_columns(std::string& buffer, const SampleDtuHeader& header, std::size_t count,
                                 ColumnAt column_at) {
     Writer w(buffer);
     write_header(w, header);
     for (std::size_t c = 0; c < count; ++c) {
-        const auto [values, size] = column_at(c);
+        const Strided column = column_at(c);
         if (c) w.put(',');
         w.put("{\"data\":[");
-        for (std::size_t r = 0; r < size; ++r) {
-            write_value(w, values[r]);
+        const SampleValue* value = column.values;
+        for (std::size_t r = 0; r < column.size; ++r, value += column.stride) {
+            write_value(w, *value);
             w.put(',');
         }
         w.pop_if(',');  // cheaper than a branch per value
@@ -253,13 +261,20 @@ SampleEncoder::SampleEncoder(std::size_t initial_capacity) { buffer_.resize(init
 
 std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleBlock& block) {
     return encode_columns(buffer_, header, block.points, [&](std::size_t p) {
-        return SampleColumn{block.values + p * block.rows, block.rows};
+        return Strided{block.values + p * block.rows, block.rows, 1};
+    });
+}
+
+std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleRows& rows) {
+    return encode_columns(buffer_, header, rows.points, [&](std::size_t p) {
+        return Strided{rows.values + p, rows.rows, rows.points};
     });
 }
 
 std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleColumn* columns,
                                        std::size_t count) {
-    return encode_columns(buffer_, header, count, [&](std::size_t p) { return columns[p]; });
+    return encode_columns(buffer_, header, count,
+                          [&](std::size_t p) { return Strided{columns[p].values, columns[p].size, 1}; });
 }
 
 namespace {

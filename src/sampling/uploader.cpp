@@ -111,53 +111,69 @@ void Uploader::screen(Lane& lane, std::size_t from) {
     if (lane.rules_version != version) {
         lane.rules_version = version;
         lane.model = shared_.current_model();
-        lane.rules.assign(width, nullptr);
+        lane.rules.assign(width, {});
         lane.verdicts.assign(width, {});
         lane.any_rule = false;
         if (lane.model && lane.model->rules) {
             for (std::size_t p = 0; p < width && p < core.ids().size(); ++p) {
-                lane.rules[p] = lane.model->rules->find(core.ids()[p]);
-                lane.any_rule = lane.any_rule || lane.rules[p] != nullptr;
+                auto& column = lane.rules[p];
+                column.rule = lane.model->rules->find(core.ids()[p]);
+                if (column.rule != nullptr) column.number = column.rule->number_bounds(column.min, column.max);
+                lane.any_rule = lane.any_rule || column.rule != nullptr;
             }
         }
     }
     if (!lane.any_rule || width == 0) return;
     const bool stable_text = !core.spec().push;
     for (std::size_t i = from, p = from % width; i < lane.values.size(); ++i, p = (p + 1 == width ? 0 : p + 1)) {
-        const ValueRule* rule = lane.rules[p];
-        if (rule == nullptr) continue;
+        const auto& column = lane.rules[p];
+        if (column.rule == nullptr) continue;
         SampleValue& value = lane.values[i];
-        ValueFault fault = rule->check(value);
-        if (fault == ValueFault::none && rule->needs_parse(value)) {
-            // Pre-serialized JSON (an object, a list): parsed once per
-            // distinct interned text of a pull channel, every time for a push
-            // channel (its text is the pusher's).
-            auto& verdicts = lane.verdicts[p];
-            const char* key = value.as_text().data();
-            auto cached = stable_text ? verdicts.find(key) : verdicts.end();
-            if (cached != verdicts.end()) {
-                fault = cached->second;
-            } else {
-                const Json parsed = Json::parse(value.as_text(), nullptr, false);
-                fault = parsed.is_discarded() ? ValueFault::type : rule->check(parsed);
-                if (stable_text && verdicts.size() < 4096) verdicts.emplace(key, fault);
-            }
+        ValueFault fault;
+        if (column.number && value.kind() == SampleValue::Kind::float64) {
+            const double v = value.as_double();
+            if (!(v < column.min || v > column.max)) continue;
+            fault = ValueFault::range;
+        } else {
+            fault = check(lane, p, value, stable_text);
+            if (fault == ValueFault::none) continue;
         }
-        if (fault == ValueFault::none) continue;
-        std::string shown;
-        switch (value.kind()) {
-            case SampleValue::Kind::text: shown = Json(std::string(value.as_text())).dump(-1, ' ', false, Json::error_handler_t::replace); break;
-            case SampleValue::Kind::json: shown = std::string(value.as_text()); break;
-            case SampleValue::Kind::boolean: shown = value.as_bool() ? "true" : "false"; break;
-            case SampleValue::Kind::int64: shown = std::to_string(value.as_int64()); break;
-            case SampleValue::Kind::uint64: shown = std::to_string(value.as_uint64()); break;
-            case SampleValue::Kind::float64: shown = fmt::format("{}", value.as_double()); break;
-            default: break;
-        }
-        guard->refuse(*rule, fault, "sample channel " + core.spec().id, shown);
-        value = SampleValue::null();
-        core.refused_values.add();
+        refuse(lane, *column.rule, fault, value);
     }
+}
+
+ValueFault Uploader::check(Lane& lane, std::size_t column, const SampleValue& value, bool stable_text) {
+    const ValueRule& rule = *lane.rules[column].rule;
+    ValueFault fault = rule.check(value);
+    if (fault != ValueFault::none || !rule.needs_parse(value)) return fault;
+    // Pre-serialized JSON (an object, a list): parsed once per distinct
+    // interned text of a pull channel, every time for a push channel (its
+    // text is the pusher's).
+    auto& verdicts = lane.verdicts[column];
+    const char* key = value.as_text().data();
+    auto cached = stable_text ? verdicts.find(key) : verdicts.end();
+    if (cached != verdicts.end()) return cached->second;
+    const Json parsed = Json::parse(value.as_text(), nullptr, false);
+    fault = parsed.is_discarded() ? ValueFault::type : rule.check(parsed);
+    if (stable_text && verdicts.size() < 4096) verdicts.emplace(key, fault);
+    return fault;
+}
+
+void Uploader::refuse(Lane& lane, const ValueRule& rule, ValueFault fault, SampleValue& value) {
+    ChannelCore& core = *lane.core;
+    std::string shown;
+    switch (value.kind()) {
+        case SampleValue::Kind::text: shown = Json(std::string(value.as_text())).dump(-1, ' ', false, Json::error_handler_t::replace); break;
+        case SampleValue::Kind::json: shown = std::string(value.as_text()); break;
+        case SampleValue::Kind::boolean: shown = value.as_bool() ? "true" : "false"; break;
+        case SampleValue::Kind::int64: shown = std::to_string(value.as_int64()); break;
+        case SampleValue::Kind::uint64: shown = std::to_string(value.as_uint64()); break;
+        case SampleValue::Kind::float64: shown = fmt::format("{}", value.as_double()); break;
+        default: break;
+    }
+    shared_.deps.values->refuse(rule, fault, "sample channel " + core.spec().id, shown);
+    value = SampleValue::null();
+    core.refused_values.add();
 }
 
 void Uploader::publish(Lane& lane) {
@@ -188,17 +204,12 @@ void Uploader::publish(Lane& lane) {
 void Uploader::publish_segment(Lane& lane, std::size_t first, std::size_t count) {
     ChannelCore& core = *lane.core;
     const std::size_t width = core.ring().width();
-    columns_.resize(width * count);
-    for (std::size_t r = 0; r < count; ++r) {
-        const SampleValue* row = lane.values.data() + (first + r) * width;
-        for (std::size_t p = 0; p < width; ++p) columns_[p * count + r] = row[p];
-    }
     SampleDtuHeader header;
     header.guid = shared_.deps.dev;
     header.channel_id = core.spec().id;
     const std::int64_t t = lane.times[first];
     header.begin_time_ms = t >= 0 ? t / 1'000'000 : -((-t + 999'999) / 1'000'000);
-    const std::string_view payload = encoder_.encode(header, SampleBlock{columns_.data(), width, count});
+    const std::string_view payload = encoder_.encode(header, SampleRows{lane.values.data() + first * width, width, count});
     lane.bytes_per_row = static_cast<double>(payload.size()) / static_cast<double>(count);
     Message message{core.spec().topic, std::string(payload), core.spec().qos, false};
     if (shared_.deps.sink) {

@@ -44,7 +44,15 @@ private:
         // chapter 7 checks: each column's rule under the model of `rules_version`
         std::uint64_t rules_version = 0;
         std::shared_ptr<const ModelState> model;  // keeps `rules` alive
-        std::vector<const ValueRule*> rules;      // per column; null = unchecked
+        // Per column; rule null = unchecked. A single-valued number rule
+        // also gives its bounds, so float64 samples (the bulk) are checked
+        // inline, without two calls into the rule per value.
+        struct ColumnRule {
+            const ValueRule* rule = nullptr;
+            bool number = false;
+            double min = 0, max = 0;
+        };
+        std::vector<ColumnRule> rules;
         bool any_rule = false;
         // Verdicts on pre-serialized JSON, per column by interned text (pull
         // channels only: their text lives as long as the channel).
@@ -56,6 +64,9 @@ private:
     /// Chapter 7 on the rows drained from index `from` of lane.values: a value
     /// breaking its item's rule becomes null (a missed value), refused via deps.values.
     void screen(Lane& lane, std::size_t from);
+    /// The full check of one value (everything but the inline number path).
+    ValueFault check(Lane& lane, std::size_t column, const SampleValue& value, bool stable_text);
+    void refuse(Lane& lane, const ValueRule& rule, ValueFault fault, SampleValue& value);
     void publish(Lane& lane);
     void publish_segment(Lane& lane, std::size_t first, std::size_t count);
 
@@ -63,7 +74,6 @@ private:
     std::vector<Lane> lanes_;
     std::uint64_t seen_version_ = 0;
     SampleEncoder encoder_;
-    std::vector<SampleValue> columns_;
 };
 
 }  // namespace nclink::detail

@@ -5,6 +5,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <limits>
+#include <string>
+
 using namespace nclink;
 
 namespace {
@@ -152,4 +155,33 @@ TEST_CASE("value rules: the file type (6.2.1, appendix A's FILE is a DICT) is an
     auto verdict = rules().verify("file", Json::parse(R"({"size":1})"));
     REQUIRE_FALSE(verdict);
     CHECK(verdict.error().code == ErrorCode::key_error);
+}
+
+TEST_CASE("value rules: number bounds agree with check() on every double") {
+    const double inf = std::numeric_limits<double>::infinity();
+    const double probes[] = {0.0, -0.0, -1.0, 1.0, 1.5, 0.999, -273.15, -273.16, -300.0, 12.5, 1e300, -1e300,
+                             inf, -inf, std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::denorm_min(), -std::numeric_limits<double>::denorm_min()};
+    std::string bounded_ids;
+    for (const char* id : {"pos", "mass", "temp", "tempk", "pf", "status", "mode", "warn", "warns", "vars", "params",
+                           "tool", "mine", "file", "emg"}) {
+        const ValueRule* rule = rules().find(id);
+        REQUIRE(rule != nullptr);
+        double lo = 0, hi = 0;
+        if (!rule->number_bounds(lo, hi)) continue;
+        bounded_ids += std::string(id) + " ";
+        for (double v : probes) {
+            INFO(id << " " << v);
+            const ValueFault inline_verdict = v < lo || v > hi ? ValueFault::range : ValueFault::none;
+            CHECK(inline_verdict == rule->check(SampleValue::float64(v)));
+        }
+    }
+    // Only single numbers: not STATUS (strings or integers), lists, objects.
+    CHECK(bounded_ids == "pos mass temp tempk pf ");
+    double lo = 0, hi = 0;
+    REQUIRE(rules().find("mass")->number_bounds(lo, hi));
+    CHECK(lo == 0.0);
+    CHECK(hi == inf);
+    REQUIRE(rules().find("pf")->number_bounds(lo, hi));
+    CHECK(hi == 1.0);
 }

@@ -233,6 +233,11 @@ TEST_CASE("sample encoder: random DTUs equal nlohmann's build") {
         for (std::size_t p = 0; p < points; ++p) columns.push_back({values.data() + p * rows, rows});
         const std::string copy(text);
         CHECK(encoder.encode(header, columns.data(), columns.size()) == copy);
+        // Row-major path (the uploader's, no transpose) gives the same bytes.
+        std::vector<SampleValue> row_major(points * rows);
+        for (std::size_t p = 0; p < points; ++p)
+            for (std::size_t r = 0; r < rows; ++r) row_major[r * points + p] = values[p * rows + r];
+        CHECK(encoder.encode(header, SampleRows{row_major.data(), points, rows}) == copy);
     }
 }
 
@@ -248,6 +253,11 @@ TEST_CASE("sample encoder: ragged columns and empty blocks") {
           Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[{"data":[1,null]},{"data":["x"]},{"data":[]}]})"));
     CHECK(Json::parse(encoder.encode(header, SampleBlock{})) ==
           Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
+    CHECK(Json::parse(encoder.encode(header, SampleRows{})) ==
+          Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
+    // Points but no rows: one empty column each.
+    CHECK(Json::parse(encoder.encode(header, SampleRows{a, 2, 0})) ==
+          Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[{"data":[]},{"data":[]}]})"));
 }
 
 TEST_CASE("sample encoder: steady state does not grow the buffer") {

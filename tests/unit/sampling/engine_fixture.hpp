@@ -34,6 +34,8 @@ public:
                 results[i] = make_error(ErrorCode::unavailable, "not now");
             } else if (texts.count(id)) {
                 results[i] = Json(texts[id]);
+            } else if (doubles.count(id)) {
+                results[i] = Json(doubles[id]);
             } else {
                 results[i] = Json(static_cast<std::int64_t>(++counters[id]));
             }
@@ -42,6 +44,7 @@ public:
     std::mutex mutex;
     std::set<std::string> failing;
     std::map<std::string, std::string> texts;
+    std::map<std::string, double> doubles;
     std::map<std::string, std::int64_t> counters;
     std::set<std::thread::id> threads;
     int reads = 0;

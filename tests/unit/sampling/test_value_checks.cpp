@@ -52,3 +52,41 @@ TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
     const auto later = f.columns("Sample/dev1/c");
     CHECK(later[0].back() == "forward");
 }
+
+TEST_CASE("sampled doubles outside a number item's range are sent as null, those inside pass") {
+    // MASS is never negative, POWER_FACTOR at most 1 (table 10); the
+    // uploader checks float64 samples of such items inline.
+    auto state = state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
+      "guid":"dev1","version":"1.0.0","dataItems":[{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},
+      {"id":"n","type":"POSITION"}]}]})");
+    detail::ValueGuard guard{Logger{}};
+    EngineFixture f({}, false, nullptr, state, &guard);
+    f.driver->doubles["m"] = -1.5;
+    f.driver->doubles["pf"] = 0.75;
+    f.driver->doubles["n"] = -1e300;
+    REQUIRE(f.engine->add_channel(EngineFixture::spec("c", {"m", "pf", "n"}, 10, 100)).ok());
+    f.engine->run_sampling_once();
+    f.step(10ms, 90ms);
+    f.engine->run_upload_once(true);
+    const auto cols = f.columns("Sample/dev1/c");
+    REQUIRE(cols.size() == 3);
+    REQUIRE(!cols[0].empty());
+    for (const auto& v : cols[0]) CHECK(v.is_null());
+    for (const auto& v : cols[1]) CHECK(v == 0.75);
+    for (const auto& v : cols[2]) CHECK(v == -1e300);  // a position has no bound
+    CHECK(f.stats("c").refused_values == cols[0].size());
+    CHECK(guard.refused_items() == 1);
+
+    // Back in range: passes; the bound is inclusive (1.0 is a power factor).
+    f.driver->doubles["m"] = 0.0;
+    f.driver->doubles["pf"] = 1.0;
+    f.step(10ms, 100ms);
+    f.engine->run_upload_once(true);
+    const auto later = f.columns("Sample/dev1/c");
+    CHECK(later[0].back() == 0.0);
+    CHECK(later[1].back() == 1.0);
+    f.driver->doubles["pf"] = 1.0000001;
+    f.step(10ms, 100ms);
+    f.engine->run_upload_once(true);
+    CHECK(f.columns("Sample/dev1/c")[1].back().is_null());
+}
