@@ -227,6 +227,9 @@ Result<void> Gateway::remove_machine(const std::string& id, std::chrono::millise
 
 GatewayReload Gateway::reload(GatewayConfig next) {  // `next` is taken apart: machines are moved out
     GatewayReload report;
+    // Machines leave before others come, so the new list is the most that
+    // run at once.
+    raise_open_file_limit(next.machines.size(), impl_->logger);
     std::set<std::string> wanted;
     for (const auto& m : next.machines) wanted.insert(m.id);
     for (const auto& m : machines())

@@ -20,21 +20,36 @@ TEST_CASE("gateway: the soft open-file limit is raised to what the machines need
     low.rlim_cur = 200;  // below what even one machine asks for (256 + 8 a machine)
     REQUIRE(::setrlimit(RLIMIT_NOFILE, &low) == 0);
 
-    GatewayConfig config;
-    for (int i = 0; i < 100; ++i) {
-        MachineConfig m;
-        m.id = "m" + std::to_string(i);
-        m.adapter.model_path = "/nonexistent/model.json";  // refused at start: only the limit matters here
-        config.machines.push_back(m);
-    }
-    {
-        Gateway gateway(config);
-        (void)gateway.start();  // every machine refused (no model): named in the error
+    const auto machines = [](int n) {
+        GatewayConfig config;
+        for (int i = 0; i < n; ++i) {
+            MachineConfig m;
+            m.id = "m" + std::to_string(i);
+            m.adapter.model_path = "/nonexistent/model.json";  // refused at start: only the limit matters here
+            config.machines.push_back(m);
+        }
+        return config;
+    };
+    const auto soft = [] {
         rlimit now{};
         REQUIRE(::getrlimit(RLIMIT_NOFILE, &now) == 0);
-        CHECK(now.rlim_cur >= 256 + 8 * 100);
-        CHECK(now.rlim_cur <= 256 + 8 * 100);  // raised to the need, not to the hard limit
-        CHECK(now.rlim_max == original.rlim_max);
+        return now.rlim_cur;
+    };
+    SECTION("at start") {
+        Gateway gateway(machines(100));
+        (void)gateway.start();  // every machine refused (no model): named in the error
+        CHECK(soft() == 256 + 8 * 100);  // raised to the need, not to the hard limit
     }
+    SECTION("when a reload brings more machines than the gateway started with") {
+        Gateway gateway(machines(0));
+        REQUIRE(gateway.start());
+        CHECK(soft() == 256);
+        const GatewayReload report = gateway.reload(machines(150));
+        CHECK(report.errors.size() == 150);  // no model: refused, but only after the limit was raised
+        CHECK(soft() == 256 + 8 * 150);
+    }
+    rlimit now{};
+    REQUIRE(::getrlimit(RLIMIT_NOFILE, &now) == 0);
+    CHECK(now.rlim_max == original.rlim_max);
     REQUIRE(::setrlimit(RLIMIT_NOFILE, &original) == 0);
 }
