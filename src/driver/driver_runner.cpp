@@ -2,6 +2,7 @@
 #include "core/thread_name.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <atomic>
 #include <iterator>
 #include <optional>
@@ -418,7 +419,12 @@ void DriverRunner::read_direct(const std::vector<PointRef>& points, std::vector<
 
 DriverRunner::TypedRead DriverRunner::read_samples_direct(const std::vector<PointRef>& points, SampleValue* out,
                                                           std::chrono::nanoseconds wait, std::uint64_t generation) {
-    std::fill(out, out + points.size(), SampleValue::null());
+    // Every slot null before the driver writes: one it skips must not keep
+    // the ring's previous sample. A null is all-zero bytes (kind null = 0,
+    // payload 0, size 0; test_core checks it), so this is a memset, whose
+    // whole-line stores spare the ring's cold lines a read before the write
+    // (a slot is rewritten only once per ring's worth of rows).
+    std::memset(static_cast<void*>(out), 0, points.size() * sizeof(SampleValue));
     bool supported = true;
     const auto typed_read = [&](const std::vector<PointRef>& some, SampleValue* into) {
         try {

@@ -271,3 +271,20 @@ TEST_CASE("sample encoder: steady state does not grow the buffer") {
     for (int i = 0; i < 10; ++i) (void)encoder.encode(header, SampleBlock{values.data(), 10, 100});
     CHECK(encoder.capacity() == capacity);
 }
+
+TEST_CASE("sample value: all-zero bytes are a null, as the driver runner's memset relies on") {
+    // DriverRunner::read_samples_direct clears a row with memset before the
+    // driver writes it: a slot the driver skips must read as null.
+    std::vector<SampleValue> row(8, SampleValue::float64(1.5));
+    std::memset(static_cast<void*>(row.data()), 0, row.size() * sizeof(SampleValue));
+    for (const auto& v : row) {
+        CHECK(v.is_null());
+        CHECK(v.kind() == SampleValue::Kind::null);
+    }
+    SampleEncoder encoder;
+    SampleDtuHeader header;
+    header.guid = "d";
+    header.channel_id = "c";
+    CHECK(Json::parse(encoder.encode(header, SampleRows{row.data(), 2, 4}))["data"][0]["data"] ==
+          Json::parse("[null,null,null,null]"));
+}
