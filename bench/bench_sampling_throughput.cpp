@@ -32,11 +32,14 @@
 #include <nclink/sample_encoder.hpp>
 #include <nclink/topics.hpp>
 
+#include "alloc_counter.hpp"
 #include "bench_util.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "transport/tcp_nodelay.hpp"
 
 #include <mqtt/async_client.h>
+
+#include <fmt/format.h>
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -52,6 +55,7 @@
 #include <deque>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -125,10 +129,31 @@ int adapter_child(int port) {
     std::fflush(stdout);
     double start = 0;
     std::string line;
+    // Rows and DTUs of the dynamic channels, for allocations per row / DTU.
+    const auto counts = [&adapter] {
+        std::pair<std::uint64_t, std::uint64_t> rows_dtus{0, 0};
+        const auto stats = adapter.stats();  // the loop below reads into it
+        for (const auto& c : stats.features.at("sampling")["channels"]) {
+            if (!c.contains("owner_ex")) continue;
+            rows_dtus.first += c["rows_sampled"].get<std::uint64_t>();
+            rows_dtus.second += c["dtus_published"].get<std::uint64_t>();
+        }
+        return rows_dtus;
+    };
+    std::pair<std::uint64_t, std::uint64_t> at_mark{0, 0};
     while (std::getline(std::cin, line)) {
-        if (line == "mark") start = cpu_seconds_self();
+        if (line == "mark") {
+            start = cpu_seconds_self();
+            at_mark = counts();
+            bench::alloc::start();
+        }
         if (line == "stop") break;
     }
+    // Steady state only: the allocations of stopping are not counted.
+    bench::alloc::stop();
+    const auto at_stop = counts();
+    Json allocs = Json::object();
+    for (const auto& [thread, n] : bench::alloc::by_thread_name()) allocs[thread] = n;
     const auto stop0 = std::chrono::steady_clock::now();
     adapter.stop(10000ms);
     if (std::getenv("NCLINK_BENCH_DEBUG"))
@@ -137,7 +162,10 @@ int adapter_child(int port) {
     const double cpu = cpu_seconds_self() - start;
     const auto stats = adapter.stats();
     std::printf("%s\n", Json{{"cpu_s", cpu}, {"sampling", stats.features.at("sampling")},
-                             {"transport_dropped", stats.transport.dropped}}
+                             {"transport_dropped", stats.transport.dropped},
+                             {"allocs", allocs},
+                             {"window_rows", at_stop.first - at_mark.first},
+                             {"window_dtus", at_stop.second - at_mark.second}}
                             .dump()
                             .c_str());
     return 0;
@@ -295,6 +323,10 @@ struct RunResult {
     std::uint64_t points = 0;  // points published
     std::uint64_t dtus = 0, received = 0, drops = 0, nulls = 0, overruns = 0, spool_dropped = 0, transport_dropped = 0;
     double seconds = 0;
+    // Heap allocations between mark and stop, by thread name, and the rows
+    // and DTUs of that window (empty when the build cannot count).
+    std::map<std::string, std::uint64_t> allocs;
+    std::uint64_t window_rows = 0, window_dtus = 0;
     double per_million() const { return points ? cpu_s / (static_cast<double>(points) / 1e6) : 0; }
     double points_per_s() const { return seconds > 0 ? static_cast<double>(points) / seconds : 0; }
     double null_share() const { return points ? static_cast<double>(nulls) / static_cast<double>(points) : 0; }
@@ -333,6 +365,11 @@ RunResult run_adapter(int port, int channels, int points, int qos, double second
     }
     r.spool_dropped = out["sampling"]["spool"]["dropped"].get<std::uint64_t>();
     r.transport_dropped = out["transport_dropped"].get<std::uint64_t>();
+    if (bench::alloc::available()) {
+        for (const auto& [thread, n] : out["allocs"].items()) r.allocs[thread] = n.get<std::uint64_t>();
+        r.window_rows = out["window_rows"].get<std::uint64_t>();
+        r.window_dtus = out["window_dtus"].get<std::uint64_t>();
+    }
     // Stragglers: the subscriber may still be reading.
     for (int i = 0; i < 100 && app.dtus() < r.dtus; ++i) std::this_thread::sleep_for(20ms);
     r.received = app.dtus();
@@ -417,6 +454,33 @@ double run_floor(int port, int channels, int points, int qos, const RunResult& a
 }
 
 }  // namespace
+
+/// Heap allocations of the adapter in its steady state (the first round at
+/// the largest lossless load): the sampler thread's per row, which must be
+/// zero, and the rest per DTU (a DTU is a message: its text, the outbox's
+/// entry, paho's copy).
+void report_allocations(const RunResult& r) {
+    if (!bench::alloc::available()) {
+        std::printf("     heap allocations: not counted in a sanitizer build\n");
+        return;
+    }
+    if (r.window_rows == 0 || r.window_dtus == 0) return;
+    std::uint64_t sampler = 0, uploader = 0, total = 0;
+    std::string others;
+    for (const auto& [thread, n] : r.allocs) {
+        total += n;
+        if (thread == "nclink-sampler") sampler += n;
+        else if (thread == "nclink-upload") uploader += n;
+        else if (n > 0) others += fmt::format("{}{} {}", others.empty() ? "" : ", ", thread, n);
+    }
+    const auto rows = static_cast<double>(r.window_rows), dtus = static_cast<double>(r.window_dtus);
+    std::printf("     heap allocations in steady state (%llu rows, %llu DTUs): sampler thread %llu (%.4f per row), "
+                "uploader %.1f per DTU, whole adapter %.1f per DTU = %.3f per row [%s]\n",
+                static_cast<unsigned long long>(r.window_rows), static_cast<unsigned long long>(r.window_dtus),
+                static_cast<unsigned long long>(sampler), static_cast<double>(sampler) / rows,
+                static_cast<double>(uploader) / dtus, static_cast<double>(total) / dtus,
+                static_cast<double>(total) / rows, others.c_str());
+}
 
 int run(int argc, char** argv);
 
@@ -512,6 +576,7 @@ int run(int argc, char** argv) {
         std::printf("     the %d ms wake-ups alone (a bare clock_nanosleep loop, same run): %.3f s per million points; "
                     "adapter / (floor + wake-ups) %.2fx\n",
                     kSampleMs, w, f + w > 0 ? a / (f + w) : 0);
+        report_allocations(best_run);
         std::fflush(stdout);
     }
     return 0;

@@ -155,6 +155,8 @@ struct NCLINK_LOCAL Adapter::Impl {
     void publish_version();
     void housekeep();  ///< the housekeeping thread's loop (own threads)
     void housekeep_once();  ///< one pass of it (also a pollable on shared threads)
+    /// The statistics' "drops" object, read from the counters (thread-safe).
+    Json drops_now() const;
     void wake_housekeeping();
     void on_register_response(const std::string& payload);
     void application_gone(const std::string& ex, std::string_view why);

@@ -150,7 +150,7 @@ void Adapter::Impl::housekeep_once() {
     // loss logged once per burst (drop_reporter.hpp).
     if (const auto real = std::chrono::steady_clock::now(); real - last_drop_check >= std::chrono::seconds(1)) {
         last_drop_check = real;
-        if (features_ready.load(std::memory_order_acquire)) drop_reporter.observe(to_json(self->stats())["drops"]);
+        if (features_ready.load(std::memory_order_acquire)) drop_reporter.observe(drops_now());
     }
 }
 

@@ -40,32 +40,53 @@ std::uint64_t counter(const Json& object, std::initializer_list<const char*> pat
     return at->is_number_unsigned() || at->is_number_integer() ? at->get<std::uint64_t>() : 0;
 }
 
-// Every place a DTU or a value can be lost, by cause, summed from the
-// counters of the transport and the features (docs/delivery.md, "Counted
-// drops"). Each is also logged, once per burst, where it happens.
-Json drops_by_cause(const AdapterStats& s) {
-    std::uint64_t ring_full = 0;
+// The same counts read from a statistics snapshot (its features' JSON).
+detail::DropCounts feature_drops(const AdapterStats& s) {
+    detail::DropCounts d;
     if (const auto it = s.features.find("sampling"); it != s.features.end() && it->is_object())
         if (const auto channels = it->find("channels"); channels != it->end() && channels->is_array())
-            for (const auto& c : *channels) ring_full += counter(c, {"drops"});
-    return Json{{"offline_buffer_full", s.transport.dropped},
-                {"sample_ring_full", ring_full},
-                {"sample_spool_full", counter(s.features, {"sampling", "spool", "dropped"})},
-                {"sample_publish_refused", counter(s.features, {"sampling", "publish_errors"})},
-                {"event_values_queue_full", counter(s.features, {"events", "dropped_values"})},
-                {"events_publish_refused", counter(s.features, {"events", "publish_errors"})},
-                // Requests beyond max_pending_requests: dropped unanswered
-                // (the requester's timeout, 203, is its answer).
-                {"requests_shed", s.shed}};
+            for (const auto& c : *channels) d.sample_ring_full += counter(c, {"drops"});
+    d.sample_spool_full = counter(s.features, {"sampling", "spool", "dropped"});
+    d.sample_publish_refused = counter(s.features, {"sampling", "publish_errors"});
+    d.event_values_queue_full = counter(s.features, {"events", "dropped_values"});
+    d.events_publish_refused = counter(s.features, {"events", "publish_errors"});
+    return d;
 }
 
 }  // namespace
+
+namespace detail {
+
+// Every place a DTU or a value can be lost, by cause (docs/delivery.md,
+// "Counted drops"). Each is also logged, once per burst, where it happens.
+Json drops_by_cause(const DropCounts& d, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
+    return Json{{"offline_buffer_full", offline_buffer_full},
+                {"sample_ring_full", d.sample_ring_full},
+                {"sample_spool_full", d.sample_spool_full},
+                {"sample_publish_refused", d.sample_publish_refused},
+                {"event_values_queue_full", d.event_values_queue_full},
+                {"events_publish_refused", d.events_publish_refused},
+                // Requests beyond max_pending_requests: dropped unanswered
+                // (the requester's timeout, 203, is its answer).
+                {"requests_shed", requests_shed}};
+}
+
+}  // namespace detail
+
+// Straight from the counters: the housekeeping's once-a-second look, which
+// building the whole statistics made a quarter of a 1,000-machine gateway's
+// CPU (perf, docs/performance.md "Fleet").
+Json Adapter::Impl::drops_now() const {
+    detail::DropCounts d;
+    for (const auto& feature : features) feature->add_drops(d);
+    return detail::drops_by_cause(d, transport ? transport->stats().dropped : 0, gate ? gate->shed() : 0);
+}
 
 Json to_json(const AdapterStats& s) {
     const auto& t = s.transport;
     return Json{{"requests", s.requests},
                 {"applications_released", s.applications_released},
-                {"drops", drops_by_cause(s)},
+                {"drops", detail::drops_by_cause(feature_drops(s), s.transport.dropped, s.shed)},
                 {"ignored_retained", s.ignored_retained},
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},

@@ -114,6 +114,10 @@ public:
                     {"publish_errors", publish_errors_.load()},
                     {"dropped_values", inbox_->dropped()}};
     }
+    void add_drops(DropCounts& out) const override {
+        out.event_values_queue_full += inbox_->dropped();
+        out.events_publish_refused += publish_errors_.load();
+    }
 
 private:
     // ------------------------------------------------------- requests

@@ -65,6 +65,17 @@ struct FeatureHost {
     PollHost* timers = nullptr;
 };
 
+/// The losses a feature counts, by cause (the "drops" of the statistics,
+/// docs/delivery.md): plain counters the adapter's housekeeping reads once a
+/// second without building the statistics.
+struct DropCounts {
+    std::uint64_t sample_ring_full = 0;
+    std::uint64_t sample_spool_full = 0;
+    std::uint64_t sample_publish_refused = 0;
+    std::uint64_t event_values_queue_full = 0;
+    std::uint64_t events_publish_refused = 0;
+};
+
 class Feature {
 public:
     virtual ~Feature() = default;
@@ -88,6 +99,8 @@ public:
     virtual void on_value(const std::string& /*id*/, const Json& /*value*/) {}
     /// Counters for AdapterStats/`nclink stats` (a JSON object).
     virtual Json stats() const { return Json::object(); }
+    /// Adds this feature's losses to `out` (the same counts stats() shows).
+    virtual void add_drops(DropCounts& /*out*/) const {}
 };
 
 }  // namespace nclink::detail

@@ -215,6 +215,13 @@ std::vector<ChannelStats> SamplingEngine::stats() const {
     return out;
 }
 
+std::uint64_t SamplingEngine::ring_drops() const {
+    std::lock_guard<std::mutex> lock(state_->shared.mutex);
+    std::uint64_t sum = 0;
+    for (const auto& c : state_->shared.channels) sum += c->ring().drops();
+    return sum;
+}
+
 void SamplingEngine::start() {
     std::lock_guard<std::mutex> life(state_->lifecycle);
     if (state_->running) return;

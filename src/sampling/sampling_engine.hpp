@@ -99,6 +99,9 @@ public:
     bool remove_channel(const std::string& id);
     /// Thread-safe.
     std::vector<ChannelStats> stats() const;
+    /// Rows lost to full rings, summed over the channels (stats()' drops,
+    /// without copying the rest).
+    std::uint64_t ring_drops() const;
 
     /// Starts the sampling and uploader threads, or adds both to
     /// EngineDeps::timers (idempotent).

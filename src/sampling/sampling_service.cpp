@@ -170,6 +170,12 @@ Json SamplingService::stats() const {
     return out;
 }
 
+void SamplingService::add_drops(DropCounts& out) const {
+    out.sample_ring_full += engine_->ring_drops();
+    out.sample_publish_refused += publish_errors_.load(std::memory_order_relaxed);
+    for (const auto& extension : extensions_) extension->add_drops(out);
+}
+
 Json to_json(const SamplingStats& stats) {
     Json channels = Json::array();
     for (const auto& c : stats.channels) {

@@ -41,6 +41,7 @@ public:
     virtual void on_link(LinkState) {}
     virtual void on_application_gone(const std::string&) {}
     virtual Json stats() const { return Json::object(); }
+    virtual void add_drops(DropCounts& /*out*/) const {}
 };
 
 class SamplingService final : public Feature {
@@ -57,6 +58,7 @@ public:
     void on_link(LinkState link) override;
     void on_application_gone(const std::string& ex_cid) override;
     Json stats() const override;
+    void add_drops(DropCounts& out) const override;
 
     void add_extension(std::unique_ptr<SamplingExtension> extension);
     /// Replaces the DTU sink by wrapper(previous). Before start() only.

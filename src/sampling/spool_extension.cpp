@@ -37,6 +37,7 @@ public:
     }
     void on_link(LinkState link) override { spool_->on_link(link); }
     Json stats() const override { return to_json(spool_->stats()); }
+    void add_drops(DropCounts& out) const override { out.sample_spool_full += spool_->stats().dropped; }
 
 private:
     SamplingEngine& engine_;

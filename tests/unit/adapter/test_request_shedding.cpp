@@ -8,6 +8,10 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
 
 using namespace nclink;
 using namespace nclink::test;
@@ -56,6 +60,47 @@ TEST_CASE("requests beyond max_pending_requests are shed and counted while the d
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
     CHECK(to_json(f.adapter->stats())["shed"] == shed);
     CHECK(to_json(f.adapter->stats())["drops"]["requests_shed"] == shed);  // a loss by cause (nclink stats "drops")
+}
+
+TEST_CASE("the housekeeping names shed requests as a loss, read from the counters the statistics show") {
+    // The once-a-second drop check reads the counters directly (not the
+    // whole statistics); its warning must carry what stats' "drops" says.
+    auto lines = std::make_shared<std::vector<std::string>>();
+    auto lines_mutex = std::make_shared<std::mutex>();
+    AdapterConfig c;
+    c.max_pending_requests = 2;
+    c.driver_timeout = 5000ms;
+    AdapterFixture f(c, false);
+    f.logger = Logger(
+        [lines, lines_mutex](LogLevel level, std::string_view text) {
+            if (level < LogLevel::info) return;
+            std::lock_guard<std::mutex> lock(*lines_mutex);
+            lines->emplace_back(text);
+        },
+        LogLevel::info);
+    f.start();
+    f.driver->delay = 1000ms;
+    for (int i = 0; i < 10; ++i)
+        f.app->send(topics::query_request("test-dev", "app"), Json{{"@id", "b" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
+    REQUIRE(eventually([&] {
+        return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 10;
+    }, 30s));
+    const auto shed = f.adapter->stats().shed;
+    REQUIRE(shed > 0);
+    REQUIRE(to_json(f.adapter->stats())["drops"]["requests_shed"] == shed);
+    // The burst's closing line (a second with no growth) carries the total.
+    const std::string expected = " in this burst, " + std::to_string(shed) + " in all";
+    CHECK(eventually([&] {
+        std::lock_guard<std::mutex> lock(*lines_mutex);
+        return std::any_of(lines->begin(), lines->end(),
+                           [&](const std::string& l) {
+                               return l.find("drops (requests_shed) stopped") != std::string::npos &&
+                                      l.find(expected) != std::string::npos;
+                           });
+    }, 10s));
+    std::lock_guard<std::mutex> lock(*lines_mutex);
+    CHECK(std::any_of(lines->begin(), lines->end(),
+                      [](const std::string& l) { return l.find("dropping (requests_shed)") != std::string::npos; }));
 }
 
 TEST_CASE("a request larger than max_request_bytes is answered 404 unread") {
