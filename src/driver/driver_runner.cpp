@@ -2,8 +2,8 @@
 #include "core/thread_name.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <atomic>
+#include <cstring>
 #include <iterator>
 #include <optional>
 
@@ -421,7 +421,7 @@ DriverRunner::TypedRead DriverRunner::read_samples_direct(const std::vector<Poin
                                                           std::chrono::nanoseconds wait, std::uint64_t generation) {
     // Every slot null before the driver writes: one it skips must not keep
     // the ring's previous sample. A null is all-zero bytes (kind null = 0,
-    // payload 0, size 0; test_core checks it), so this is a memset, whose
+    // payload 0, size 0; test_protocol checks it), so this is a memset, whose
     // whole-line stores spare the ring's cold lines a read before the write
     // (a slot is rewritten only once per ring's worth of rows).
     std::memset(static_cast<void*>(out), 0, points.size() * sizeof(SampleValue));
