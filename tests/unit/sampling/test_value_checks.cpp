@@ -12,7 +12,7 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::shared_ptr<const detail::ModelState> state_of(const char* text) {
+std::shared_ptr<const detail::ModelState> state_of(const std::string& text) {
     const LoadResult loaded = parse_model(text);
     REQUIRE(loaded.ok());
     auto state = std::make_shared<detail::ModelState>();
@@ -22,20 +22,30 @@ std::shared_ptr<const detail::ModelState> state_of(const char* text) {
     return state;
 }
 
+/// A model of one MACHINE (guid dev1) whose data items are `items` (JSON).
+std::shared_ptr<const detail::ModelState> machine_with(const std::string& items) {
+    return state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
+      "guid":"dev1","version":"1.0.0","dataItems":)" + items + "}]}");
+}
+
+/// Channel "c" of `ids` at 10 ms / 100 ms: one upload period sampled and published.
+void sample_one_period(EngineFixture& f, const std::vector<std::string>& ids) {
+    REQUIRE(f.engine->add_channel(EngineFixture::spec("c", ids, 10, 100)).ok());
+    f.engine->run_sampling_once();
+    f.step(10ms, 90ms);
+    f.engine->run_upload_once(true);
+}
+
 }  // namespace
 
 TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
-    auto state = state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
-      "guid":"dev1","version":"1.0.0","dataItems":[{"id":"mode","type":"SPINDLE_MODE"},{"id":"n","type":"POSITION"},
-      {"id":"w","type":"WARNING"}]}]})");
+    auto state = machine_with(
+        R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"n","type":"POSITION"},{"id":"w","type":"WARNING"}])");
     detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->texts["mode"] = "spinning";  // not a value of table 15
     f.driver->texts["w"] = "text";         // a WARNING is an object
-    REQUIRE(f.engine->add_channel(EngineFixture::spec("c", {"mode", "n", "w"}, 10, 100)).ok());
-    f.engine->run_sampling_once();
-    f.step(10ms, 90ms);
-    f.engine->run_upload_once(true);
+    sample_one_period(f, {"mode", "n", "w"});
     const auto cols = f.columns("Sample/dev1/c");
     REQUIRE(cols.size() == 3);
     for (const auto& v : cols[0]) CHECK(v.is_null());
@@ -56,18 +66,14 @@ TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
 TEST_CASE("sampled doubles outside a number item's range are sent as null, those inside pass") {
     // MASS is never negative, POWER_FACTOR at most 1 (table 10); the
     // uploader checks float64 samples of such items inline.
-    auto state = state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
-      "guid":"dev1","version":"1.0.0","dataItems":[{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},
-      {"id":"n","type":"POSITION"}]}]})");
+    auto state = machine_with(
+        R"([{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},{"id":"n","type":"POSITION"}])");
     detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->doubles["m"] = -1.5;
     f.driver->doubles["pf"] = 0.75;
     f.driver->doubles["n"] = -1e300;
-    REQUIRE(f.engine->add_channel(EngineFixture::spec("c", {"m", "pf", "n"}, 10, 100)).ok());
-    f.engine->run_sampling_once();
-    f.step(10ms, 90ms);
-    f.engine->run_upload_once(true);
+    sample_one_period(f, {"m", "pf", "n"});
     const auto cols = f.columns("Sample/dev1/c");
     REQUIRE(cols.size() == 3);
     REQUIRE(!cols[0].empty());
