@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace nclink::detail {
 
@@ -113,33 +114,55 @@ void Uploader::screen(Lane& lane, std::size_t from) {
         lane.model = shared_.current_model();
         lane.rules.assign(width, {});
         lane.verdicts.assign(width, {});
+        // A float64 inside [lo, hi] passes without a look at its rule: no
+        // rule is (-inf, +inf); a rule that is not a single-valued number
+        // range admits no float here, so its values take the full check.
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        lane.lo.assign(width, -inf);
+        lane.hi.assign(width, inf);
         lane.any_rule = false;
         if (lane.model && lane.model->rules) {
             for (std::size_t p = 0; p < width && p < core.ids().size(); ++p) {
                 auto& column = lane.rules[p];
                 column.rule = lane.model->rules->find(core.ids()[p]);
-                if (column.rule != nullptr) column.number = column.rule->number_bounds(column.min, column.max);
-                lane.any_rule = lane.any_rule || column.rule != nullptr;
+                if (column.rule == nullptr) continue;
+                column.number = column.rule->number_bounds(column.min, column.max);
+                lane.lo[p] = column.number ? column.min : inf;
+                lane.hi[p] = column.number ? column.max : -inf;
+                lane.any_rule = true;
             }
         }
     }
     if (!lane.any_rule || width == 0) return;
     const bool stable_text = !core.spec().push;
-    for (std::size_t i = from, p = from % width; i < lane.values.size(); ++i, p = (p + 1 == width ? 0 : p + 1)) {
-        const auto& column = lane.rules[p];
-        if (column.rule == nullptr) continue;
-        SampleValue& value = lane.values[i];
-        ValueFault fault;
-        if (column.number && value.kind() == SampleValue::Kind::float64) {
-            const double v = value.as_double();
-            if (!(v < column.min || v > column.max)) continue;
-            fault = ValueFault::range;
-        } else {
-            fault = check(lane, p, value, stable_text);
-            if (fault == ValueFault::none) continue;
+    const double* lo = lane.lo.data();
+    const double* hi = lane.hi.data();
+    // Row by row (`from` starts a row): the bounds stay in L1 and the column
+    // needs no wrap-around arithmetic per value.
+    for (std::size_t r = from; r + width <= lane.values.size(); r += width) {
+        SampleValue* row = lane.values.data() + r;
+        for (std::size_t p = 0; p < width; ++p) {
+            const SampleValue& value = row[p];
+            if (value.kind() == SampleValue::Kind::float64 && value.as_double() >= lo[p] && value.as_double() <= hi[p])
+                continue;  // the bulk: a number inside its range, or no rule
+            screen_value(lane, p, row[p], stable_text);
         }
-        refuse(lane, *column.rule, fault, value);
     }
+}
+
+void Uploader::screen_value(Lane& lane, std::size_t p, SampleValue& value, bool stable_text) {
+    const auto& column = lane.rules[p];
+    if (column.rule == nullptr) return;
+    ValueFault fault;
+    if (column.number && value.kind() == SampleValue::Kind::float64) {
+        const double v = value.as_double();
+        if (!(v < column.min || v > column.max)) return;  // NaN: encoded as null, not refused
+        fault = ValueFault::range;
+    } else {
+        fault = check(lane, p, value, stable_text);
+        if (fault == ValueFault::none) return;
+    }
+    refuse(lane, *column.rule, fault, value);
 }
 
 ValueFault Uploader::check(Lane& lane, std::size_t column, const SampleValue& value, bool stable_text) {

@@ -53,6 +53,7 @@ private:
             double min = 0, max = 0;
         };
         std::vector<ColumnRule> rules;
+        std::vector<double> lo, hi;  // per column: a float64 in [lo, hi] needs no further check
         bool any_rule = false;
         // Verdicts on pre-serialized JSON, per column by interned text (pull
         // channels only: their text lives as long as the channel).
@@ -64,6 +65,8 @@ private:
     /// Chapter 7 on the rows drained from index `from` of lane.values: a value
     /// breaking its item's rule becomes null (a missed value), refused via deps.values.
     void screen(Lane& lane, std::size_t from);
+    /// One value the inline range test did not pass: its column's rule decides.
+    void screen_value(Lane& lane, std::size_t column, SampleValue& value, bool stable_text);
     /// The full check of one value (everything but the inline number path).
     ValueFault check(Lane& lane, std::size_t column, const SampleValue& value, bool stable_text);
     void refuse(Lane& lane, const ValueRule& rule, ValueFault fault, SampleValue& value);

@@ -96,3 +96,23 @@ TEST_CASE("sampled doubles outside a number item's range are sent as null, those
     f.engine->run_upload_once(true);
     CHECK(f.columns("Sample/dev1/c")[1].back().is_null());
 }
+
+TEST_CASE("a double where an item takes text, or text where it takes a number, is refused, items without a rule pass") {
+    // The inline range test only ever passes a double inside a number
+    // item's bounds; everything else meets its item's full rule.
+    auto state = machine_with(R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"m","type":"MASS"}])");
+    detail::ValueGuard guard{Logger{}};
+    EngineFixture f({}, false, nullptr, state, &guard);
+    f.driver->doubles["mode"] = 2.0;     // table 15 takes a text
+    f.driver->texts["m"] = "heavy";      // table 10 takes a number
+    f.driver->doubles["free"] = -7.25;   // not in the model: no rule
+    sample_one_period(f, {"mode", "m", "free"});
+    const auto cols = f.columns("Sample/dev1/c");
+    REQUIRE(cols.size() == 3);
+    REQUIRE(!cols[0].empty());
+    for (const auto& v : cols[0]) CHECK(v.is_null());
+    for (const auto& v : cols[1]) CHECK(v.is_null());
+    for (const auto& v : cols[2]) CHECK(v == -7.25);
+    CHECK(f.stats("c").refused_values == 2 * cols[0].size());
+    CHECK(guard.refused_items() == 2);
+}
