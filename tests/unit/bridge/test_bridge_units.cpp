@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <unistd.h>
 
 using namespace nclink;
 using namespace nclink::bridge;
@@ -36,15 +37,21 @@ bool validates(const std::string& xml, const std::string& kind) {
         WARN("MTConnect schemas or xmllint absent: " << xsd << " not checked");
         return true;
     }
-    const auto file = std::filesystem::temp_directory_path() / ("nclink-bridge-unit-" + kind + ".xml");
+    // Per process: ctest runs each test case of this file as its own
+    // process, two at a time, and a shared name let one case read (or lose)
+    // the other's document.
+    const auto stem = std::filesystem::temp_directory_path() /
+                      ("nclink-bridge-unit-" + kind + "-" + std::to_string(::getpid()));
+    const std::string file = stem.string() + ".xml", log_file = stem.string() + ".log";
     std::ofstream(file) << xml;
-    const std::string cmd = "xmllint --nonet --noout --schema " + xsd + " " + file.string() + " 2>/tmp/nclink-xmllint.log";
+    const std::string cmd = "xmllint --nonet --noout --schema " + xsd + " " + file + " 2>" + log_file;
     const int rc = std::system(cmd.c_str());
     if (rc != 0) {
-        std::ifstream log("/tmp/nclink-xmllint.log");
+        std::ifstream log(log_file);
         std::cerr << log.rdbuf() << "\n" << xml << "\n";
     }
     std::filesystem::remove(file);
+    std::filesystem::remove(log_file);
     return rc == 0;
 }
 
