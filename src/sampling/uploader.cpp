@@ -88,14 +88,18 @@ void Uploader::drain(Lane& lane) {
     const std::size_t width = ring.width();
     const std::size_t before = lane.times.size();
     const std::size_t n = ring.claim();
+    // Each row is screened right after its copy, while it is in the cache,
+    // rather than in a second pass over the whole batch (at 1 x 5,000
+    // points a batch is megabytes).
+    const bool screening = n > 0 && prepare_screen(lane);
     for (std::size_t i = 0; i < n; ++i) {
         const SampleValue* row = ring.row(i);
         lane.values.insert(lane.values.end(), row, row + width);
+        if (screening) screen_row(lane, lane.values.data() + lane.values.size() - width);
         lane.times.push_back(ring.time_ns(i));
         lane.seqs.push_back(ring.seq(i));
     }
     ring.release(n);
-    if (n > 0) screen(lane, before * width);
     SampleTap* tap = shared_.deps.tap;
     if (tap != nullptr && n > 0 && tap->active()) {
         for (std::size_t r = before; r < lane.times.size(); ++r)
@@ -103,9 +107,9 @@ void Uploader::drain(Lane& lane) {
     }
 }
 
-void Uploader::screen(Lane& lane, std::size_t from) {
+bool Uploader::prepare_screen(Lane& lane) {
     ValueGuard* guard = shared_.deps.values;
-    if (guard == nullptr || !guard->enabled()) return;
+    if (guard == nullptr || !guard->enabled()) return false;
     ChannelCore& core = *lane.core;
     const std::size_t width = core.ring().width();
     const auto version = shared_.model_version.load(std::memory_order_acquire);
@@ -133,20 +137,19 @@ void Uploader::screen(Lane& lane, std::size_t from) {
             }
         }
     }
-    if (!lane.any_rule || width == 0) return;
-    const bool stable_text = !core.spec().push;
+    return lane.any_rule && width > 0;
+}
+
+void Uploader::screen_row(Lane& lane, SampleValue* row) {
+    const bool stable_text = !lane.core->spec().push;
     const double* lo = lane.lo.data();
     const double* hi = lane.hi.data();
-    // Row by row (`from` starts a row): the bounds stay in L1 and the column
-    // needs no wrap-around arithmetic per value.
-    for (std::size_t r = from; r + width <= lane.values.size(); r += width) {
-        SampleValue* row = lane.values.data() + r;
-        for (std::size_t p = 0; p < width; ++p) {
-            const SampleValue& value = row[p];
-            if (value.kind() == SampleValue::Kind::float64 && value.as_double() >= lo[p] && value.as_double() <= hi[p])
-                continue;  // the bulk: a number inside its range, or no rule
-            screen_value(lane, p, row[p], stable_text);
-        }
+    const std::size_t width = lane.lo.size();
+    for (std::size_t p = 0; p < width; ++p) {
+        const SampleValue& value = row[p];
+        if (value.kind() == SampleValue::Kind::float64 && value.as_double() >= lo[p] && value.as_double() <= hi[p])
+            continue;  // the bulk: a number inside its range, or no rule
+        screen_value(lane, p, row[p], stable_text);
     }
 }
 

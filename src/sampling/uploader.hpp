@@ -62,9 +62,12 @@ private:
 
     void refresh(Clock::Steady now);
     void drain(Lane& lane);
-    /// Chapter 7 on the rows drained from index `from` of lane.values: a value
-    /// breaking its item's rule becomes null (a missed value), refused via deps.values.
-    void screen(Lane& lane, std::size_t from);
+    /// Chapter 7 on drained rows: false when nothing is checked (checks off,
+    /// no rule for any column); else the lane's rules are current.
+    bool prepare_screen(Lane& lane);
+    /// One row of lane.values after prepare_screen(): a value breaking its
+    /// item's rule becomes null (a missed value), refused via deps.values.
+    void screen_row(Lane& lane, SampleValue* row);
     /// One value the inline range test did not pass: its column's rule decides.
     void screen_value(Lane& lane, std::size_t column, SampleValue& value, bool stable_text);
     /// The full check of one value (everything but the inline number path).
