@@ -266,7 +266,20 @@ std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const Samp
 }
 
 std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleRows& rows) {
+    // A column of a row-major block is one value per row, a row apart: with
+    // rows of thousands of points each read is in another page, which the
+    // hardware prefetcher does not follow, so every cache line would be a
+    // full miss (encoding 1.6x slower than from a column-major block at
+    // 5,000 points x 100 rows). The lines a few columns ahead are requested
+    // here instead: one prefetch per row per cache line (4 values).
+    constexpr std::size_t kPerLine = 64 / sizeof(SampleValue);
+    constexpr std::size_t kAhead = 2 * kPerLine;
+    const bool prefetch = rows.points > kPerLine && rows.rows > 1;
     return encode_columns(buffer_, header, rows.points, [&](std::size_t p) {
+        if (prefetch && p % kPerLine == 0 && p + kAhead < rows.points) {
+            const SampleValue* ahead = rows.values + p + kAhead;
+            for (std::size_t r = 0; r < rows.rows; ++r, ahead += rows.points) __builtin_prefetch(ahead);
+        }
         return Strided{rows.values + p, rows.rows, rows.points};
     });
 }
