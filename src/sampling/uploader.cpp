@@ -116,23 +116,23 @@ bool Uploader::prepare_screen(Lane& lane) {
     if (lane.rules_version != version) {
         lane.rules_version = version;
         lane.model = shared_.current_model();
-        lane.rules.assign(width, {});
+        lane.rules.assign(width, nullptr);
         lane.verdicts.assign(width, {});
-        // A float64 inside [lo, hi] passes without a look at its rule: no
-        // rule is (-inf, +inf); a rule that is not a single-valued number
-        // range admits no float here, so its values take the full check.
+        // A rule that is not a single-valued number range admits no float
+        // inline: its values take the full check.
         constexpr double inf = std::numeric_limits<double>::infinity();
         lane.lo.assign(width, -inf);
         lane.hi.assign(width, inf);
         lane.any_rule = false;
         if (lane.model && lane.model->rules) {
             for (std::size_t p = 0; p < width && p < core.ids().size(); ++p) {
-                auto& column = lane.rules[p];
-                column.rule = lane.model->rules->find(core.ids()[p]);
-                if (column.rule == nullptr) continue;
-                column.number = column.rule->number_bounds(column.min, column.max);
-                lane.lo[p] = column.number ? column.min : inf;
-                lane.hi[p] = column.number ? column.max : -inf;
+                const ValueRule* rule = lane.model->rules->find(core.ids()[p]);
+                lane.rules[p] = rule;
+                if (rule == nullptr) continue;
+                double min = 0, max = 0;
+                const bool number = rule->number_bounds(min, max);
+                lane.lo[p] = number ? min : inf;
+                lane.hi[p] = number ? max : -inf;
                 lane.any_rule = true;
             }
         }
@@ -154,22 +154,23 @@ void Uploader::screen_row(Lane& lane, SampleValue* row) {
 }
 
 void Uploader::screen_value(Lane& lane, std::size_t p, SampleValue& value, bool stable_text) {
-    const auto& column = lane.rules[p];
-    if (column.rule == nullptr) return;
+    const ValueRule* rule = lane.rules[p];
+    if (rule == nullptr) return;
+    const double lo = lane.lo[p], hi = lane.hi[p];
     ValueFault fault;
-    if (column.number && value.kind() == SampleValue::Kind::float64) {
+    if (lo <= hi && value.kind() == SampleValue::Kind::float64) {  // a number range
         const double v = value.as_double();
-        if (!(v < column.min || v > column.max)) return;  // NaN: encoded as null, not refused
+        if (!(v < lo || v > hi)) return;  // NaN: encoded as null, not refused
         fault = ValueFault::range;
     } else {
         fault = check(lane, p, value, stable_text);
         if (fault == ValueFault::none) return;
     }
-    refuse(lane, *column.rule, fault, value);
+    refuse(lane, *rule, fault, value);
 }
 
 ValueFault Uploader::check(Lane& lane, std::size_t column, const SampleValue& value, bool stable_text) {
-    const ValueRule& rule = *lane.rules[column].rule;
+    const ValueRule& rule = *lane.rules[column];
     ValueFault fault = rule.check(value);
     if (fault != ValueFault::none || !rule.needs_parse(value)) return fault;
     // Pre-serialized JSON (an object, a list): parsed once per distinct

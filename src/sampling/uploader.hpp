@@ -44,16 +44,12 @@ private:
         // chapter 7 checks: each column's rule under the model of `rules_version`
         std::uint64_t rules_version = 0;
         std::shared_ptr<const ModelState> model;  // keeps `rules` alive
-        // Per column; rule null = unchecked. A single-valued number rule
-        // also gives its bounds, so float64 samples (the bulk) are checked
-        // inline, without two calls into the rule per value.
-        struct ColumnRule {
-            const ValueRule* rule = nullptr;
-            bool number = false;
-            double min = 0, max = 0;
-        };
-        std::vector<ColumnRule> rules;
-        std::vector<double> lo, hi;  // per column: a float64 in [lo, hi] needs no further check
+        // Per column; rule null = unchecked. A float64 inside [lo, hi]
+        // passes inline, without a call into the rule (the bulk): a
+        // single-valued number rule's bounds, (-inf, +inf) without a rule,
+        // an empty range (lo > hi) for any other rule.
+        std::vector<const ValueRule*> rules;
+        std::vector<double> lo, hi;
         bool any_rule = false;
         // Verdicts on pre-serialized JSON, per column by interned text (pull
         // channels only: their text lives as long as the channel).
