@@ -2,6 +2,8 @@
 // that only grows, so a steady upload loop never allocates.
 #include <nclink/sample_encoder.hpp>
 
+#include "protocol/decimal_text.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -150,37 +152,11 @@ inline void write_double(Writer& w, double value) {
             return;
         }
     }
-    // Values with at most 6 decimals (positions in mm, speeds, loads: the bulk
-    // of CNC data) as fixed-point integers: several times cheaper than the
-    // general shortest-digits search. Below 2^32 a double's spacing is under
-    // 1e-6, so at most one 6-decimal number maps to `value`; if n / 1e6 == value
-    // (a correctly rounded division, like the parser's rounding of the decimal)
-    // then that decimal is the shortest round-trip text in fixed notation.
-    if (value > -4294967296.0 && value < 4294967296.0) {
-        const double scaled = std::nearbyint(value * 1e6);
-        const auto n = static_cast<std::int64_t>(scaled);
-        if (static_cast<double>(n) / 1e6 == value) {
-            char* out = p;
-            std::uint64_t magnitude = n < 0 ? static_cast<std::uint64_t>(-n) : static_cast<std::uint64_t>(n);
-            if (n < 0) *out++ = '-';
-            out = std::to_chars(out, out + 16, magnitude / 1000000).ptr;
-            auto fraction = static_cast<std::uint32_t>(magnitude % 1000000);
-            if (fraction != 0) {
-                int digits = 6;
-                while (fraction % 10 == 0) {
-                    fraction /= 10;
-                    --digits;
-                }
-                *out++ = '.';
-                for (int i = digits - 1; i >= 0; --i) {
-                    out[i] = static_cast<char>('0' + fraction % 10);
-                    fraction /= 10;
-                }
-                out += digits;
-            }
-            w.commit(out);
-            return;
-        }
+    // Short decimals (decimal_text.hpp): several times cheaper than the
+    // general shortest-digits search below.
+    if (char* end = detail::write_short_decimal(p, value)) {
+        w.commit(end);
+        return;
     }
     w.commit(std::to_chars(p, p + 32, value).ptr);
 }

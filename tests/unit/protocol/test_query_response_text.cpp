@@ -1,11 +1,15 @@
 // encode<QueryResponse>, written without the Json tree, against the text
-// to_json().dump() gives: the same bytes, for hand-picked and generated answers.
+// to_json().dump() gives: the same bytes, for hand-picked and generated answers,
+// but for doubles nlohmann writes with more digits than they need.
 #include <nclink/dtu.hpp>
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace nclink;
 
@@ -118,5 +122,72 @@ TEST_CASE("generated Query answers encode to the same bytes as to_json().dump()"
         }
         INFO("round " << round);
         REQUIRE(encode(dtu) == reference(dtu));
+    }
+}
+
+namespace {
+
+// The text of the one value of a one-item answer.
+std::string number_text(const std::string& answer) {
+    const auto start = answer.find("\"values\":[", answer.find("\"id\":")) + 10;
+    return answer.substr(start, answer.find(']', start) - start);
+}
+
+QueryResponse one_value(double value) {
+    QueryResponse dtu;
+    dtu.values.push_back(ok("v", Json::array({value})));
+    return dtu;
+}
+
+}  // namespace
+
+TEST_CASE("a double in a Query answer gets its shortest digits where nlohmann's are longer") {
+    // nlohmann's grisu2 writes these with 17 digits; both texts read back to
+    // the same double, the answer's is the shortest.
+    for (const double value : {460.47851, -135.484178, 1595247.068539, -91.372757}) {
+        const QueryResponse dtu = one_value(value);
+        const std::string text = encode(dtu);
+        const std::string longer = number_text(reference(dtu));
+        INFO(longer);
+        REQUIRE(longer.size() > 12);
+        CHECK(number_text(text).size() < longer.size());
+        CHECK(Json::parse(number_text(text)).get<double>() == value);
+        CHECK(Json::parse(text) == Json::parse(reference(dtu)));
+    }
+    CHECK(number_text(encode(one_value(460.47851))) == "460.47851");
+}
+
+TEST_CASE("every double of a Query answer reads back exactly, in nlohmann's notation, never longer than it") {
+    std::mt19937_64 rng(20261128);
+    std::vector<double> values = {414.0,  -0.0,   0.0,     1e15,     999999999999999.0, 1e14,  0.0001,   0.00012,
+                                  1e-5,   0.5,    -0.25,   1e-7,     4294967295.5,      -4294967296.5, 4294967296.25,
+                                  1e300,  -1e-300, 123.456, 0.001,   -0.0009999,        1e16,  2.5e15};
+    for (int i = 0; i < 200000; ++i) {
+        // Decimals with 0..7 fraction digits over many magnitudes, and raw bit patterns.
+        const auto decimals = static_cast<std::size_t>(rng() % 8);
+        std::string text = std::to_string((rng() % 10000000000ULL) >> (rng() % 34));
+        if (decimals > 0) {
+            const std::string fraction = std::to_string(rng() % static_cast<std::uint64_t>(std::pow(10.0, decimals)));
+            text += "." + std::string(decimals - fraction.size(), '0') + fraction;
+        }
+        double value = std::stod(text);
+        if (rng() & 1) value = -value;
+        values.push_back(value);
+        std::uint64_t bits = rng();
+        double raw;
+        std::memcpy(&raw, &bits, sizeof raw);
+        if (std::isfinite(raw)) values.push_back(raw);
+    }
+    for (const double value : values) {
+        const QueryResponse dtu = one_value(value);
+        const std::string ours = number_text(encode(dtu));
+        const std::string theirs = number_text(reference(dtu));
+        INFO(theirs);
+        if (ours != theirs) {
+            REQUIRE(ours.size() < theirs.size());
+            REQUIRE(ours.find_first_of("eE") == std::string::npos);
+        }
+        const double back = Json::parse(ours).get<double>();
+        REQUIRE((back == value && std::signbit(back) == std::signbit(value)));
     }
 }
