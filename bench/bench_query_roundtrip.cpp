@@ -7,7 +7,7 @@
 //
 //   bench_query_roundtrip [round_trips=2000] [rounds=3]
 //
-// Rounds alternate floor and adapter so machine noise hits both alike.
+// Floor and adapter requests alternate one by one so machine noise hits both alike.
 #include <nclink/adapter.hpp>
 #include <nclink/topics.hpp>
 
@@ -100,18 +100,26 @@ private:
 
 struct Figures {
     std::vector<double> samples;
-    void add(const std::vector<double>& run) { samples.insert(samples.end(), run.begin(), run.end()); }
 };
 
 // Every request gets its own @id: the adapter (rightly) ignores a repeated one.
-std::vector<double> measure(Requester& requester, const std::string& topic, const std::string& payload_tail, int n) {
+// Floor and adapter requests alternate one by one, so a slower moment of the
+// machine (a VM's neighbours, a frequency change) falls on both alike; whole
+// rounds of one then the other let such a moment move the ratio by 0.3x.
+void measure(Requester& floor_app, const std::string& floor_topic, Requester& app, const std::string& topic,
+             const std::string& payload_tail, int n, Figures& floor, Figures& sdk) {
     static std::uint64_t counter = 0;
     auto payload = [&] { return "{\"@id\":\"b" + std::to_string(++counter) + "\"," + payload_tail; };
-    for (int i = 0; i < 100; ++i) requester.round_trip_us(topic, payload());  // warm up
-    std::vector<double> us;
-    us.reserve(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) us.push_back(requester.round_trip_us(topic, payload()));
-    return us;
+    for (int i = 0; i < 100; ++i) {  // warm up
+        floor_app.round_trip_us(floor_topic, payload());
+        app.round_trip_us(topic, payload());
+    }
+    floor.samples.reserve(floor.samples.size() + static_cast<std::size_t>(n));
+    sdk.samples.reserve(sdk.samples.size() + static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        floor.samples.push_back(floor_app.round_trip_us(floor_topic, payload()));
+        sdk.samples.push_back(app.round_trip_us(topic, payload()));
+    }
 }
 
 std::string set_payload() {
@@ -190,10 +198,7 @@ int main(int argc, char** argv) {
         Figures floor, sdk;
         const auto kind_key = set ? "set_request" : "query_request";
         const auto inside_before = adapter.traffic_stats().request_seconds[kind_key];
-        for (int r = 0; r < rounds; ++r) {
-            floor.add(measure(floor_app, floor_request_topic, payload, n));
-            sdk.add(measure(app, request_topic, payload, n));
-        }
+        for (int r = 0; r < rounds; ++r) measure(floor_app, floor_request_topic, app, request_topic, payload, n, floor, sdk);
         const double f50 = bench::median(floor.samples), s50 = bench::median(sdk.samples);
         const std::string label = std::string(c.kind) + " " + std::to_string(items);
         std::printf("%-10s %-8s %10.1f %10.1f %10.1f %8zu\n", label.c_str(), "floor", f50, bench::percentile(floor.samples, 99),
