@@ -1,17 +1,22 @@
 // Query and Set round trips through a real mosquitto: an application (bare
 // paho) sends Query/Request/{dev}/{ex} (or Set/Request) and waits for the
 // response, answered by an nclink Adapter with an in-memory driver; Query of
-// 1 item and 100 items, Set of 1 value. The floor, measured in the same run through the same broker: a bare
-// paho echo answering the same request with a payload of the adapter's
-// response size. TCP_NODELAY is on for every client and the broker.
+// 1 item and 100 items, Set of 1 value. The floor, measured in the same run
+// through the same broker: a bare paho echo answering the same request with a
+// payload of the adapter's response size, from inside its message callback.
+// TCP_NODELAY is on for every client and the broker.
 //
 //   bench_query_roundtrip [round_trips=2000] [rounds=3]
 //
-// Floor and adapter requests alternate one by one so machine noise hits both alike.
+// The adapter and the echo each run in a process of their own, as they would
+// in a plant (child_process.hpp says why that matters with paho); the two
+// requesters share this one. Floor and adapter requests alternate one by one
+// so machine noise hits both alike.
 #include <nclink/adapter.hpp>
 #include <nclink/topics.hpp>
 
 #include "bench_util.hpp"
+#include "child_process.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "transport/tcp_nodelay.hpp"
 
@@ -20,6 +25,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <mutex>
 #include <string>
 
@@ -78,25 +84,79 @@ private:
     std::uint64_t received_ = 0;
 };
 
-// The floor: answers every request at once with a fixed payload.
+// The floor: answers every request at once, from paho's callback, with the
+// payload it was last given.
 class Echo {
 public:
-    Echo(const std::string& url, const std::string& request_topic, std::string reply_topic, std::string reply, int port)
-        : client_(url, "bench-echo", mqtt::create_options(MQTTVERSION_3_1_1), nullptr),
-          reply_topic_(std::move(reply_topic)),
-          reply_(std::move(reply)) {
+    Echo(const std::string& url, const std::string& request_topic, std::string reply_topic, int port)
+        : client_(url, "bench-echo", mqtt::create_options(MQTTVERSION_3_1_1), nullptr), reply_topic_(std::move(reply_topic)) {
         client_.set_message_callback([this](mqtt::const_message_ptr) {
+            std::lock_guard<std::mutex> lock(mutex_);
             client_.publish(reply_topic_, reply_.data(), reply_.size(), 1, false);
         });
         connect_and_subscribe(client_, request_topic, port);
     }
     ~Echo() { client_.disconnect()->wait(); }
+    void set_reply(std::string reply) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        reply_ = std::move(reply);
+    }
 
 private:
     mqtt::async_client client_;
     std::string reply_topic_;
+    std::mutex mutex_;
     std::string reply_;
 };
+
+// ---------------------------------------------------------------- children
+// Lines on stdin; "stop" ends either child.
+
+// The adapter under test. "stats" prints the request_seconds count and sum
+// of Query and Set: the adapter's own time per request, from admission to
+// the answer handed to paho.
+int adapter_child(int port) {
+    AdapterConfig config;
+    config.model_path = std::string(NCLINK_SOURCE_DIR) + "/tests/data/adapter-test-model.json";
+    config.broker_url = "tcp://127.0.0.1:" + std::to_string(port);
+    config.dev_uuid = kDev;
+    config.log_level = LogLevel::warn;
+    Adapter adapter(config, std::make_shared<MemoryDriver>(), Logger(stderr_sink(), LogLevel::warn));
+    if (auto started = adapter.start(); !started) {
+        std::fprintf(stderr, "adapter: %s\n", started.error().describe().c_str());
+        return 1;
+    }
+    while (adapter.state() != AdapterState::normal) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::printf("ready\n");
+    std::fflush(stdout);
+    std::string line;
+    while (std::getline(std::cin, line) && line != "stop") {
+        if (line != "stats") continue;
+        auto seconds = adapter.traffic_stats().request_seconds;
+        Json out = Json::object();
+        for (const char* kind : {"query_request", "set_request"})
+            out[kind] = Json::array({seconds[kind].count, seconds[kind].sum});
+        std::printf("%s\n", out.dump().c_str());
+        std::fflush(stdout);
+    }
+    adapter.stop();
+    return 0;
+}
+
+// The floor. "reply <text>" sets the answer (one line: compact JSON), then "ok".
+int echo_child(int port) {
+    Echo echo("tcp://127.0.0.1:" + std::to_string(port), "Floor/Request", "Floor/Response", port);
+    std::printf("ready\n");
+    std::fflush(stdout);
+    std::string line;
+    while (std::getline(std::cin, line) && line != "stop") {
+        if (line.rfind("reply ", 0) != 0) continue;
+        echo.set_reply(line.substr(6));
+        std::printf("ok\n");
+        std::fflush(stdout);
+    }
+    return 0;
+}
 
 struct Figures {
     std::vector<double> samples;
@@ -138,22 +198,20 @@ std::string query_payload(int items) {
 
 int main(int argc, char** argv) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    if (argc >= 3 && std::string(argv[1]) == "--adapter-child") return adapter_child(std::atoi(argv[2]));
+    if (argc >= 3 && std::string(argv[1]) == "--echo-child") return echo_child(std::atoi(argv[2]));
     const int n = argc > 1 ? std::atoi(argv[1]) : 2000;
     const int rounds = argc > 2 ? std::atoi(argv[2]) : 3;
     test::MosquittoBroker broker;
     const std::string url = broker.url();
-
-    AdapterConfig config;
-    config.model_path = std::string(NCLINK_SOURCE_DIR) + "/tests/data/adapter-test-model.json";
-    config.broker_url = url;
-    config.dev_uuid = kDev;
-    config.log_level = LogLevel::warn;
-    Adapter adapter(config, std::make_shared<MemoryDriver>());
-    if (auto started = adapter.start(); !started) {
-        std::fprintf(stderr, "adapter: %s\n", started.error().describe().c_str());
-        return 1;
-    }
-    while (adapter.state() != AdapterState::normal) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const std::string port = std::to_string(broker.port());
+    bench::Child adapter({"bench_query_roundtrip", "--adapter-child", port});
+    bench::Child echo({"bench_query_roundtrip", "--echo-child", port});
+    // The adapter's own time per request: {kind: [count, sum of seconds]}.
+    const auto inside = [&adapter] {
+        adapter.say("stats");
+        return Json::parse(adapter.read_line());
+    };
 
     const std::string floor_request_topic = "Floor/Request";
     const std::string floor_reply_topic = "Floor/Response";
@@ -192,13 +250,15 @@ int main(int argc, char** argv) {
             lock.unlock();
             probe.disconnect()->wait();
         }
+        echo.say(("reply " + adapter_reply).c_str());
+        if (echo.read_line() != "ok") throw std::runtime_error("echo child did not take the reply");
         Requester app(url, "bench-app", reply_topic, broker.port());
         Requester floor_app(url, "bench-floor-app", floor_reply_topic, broker.port());
-        Echo echo(url, floor_request_topic, floor_reply_topic, adapter_reply, broker.port());
         Figures floor, sdk;
-        const auto kind_key = set ? "set_request" : "query_request";
-        const auto inside_before = adapter.traffic_stats().request_seconds[kind_key];
+        const char* kind_key = set ? "set_request" : "query_request";
+        const Json before = inside()[kind_key];
         for (int r = 0; r < rounds; ++r) measure(floor_app, floor_request_topic, app, request_topic, payload, n, floor, sdk);
+        const Json after = inside()[kind_key];
         const double f50 = bench::median(floor.samples), s50 = bench::median(sdk.samples);
         const std::string label = std::string(c.kind) + " " + std::to_string(items);
         std::printf("%-10s %-8s %10.1f %10.1f %10.1f %8zu\n", label.c_str(), "floor", f50, bench::percentile(floor.samples, 99),
@@ -207,14 +267,13 @@ int main(int argc, char** argv) {
                     bench::maximum(sdk.samples), adapter_reply.size());
         std::printf("%-10s ratio    %10.2fx (median adapter / median floor; target %s)\n", label.c_str(), s50 / f50,
                     items == 1 ? "<= 1.2x" : "<= 1.5x");
-        // The adapter's own view (admission to answer handed to paho, its
-        // request_seconds histogram): what of the difference is nclink's
-        // work and what is the hand-offs around it.
-        const auto inside = adapter.traffic_stats().request_seconds[kind_key];
-        if (inside.count > inside_before.count)
+        // What of the difference is nclink's own work and what the hand-offs around it.
+        const auto count = after[0].get<double>() - before[0].get<double>();
+        if (count > 0)
             std::printf("%-10s inside   %10.1f us mean, admitted to answer handed to paho\n", label.c_str(),
-                        (inside.sum - inside_before.sum) / static_cast<double>(inside.count - inside_before.count) * 1e6);
+                        (after[1].get<double>() - before[1].get<double>()) / count * 1e6);
     }
-    adapter.stop();
+    adapter.say("stop");
+    echo.say("stop");
     return 0;
 }

@@ -34,6 +34,7 @@
 
 #include "alloc_counter.hpp"
 #include "bench_util.hpp"
+#include "child_process.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "transport/tcp_nodelay.hpp"
 
@@ -210,53 +211,6 @@ int publisher_child(int port, int qos, const std::string& payload_file, std::siz
 
 // ---------------------------------------------------------------- parent side
 
-struct Child {
-    pid_t pid = -1;
-    FILE* to = nullptr;
-    FILE* from = nullptr;
-
-    explicit Child(std::vector<std::string> args) {
-        int in_pipe[2], out_pipe[2];
-        if (::pipe(in_pipe) != 0 || ::pipe(out_pipe) != 0) throw std::runtime_error("pipe");
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, in_pipe[0], 0);
-        posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
-        posix_spawn_file_actions_addclose(&actions, in_pipe[1]);
-        posix_spawn_file_actions_addclose(&actions, out_pipe[0]);
-        std::vector<char*> argv;
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        if (::posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ) != 0)
-            throw std::runtime_error("spawn");
-        posix_spawn_file_actions_destroy(&actions);
-        ::close(in_pipe[0]);
-        ::close(out_pipe[1]);
-        to = ::fdopen(in_pipe[1], "w");
-        from = ::fdopen(out_pipe[0], "r");
-        if (read_line() != "ready") throw std::runtime_error("child did not start");
-    }
-    ~Child() {
-        if (to) std::fclose(to);
-        if (from) std::fclose(from);
-        if (pid > 0) ::waitpid(pid, nullptr, 0);
-    }
-    void say(const char* line) {
-        std::fprintf(to, "%s\n", line);
-        std::fflush(to);
-    }
-    std::string read_line() {
-        char buffer[1 << 16];
-        std::string out;
-        while (std::fgets(buffer, sizeof buffer, from)) {
-            out += buffer;
-            if (!out.empty() && out.back() == '\n') break;
-        }
-        while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-        return out;
-    }
-};
-
 // Subscribes to every dynamic channel of bench-app, counts DTUs and bytes,
 // and registers channels through the same connection.
 class App {
@@ -341,7 +295,7 @@ RunResult run_adapter(int port, int channels, int points, int qos, double second
         args.push_back("--rt-priority");
         args.push_back(std::to_string(g_rt_priority));
     }
-    Child child(args);
+    bench::Child child(args);
     App app(port, qos);
     std::this_thread::sleep_for(300ms);  // the adapter subscribes after connecting
     for (int c = 0; c < channels; ++c)
@@ -439,7 +393,7 @@ double run_floor(int port, int channels, int points, int qos, const RunResult& a
     }
     App app(port, qos);
     const double per_second = static_cast<double>(adapter.dtus) / adapter.seconds;
-    Child child({"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
+    bench::Child child({"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
                  std::to_string(adapter.dtus), std::to_string(per_second)});
     child.say("mark");
     child.say("stop");
