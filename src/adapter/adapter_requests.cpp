@@ -174,10 +174,14 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                                    [this] { return to_json(self->stats()); }, driver_expired, guard.get()};
     std::optional<Json> reply;
     std::optional<std::string> text;  // an answer already written out (a Query's)
+    // Outlives the delivery: freeing a 100-item answer's values costs ~7 us,
+    // which the requester need not wait for.
+    std::optional<QueryResponse> query_answer;
     switch (topic.kind) {
         case TopicKind::query_request: {
             if (decoded) {
-                text = encode(detail::handle_query(*decoded, context));
+                query_answer = detail::handle_query(*decoded, context);
+                text = encode(*query_answer);
                 break;
             }
             auto request = decode<QueryRequest>(payload);
@@ -185,7 +189,8 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
                 reply = malformed(topic, payload, request.error());
                 break;
             }
-            text = encode(detail::handle_query(request.value(), context));
+            query_answer = detail::handle_query(request.value(), context);
+            text = encode(*query_answer);
             break;
         }
         case TopicKind::set_request:

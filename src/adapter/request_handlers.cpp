@@ -92,7 +92,10 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             result.status = ResponseStatus(parsed.error());
             continue;
         }
-        if (context.state.sdk_held(item.id)) {
+        // The driver's items, the bulk of a large Query, are found in the
+        // binding without a look at the store (and its lock).
+        const PointRef* bound = context.state.bound(item.id);
+        if (!bound && context.state.sdk_held(item.id)) {
             auto values = context.state.store->query(item.id, params);
             if (values)
                 result.values = std::move(values).value();
@@ -100,12 +103,11 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
                 result.status = ResponseStatus(values.error());
             continue;
         }
-        PointRef point = context.state.point(item.id, object->kind);
-        if (point.handle == nclink::not_served) {
+        if (bound && bound->handle == nclink::not_served) {
             put_driver_failure(result, not_served(item.id));
             continue;
         }
-        points.push_back(std::move(point));
+        points.push_back(bound ? *bound : PointRef{item.id, object->kind, no_handle});
         driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind});
     }
 

@@ -11,8 +11,7 @@ const DataObject* ModelState::item(const std::string& id) const {
 }
 
 PointRef ModelState::point(const std::string& id, DataKind kind) const {
-    if (points)
-        if (const PointRef* ref = points->find(id)) return *ref;
+    if (const PointRef* ref = bound(id)) return *ref;
     return PointRef{id, kind, no_handle};
 }
 

@@ -35,6 +35,10 @@ struct ModelState {
 
     /// True when `id` is answered from the store rather than the driver.
     bool sdk_held(const std::string& id) const { return store && store->contains(id); }
+    /// The driver's ref of `id` when the binding has it, else null. Never an
+    /// SDK-held item (ModelHost::bind() leaves those out), so a hit also
+    /// answers sdk_held() without the store's lock.
+    const PointRef* bound(const std::string& id) const { return points ? points->find(id) : nullptr; }
     /// A data object of this adapter's device (or of the root configs).
     const DataObject* item(const std::string& id) const;
     /// The driver's ref of `id` with its handle; a ref without handle
