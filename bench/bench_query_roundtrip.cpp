@@ -133,7 +133,7 @@ int adapter_child(int port) {
     while (std::getline(std::cin, line) && line != "stop") {
         if (line != "stats") continue;
         auto seconds = adapter.traffic_stats().request_seconds;
-        Json out = Json::object();
+        Json out = Json{{"cpu_s", bench::process_cpu_seconds()}};
         for (const char* kind : {"query_request", "set_request"})
             out[kind] = Json::array({seconds[kind].count, seconds[kind].sum});
         std::printf("%s\n", out.dump().c_str());
@@ -150,9 +150,12 @@ int echo_child(int port) {
     std::fflush(stdout);
     std::string line;
     while (std::getline(std::cin, line) && line != "stop") {
-        if (line.rfind("reply ", 0) != 0) continue;
-        echo.set_reply(line.substr(6));
-        std::printf("ok\n");
+        if (line == "cpu") {
+            std::printf("%.6f\n", bench::process_cpu_seconds());
+        } else if (line.rfind("reply ", 0) == 0) {
+            echo.set_reply(line.substr(6));
+            std::printf("ok\n");
+        }
         std::fflush(stdout);
     }
     return 0;
@@ -207,10 +210,14 @@ int main(int argc, char** argv) {
     const std::string port = std::to_string(broker.port());
     bench::Child adapter({"bench_query_roundtrip", "--adapter-child", port});
     bench::Child echo({"bench_query_roundtrip", "--echo-child", port});
-    // The adapter's own time per request: {kind: [count, sum of seconds]}.
+    // The adapter's own time per request: {kind: [count, sum of seconds]}, and its CPU seconds.
     const auto inside = [&adapter] {
         adapter.say("stats");
         return Json::parse(adapter.read_line());
+    };
+    const auto echo_cpu = [&echo] {
+        echo.say("cpu");
+        return std::stod(echo.read_line());
     };
 
     const std::string floor_request_topic = "Floor/Request";
@@ -256,9 +263,13 @@ int main(int argc, char** argv) {
         Requester floor_app(url, "bench-floor-app", floor_reply_topic, broker.port());
         Figures floor, sdk;
         const char* kind_key = set ? "set_request" : "query_request";
-        const Json before = inside()[kind_key];
+        const Json before_all = inside();
+        const double echo_before = echo_cpu();
         for (int r = 0; r < rounds; ++r) measure(floor_app, floor_request_topic, app, request_topic, payload, n, floor, sdk);
-        const Json after = inside()[kind_key];
+        const Json after_all = inside();
+        const double echo_after = echo_cpu();
+        const Json& before = before_all[kind_key];
+        const Json& after = after_all[kind_key];
         const double f50 = bench::median(floor.samples), s50 = bench::median(sdk.samples);
         const std::string label = std::string(c.kind) + " " + std::to_string(items);
         std::printf("%-10s %-8s %10.1f %10.1f %10.1f %8zu\n", label.c_str(), "floor", f50, bench::percentile(floor.samples, 99),
@@ -267,11 +278,18 @@ int main(int argc, char** argv) {
                     bench::maximum(sdk.samples), adapter_reply.size());
         std::printf("%-10s ratio    %10.2fx (median adapter / median floor; target %s)\n", label.c_str(), s50 / f50,
                     items == 1 ? "<= 1.2x" : "<= 1.5x");
-        // What of the difference is nclink's own work and what the hand-offs around it.
+        // What of the difference is nclink's own work and what the hand-offs
+        // around it; and the CPU each side spent per request (warm-up
+        // included alike), which the VM's noise moves far less than latency.
         const auto count = after[0].get<double>() - before[0].get<double>();
-        if (count > 0)
+        if (count > 0) {
             std::printf("%-10s inside   %10.1f us mean, admitted to answer handed to paho\n", label.c_str(),
                         (after[1].get<double>() - before[1].get<double>()) / count * 1e6);
+            const double adapter_cpu = (after_all["cpu_s"].get<double>() - before_all["cpu_s"].get<double>()) / count * 1e6;
+            const double floor_cpu = (echo_after - echo_before) / count * 1e6;
+            std::printf("%-10s cpu      %10.1f us per request, echo %.1f us: %.2fx\n", label.c_str(), adapter_cpu, floor_cpu,
+                        adapter_cpu / floor_cpu);
+        }
     }
     adapter.say("stop");
     echo.say("stop");

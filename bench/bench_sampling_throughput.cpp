@@ -75,13 +75,6 @@ constexpr int kUploadMs = 100;
 constexpr std::size_t kRows = kUploadMs / kSampleMs;
 constexpr double kMaxNullShare = 0.01;
 
-double cpu_seconds_self() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-           static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
-}
-
 double thread_cpu_seconds() {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -144,7 +137,7 @@ int adapter_child(int port) {
     std::pair<std::uint64_t, std::uint64_t> at_mark{0, 0};
     while (std::getline(std::cin, line)) {
         if (line == "mark") {
-            start = cpu_seconds_self();
+            start = bench::process_cpu_seconds();
             at_mark = counts();
             bench::alloc::start();
         }
@@ -160,7 +153,7 @@ int adapter_child(int port) {
     if (std::getenv("NCLINK_BENCH_DEBUG"))
         std::fprintf(stderr, "adapter stop took %.3f s\n",
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - stop0).count());
-    const double cpu = cpu_seconds_self() - start;
+    const double cpu = bench::process_cpu_seconds() - start;
     const auto stats = adapter.stats();
     std::printf("%s\n", Json{{"cpu_s", cpu}, {"sampling", stats.features.at("sampling")},
                              {"transport_dropped", stats.transport.dropped},
@@ -188,7 +181,7 @@ int publisher_child(int port, int qos, const std::string& payload_file, std::siz
     std::printf("ready\n");
     std::fflush(stdout);
     std::getline(std::cin, line);  // "mark"
-    const double start = cpu_seconds_self();
+    const double start = bench::process_cpu_seconds();
     std::deque<mqtt::delivery_token_ptr> window;
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < count; ++i) {
@@ -202,7 +195,7 @@ int publisher_child(int port, int qos, const std::string& payload_file, std::siz
         window.push_back(client.publish(topic, p.data(), p.size(), qos, false));
     }
     for (auto& t : window) t->wait();
-    const double cpu = cpu_seconds_self() - start;
+    const double cpu = bench::process_cpu_seconds() - start;
     std::getline(std::cin, line);  // "stop"
     client.disconnect()->wait_for(2s);
     std::printf("%s\n", Json{{"cpu_s", cpu}}.dump().c_str());

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <sys/resource.h>
+
 namespace nclink::bench {
 
 /// Monotonic nanoseconds.
@@ -17,6 +19,14 @@ inline std::int64_t now_ns() noexcept {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
         .count();
+}
+
+/// CPU seconds (user + system) of this whole process so far.
+inline double process_cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
 }
 
 /// p in [0, 100]; nearest-rank on a sorted copy. 0 for an empty sample.
