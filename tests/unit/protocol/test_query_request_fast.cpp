@@ -11,30 +11,38 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <vector>
 
 using namespace nclink;
 using protocol_detail::fast_decode_query_request;
 
 namespace {
 
-// Both decoders on one payload. Returns whether the streaming one answered.
-bool agrees(const std::string& payload) {
-    const auto fast = fast_decode_query_request(payload);
-    if (!fast) return false;
+// One decoder's answer against the tree decoder's.
+void same_as_tree(const QueryRequest& fast, const std::string& payload) {
     const Json tree = Json::parse(payload, nullptr, false);
     INFO(payload);
     REQUIRE(!tree.is_discarded());
     const auto reference = decode<QueryRequest>(tree);
     REQUIRE(reference.ok());
-    CHECK(fast->msg_id == reference->msg_id);
-    if (fast->msg_id && reference->msg_id) CHECK(fast->msg_id->type() == reference->msg_id->type());
-    CHECK(fast->guid == reference->guid);
-    CHECK(fast->private_info == reference->private_info);
-    REQUIRE(fast->ids.size() == reference->ids.size());
-    for (std::size_t i = 0; i < fast->ids.size(); ++i) {
-        CHECK(fast->ids[i].id == reference->ids[i].id);
-        CHECK(fast->ids[i].params == reference->ids[i].params);
+    CHECK(fast.msg_id == reference->msg_id);
+    if (fast.msg_id && reference->msg_id) CHECK(fast.msg_id->type() == reference->msg_id->type());
+    CHECK(fast.guid == reference->guid);
+    CHECK(fast.private_info == reference->private_info);
+    REQUIRE(fast.ids.size() == reference->ids.size());
+    for (std::size_t i = 0; i < fast.ids.size(); ++i) {
+        CHECK(fast.ids[i].id == reference->ids[i].id);
+        CHECK(fast.ids[i].params == reference->ids[i].params);
     }
+}
+
+// Both decoders on one payload, and the plain scan (the streaming decoder's
+// first attempt) on its own. Returns whether the streaming decoder answered.
+bool agrees(const std::string& payload) {
+    if (const auto plain = protocol_detail::plain_decode_query_request(payload)) same_as_tree(*plain, payload);
+    const auto fast = fast_decode_query_request(payload);
+    if (!fast) return false;
+    same_as_tree(*fast, payload);
     return true;
 }
 
@@ -195,4 +203,92 @@ TEST_CASE("the streaming Query decoder agrees with the tree on generated request
     // Every well-formed request was answered by the streaming decoder (the
     // generator gives no key twice), some broken ones too (still valid JSON).
     CHECK(answered >= well_formed);
+}
+
+TEST_CASE("the plain scan reads the plain requests applications send as the tree decoder does") {
+    const char* payloads[] = {
+        R"({"@id":"q1","guid":"dev-1","ids":[{"id":"pos"},{"id":"ovr"}]})",
+        R"({"ids":[]})",
+        R"({"ids":["010203","040506"],"guid":"g"})",
+        R"({"ids":[{"id":""}],"@id":""})",
+        " \t\r\n{ \"guid\" : \"g\" ,\n \"ids\" : [ { \"id\" : \"a b~\" } , \"c\" ] , \"@id\" : \"x\" } \n",
+    };
+    for (const char* payload : payloads) {
+        INFO(payload);
+        const auto plain = protocol_detail::plain_decode_query_request(payload);
+        REQUIRE(plain.has_value());
+        same_as_tree(*plain, payload);
+    }
+}
+
+TEST_CASE("the plain scan leaves everything but the plain form to the SAX pass") {
+    const char* payloads[] = {
+        R"({"@id":17,"ids":[{"id":"a"}]})",                 // a number @id
+        R"({"@id":null,"ids":[{"id":"a"}]})",
+        R"({"ids":[{"id":"a","params":{"keys":["k"]}}]})",  // params
+        R"({"ids":[{"params":1,"id":"a"}]})",
+        R"({"ids":[{"id":"a"}],"privateInfo":{}})",
+        R"({"ids":[{"id":"a"}],"vendor":1})",               // a key it does not read
+        R"({"ids":[{"id":"a\"b"}]})",                      // an escape
+        R"({"ids":[{"id":"caf\u00e9"}]})",
+        "{\"ids\":[{\"id\":\"caf\xc3\xa9\"}]}",     // UTF-8
+        "{\"ids\":[{\"id\":\"\x7f\"}]}",
+        "{\"ids\":[{\"id\":\"tab\there\"}]}",        // a raw control byte
+        R"({"ids":[{"id":"a"}],"ids":[]})",                 // a key twice
+        R"({"@id":"a","@id":"b","ids":[]})",
+        R"({"ids":[{"id":"a","id":"b"}]})",
+        R"({"ids":[{"id":"a"}]} x)",                        // trailing bytes
+        R"({"ids":[{"id":"a"}],})",
+        R"({"ids":[{"id":"a"},]})",
+        R"({"ids":[{"id":"a"})",
+        R"({"ids":[{}]})",
+        R"({"ids":[1]})",
+        R"({"guid":"g"})",                                  // no ids
+        R"({})",
+        "\xEF\xBB\xBF{\"ids\":[]}",                    // a BOM
+        "",
+    };
+    for (const char* payload : payloads) {
+        INFO(payload);
+        CHECK_FALSE(protocol_detail::plain_decode_query_request(payload).has_value());
+    }
+}
+
+// Plain requests with whitespace, then a byte dropped, doubled or replaced:
+// wherever the plain scan still answers, the tree answers the same.
+TEST_CASE("the plain scan agrees with the tree on generated and damaged plain requests") {
+    std::mt19937 random(20261128);
+    const auto pick = [&](int n) { return static_cast<int>(random() % static_cast<unsigned>(n)); };
+    const auto space = [&] { return std::string(" \t\r\n").substr(static_cast<std::size_t>(pick(4)), static_cast<std::size_t>(pick(2))); };
+    int answered = 0, intact = 0;
+    for (int round = 0; round < 20000; ++round) {
+        std::vector<std::string> members;
+        if (pick(3)) members.push_back("\"@id\"" + space() + ":" + space() + "\"r" + std::to_string(round) + "\"");
+        if (pick(2)) members.push_back("\"guid\":" + space() + "\"dev " + std::to_string(pick(5)) + "\"");
+        std::string ids = "\"ids\":" + space() + "[";
+        for (int i = 0, n = pick(8); i < n; ++i) {
+            ids += (i ? "," : "") + space();
+            ids += pick(4) == 0 ? "\"bare" + std::to_string(i) + "\"" : "{" + space() + "\"id\":\"i/" + std::to_string(pick(50)) + "\"" + space() + "}";
+        }
+        members.push_back(ids + space() + "]");
+        std::shuffle(members.begin(), members.end(), random);
+        std::string payload = space() + "{";
+        for (std::size_t k = 0; k < members.size(); ++k) payload += (k ? "," : "") + space() + members[k];
+        payload += "}" + space();
+        if (pick(3) == 0) {
+            const auto at = static_cast<std::size_t>(pick(static_cast<int>(payload.size())));
+            switch (pick(3)) {
+                case 0: payload.erase(at, 1); break;
+                case 1: payload.insert(at, 1, payload[at]); break;
+                default: payload[at] = "{}[]\":, \\x"[pick(10)]; break;
+            }
+        } else {
+            ++intact;
+        }
+        if (const auto plain = protocol_detail::plain_decode_query_request(payload)) {
+            same_as_tree(*plain, payload);
+            ++answered;
+        }
+    }
+    CHECK(answered >= intact);
 }
