@@ -167,14 +167,20 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- requests (adapter_requests.cpp)
     void on_message(const Message& message);  ///< transport thread; never blocks
-    /// `decoded`: the Query already decoded on the transport thread (or null).
+    /// A Query or Set already decoded on the transport thread, which parses
+    /// it for its @id anyway: the worker then does not parse it again.
+    /// Both null when it was not (another kind, or a payload left to the
+    /// worker's decoder, which gives the table-19 answer).
+    struct Decoded {
+        std::shared_ptr<const QueryRequest> query;
+        std::shared_ptr<const SetRequest> set;
+    };
     bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                 std::shared_ptr<detail::RequestGate::Ticket> ticket,
-                                std::chrono::steady_clock::time_point received,
-                                std::shared_ptr<const QueryRequest> decoded);
+                                std::chrono::steady_clock::time_point received, Decoded decoded);
     void handle(const ParsedTopic& topic, const std::string& payload);
     void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                const Error* driver_expired = nullptr, const QueryRequest* decoded = nullptr);
+                const Error* driver_expired = nullptr, const Decoded& decoded = {});
     template <class Request, class Handler>
     std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
     /// The NG answer to an undecodable request (counted and logged).

@@ -63,14 +63,21 @@ void Adapter::Impl::on_message(const Message& message) {
         return;
     }
     // A Query is decoded here when the streaming decoder can (the common
-    // case): that pass reads its @id too, and the worker then decodes
-    // nothing. Any other request, or a Query only the tree decoder reads,
-    // has its @id peeked and is decoded on the worker.
-    std::shared_ptr<const QueryRequest> decoded;
-    if (parsed->kind == TopicKind::query_request)
+    // case), a Set when it decodes at all: that parse reads the @id too,
+    // and the worker then decodes nothing. Any other request, or one the
+    // worker's decoder must refuse with its table-19 answer, has its @id
+    // peeked and is decoded on the worker.
+    Decoded decoded;
+    if (parsed->kind == TopicKind::query_request) {
         if (auto fast = protocol_detail::fast_decode_query_request(message.payload))
-            decoded = std::make_shared<const QueryRequest>(std::move(*fast));
-    const MessageId msg_id = decoded ? decoded->msg_id : peek_message_id(message.payload);
+            decoded.query = std::make_shared<const QueryRequest>(std::move(*fast));
+    } else if (parsed->kind == TopicKind::set_request) {
+        if (auto set = decode<SetRequest>(message.payload))
+            decoded.set = std::make_shared<const SetRequest>(std::move(set).value());
+    }
+    const MessageId msg_id = decoded.query ? decoded.query->msg_id
+                             : decoded.set ? decoded.set->msg_id
+                                           : peek_message_id(message.payload);
     if (msg_id) {
         const std::string key = fmt::format("{}|{}|{}", to_string(parsed->kind), parsed->ex.value_or(""), msg_id->dump());
         if (!dedup->first_sighting(key)) {
@@ -81,7 +88,7 @@ void Adapter::Impl::on_message(const Message& message) {
     }
     const auto received = std::chrono::steady_clock::now();
     if ((parsed->kind == TopicKind::query_request || parsed->kind == TopicKind::set_request) &&
-        dispatch_driver_affine(*parsed, message.payload, admission.ticket, received, decoded))
+        dispatch_driver_affine(*parsed, message.payload, admission.ticket, received, std::move(decoded)))
         return;
     executor->post([this, topic = *parsed, payload = message.payload, ticket = std::move(admission.ticket), received] {
         handle(topic, payload);
@@ -104,7 +111,7 @@ void Adapter::Impl::on_message(const Message& message) {
 bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                            std::shared_ptr<detail::RequestGate::Ticket> ticket,
                                            std::chrono::steady_clock::time_point received,
-                                           std::shared_ptr<const QueryRequest> decoded) {
+                                           Decoded decoded) {
     auto claim = std::make_shared<detail::AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
     // lives until the deadline even when the driver answered long before.
@@ -112,7 +119,7 @@ bool Adapter::Impl::dispatch_driver_affine(const ParsedTopic& topic, const std::
     // parses the request or encodes the answer, so sampling gets in (a flood
     // of huge requests left a 1 ms channel a third null rows otherwise).
     const bool posted = runner->post_unlocked([this, life = lifetime, claim, topic, payload, ticket, received, decoded] {
-        handle(topic, payload, Affine{claim.get(), life.get()}, nullptr, decoded.get());
+        handle(topic, payload, Affine{claim.get(), life.get()}, nullptr, decoded);
         std::lock_guard<std::mutex> alive_lock(life->mutex);
         if (life->alive) observe_request(topic.kind, received);
     });
@@ -153,7 +160,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload)
 }
 
 void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                           const Error* driver_expired, const QueryRequest* decoded) {
+                           const Error* driver_expired, const Decoded& decoded) {
     if (affine.claim && topic.kind == TopicKind::set_request) {
         std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
         if (!affine.life->alive) return;  // the adapter is gone
@@ -179,8 +186,8 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     std::optional<QueryResponse> query_answer;
     switch (topic.kind) {
         case TopicKind::query_request: {
-            if (decoded) {
-                query_answer = detail::handle_query(*decoded, context);
+            if (decoded.query) {
+                query_answer = detail::handle_query(*decoded.query, context);
                 text = encode(*query_answer);
                 break;
             }
@@ -194,6 +201,10 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
             break;
         }
         case TopicKind::set_request:
+            if (decoded.set) {
+                reply = to_json(detail::handle_set(*decoded.set, context));
+                break;
+            }
             reply = answer<SetRequest>(topic, payload, [&](const SetRequest& r) { return to_json(detail::handle_set(r, context)); });
             break;
         case TopicKind::probe_query_request: {

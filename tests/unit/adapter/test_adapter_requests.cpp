@@ -261,3 +261,30 @@ TEST_CASE("requests of features the adapter does not run are answered NG 202, ne
     CHECK(r["code"] == "NG");
     CHECK(r["error"] == 202);
 }
+
+// A Set that decodes is decoded on the transport thread (which reads its
+// @id anyway) and handed to the worker; one the decoder refuses is decoded
+// again on the worker, which answers the refusal. Both are deduplicated.
+TEST_CASE("a Set is answered and its repeated @id dropped whether the transport thread decoded it or not") {
+    AdapterFixture f;
+    const std::string reply = "Set/Response/test-dev/app";
+    const std::string good = R"({"@id":"g1","values":[{"id":"ovr","params":{"value":55}}]})";
+    const std::string refused = R"({"@id":"b1","values":"ovr"})";  // values not an array: 405
+    f.app->send("Set/Request/test-dev/app", good);
+    f.app->send("Set/Request/test-dev/app", good);
+    f.app->send("Set/Request/test-dev/app", refused);
+    f.app->send("Set/Request/test-dev/app", refused);
+    const Json first = f.app->wait(reply, 1);
+    CHECK(first["@id"] == "g1");
+    CHECK(first["results"] == Json::array({Json{{"id", "ovr"}, {"code", "OK"}}}));
+    const Json second = f.app->wait(reply, 2);
+    CHECK(second["@id"] == "b1");
+    CHECK(second["code"] == "NG");
+    CHECK(second["error"] == 405);
+    // A request after them proves the repeats were processed (and dropped).
+    f.query(Json::array({Json{{"id", "pos"}}}));
+    CHECK(f.app->on(reply).size() == 2);
+    CHECK(f.driver->value("ovr") == 55);
+    CHECK(f.adapter->stats().ignored_duplicates == 2);
+    CHECK(f.adapter->stats().rejected == 1);
+}
