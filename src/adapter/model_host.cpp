@@ -95,6 +95,7 @@ Result<void> ModelHost::bind(ModelState& state, DriverRunner& runner) {
     auto table = runner.bind(points);
     if (!table) return std::move(table).error();
     state.points = std::move(table).value();
+    state.index_items();
     return ok_result();
 }
 

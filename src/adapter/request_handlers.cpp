@@ -60,6 +60,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
         std::size_t slot;
         QueryParams params;
         DataKind kind;
+        const ValueRule* rule;
     };
     std::vector<PointRef> points;
     std::vector<DriverItem> driver_items;
@@ -73,7 +74,8 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
         QueryResult& result = response.values[i];
         result.id = item.id;
         result.params = item.params;
-        const DataObject* object = context.state.item(item.id);
+        const ModelState::ItemEntry found = context.state.entry(item.id);
+        const DataObject* object = found.object;
         if (!object && context.stats && !context.stats_item.empty() && item.id == context.stats_item) {
             // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
             auto values = evaluate_query(params, context.stats(), DataKind::dict);
@@ -94,7 +96,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
         }
         // The driver's items, the bulk of a large Query, are found in the
         // binding without a look at the store (and its lock).
-        const PointRef* bound = context.state.bound(item.id);
+        const PointRef* bound = found.bound;
         if (!bound && context.state.sdk_held(item.id)) {
             auto values = context.state.store->query(item.id, params);
             if (values)
@@ -108,7 +110,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             continue;
         }
         points.push_back(bound ? *bound : PointRef{item.id, object->kind, no_handle});
-        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind});
+        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind, found.rule});
     }
 
     if (!points.empty()) {
@@ -117,7 +119,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
                         : context.driver.read(points, context.state.generation());
         for (std::size_t k = 0; k < driver_items.size(); ++k) {
             QueryResult& result = response.values[driver_items[k].slot];
-            if (context.values) context.values->screen(context.state, result.id, read[k], "query");
+            if (context.values) context.values->screen(driver_items[k].rule, read[k], "query");
             if (!read[k].ok()) {
                 context.logger.debug("query {}: {}", result.id, read[k].error().describe());
                 put_driver_failure(result, read[k].error());

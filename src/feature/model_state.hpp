@@ -12,6 +12,8 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace nclink::detail {
@@ -46,6 +48,24 @@ struct ModelState {
     PointRef point(const std::string& id, DataKind kind) const;
     /// The binding's generation, to hand the runner with refs from point().
     std::uint64_t generation() const { return points ? points->generation() : unbound; }
+
+    /// What a request needs of one data item, as item(), bound() and the
+    /// rule's lookup give it.
+    struct ItemEntry {
+        const DataObject* object = nullptr;  ///< null: no data item of this device
+        const PointRef* bound = nullptr;
+        const ValueRule* rule = nullptr;
+    };
+    /// item(), bound() and rules->find() of `id` in one lookup once
+    /// index_items() ran (a 100-item Query made three per item), else the
+    /// three lookups.
+    ItemEntry entry(const std::string& id) const;
+    /// Builds entry()'s index; ModelHost::bind() calls it once the binding
+    /// is in place. Not after the state is shared: entry() reads it unlocked.
+    void index_items();
+
+private:
+    std::unordered_map<std::string_view, ItemEntry> index_;  // keys view the model's ids
 };
 
 /// Where the current snapshot comes from (the adapter's model host).

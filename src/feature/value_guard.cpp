@@ -6,8 +6,11 @@ namespace nclink::detail {
 
 void ValueGuard::screen(const ModelState& state, const std::string& id, Result<Json>& read, std::string_view source) {
     if (!enabled_ || !read || !state.rules) return;
-    const ValueRule* rule = state.rules->find(id);
-    if (rule == nullptr || rule->check(read.value()) == ValueFault::none) return;
+    screen(state.rules->find(id), read, source);
+}
+
+void ValueGuard::screen(const ValueRule* rule, Result<Json>& read, std::string_view source) {
+    if (!enabled_ || !read || rule == nullptr || rule->check(read.value()) == ValueFault::none) return;
     auto verdict = rule->verify(read.value());
     if (verdict) return;  // cannot happen: check() and verify() agree
     refused_.fetch_add(1, std::memory_order_relaxed);

@@ -38,6 +38,8 @@ public:
     /// (refused: counted, logged the first time for the item). `source`
     /// names the path in the log ("query", "event poll", ...).
     void screen(const ModelState& state, const std::string& id, Result<Json>& read, std::string_view source);
+    /// The same with the item's rule already found (ModelState::entry(); null: no rule).
+    void screen(const ValueRule* rule, Result<Json>& read, std::string_view source);
 
     /// True when `value` may go out for item `id` (no rule, or it passes);
     /// otherwise refused as above.
