@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 using namespace nclink;
@@ -44,6 +45,16 @@ bool agrees(const std::string& payload) {
     if (!fast) return false;
     same_as_tree(*fast, payload);
     return true;
+}
+
+// One byte somewhere dropped, doubled or replaced by one of `bytes`.
+void damage(std::string& payload, std::mt19937& random, std::string_view bytes) {
+    const auto at = static_cast<std::size_t>(random() % payload.size());
+    switch (random() % 3) {
+        case 0: payload.erase(at, 1); break;
+        case 1: payload.insert(at, 1, payload[at]); break;
+        default: payload[at] = bytes[random() % bytes.size()]; break;
+    }
 }
 
 }  // namespace
@@ -188,13 +199,8 @@ TEST_CASE("the streaming Query decoder agrees with the tree on generated request
         std::string payload = "{";
         for (std::size_t k = 0; k < members.size(); ++k) payload += (k ? "," : "") + members[k];
         payload += "}";
-        if (broken) {  // a byte dropped, doubled or replaced somewhere
-            const auto at = static_cast<std::size_t>(pick(static_cast<int>(payload.size())));
-            switch (pick(3)) {
-                case 0: payload.erase(at, 1); break;
-                case 1: payload.insert(at, 1, payload[at]); break;
-                default: payload[at] = "{}[]\":,x1"[pick(9)]; break;
-            }
+        if (broken) {
+            damage(payload, random, "{}[]\":,x1");
         } else {
             ++well_formed;
         }
@@ -276,12 +282,7 @@ TEST_CASE("the plain scan agrees with the tree on generated and damaged plain re
         for (std::size_t k = 0; k < members.size(); ++k) payload += (k ? "," : "") + space() + members[k];
         payload += "}" + space();
         if (pick(3) == 0) {
-            const auto at = static_cast<std::size_t>(pick(static_cast<int>(payload.size())));
-            switch (pick(3)) {
-                case 0: payload.erase(at, 1); break;
-                case 1: payload.insert(at, 1, payload[at]); break;
-                default: payload[at] = "{}[]\":, \\x"[pick(10)]; break;
-            }
+            damage(payload, random, "{}[]\":, \\x");
         } else {
             ++intact;
         }
