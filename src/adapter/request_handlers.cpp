@@ -39,6 +39,12 @@ std::optional<Json> echo_params(const Json& params) {
     return out;
 }
 
+// The driver's ref of an item found by ModelState::entry(), as
+// ModelState::point() gives it: its binding's, or identified by id alone.
+PointRef driver_ref(const ModelState::ItemEntry& found, const std::string& id) {
+    return found.bound ? *found.bound : PointRef{id, found.object->kind, no_handle};
+}
+
 Error not_served(const std::string& id) { return make_error(ErrorCode::unavailable, "the driver does not serve " + id); }
 
 // A failure of the driver's call (its own, or the SDK's about that call:
@@ -109,7 +115,7 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             put_driver_failure(result, not_served(item.id));
             continue;
         }
-        points.push_back(bound ? *bound : PointRef{item.id, object->kind, no_handle});
+        points.push_back(driver_ref(found, item.id));
         driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind, found.rule});
     }
 
@@ -144,6 +150,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         SetParams params;
         const DataObject* object;
         Json raw;  // the item's params, offset/length folded in
+        const ValueRule* rule;
     };
     std::vector<DriverItem> driver_items;
     std::vector<PointRef> points;
@@ -153,7 +160,8 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         const SetItem& item = request.values[i];
         SetResult& result = response.results[i];
         result.id = item.id;
-        const DataObject* object = context.state.item(item.id);
+        const ModelState::ItemEntry found = context.state.entry(item.id);
+        const DataObject* object = found.object;
         auto folded = effective_params(item);
         if (!folded) {
             result.status = ResponseStatus(folded.error());
@@ -171,7 +179,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             result.status = ResponseStatus(make_error(ErrorCode::permission_denied, item.id + " is not setable"));
             continue;
         }
-        if (context.state.sdk_held(item.id)) {
+        if (!found.bound && context.state.sdk_held(item.id)) {
             auto done = context.state.store->set(item.id, params);
             if (done)
                 store_changed = true;
@@ -184,13 +192,12 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
             result.status = ResponseStatus(parsed.error());
             continue;
         }
-        PointRef point = context.state.point(item.id, object->kind);
-        if (point.handle == nclink::not_served) {
+        if (found.bound && found.bound->handle == nclink::not_served) {
             put_driver_failure(result, not_served(item.id));
             continue;
         }
-        points.push_back(std::move(point));
-        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object, params});
+        points.push_back(driver_ref(found, item.id));
+        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object, params, found.rule});
     }
 
     if (!driver_items.empty() && context.driver_expired) {
@@ -222,7 +229,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
                 // its rule (a "spinning" SPINDLE_MODE is refused, not written).
                 // Judged only when the machine's value fits it: a Set is not
                 // refused for a fault of the driver's value.
-                const ValueRule* rule = context.state.rules ? context.state.rules->find(item.id) : nullptr;
+                const ValueRule* rule = d.rule;
                 if (rule != nullptr && rule->check(next) != ValueFault::none &&
                     rule->check(current[k].value()) == ValueFault::none) {
                     result.status = ResponseStatus(rule->verify(next).error());
