@@ -1,5 +1,6 @@
 #include "adapter/request_handlers.hpp"
 #include "protocol/driver_failure.hpp"
+#include "protocol/query_answer_text.hpp"
 
 namespace nclink::detail {
 namespace {
@@ -58,32 +59,39 @@ void put_driver_failure(Item& item, const Error& error) {
 
 }  // namespace
 
-QueryResponse handle_query(const QueryRequest& request, const HandlerContext& context) {
-    auto response = make_reply<QueryResponse>(request, context.dev);
-    response.values.resize(request.ids.size());
-
+std::string handle_query(const QueryRequest& request, const HandlerContext& context) {
+    // Each entry is settled in the first pass (an error, an SDK-held item),
+    // or is the driver's: read in one batch, then written straight into the
+    // answer when the item is asked for whole, the usual case.
     struct DriverItem {
-        std::size_t slot;
         QueryParams params;
         DataKind kind;
         const ValueRule* rule;
     };
+    constexpr std::size_t driver_bit = std::size_t{1} << (sizeof(std::size_t) * 8 - 1);
+    std::vector<std::size_t> slots;  // per entry: index into settled, or driver_bit | index into driver_items
+    std::vector<QueryResult> settled;
     std::vector<PointRef> points;
     std::vector<DriverItem> driver_items;
+    slots.reserve(request.ids.size());
     points.reserve(request.ids.size());
     driver_items.reserve(request.ids.size());
     static const Json no_params;
 
-    for (std::size_t i = 0; i < request.ids.size(); ++i) {
-        const QueryItem& item = request.ids[i];
-        const Json& params = item.params ? *item.params : no_params;
-        QueryResult& result = response.values[i];
+    const auto settle = [&](const QueryItem& item) -> QueryResult& {
+        slots.push_back(settled.size());
+        QueryResult& result = settled.emplace_back();
         result.id = item.id;
         result.params = item.params;
+        return result;
+    };
+    for (const QueryItem& item : request.ids) {
+        const Json& params = item.params ? *item.params : no_params;
         const ModelState::ItemEntry found = context.state.entry(item.id);
         const DataObject* object = found.object;
         if (!object && context.stats && !context.stats_item.empty() && item.id == context.stats_item) {
             // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
+            QueryResult& result = settle(item);
             auto values = evaluate_query(params, context.stats(), DataKind::dict);
             if (values)
                 result.values = std::move(values).value();
@@ -92,18 +100,19 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             continue;
         }
         if (!object) {
-            result.status = ResponseStatus(unknown_item(item.id));
+            settle(item).status = ResponseStatus(unknown_item(item.id));
             continue;
         }
         auto parsed = parse_query(params, object->kind);
         if (!parsed) {
-            result.status = ResponseStatus(parsed.error());
+            settle(item).status = ResponseStatus(parsed.error());
             continue;
         }
         // The driver's items, the bulk of a large Query, are found in the
         // binding without a look at the store (and its lock).
         const PointRef* bound = found.bound;
         if (!bound && context.state.sdk_held(item.id)) {
+            QueryResult& result = settle(item);
             auto values = context.state.store->query(item.id, params);
             if (values)
                 result.values = std::move(values).value();
@@ -112,33 +121,46 @@ QueryResponse handle_query(const QueryRequest& request, const HandlerContext& co
             continue;
         }
         if (bound && bound->handle == nclink::not_served) {
-            put_driver_failure(result, not_served(item.id));
+            put_driver_failure(settle(item), not_served(item.id));
             continue;
         }
+        slots.push_back(driver_bit | driver_items.size());
         points.push_back(driver_ref(found, item.id));
-        driver_items.push_back(DriverItem{i, std::move(parsed).value(), object->kind, found.rule});
+        driver_items.push_back(DriverItem{std::move(parsed).value(), object->kind, found.rule});
     }
 
-    if (!points.empty()) {
-        auto read = context.driver_expired
-                        ? std::vector<Result<Json>>(points.size(), Result<Json>(*context.driver_expired))
-                        : context.driver.read(points, context.state.generation());
-        for (std::size_t k = 0; k < driver_items.size(); ++k) {
-            QueryResult& result = response.values[driver_items[k].slot];
-            if (context.values) context.values->screen(driver_items[k].rule, read[k], "query");
-            if (!read[k].ok()) {
-                context.logger.debug("query {}: {}", result.id, read[k].error().describe());
-                put_driver_failure(result, read[k].error());
-                continue;
-            }
-            auto values = evaluate(driver_items[k].params, std::move(read[k]).value(), driver_items[k].kind);
-            if (values)
-                result.values = std::move(values).value();
-            else
-                result.status = ResponseStatus(values.error());
+    std::vector<Result<Json>> read;
+    if (!points.empty())
+        read = context.driver_expired ? std::vector<Result<Json>>(points.size(), Result<Json>(*context.driver_expired))
+                                      : context.driver.read(points, context.state.generation());
+
+    protocol_detail::QueryAnswerText answer(make_reply<QueryResponse>(request, context.dev), request.ids.size());
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+        if (!(slots[i] & driver_bit)) {
+            answer.add(settled[slots[i]]);
+            continue;
         }
+        const std::size_t k = slots[i] & ~driver_bit;
+        const QueryItem& item = request.ids[i];
+        if (context.values) context.values->screen(driver_items[k].rule, read[k], "query");
+        if (read[k].ok() && driver_items[k].params.whole_item()) {
+            answer.add_value(item.id, item.params, read[k].value());
+            continue;
+        }
+        QueryResult result;
+        result.id = item.id;
+        result.params = item.params;
+        if (!read[k].ok()) {
+            context.logger.debug("query {}: {}", result.id, read[k].error().describe());
+            put_driver_failure(result, read[k].error());
+        } else if (auto values = evaluate(driver_items[k].params, std::move(read[k]).value(), driver_items[k].kind)) {
+            result.values = std::move(values).value();
+        } else {
+            result.status = ResponseStatus(values.error());
+        }
+        answer.add(result);
     }
-    return response;
+    return answer.finish();
 }
 
 SetResponse handle_set(const SetRequest& request, const HandlerContext& context) {

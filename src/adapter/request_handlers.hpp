@@ -34,9 +34,10 @@ struct HandlerContext {
     ValueGuard* values = nullptr;
 };
 
-/// 8.2.11/8.2.12: one result per requested item, in order. SDK-held items are
-/// answered from the store, the rest read from the driver in one batch.
-QueryResponse handle_query(const QueryRequest& request, const HandlerContext& context);
+/// 8.2.11/8.2.12: the answer's text, one result per requested item, in
+/// order. SDK-held items are answered from the store, the rest read from the
+/// driver in one batch.
+std::string handle_query(const QueryRequest& request, const HandlerContext& context);
 
 /// 8.2.13/8.2.14: one result per item, in order. `setable` is enforced (301);
 /// SDK-held items change in the store (and are persisted); driver items are

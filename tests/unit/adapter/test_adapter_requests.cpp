@@ -31,11 +31,12 @@ TEST_CASE("query answers one result per item, in order, from the driver and the 
         Json{{"id", "params"}, {"params", {{"operation", "get_keys"}}}},
         Json{{"id", "pos"}, {"params", {{"operation", "get_length"}}}},
         Json{{"id", "feed_ovr_cfg"}},
+        Json{{"id", "pos"}, {"params", {{"operation", "get_value"}}}},
     }));
     CHECK(r["@id"] == "q1");
     CHECK(r["guid"] == "test-dev");
     const Json& v = r["values"];
-    REQUIRE(v.size() == 8);
+    REQUIRE(v.size() == 9);
     CHECK(v[0] == Json{{"id", "pos"}, {"code", "OK"}, {"values", {12.5}}});
     CHECK(v[1]["values"] == Json::array({"ACME"}));  // fixed model value, served by the SDK
     CHECK(v[2]["code"] == "NG");
@@ -48,6 +49,8 @@ TEST_CASE("query answers one result per item, in order, from the driver and the 
     CHECK(v[5]["values"] == Json::array({"name", "p1", "p2"}));
     CHECK(v[6]["error"] == 406);
     CHECK(v[7]["values"] == Json::array({100}));
+    // A driver item asked for whole with params: its value, the params echoed.
+    CHECK(v[8] == Json{{"id", "pos"}, {"code", "OK"}, {"params", {{"operation", "get_value"}}}, {"values", {12.5}}});
 }
 
 TEST_CASE("set enforces setable, writes through the driver or the SDK store, one result per item") {
