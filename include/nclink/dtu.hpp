@@ -358,10 +358,12 @@ template <class T>
 std::string encode(const T& dtu) {
     return to_json(dtu).dump(-1, ' ', false, Json::error_handler_t::replace);
 }
-/// The same text, written without building the Json tree (the largest
-/// answer on the request path).
+/// The same text, written without building the Json tree (the answers on
+/// the request path; a Query's is the largest).
 template <>
 NCLINK_API std::string encode<QueryResponse>(const QueryResponse& dtu);
+template <>
+NCLINK_API std::string encode<SetResponse>(const SetResponse& dtu);
 
 /// A response to `request` with "@id" echoed and guid = dev (for the DTUs
 /// whose responses carry both). Fill in the rest.

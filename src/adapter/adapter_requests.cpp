@@ -180,7 +180,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
     detail::HandlerContext context{*current, *runner, host, task_dev, task_logger, config.sampling.stats_item,
                                    [this] { return to_json(self->stats()); }, driver_expired, guard.get()};
     std::optional<Json> reply;
-    std::optional<std::string> text;  // an answer already written out (a Query's)
+    std::optional<std::string> text;  // an answer already written out (a Query's, a Set's)
     switch (topic.kind) {
         case TopicKind::query_request: {
             if (decoded.query) {
@@ -197,7 +197,7 @@ void Adapter::Impl::handle(const ParsedTopic& topic, const std::string& payload,
         }
         case TopicKind::set_request:
             if (decoded.set) {
-                reply = to_json(detail::handle_set(*decoded.set, context));
+                text = encode(detail::handle_set(*decoded.set, context));
                 break;
             }
             reply = answer<SetRequest>(topic, payload, [&](const SetRequest& r) { return to_json(detail::handle_set(r, context)); });

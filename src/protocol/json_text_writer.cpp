@@ -170,4 +170,33 @@ void JsonTextWriter::reason(const ResponseStatus& status) {
     string(*status.reason);
 }
 
+void JsonTextWriter::response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status,
+                                   const std::string& guid, const std::optional<Json>& private_info) {
+    out_ += '{';
+    if (msg_id) {
+        raw("\"@id\":");
+        value(*msg_id);
+        out_ += ',';
+    }
+    if (status) {
+        code(*status);
+        out_ += ',';
+    }
+    if (!guid.empty()) {
+        raw("\"guid\":");
+        string(guid);
+        out_ += ',';
+    }
+    if (private_info) {
+        raw("\"privateInfo\":");
+        value(*private_info);
+        out_ += ',';
+    }
+    if (status && status->reason) {
+        raw("\"reason\":");
+        string(*status->reason);
+        out_ += ',';
+    }
+}
+
 }  // namespace nclink::protocol_detail

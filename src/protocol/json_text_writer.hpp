@@ -43,6 +43,11 @@ public:
     void code(const ResponseStatus& status);
     /// ,"reason":"..." when the status has one (it sorts after "privateInfo").
     void reason(const ResponseStatus& status);
+    /// The opening brace and the keys of a response that sort before its
+    /// list ("values", "results"): "@id", code, error, guid, privateInfo,
+    /// reason, each that is set followed by a comma.
+    void response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status, const std::string& guid,
+                       const std::optional<Json>& private_info);
 
 private:
     nlohmann::detail::serializer<Json>& serializer();

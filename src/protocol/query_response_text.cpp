@@ -15,34 +15,7 @@ namespace protocol_detail {
 
 QueryAnswerText::QueryAnswerText(const QueryResponse& head, std::size_t entries) {
     text_.reserve(64 + entries * 48);
-    // Top level, sorted: "@id" code error guid privateInfo reason values.
-    text_ += '{';
-    bool first = true;
-    const auto comma = [&] {
-        if (!first) text_ += ',';
-        first = false;
-    };
-    if (head.msg_id) {
-        comma();
-        writer_.raw("\"@id\":");
-        writer_.value(*head.msg_id);
-    }
-    if (head.status) {
-        comma();
-        writer_.code(*head.status);
-    }
-    if (!head.guid.empty()) {
-        comma();
-        writer_.raw("\"guid\":");
-        writer_.string(head.guid);
-    }
-    if (head.private_info) {
-        comma();
-        writer_.raw("\"privateInfo\":");
-        writer_.value(*head.private_info);
-    }
-    if (head.status) writer_.reason(*head.status);  // after "code": its comma is due
-    comma();
+    writer_.response_head(head.msg_id, head.status, head.guid, head.private_info);
     writer_.raw("\"values\":[");
 }
 

@@ -1,6 +1,7 @@
-// encode<QueryResponse>, written without the Json tree, against the text
-// to_json().dump() gives: the same bytes, for hand-picked and generated answers,
-// but for doubles nlohmann writes with other digits than the shortest.
+// encode<QueryResponse> and encode<SetResponse>, written without the Json
+// tree, against the text to_json().dump() gives: the same bytes, for
+// hand-picked and generated answers, but for doubles nlohmann writes with
+// other digits than the shortest.
 // QueryAnswerText::add_value, the handler's way to write a driver's value,
 // against add() of the same entry.
 #include "protocol/query_answer_text.hpp"
@@ -19,7 +20,10 @@ using namespace nclink;
 
 namespace {
 
-std::string reference(const QueryResponse& dtu) { return to_json(dtu).dump(-1, ' ', false, Json::error_handler_t::replace); }
+template <class Dtu>
+std::string reference(const Dtu& dtu) {
+    return to_json(dtu).dump(-1, ' ', false, Json::error_handler_t::replace);
+}
 
 // True when `ours` is `theirs` byte for byte but for numbers outside
 // strings, where it may have other digits for the same double, never more.
@@ -275,5 +279,73 @@ TEST_CASE("a driver value written with add_value is the entry add() writes") {
         by_value.add(entry);  // mixed with add() in one answer
         by_entry.add(entry);
         REQUIRE(by_value.finish() == by_entry.finish());
+    }
+}
+
+TEST_CASE("a Set answer's text is the bytes to_json().dump() gives") {
+    SetResponse dtu;
+    dtu.msg_id = Json("s1");
+    dtu.guid = "dev-1";
+    SECTION("no items") {}
+    SECTION("OK, params echoed, failures with vendor words") {
+        SetResult plain;
+        plain.id = "ovr";
+        dtu.results.push_back(plain);
+        SetResult echoed;
+        echoed.id = "tools";
+        echoed.params = Json{{"operation", "set_value"}, {"index", 1}, {"offset", 0.5}};
+        dtu.results.push_back(echoed);
+        SetResult refused;
+        refused.id = "maker";
+        refused.status = ResponseStatus(make_error(ErrorCode::permission_denied));
+        dtu.results.push_back(refused);
+        SetResult vendor;
+        vendor.id = "spindle \"S1\"";
+        vendor.status = ResponseStatus(make_error(static_cast<ErrorCode>(-7), "drive fault"));
+        vendor.private_info = Json{{"message", "drive fault \xff"}};
+        dtu.results.push_back(vendor);
+    }
+    SECTION("a refusal as a whole: top-level status, no @id, no guid, privateInfo") {
+        dtu.msg_id.reset();
+        dtu.guid.clear();
+        dtu.status = ResponseStatus(make_error(ErrorCode::timeout, "driver busy"));
+        dtu.private_info = Json{{"message", "driver busy for 1000 ms: not written"}};
+    }
+    CHECK(encode(dtu) == reference(dtu));
+}
+
+TEST_CASE("generated Set answers encode to the same bytes as to_json().dump()") {
+    std::mt19937 rng(20261129);
+    const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
+    const std::string alphabet = "ab_Z09\"\\\n\x01\x7f\xc3\xa9\xff ";
+    const auto text = [&] {
+        std::string s;
+        for (int i = pick(8); i > 0; --i) s += alphabet[static_cast<std::size_t>(pick(static_cast<int>(alphabet.size())))];
+        return s;
+    };
+    const ErrorCode codes[] = {ErrorCode::node_not_exists, ErrorCode::timeout, ErrorCode::permission_denied,
+                               ErrorCode::out_of_range, static_cast<ErrorCode>(-12)};
+    for (int round = 0; round < 300; ++round) {
+        SetResponse dtu;
+        if (pick(5) != 0) dtu.msg_id = pick(2) ? Json(text()) : Json(pick(100000));
+        dtu.guid = pick(6) ? text() : std::string();
+        if (pick(10) == 0) dtu.status = ResponseStatus(make_error(codes[pick(5)], text()));
+        if (pick(10) == 0) dtu.private_info = Json{{"message", text()}};
+        for (int i = pick(12); i > 0; --i) {
+            SetResult r;
+            r.id = text();
+            if (pick(3) == 0) {
+                r.status = ResponseStatus(make_error(codes[pick(5)], text()));
+                if (pick(2)) r.private_info = Json{{"message", text()}};
+            }
+            if (pick(3) == 0)
+                r.params = Json{{"operation", text()}, {"index", pick(5)},
+                                {"offset", std::ldexp(static_cast<double>(rng()), pick(80) - 40)}, {"ok", pick(2) == 1}};
+            dtu.results.push_back(std::move(r));
+        }
+        INFO("round " << round);
+        const std::string ours = encode(dtu), theirs = reference(dtu);
+        INFO(ours);
+        REQUIRE(same_but_shortest_numbers(ours, theirs));
     }
 }
