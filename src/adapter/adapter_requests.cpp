@@ -79,8 +79,7 @@ void Adapter::Impl::on_message(const Message& message) {
                              : decoded.set ? decoded.set->msg_id
                                            : peek_message_id(message.payload);
     if (msg_id) {
-        const std::string key = fmt::format("{}|{}|{}", to_string(parsed->kind), parsed->ex.value_or(""), msg_id->dump());
-        if (!dedup->first_sighting(key)) {
+        if (!dedup->first_sighting(detail::DedupWindow::key(to_string(parsed->kind), parsed->ex.value_or(""), *msg_id))) {
             ++ignored_duplicates;
             logger.debug("ignoring repeated request {} on {}", msg_id->dump(), message.topic);
             return;
