@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+#include <type_traits>
 
 namespace {
 
@@ -18,6 +19,13 @@ void exercise(std::string_view payload) {
     // What decodes must re-encode, and our own encoding must decode again.
     const std::string text = nclink::encode(*decoded);
     if (!nclink::decode<T>(text).ok()) std::abort();
+    // The answers written as text, not dumped from the tree, must read as
+    // the dumped tree reads (their doubles may have other digits, never
+    // another value).
+    if constexpr (std::is_same_v<T, nclink::QueryResponse> || std::is_same_v<T, nclink::SetResponse>) {
+        const auto dumped = to_json(*decoded).dump(-1, ' ', false, nclink::Json::error_handler_t::replace);
+        if (nclink::Json::parse(text, nullptr, false) != nclink::Json::parse(dumped, nullptr, false)) std::abort();
+    }
 }
 
 template <class... T>
