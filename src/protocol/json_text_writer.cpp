@@ -3,69 +3,8 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstring>
 
 namespace nclink::protocol_detail {
-namespace {
-
-// nlohmann's layout of a decimal number (its to_chars: printf's %g with
-// exponents -4..15 written out) for the digits d1..dk of a value
-// 0.d1..dk x 10^n, as libstdc++'s shortest to_chars finds them (Ryu: ~25 %
-// cheaper than grisu2 here, and always shortest).
-char* lay_out(char* out, const char* digits, int k, int n) {
-    if (k <= n && n <= 15) {  // digits[000].0
-        std::memcpy(out, digits, static_cast<std::size_t>(k));
-        std::memset(out + k, '0', static_cast<std::size_t>(n - k));
-        out += n;
-        *out++ = '.';
-        *out++ = '0';
-        return out;
-    }
-    if (0 < n && n <= 15) {  // dig.its
-        std::memcpy(out, digits, static_cast<std::size_t>(n));
-        out[n] = '.';
-        std::memcpy(out + n + 1, digits + n, static_cast<std::size_t>(k - n));
-        return out + k + 1;
-    }
-    if (-4 < n && n <= 0) {  // 0.[000]digits
-        *out++ = '0';
-        *out++ = '.';
-        std::memset(out, '0', static_cast<std::size_t>(-n));
-        out += -n;
-        std::memcpy(out, digits, static_cast<std::size_t>(k));
-        return out + k;
-    }
-    // d[.igits]e+XX, at least two exponent digits (printf's %g)
-    *out++ = digits[0];
-    if (k > 1) {
-        *out++ = '.';
-        std::memcpy(out, digits + 1, static_cast<std::size_t>(k - 1));
-        out += k - 1;
-    }
-    *out++ = 'e';
-    int e = n - 1;
-    *out++ = e < 0 ? '-' : '+';
-    if (e < 0) e = -e;
-    if (e < 10) *out++ = '0';
-    return std::to_chars(out, out + 4, e).ptr;
-}
-
-// The shortest digits of a finite, non-zero |value| and its decimal point
-// position n (value = 0.digits x 10^n), in nlohmann's layout.
-char* shortest(char* out, double value) {
-    char sci[32];  // d[.ddd]e[+-]XXX
-    const char* end = std::to_chars(sci, sci + sizeof sci, value, std::chars_format::scientific).ptr;
-    char digits[24];
-    int k = 0;
-    const char* p = sci;
-    for (; p < end && *p != 'e'; ++p)
-        if (*p != '.') digits[k++] = *p;
-    int exponent = 0;
-    std::from_chars(p + 1 + (p[1] == '+'), end, exponent);
-    return lay_out(out, digits, k, exponent + 1);
-}
-
-}  // namespace
 
 nlohmann::detail::serializer<Json>& JsonTextWriter::serializer() {
     if (!serializer_)
@@ -131,11 +70,17 @@ void JsonTextWriter::number(double value) {
         end = std::to_chars(end, end + 20, static_cast<std::int64_t>(magnitude)).ptr;
         *end++ = '.';
         *end++ = '0';
-    } else if (char* decimal = magnitude >= 1e-4 ? nclink::detail::write_short_decimal(end, magnitude) : nullptr) {
+    } else if (magnitude < 1e-4 || magnitude >= 1e15) {
+        // nlohmann's exponent form is printf's %e layout (d.ddde-05,
+        // d.ddde+300), which to_chars writes with the shortest digits.
+        end = std::to_chars(end, text + sizeof text, magnitude, std::chars_format::scientific).ptr;
+    } else if (char* decimal = nclink::detail::write_short_decimal(end, magnitude)) {
         // Short decimals, the bulk of machine values, skip the digit search.
         end = decimal;
     } else {
-        end = shortest(end, magnitude);
+        // Fixed notation, shortest digits: nlohmann's layout for decimal
+        // exponents -4..15, without going through the exponent form.
+        end = std::to_chars(end, text + sizeof text, magnitude, std::chars_format::fixed).ptr;
     }
     out_.append(text, end);
 }

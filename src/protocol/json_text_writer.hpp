@@ -31,10 +31,11 @@ public:
     void value(const Json& value);
     /// A double in nlohmann's notation (fixed for decimal exponents -4..15,
     /// ".0" on integral values, else its exponent form) with the shortest
-    /// digits that read back to the same double. nlohmann's own digit search
-    /// (grisu2) is not always shortest (about 1 short decimal in 2,500, e.g.
-    /// 460.47851 as 460.47851000000003): the only bytes in which this
-    /// writer's text differs from dump().
+    /// digits that read back to the same double, from libstdc++'s to_chars
+    /// (Ryu; ~30 % cheaper than nlohmann's grisu2 here). grisu2 is not always
+    /// shortest (about 1 short decimal in 2,500, e.g. 460.47851 as
+    /// 460.47851000000003), nor the nearest of the shortest: the only bytes
+    /// in which this writer's text differs from dump().
     void number(double value);
     /// A string as dump() writes it.
     void string(std::string_view text);
