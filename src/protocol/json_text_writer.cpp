@@ -115,6 +115,22 @@ void JsonTextWriter::reason(const ResponseStatus& status) {
     string(*status.reason);
 }
 
+void JsonTextWriter::result_fields(const ResponseStatus& status, const std::string& id, const std::optional<Json>& params,
+                                   const std::optional<Json>& private_info) {
+    code(status);
+    raw(",\"id\":");
+    string(id);
+    if (params) {
+        raw(",\"params\":");
+        value(*params);
+    }
+    if (private_info) {
+        raw(",\"privateInfo\":");
+        value(*private_info);
+    }
+    reason(status);
+}
+
 void JsonTextWriter::response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status,
                                    const std::string& guid, const std::optional<Json>& private_info) {
     out_ += '{';

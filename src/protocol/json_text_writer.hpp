@@ -44,6 +44,11 @@ public:
     void code(const ResponseStatus& status);
     /// ,"reason":"..." when the status has one (it sorts after "privateInfo").
     void reason(const ResponseStatus& status);
+    /// The fields of one entry of a Query's "values" or a Set's "results",
+    /// in sorted order, without braces: "code", "error", "id", "params",
+    /// "privateInfo", "reason" (a Query entry's "values" sorts after them).
+    void result_fields(const ResponseStatus& status, const std::string& id, const std::optional<Json>& params,
+                       const std::optional<Json>& private_info);
     /// The opening brace and the keys of a response that sort before its
     /// list ("values", "results"): "@id", code, error, guid, privateInfo,
     /// reason, each that is set followed by a comma.

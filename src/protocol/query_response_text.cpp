@@ -25,20 +25,8 @@ void QueryAnswerText::open_entry() {
 }
 
 void QueryAnswerText::add(const QueryResult& entry) {
-    // Entry, sorted: code error id params privateInfo reason values.
     open_entry();
-    writer_.code(entry.status);
-    writer_.raw(",\"id\":");
-    writer_.string(entry.id);
-    if (entry.params) {
-        writer_.raw(",\"params\":");
-        writer_.value(*entry.params);
-    }
-    if (entry.private_info) {
-        writer_.raw(",\"privateInfo\":");
-        writer_.value(*entry.private_info);
-    }
-    writer_.reason(entry.status);
+    writer_.result_fields(entry.status, entry.id, entry.params, entry.private_info);
     if (entry.values) {
         writer_.raw(",\"values\":");
         writer_.value(*entry.values);
@@ -48,12 +36,7 @@ void QueryAnswerText::add(const QueryResult& entry) {
 
 void QueryAnswerText::add_value(const std::string& id, const std::optional<Json>& params, const Json& value) {
     open_entry();
-    writer_.raw("\"code\":\"OK\",\"id\":");
-    writer_.string(id);
-    if (params) {
-        writer_.raw(",\"params\":");
-        writer_.value(*params);
-    }
+    writer_.result_fields(ResponseStatus::success(), id, params, std::nullopt);
     writer_.raw(",\"values\":[");
     writer_.value(value);
     writer_.raw("]}");

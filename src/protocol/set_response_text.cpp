@@ -17,21 +17,9 @@ std::string encode<SetResponse>(const SetResponse& dtu) {
     w.raw("\"results\":[");
     bool first = true;
     for (const SetResult& result : dtu.results) {
-        // Entry, sorted: code error id params privateInfo reason.
         w.raw(first ? "{" : ",{");
         first = false;
-        w.code(result.status);
-        w.raw(",\"id\":");
-        w.string(result.id);
-        if (result.params) {
-            w.raw(",\"params\":");
-            w.value(*result.params);
-        }
-        if (result.private_info) {
-            w.raw(",\"privateInfo\":");
-            w.value(*result.private_info);
-        }
-        w.reason(result.status);
+        w.result_fields(result.status, result.id, result.params, result.private_info);
         w.raw("}");
     }
     w.raw("]}");
