@@ -122,45 +122,70 @@ TEST_CASE("a Query answer's text is the bytes to_json().dump() gives") {
     CHECK(encode(dtu) == reference(dtu));
 }
 
-TEST_CASE("generated Query answers encode to the same bytes as to_json().dump()") {
-    std::mt19937 rng(20261127);
-    const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
-    const std::string alphabet = "ab_Z09\"\\\n\x01\x7f\xc3\xa9\xff ";
-    const auto text = [&] {
+namespace {
+
+// Random pieces of answers: texts over an alphabet of bytes that need
+// escaping, a UTF-8 check or nothing; failures; the head all answers share.
+struct Generator {
+    explicit Generator(unsigned seed) : rng(seed) {}
+    int pick(int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); }
+    std::string text() {
+        static const std::string alphabet = "ab_Z09\"\\\n\x01\x7f\xc3\xa9\xff ";
         std::string s;
         for (int i = pick(8); i > 0; --i) s += alphabet[static_cast<std::size_t>(pick(static_cast<int>(alphabet.size())))];
         return s;
-    };
-    const auto value = [&] {
-        switch (pick(6)) {
-            case 0: return Json(pick(2000) - 1000);
-            case 1: return Json(std::ldexp(static_cast<double>(rng()), pick(80) - 40));
-            case 2: return Json(text());
-            case 3: return Json(pick(2) == 1);
-            case 4: return Json(nullptr);
-            default: return Json{{text(), pick(10)}, {"k", Json::array({text(), 0.5})}};
-        }
-    };
-    const ErrorCode codes[] = {ErrorCode::node_not_exists, ErrorCode::timeout, ErrorCode::unavailable,
-                               ErrorCode::out_of_range, static_cast<ErrorCode>(-12)};
-    for (int round = 0; round < 300; ++round) {
-        QueryResponse dtu;
+    }
+    double any_double() { return std::ldexp(static_cast<double>(rng()), pick(80) - 40); }
+    ResponseStatus failure() {
+        static const ErrorCode codes[] = {ErrorCode::node_not_exists, ErrorCode::timeout,      ErrorCode::unavailable,
+                                          ErrorCode::permission_denied, ErrorCode::out_of_range, static_cast<ErrorCode>(-12)};
+        return ResponseStatus(make_error(codes[pick(6)], text()));
+    }
+    /// A failed entry, with the vendor's words half the time.
+    template <class Entry>
+    void fail(Entry& entry) {
+        entry.status = failure();
+        if (pick(2)) entry.private_info = Json{{"message", text()}};
+    }
+    template <class Response>
+    void head(Response& dtu) {
         if (pick(5) != 0) dtu.msg_id = pick(2) ? Json(text()) : Json(pick(100000));
         dtu.guid = pick(6) ? text() : std::string();
-        if (pick(10) == 0) dtu.status = ResponseStatus(make_error(codes[pick(5)], text()));
+        if (pick(10) == 0) dtu.status = failure();
         if (pick(10) == 0) dtu.private_info = Json{{"message", text()}};
-        for (int i = pick(12); i > 0; --i) {
+    }
+
+    std::mt19937 rng;
+};
+
+}  // namespace
+
+TEST_CASE("generated Query answers encode to the same bytes as to_json().dump()") {
+    Generator g(20261127);
+    const auto value = [&] {
+        switch (g.pick(6)) {
+            case 0: return Json(g.pick(2000) - 1000);
+            case 1: return Json(g.any_double());
+            case 2: return Json(g.text());
+            case 3: return Json(g.pick(2) == 1);
+            case 4: return Json(nullptr);
+            default: return Json{{g.text(), g.pick(10)}, {"k", Json::array({g.text(), 0.5})}};
+        }
+    };
+    for (int round = 0; round < 300; ++round) {
+        QueryResponse dtu;
+        g.head(dtu);
+        for (int i = g.pick(12); i > 0; --i) {
             QueryResult r;
-            r.id = text();
-            if (pick(4) == 0) {
-                r.status = ResponseStatus(make_error(codes[pick(5)], text()));
-                if (pick(2)) r.private_info = Json{{"message", text()}};
+            r.id = g.text();
+            if (g.pick(4) == 0) {
+                g.fail(r);
             } else {
                 Json values = Json::array();
-                for (int v = pick(4); v > 0; --v) values.push_back(value());
+                for (int v = g.pick(4); v > 0; --v) values.push_back(value());
                 r.values = std::move(values);
             }
-            if (pick(3) == 0) r.params = Json{{"indexes", Json::array({pick(5)})}};
+            if (g.pick(3) == 0) r.params = Json{{"indexes", Json::array({g.pick(5)})}};
             dtu.values.push_back(std::move(r));
         }
         INFO("round " << round);
@@ -315,32 +340,16 @@ TEST_CASE("a Set answer's text is the bytes to_json().dump() gives") {
 }
 
 TEST_CASE("generated Set answers encode to the same bytes as to_json().dump()") {
-    std::mt19937 rng(20261129);
-    const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
-    const std::string alphabet = "ab_Z09\"\\\n\x01\x7f\xc3\xa9\xff ";
-    const auto text = [&] {
-        std::string s;
-        for (int i = pick(8); i > 0; --i) s += alphabet[static_cast<std::size_t>(pick(static_cast<int>(alphabet.size())))];
-        return s;
-    };
-    const ErrorCode codes[] = {ErrorCode::node_not_exists, ErrorCode::timeout, ErrorCode::permission_denied,
-                               ErrorCode::out_of_range, static_cast<ErrorCode>(-12)};
+    Generator g(20261129);
     for (int round = 0; round < 300; ++round) {
         SetResponse dtu;
-        if (pick(5) != 0) dtu.msg_id = pick(2) ? Json(text()) : Json(pick(100000));
-        dtu.guid = pick(6) ? text() : std::string();
-        if (pick(10) == 0) dtu.status = ResponseStatus(make_error(codes[pick(5)], text()));
-        if (pick(10) == 0) dtu.private_info = Json{{"message", text()}};
-        for (int i = pick(12); i > 0; --i) {
+        g.head(dtu);
+        for (int i = g.pick(12); i > 0; --i) {
             SetResult r;
-            r.id = text();
-            if (pick(3) == 0) {
-                r.status = ResponseStatus(make_error(codes[pick(5)], text()));
-                if (pick(2)) r.private_info = Json{{"message", text()}};
-            }
-            if (pick(3) == 0)
-                r.params = Json{{"operation", text()}, {"index", pick(5)},
-                                {"offset", std::ldexp(static_cast<double>(rng()), pick(80) - 40)}, {"ok", pick(2) == 1}};
+            r.id = g.text();
+            if (g.pick(3) == 0) g.fail(r);
+            if (g.pick(3) == 0)
+                r.params = Json{{"operation", g.text()}, {"index", g.pick(5)}, {"offset", g.any_double()}, {"ok", g.pick(2) == 1}};
             dtu.results.push_back(std::move(r));
         }
         INFO("round " << round);
