@@ -67,8 +67,9 @@ QueryResult ok(std::string id, Json values) {
     return r;
 }
 
-QueryResult failed(std::string id, ErrorCode code, std::string message = {}) {
-    QueryResult r;
+template <class Entry = QueryResult>
+Entry failed(std::string id, ErrorCode code, std::string message = {}) {
+    Entry r;
     r.id = std::move(id);
     r.status = ResponseStatus(make_error(code, message));
     if (!message.empty()) r.private_info = Json{{"message", message}};
@@ -320,15 +321,8 @@ TEST_CASE("a Set answer's text is the bytes to_json().dump() gives") {
         echoed.id = "tools";
         echoed.params = Json{{"operation", "set_value"}, {"index", 1}, {"offset", 0.5}};
         dtu.results.push_back(echoed);
-        SetResult refused;
-        refused.id = "maker";
-        refused.status = ResponseStatus(make_error(ErrorCode::permission_denied));
-        dtu.results.push_back(refused);
-        SetResult vendor;
-        vendor.id = "spindle \"S1\"";
-        vendor.status = ResponseStatus(make_error(static_cast<ErrorCode>(-7), "drive fault"));
-        vendor.private_info = Json{{"message", "drive fault \xff"}};
-        dtu.results.push_back(vendor);
+        dtu.results.push_back(failed<SetResult>("maker", ErrorCode::permission_denied));
+        dtu.results.push_back(failed<SetResult>("spindle \"S1\"", static_cast<ErrorCode>(-7), "drive fault \xff"));
     }
     SECTION("a refusal as a whole: top-level status, no @id, no guid, privateInfo") {
         dtu.msg_id.reset();
