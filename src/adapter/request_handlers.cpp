@@ -68,8 +68,11 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
         DataKind kind;
         const ValueRule* rule;
     };
-    constexpr std::size_t driver_bit = std::size_t{1} << (sizeof(std::size_t) * 8 - 1);
-    std::vector<std::size_t> slots;  // per entry: index into settled, or driver_bit | index into driver_items
+    struct Slot {
+        bool driver;        // read from the driver, else settled
+        std::size_t index;  // into driver_items (and points), or into settled
+    };
+    std::vector<Slot> slots;  // one per requested item, in order
     std::vector<QueryResult> settled;
     std::vector<PointRef> points;
     std::vector<DriverItem> driver_items;
@@ -79,7 +82,7 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
     static const Json no_params;
 
     const auto settle = [&](const QueryItem& item) -> QueryResult& {
-        slots.push_back(settled.size());
+        slots.push_back(Slot{false, settled.size()});
         QueryResult& result = settled.emplace_back();
         result.id = item.id;
         result.params = item.params;
@@ -124,7 +127,7 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
             put_driver_failure(settle(item), not_served(item.id));
             continue;
         }
-        slots.push_back(driver_bit | driver_items.size());
+        slots.push_back(Slot{true, driver_items.size()});
         points.push_back(driver_ref(found, item.id));
         driver_items.push_back(DriverItem{std::move(parsed).value(), object->kind, found.rule});
     }
@@ -136,11 +139,11 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
 
     protocol_detail::QueryAnswerText answer(make_reply<QueryResponse>(request, context.dev), request.ids.size());
     for (std::size_t i = 0; i < slots.size(); ++i) {
-        if (!(slots[i] & driver_bit)) {
-            answer.add(settled[slots[i]]);
+        if (!slots[i].driver) {
+            answer.add(settled[slots[i].index]);
             continue;
         }
-        const std::size_t k = slots[i] & ~driver_bit;
+        const std::size_t k = slots[i].index;
         const QueryItem& item = request.ids[i];
         if (context.values) context.values->screen(driver_items[k].rule, read[k], "query");
         if (read[k].ok() && driver_items[k].params.whole_item()) {
