@@ -29,6 +29,18 @@ public:
     void raw(std::string_view text) { out_.append(text); }
     /// Any value, as dump() writes it.
     void value(const Json& value);
+    /// The fields of one entry of a Query's "values" or a Set's "results",
+    /// in sorted order, without braces: "code", "error", "id", "params",
+    /// "privateInfo", "reason" (a Query entry's "values" sorts after them).
+    void result_fields(const ResponseStatus& status, const std::string& id, const std::optional<Json>& params,
+                       const std::optional<Json>& private_info);
+    /// The opening brace and the keys of a response that sort before its
+    /// list ("values", "results"): "@id", code, error, guid, privateInfo,
+    /// reason, each that is set followed by a comma.
+    void response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status, const std::string& guid,
+                       const std::optional<Json>& private_info);
+
+private:
     /// A double in nlohmann's notation (fixed for decimal exponents -4..15,
     /// ".0" on integral values, else its exponent form) with the shortest
     /// digits that read back to the same double, from libstdc++'s to_chars
@@ -44,18 +56,6 @@ public:
     void code(const ResponseStatus& status);
     /// ,"reason":"..." when the status has one (it sorts after "privateInfo").
     void reason(const ResponseStatus& status);
-    /// The fields of one entry of a Query's "values" or a Set's "results",
-    /// in sorted order, without braces: "code", "error", "id", "params",
-    /// "privateInfo", "reason" (a Query entry's "values" sorts after them).
-    void result_fields(const ResponseStatus& status, const std::string& id, const std::optional<Json>& params,
-                       const std::optional<Json>& private_info);
-    /// The opening brace and the keys of a response that sort before its
-    /// list ("values", "results"): "@id", code, error, guid, privateInfo,
-    /// reason, each that is set followed by a comma.
-    void response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status, const std::string& guid,
-                       const std::optional<Json>& private_info);
-
-private:
     nlohmann::detail::serializer<Json>& serializer();
 
     std::string& out_;
