@@ -7,11 +7,14 @@
 // its own process) sending the same bytes, at the same pace, through the same
 // broker to the same subscriber.
 //
-//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
+//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
 //
 // With `channels points` only that load runs (no search), e.g. under a profiler.
 // The bench's driver implements the typed Driver::read_samples(); with
 // --json-reads it implements read() only, so every value goes through Json.
+// --system-heap leaves glibc's heap policy as it is in the adapter and the
+// floor publisher (AdapterConfig::heap_keep_bytes = 0), to measure what
+// keeping freed memory saves (nclink/heap.hpp).
 // --no-value-checks turns off the chapter-7 checks of sampled values
 // (AdapterConfig::check_values), to measure what they cost.
 // --rt-priority runs the adapter's sampling thread at SCHED_FIFO N with 1 ns
@@ -29,6 +32,7 @@
 // interval costs (thread CPU), per million points at that load: the floor
 // does not include it, and at 1 channel x 500 points it is ~0.4x of it.
 #include <nclink/adapter.hpp>
+#include <nclink/heap.hpp>
 #include <nclink/sample_encoder.hpp>
 #include <nclink/topics.hpp>
 
@@ -101,6 +105,7 @@ private:
 bool g_json_reads = false;  // --json-reads (parent and adapter child)
 int g_rt_priority = 0;      // --rt-priority N (parent and adapter child)
 bool g_no_value_checks = false;  // --no-value-checks (parent and adapter child)
+bool g_system_heap = false;      // --system-heap (parent and both children)
 
 // ---------------------------------------------------------------- child processes
 // Both children talk over stdin/stdout lines: "mark" starts the CPU window,
@@ -113,6 +118,7 @@ int adapter_child(int port) {
     config.register_timeout = 60000ms;
     config.sampling.max_dynamic_channels = 64;
     config.check_values = !g_no_value_checks;
+    if (g_system_heap) config.heap_keep_bytes = 0;
     if (g_rt_priority > 0) {
         config.sampling.rt_priority = g_rt_priority;
         config.sampling.timer_slack_ns = 1;
@@ -173,6 +179,9 @@ int publisher_child(int port, int qos, const std::string& payload_file, std::siz
     std::string line;
     while (std::getline(in, line)) payloads.push_back(line);
     if (payloads.empty()) return 1;
+    // The heap policy the adapter process has (AdapterConfig::heap_keep_bytes
+    // by default), so the floor is measured under the same allocator.
+    if (!g_system_heap) keep_freed_heap(max_heap_keep_bytes);
     mqtt::async_client client("tcp://127.0.0.1:" + std::to_string(port), "bench-floor",
                               mqtt::create_options(MQTTVERSION_3_1_1, 64 + 16), nullptr);
     auto options = mqtt::connect_options_builder().clean_session(true).max_inflight(64).finalize();
@@ -284,6 +293,7 @@ RunResult run_adapter(int port, int channels, int points, int qos, double second
     std::vector<std::string> args{"bench_sampling_throughput", "--adapter-child", std::to_string(port)};
     if (g_json_reads) args.push_back("--json-reads");
     if (g_no_value_checks) args.push_back("--no-value-checks");
+    if (g_system_heap) args.push_back("--system-heap");
     if (g_rt_priority > 0) {
         args.push_back("--rt-priority");
         args.push_back(std::to_string(g_rt_priority));
@@ -386,8 +396,10 @@ double run_floor(int port, int channels, int points, int qos, const RunResult& a
     }
     App app(port, qos);
     const double per_second = static_cast<double>(adapter.dtus) / adapter.seconds;
-    bench::Child child({"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
-                 std::to_string(adapter.dtus), std::to_string(per_second)});
+    std::vector<std::string> args{"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
+                                  std::to_string(adapter.dtus), std::to_string(per_second)};
+    if (g_system_heap) args.push_back("--system-heap");
+    bench::Child child(args);
     child.say("mark");
     child.say("stop");
     const Json out = Json::parse(child.read_line());
@@ -450,6 +462,8 @@ int run(int argc, char** argv) {
             g_json_reads = true;
         else if (std::string(argv[i]) == "--no-value-checks")
             g_no_value_checks = true;
+        else if (std::string(argv[i]) == "--system-heap")
+            g_system_heap = true;
         else if (std::string(argv[i]) == "--rt-priority" && i + 1 < argc)
             g_rt_priority = std::atoi(argv[++i]);
         else
@@ -467,9 +481,10 @@ int run(int argc, char** argv) {
 
     test::MosquittoBroker broker;
     std::printf("sampling throughput: %d ms sample, %d ms upload, QoS %d, %.1f s per run, %d rounds at the max load, %s reads, "
-                "sampler %s\n",
+                "sampler %s, %s\n",
                 kSampleMs, kUploadMs, qos, seconds, rounds, g_json_reads ? "Json (read())" : "typed (read_samples())",
-                g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str() : "SCHED_OTHER");
+                g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str() : "SCHED_OTHER",
+                g_system_heap ? "glibc's default heap policy" : "freed heap kept");
     std::printf("%8s %7s %12s %12s %8s %8s %9s %s\n", "channels", "points", "points/s", "DTUs", "lost", "null %",
                 "cpu_s", "lossless");
     std::vector<int> channel_counts{1, 10, 50}, point_counts{10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000};

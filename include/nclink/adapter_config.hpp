@@ -5,6 +5,7 @@
 
 #include <nclink/export.hpp>
 #include <nclink/feature_config.hpp>
+#include <nclink/heap.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -64,6 +65,11 @@ struct NCLINK_API AdapterConfig {
     /// long is gone (8.2.18.3): its dynamic channels and events are released.
     /// Its Notify/State offline releases them at once. 0 = only on offline.
     std::chrono::milliseconds application_lease{300000};
+    /// "heap_keep_bytes": freed memory the process keeps for its next Sample
+    /// DTUs rather than handing it back to the kernel between uploads
+    /// (nclink/heap.hpp says why; capped at 32 MB). Set at start(),
+    /// process-wide. 0 = leave the allocator as the program set it.
+    std::size_t heap_keep_bytes = max_heap_keep_bytes;
 
     // --- features (JSON objects of the same names) ---
     SamplingConfig sampling;

@@ -14,6 +14,7 @@
 #include "transport/mqtt_loop.hpp"
 
 #include <nclink/driver_plugin_loader.hpp>
+#include <nclink/heap.hpp>
 #include <nclink/mqtt_transport.hpp>
 
 #include <nclink/model_version.hpp>
@@ -53,6 +54,9 @@ Result<void> Adapter::Impl::start() {
     if (auto opened = driver->open(DriverContext{config.driver_config, logger}); !opened)
         return make_error(opened.error().code, "driver failed to open: " + opened.error().message);
 
+    // Before the uploader's first DTU; process-wide (nclink/heap.hpp).
+    if (config.heap_keep_bytes > 0 && !keep_freed_heap(config.heap_keep_bytes))
+        logger.debug("heap_keep_bytes: the C library is not glibc, its allocator is left as it is");
     DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
     if (shared_threads) runner_options.pool = &shared_threads->impl().drivers;

@@ -42,6 +42,7 @@ std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const Ad
     key(a.register_timeout == b.register_timeout, "register_timeout_ms");
     key(a.register_retry_max == b.register_retry_max, "register_retry_max_ms");
     key(a.application_lease == b.application_lease, "application_lease_ms");
+    key(a.heap_keep_bytes == b.heap_keep_bytes, "heap_keep_bytes");
 
     const SamplingConfig& s = a.sampling;
     const SamplingConfig& t = b.sampling;

@@ -19,7 +19,7 @@ TEST_CASE("a configuration file sets every key and resolves paths relative to it
       "persistence_dir": "state", "standard_typo_topics": false, "offline_buffer_bytes": 1000,
       "max_in_flight": 8, "dedup_window_ms": 500, "dedup_capacity": 10, "request_threads": 3,
       "driver_timeout_ms": 250, "register_timeout_ms": 100, "register_retry_max_ms": 900,
-      "log_level": "debug",
+      "heap_keep_bytes": 1048576, "log_level": "debug",
       "driver": {"plugin": "drivers/sim.so", "config": {"seed": 4}}
     })";
     auto loaded = load_adapter_config(file.string());
@@ -48,6 +48,7 @@ TEST_CASE("a configuration file sets every key and resolves paths relative to it
     CHECK(c.request_threads == 3);
     CHECK(c.driver_timeout == std::chrono::milliseconds(250));
     CHECK(c.register_retry_max == std::chrono::milliseconds(900));
+    CHECK(c.heap_keep_bytes == 1048576);
     CHECK(c.log_level == LogLevel::debug);
     std::filesystem::remove_all(dir);
 }
@@ -64,6 +65,7 @@ TEST_CASE("configuration mistakes are reported, not ignored") {
     REQUIRE_FALSE(type.ok());
     CHECK(type.error().code == ErrorCode::value_type);
     CHECK_FALSE(adapter_config_from_json(Json{{"log_level", "loud"}}).ok());
+    CHECK(adapter_config_from_json(Json{{"heap_keep_bytes", -1}}).error().code == ErrorCode::value_type);
     CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 3}}}}).ok());
     CHECK_FALSE(adapter_config_from_json(Json::array()).ok());
     CHECK_FALSE(load_adapter_config("/nonexistent/adapter.json").ok());
@@ -108,6 +110,7 @@ TEST_CASE("code overrides a loaded configuration, defaults are documented values
     CHECK(base.broker_url == "tcp://127.0.0.1:1883");
     CHECK(base.standard_typo_topics);
     CHECK(base.driver_timeout == std::chrono::milliseconds(1000));
+    CHECK(base.heap_keep_bytes == std::size_t{32} << 20);
     base.strict = true;
     auto c = adapter_config_from_json(Json{{"model", "m.json"}}, base);
     REQUIRE(c.ok());

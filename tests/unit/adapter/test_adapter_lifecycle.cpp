@@ -1,6 +1,7 @@
 // Adapter lifecycle: model refusal, Probe/Query and Probe/Set, persistence,
 // registration, the state machine on link changes, clean stop.
 #include "adapter_fixture.hpp"
+#include "support/heap_cycle.hpp"
 
 #include <nclink/model.hpp>
 
@@ -51,6 +52,21 @@ TEST_CASE("the dev_uuid override from the configuration wins") {
     AdapterFixture f(c, false);
     f.start();
     CHECK(f.adapter->dev_uuid() == "line3-mill7");
+}
+
+// Each case runs in its own process (ctest): the heap policy is process-wide.
+TEST_CASE("start keeps freed heap for the uploader's next DTUs by default") {
+    AdapterFixture f;
+    if (sanitized_allocator()) return;  // mallopt does nothing under a sanitizer
+    CHECK(faults_after_first_burst() < 40);
+}
+
+TEST_CASE("heap_keep_bytes 0 leaves the allocator as the program set it") {
+    AdapterConfig c;
+    c.heap_keep_bytes = 0;
+    AdapterFixture f(c);
+    if (sanitized_allocator()) return;
+    CHECK(faults_after_first_burst() > 400);  // glibc's default: trimmed after every burst
 }
 
 TEST_CASE("Probe/Query returns the model as a JSON object, an empty payload works") {
