@@ -7,7 +7,10 @@
 // p50/p99 to a random machine under that load, and the time for every
 // machine to come back online after a broker restart.
 //
-//   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 30] [--queries 1000]
+//   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 30] [--queries 1000] [--config FILE]
+//
+// --config FILE: adapter settings every machine of the gateway shares
+// (nclink-sim --config), e.g. {"heap_keep_bytes": 0} to measure a setting.
 //
 // A program, not a test: the figures depend on the box (docs/performance.md).
 #include <nclink/client.hpp>
@@ -155,7 +158,8 @@ struct Row {
     std::size_t discovered = 0, query_failures = 0;
 };
 
-Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src) {
+Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src,
+        const std::string& config) {
     Row row;
     row.machines = machines;
     nclink::test::MosquittoBroker broker;
@@ -165,9 +169,10 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     Watcher watcher(url);
     std::this_thread::sleep_for(500ms);
     const auto t0 = Clock::now();
-    const pid_t gw = spawn({bin + "/bin/nclink-sim", "--machines", std::to_string(machines), "--model",
-                            src + "/bench/fleet-machine.json", "--guid", prefix, "--broker", url, "--log-level", "warn"},
-                           "/tmp/bench_fleet_gateway.log");
+    std::vector<std::string> gateway{bin + "/bin/nclink-sim", "--machines", std::to_string(machines), "--model",
+                                     src + "/bench/fleet-machine.json", "--guid", prefix, "--broker", url, "--log-level", "warn"};
+    if (!config.empty()) gateway.insert(gateway.end(), {"--config", config});
+    const pid_t gw = spawn(gateway, "/tmp/bench_fleet_gateway.log");
     while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600)
         std::this_thread::sleep_for(50ms);
     row.all_online_s = seconds_since(t0);
@@ -239,6 +244,7 @@ int main(int argc, char** argv) {
     std::vector<std::size_t> sizes = {100, 300, 1000};
     double seconds = 30;
     std::size_t queries = 1000;  // the p99 of 200 would be their second slowest
+    std::string config;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string arg = argv[i], value = argv[i + 1];
         if (arg == "--machines") {
@@ -249,6 +255,8 @@ int main(int argc, char** argv) {
             seconds = std::stod(value);
         } else if (arg == "--queries") {
             queries = std::stoul(value);
+        } else if (arg == "--config") {
+            config = value;
         }
     }
     std::printf("| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
@@ -256,7 +264,7 @@ int main(int argc, char** argv) {
                 "| online again after broker restart s |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t n : sizes) {
-        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR);
+        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config);
         std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.1f |\n",
                     r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
                     r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb,
