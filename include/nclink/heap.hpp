@@ -6,10 +6,10 @@
 // Sample DTUs every upload interval, whose copies the MQTT library frees on
 // its own thread at the PUBACKs, goes through that cycle every interval: the
 // madvise flushes the TLB of every CPU running the process (interrupts that
-// also delay the sampling thread's ticks) and each page comes back with a
-// fault. Measured on a 2-vCPU VM (docs/performance.md, "The heap"): with the
-// cycle, 1 channel x 500 points at 1 ms lost 1.5-3 % of its ticks; without
-// it, the adapter used 25-30 % less CPU and kept them.
+// also interrupt the sampling thread) and each page comes back with a
+// fault. Measured on a 2-vCPU VM at 1 M points/s (docs/performance.md, "The
+// heap"): 56-147 madvise and up to ~5,000 page faults in 4 s with the
+// cycle, none without it, and 25-30 % less CPU for the adapter.
 //
 // keep_freed_heap() sets glibc's trim and mmap thresholds, so that up to
 // `bytes` of freed memory stays with the process for its next DTUs and
