@@ -5,9 +5,9 @@
 // allocation takes it back page by page. An uploader publishing a burst of
 // Sample DTUs every upload interval, whose copies the MQTT library frees on
 // its own thread at the PUBACKs, goes through that cycle every interval: the
-// madvise flushes the TLB of every CPU running the process (interrupts that
-// also interrupt the sampling thread) and each page comes back with a
-// fault. Measured on a 2-vCPU VM at 1 M points/s (docs/performance.md, "The
+// madvise flushes the TLB of every CPU running the process (an interrupt
+// for each, the sampling thread's included) and each page comes back with
+// a fault. Measured on a 2-vCPU VM at 1 M points/s (docs/performance.md, "The
 // heap"): 56-147 madvise and up to ~5,000 page faults in 4 s with the
 // cycle, none without it, and 25-30 % less CPU for the adapter.
 //
@@ -34,8 +34,9 @@ namespace nclink {
 inline constexpr std::size_t max_heap_keep_bytes = std::size_t{32} << 20;
 
 /// Keeps up to `bytes` (capped at max_heap_keep_bytes) of freed memory for
-/// reuse and serves blocks up to that size from the heap. False when the C
-/// library is not glibc (nothing changed) or `bytes` is 0.
+/// reuse and serves blocks up to that size from the heap. False (nothing
+/// changed) when `bytes` is 0 or the allocator does not take glibc's
+/// mallopt settings: another C library, or a sanitizer's allocator.
 NCLINK_API bool keep_freed_heap(std::size_t bytes);
 
 }  // namespace nclink

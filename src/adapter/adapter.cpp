@@ -56,7 +56,8 @@ Result<void> Adapter::Impl::start() {
 
     // Before the uploader's first DTU; process-wide (nclink/heap.hpp).
     if (config.heap_keep_bytes > 0 && !keep_freed_heap(config.heap_keep_bytes))
-        logger.debug("heap_keep_bytes: the C library is not glibc, its allocator is left as it is");
+        logger.debug("heap_keep_bytes: the allocator does not take glibc's mallopt settings (another C library, or a "
+                     "sanitizer's allocator); left as it is");
     DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
     if (shared_threads) runner_options.pool = &shared_threads->impl().drivers;
