@@ -7,7 +7,7 @@
 // its own process) sending the same bytes, at the same pace, through the same
 // broker to the same subscriber.
 //
-//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
+//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--slice-us N] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
 //
 // With `channels points` only that load runs (no search), e.g. under a profiler.
 // The bench's driver implements the typed Driver::read_samples(); with
@@ -17,6 +17,8 @@
 // keeping freed memory saves (nclink/heap.hpp).
 // --no-value-checks turns off the chapter-7 checks of sampled values
 // (AdapterConfig::check_values), to measure what they cost.
+// --slice-us N sets the sampling thread's time slice (sampling.slice_us;
+// 0 = the kernel's default), to measure what the default 100 us saves.
 // --rt-priority runs the adapter's sampling thread at SCHED_FIFO N with 1 ns
 // timer slack (sampling.rt_priority / timer_slack_ns), as on a firmware host.
 //
@@ -106,6 +108,7 @@ bool g_json_reads = false;  // --json-reads (parent and adapter child)
 int g_rt_priority = 0;      // --rt-priority N (parent and adapter child)
 bool g_no_value_checks = false;  // --no-value-checks (parent and adapter child)
 bool g_system_heap = false;      // --system-heap (parent and both children)
+int g_slice_us = -1;             // --slice-us N (parent and adapter child; -1 = the config's default)
 
 // ---------------------------------------------------------------- child processes
 // Both children talk over stdin/stdout lines: "mark" starts the CPU window,
@@ -119,6 +122,7 @@ int adapter_child(int port) {
     config.sampling.max_dynamic_channels = 64;
     config.check_values = !g_no_value_checks;
     if (g_system_heap) config.heap_keep_bytes = 0;
+    if (g_slice_us >= 0) config.sampling.slice_us = g_slice_us;
     if (g_rt_priority > 0) {
         config.sampling.rt_priority = g_rt_priority;
         config.sampling.timer_slack_ns = 1;
@@ -294,6 +298,10 @@ RunResult run_adapter(int port, int channels, int points, int qos, double second
     if (g_json_reads) args.push_back("--json-reads");
     if (g_no_value_checks) args.push_back("--no-value-checks");
     if (g_system_heap) args.push_back("--system-heap");
+    if (g_slice_us >= 0) {
+        args.push_back("--slice-us");
+        args.push_back(std::to_string(g_slice_us));
+    }
     if (g_rt_priority > 0) {
         args.push_back("--rt-priority");
         args.push_back(std::to_string(g_rt_priority));
@@ -464,6 +472,8 @@ int run(int argc, char** argv) {
             g_no_value_checks = true;
         else if (std::string(argv[i]) == "--system-heap")
             g_system_heap = true;
+        else if (std::string(argv[i]) == "--slice-us" && i + 1 < argc)
+            g_slice_us = std::atoi(argv[++i]);
         else if (std::string(argv[i]) == "--rt-priority" && i + 1 < argc)
             g_rt_priority = std::atoi(argv[++i]);
         else
@@ -483,7 +493,9 @@ int run(int argc, char** argv) {
     std::printf("sampling throughput: %d ms sample, %d ms upload, QoS %d, %.1f s per run, %d rounds at the max load, %s reads, "
                 "sampler %s, %s\n",
                 kSampleMs, kUploadMs, qos, seconds, rounds, g_json_reads ? "Json (read())" : "typed (read_samples())",
-                g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str() : "SCHED_OTHER",
+                g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str()
+                : g_slice_us == 0 ? "SCHED_OTHER, the kernel's slice"
+                                  : ("SCHED_OTHER, slice " + std::to_string(g_slice_us < 0 ? SamplingConfig{}.slice_us : g_slice_us) + " us").c_str(),
                 g_system_heap ? "glibc's default heap policy" : "freed heap kept");
     std::printf("%8s %7s %12s %12s %8s %8s %9s %s\n", "channels", "points", "points/s", "DTUs", "lost", "null %",
                 "cpu_s", "lossless");

@@ -4,7 +4,7 @@
 // Also checks that every row is present in the published DTUs.
 //
 //   bench_sampling_timing [--seconds N] [--points N] [--rt-priority P]
-//                         [--timer-slack NS] [--cpu N] [--worker-reads]
+//                         [--timer-slack NS] [--cpu N] [--slice-us N] [--worker-reads]
 //
 // Target: p50 and p99 within 50 us of the floor; every row present.
 #include "bench_util.hpp"
@@ -137,15 +137,16 @@ int main(int argc, char** argv) {
         else if (arg == "--points") o.points = static_cast<std::size_t>(std::atoi(next().c_str()));
         else if (arg == "--rt-priority") o.sampling.rt_priority = std::atoi(next().c_str());
         else if (arg == "--timer-slack") o.sampling.timer_slack_ns = std::atol(next().c_str());
+        else if (arg == "--slice-us") o.sampling.slice_us = std::atoi(next().c_str());
         else if (arg == "--cpu") o.sampling.cpu = std::atoi(next().c_str());
         else if (arg == "--worker-reads") o.sampling.direct_reads = false;
         else {
-            std::fprintf(stderr, "usage: bench_sampling_timing [--seconds N] [--points N] [--rt-priority P] [--timer-slack NS] [--cpu N] [--worker-reads]\n");
+            std::fprintf(stderr, "usage: bench_sampling_timing [--seconds N] [--points N] [--rt-priority P] [--timer-slack NS] [--cpu N] [--slice-us N] [--worker-reads]\n");
             return 2;
         }
     }
-    std::printf("1 ms channel, %zu points, %.0f s each; rt_priority %d, timer_slack_ns %ld, cpu %d, %s reads\n", o.points, o.seconds,
-                o.sampling.rt_priority, o.sampling.timer_slack_ns, o.sampling.cpu, o.sampling.direct_reads ? "direct" : "worker");
+    std::printf("1 ms channel, %zu points, %.0f s each; rt_priority %d, timer_slack_ns %ld, cpu %d, slice_us %d, %s reads\n", o.points,
+                o.seconds, o.sampling.rt_priority, o.sampling.timer_slack_ns, o.sampling.cpu, o.sampling.slice_us, o.sampling.direct_reads ? "direct" : "worker");
     const auto floor = bare_loop(o);
     const auto run = engine_run(o);
     report("floor: bare clock_nanosleep", floor);

@@ -68,6 +68,8 @@ struct NCLINK_API RealtimeStatus {
     bool timer_slack_granted = false;
     int cpu = -1;                   ///< requested CPU (-1 = not requested)
     bool cpu_granted = false;
+    int slice_us = 0;               ///< requested time slice (0 = not requested)
+    bool slice_granted = false;     ///< false on kernels before 6.12 (no per-task slice) and under SCHED_FIFO
 };
 
 struct NCLINK_API SamplingStats {

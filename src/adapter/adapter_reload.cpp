@@ -58,6 +58,7 @@ std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const Ad
     key(s.rt_priority == t.rt_priority, "sampling.rt_priority");
     key(s.timer_slack_ns == t.timer_slack_ns, "sampling.timer_slack_ns");
     key(s.cpu == t.cpu, "sampling.cpu");
+    key(s.slice_us == t.slice_us, "sampling.slice_us");
     key(s.overrun_log_interval == t.overrun_log_interval, "sampling.overrun_log_interval_ms");
     key(s.text_budget_bytes == t.text_budget_bytes, "sampling.text_budget_bytes");
     key(s.max_dtu_bytes == t.max_dtu_bytes, "sampling.max_dtu_bytes");

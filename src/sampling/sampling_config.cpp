@@ -40,6 +40,13 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
     NCLINK_TRY(r.count("timer_slack_ns", out.timer_slack_ns));
     NCLINK_TRY(r.read("cpu", out.cpu, [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= -1; },
                       "-1 or a CPU number"));
+    NCLINK_TRY(r.read("slice_us", out.slice_us,
+                      [](const Json& j) {
+                          if (!j.is_number_integer()) return false;
+                          const long long v = j.get<long long>();
+                          return v == 0 || (v >= 100 && v <= 100000);
+                      },
+                      "0 or an integer 100..100000"));
     NCLINK_TRY(r.duration("overrun_log_interval_ms", out.overrun_log_interval));
     NCLINK_TRY(r.count("text_budget_bytes", out.text_budget_bytes));
     NCLINK_TRY(r.count("max_dtu_bytes", out.max_dtu_bytes));

@@ -208,7 +208,8 @@ Json to_json(const SamplingStats& stats) {
     const auto& rt = stats.realtime;
     Json realtime = {{"fifo_priority", rt.fifo_priority}, {"fifo_granted", rt.fifo_granted},
                      {"timer_slack_ns", rt.timer_slack_ns}, {"timer_slack_granted", rt.timer_slack_granted},
-                     {"cpu", rt.cpu}, {"cpu_granted", rt.cpu_granted}};
+                     {"cpu", rt.cpu}, {"cpu_granted", rt.cpu_granted},
+                     {"slice_us", rt.slice_us}, {"slice_granted", rt.slice_granted}};
     return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
 }
 

@@ -66,6 +66,9 @@ void print_summary(const Json& stats) {
     }
     if (const auto rt = sampling.find("realtime"); rt != sampling.end() && rt->value("fifo_priority", 0) > 0)
         std::printf("sampling thread SCHED_FIFO %d: %s\n", rt->value("fifo_priority", 0), rt->value("fifo_granted", false) ? "granted" : "refused");
+    if (const auto rt = sampling.find("realtime"); rt != sampling.end() && rt->value("slice_us", 0) > 0)
+        std::printf("sampling thread time slice %d us: %s\n", rt->value("slice_us", 0),
+                    rt->value("slice_granted", false) ? "granted" : "not set (needs Linux >= 6.12)");
 }
 
 }  // namespace

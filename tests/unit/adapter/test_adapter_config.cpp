@@ -138,6 +138,21 @@ TEST_CASE("sampling qos channel_qos max_dtu_bytes and overrun_log_interval_ms ar
     CHECK(defaults.sampling.max_dtu_bytes == 1u << 20);
 }
 
+TEST_CASE("sampling slice_us is read and checked, default 100") {
+    auto read = adapter_config_from_json(Json{{"sampling", {{"slice_us", 250}}}});
+    REQUIRE(read.ok());
+    CHECK(read->sampling.slice_us == 250);
+    REQUIRE(adapter_config_from_json(Json{{"sampling", {{"slice_us", 0}}}}).ok());
+    CHECK(adapter_config_from_json(Json{{"sampling", {{"slice_us", 0}}}})->sampling.slice_us == 0);
+    // The kernel clamps a slice to 0.1..100 ms: outside that, say so instead.
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"slice_us", 99}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"slice_us", 100001}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"slice_us", -1}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"slice_us", "short"}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"slice_us", 150.5}}}}).ok());
+    CHECK(AdapterConfig{}.sampling.slice_us == 100);
+}
+
 TEST_CASE("events qos is read and checked, default 1") {
     auto read = adapter_config_from_json(Json{{"events", {{"qos", 0}}}});
     REQUIRE(read.ok());

@@ -56,6 +56,11 @@ TEST_CASE("the model's sample channel publishes Sample DTUs with every row") {
     const auto stats = f.adapter->stats().features.at("sampling");
     CHECK(stats.at("channels")[0].at("id") == "ch1");
     CHECK(stats.at("channels")[0].at("rows_published").get<int>() >= 10);
+    // The sampling thread's own scheduling, as it applied it at start.
+    const auto& realtime = stats.at("realtime");
+    CHECK(realtime.at("slice_us") == 100);
+    CHECK(realtime.at("slice_granted") == f.adapter->sampling_stats().realtime.slice_granted);
+    CHECK(realtime.at("fifo_priority") == 0);
 }
 
 TEST_CASE("a Probe/Set restarts the sample channels from the new model") {
