@@ -7,6 +7,10 @@
 
 #include <sys/resource.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
@@ -28,6 +32,17 @@ constexpr bool sanitized_allocator() {
 #endif
 #else
     return false;
+#endif
+}
+
+/// Sets glibc's initial thresholds (128 KiB to trim, 128 KiB to mmap) as a
+/// program of its own would, so a case checking that the allocator is left
+/// as the program set it does not depend on an adapter another case of the
+/// same process started before it.
+inline void set_initial_heap_policy() {
+#if defined(__GLIBC__)
+    mallopt(M_TRIM_THRESHOLD, 128 * 1024);
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
 #endif
 }
 
