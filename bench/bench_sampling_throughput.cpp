@@ -1,11 +1,11 @@
 // End-to-end sampling throughput: an nclink Adapter (its own process, reading
 // an in-memory driver) -> mosquitto -> a paho subscriber counting DTUs.
-// For 1, 10 and 50 channels the number of points per row goes up until a run
-// is no longer lossless; for the largest lossless load, the adapter's CPU per
-// million points is compared with the irreducible work measured in the same
-// run: encoding the same DTUs (SampleEncoder) + a bare paho publisher (also
-// its own process) sending the same bytes, at the same pace, through the same
-// broker to the same subscriber.
+// For 1, 10 and 50 channels the number of points per row goes up until a load
+// is no longer lossless (two runs in a row); for the largest lossless load,
+// the adapter's CPU per million points is compared with the irreducible work
+// measured in the same run: encoding the same DTUs (SampleEncoder) + a bare
+// paho publisher (also its own process) sending the same bytes, at the same
+// pace, through the same broker to the same subscriber.
 //
 //   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--slice-us N] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
 //
@@ -21,6 +21,9 @@
 // 0 = the kernel's default), to measure what the default 100 us saves.
 // --rt-priority runs the adapter's sampling thread at SCHED_FIFO N with 1 ns
 // timer slack (sampling.rt_priority / timer_slack_ns), as on a firmware host.
+//
+// A load that is not lossless is run a second time; the search ends only when
+// that run is not lossless either.
 //
 // Lossless = every DTU the adapter published reached the subscriber, no ring
 // drop, nothing dropped by the spool or the transport, and at most 1% of the
@@ -523,12 +526,19 @@ int run(int argc, char** argv) {
         RunResult best_run;
         for (int points : point_counts) {
             if (channels * points > 50000) break;
-            const RunResult r = run_adapter(broker.port(), channels, points, qos, seconds);
-            std::printf("%8d %7d %12.0f %12llu %8lld %8.2f %9.3f %s\n", channels, points, r.points_per_s(),
-                        static_cast<unsigned long long>(r.dtus),
-                        static_cast<long long>(r.dtus) - static_cast<long long>(r.received),
-                        100.0 * r.null_share(), r.cpu_s, r.lossless ? "yes" : "NO");
-            std::fflush(stdout);
+            // A load that is not lossless runs once more before it ends the
+            // search: one stall of the VM (a burst of ticks a period late)
+            // must not stand for what the adapter carries. Both lines print.
+            RunResult r;
+            for (int attempt = 0; attempt < 2; ++attempt) {
+                r = run_adapter(broker.port(), channels, points, qos, seconds);
+                std::printf("%8d %7d %12.0f %12llu %8lld %8.2f %9.3f %s%s\n", channels, points, r.points_per_s(),
+                            static_cast<unsigned long long>(r.dtus),
+                            static_cast<long long>(r.dtus) - static_cast<long long>(r.received),
+                            100.0 * r.null_share(), r.cpu_s, r.lossless ? "yes" : "NO", attempt > 0 ? " (again)" : "");
+                std::fflush(stdout);
+                if (r.lossless) break;
+            }
             if (!r.lossless) break;
             best = points;
             best_run = r;
