@@ -7,6 +7,13 @@
 // p50/p99 to a random machine under that load, and the time for every
 // machine to come back online after a broker restart.
 //
+// The floor of the queries, in the same run: a bare paho echo (its own
+// process, answering from inside paho's callback with an answer of the same
+// shape and size) queried by the same application through the same broker,
+// alternating one by one with the queries to the machines. On a small box
+// the broker, the agent, the application and the gateway share the CPUs; the
+// floor shows what a round trip costs there without nclink's gateway in it.
+//
 //   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 30] [--queries 1000] [--config FILE]
 //
 // --config FILE: adapter settings every machine of the gateway shares
@@ -19,6 +26,7 @@
 #include <nclink/topics.hpp>
 
 #include "bench_util.hpp"
+#include "paho_echo.hpp"
 #include "support/mosquitto_broker.hpp"
 
 #include <fcntl.h>
@@ -47,6 +55,9 @@ using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// The floor's device: no machine of the fleet, answered by the echo.
+const char* kEchoDev = "fleet-echo";
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -155,6 +166,7 @@ struct Row {
     Usage gw, agent;
     double gw_cpu = 0, agent_cpu = 0;
     double all_online_s = 0, discovery_ms = 0, query_p50 = 0, query_p99 = 0, restart_s = 0;
+    double floor_p50 = 0, floor_p99 = 0;
     std::size_t discovered = 0, query_failures = 0;
 };
 
@@ -198,12 +210,23 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     }
     row.discovery_ms = bench::median(discovery);
 
-    // The measured window: points delivered, CPU, queries to random machines.
+    // The floor's echo, answering as soon as it has subscribed.
+    const pid_t echo = spawn({"/proc/self/exe", "--echo-child", std::to_string(broker.port())}, "/tmp/bench_fleet_echo.log");
+    RequestOptions quick;
+    quick.timeout = 1s;
+    const auto ask_echo = [&app, &quick] {
+        auto values = app->query(kEchoDev, {QueryItem{"spindle_speed", std::nullopt}}, quick);
+        return values && !values->empty() && (*values)[0].status.ok;
+    };
+    for (const auto e0 = Clock::now(); !ask_echo() && seconds_since(e0) < 10;) std::this_thread::sleep_for(100ms);
+
+    // The measured window: points delivered, CPU, queries to random machines
+    // and, after each, one to the floor's echo.
     const Usage gw0 = usage(gw), agent0 = usage(agent);
     const std::uint64_t points0 = watcher.points;
     const auto w0 = Clock::now();
     std::mt19937 random(7);
-    std::vector<double> query_ms;
+    std::vector<double> query_ms, floor_ms;
     const auto pause = std::chrono::duration<double>(seconds / static_cast<double>(queries + 1));
     while (seconds_since(w0) < seconds) {
         const std::string dev = fmt::format("{}-{:04d}", prefix, random() % machines);
@@ -213,6 +236,8 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
             query_ms.push_back(seconds_since(t) * 1000);
         else
             ++row.query_failures;
+        const auto f = Clock::now();
+        if (ask_echo()) floor_ms.push_back(seconds_since(f) * 1000);
         std::this_thread::sleep_for(pause);
     }
     const double window = seconds_since(w0);
@@ -225,6 +250,9 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     row.produced = static_cast<double>(machines) * 10 * 10;  // 10 points every 100 ms
     row.query_p50 = bench::percentile(query_ms, 50);
     row.query_p99 = bench::percentile(query_ms, 99);
+    row.floor_p50 = bench::percentile(floor_ms, 50);
+    row.floor_p99 = bench::percentile(floor_ms, 99);
+    finish(echo);
 
     // Broker restart: until every machine has announced itself online again.
     const auto r0 = Clock::now();
@@ -240,7 +268,35 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
 
 }  // namespace
 
+// The floor: answers Query/Request/fleet-echo/{ex} with the answer a
+// machine gives to the bench's query (same shape and size), the request's
+// @id mirrored. Runs until killed.
+int echo_child(int port) {
+    const std::string request_topic = topics::query_request(kEchoDev, "+");
+    const std::string request_prefix = request_topic.substr(0, request_topic.size() - 1);
+    const std::string response_prefix = topics::query_response(kEchoDev) + "/";
+    bench::PahoEcho echo("tcp://127.0.0.1:" + std::to_string(port), "bench-fleet-echo", request_topic, port,
+                         [&](const mqtt::message& request, mqtt::async_client& client) {
+                             static const std::string key = "\"@id\":\"";
+                             const std::string& payload = request.get_payload();
+                             const auto at = payload.find(key);
+                             if (at == std::string::npos) return;
+                             const auto from = at + key.size();
+                             const auto to = payload.find('"', from);
+                             if (to == std::string::npos) return;
+                             std::string reply = "{\"@id\":\"";
+                             reply.append(payload, from, to - from)
+                                 .append("\",\"guid\":\"fleet-echo\",\"values\":[{\"code\":\"OK\",\"id\":"
+                                         "\"spindle_speed\",\"values\":[2133]}]}");
+                             const std::string& topic = request.get_topic();
+                             client.publish(response_prefix + topic.substr(request_prefix.size()), reply.data(),
+                                            reply.size(), 1, false);
+                         });
+    for (;;) ::pause();
+}
+
 int main(int argc, char** argv) {
+    if (argc >= 3 && std::string(argv[1]) == "--echo-child") return echo_child(std::atoi(argv[2]));
     std::vector<std::size_t> sizes = {100, 300, 1000};
     double seconds = 30;
     std::size_t queries = 1000;  // the p99 of 200 would be their second slowest
@@ -261,15 +317,15 @@ int main(int argc, char** argv) {
     }
     std::printf("| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
                 "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
-                "| online again after broker restart s |\n");
-    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "| floor p50 / p99 ms | online again after broker restart s |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t n : sizes) {
         const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config);
-        std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.1f |\n",
+        std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.2f / %.2f | %.1f |\n",
                     r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
                     r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb,
                     r.all_online_s, r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures,
-                    r.restart_s);
+                    r.floor_p50, r.floor_p99, r.restart_s);
         std::fflush(stdout);
     }
     return 0;

@@ -17,8 +17,8 @@
 
 #include "bench_util.hpp"
 #include "child_process.hpp"
+#include "paho_echo.hpp"
 #include "support/mosquitto_broker.hpp"
-#include "transport/tcp_nodelay.hpp"
 
 #include <mqtt/async_client.h>
 
@@ -45,15 +45,6 @@ public:
     Result<void> write(const WriteRequest&) override { return ok_result(); }
 };
 
-void connect_and_subscribe(mqtt::async_client& client, const std::string& topic, int port) {
-    auto options = mqtt::connect_options_builder().clean_session(true).mqtt_version(MQTTVERSION_3_1_1).finalize();
-    if (!client.connect(options)->wait_for(std::chrono::seconds(10)))
-        throw std::runtime_error("connect of " + client.get_client_id() + " timed out");
-    detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
-    if (!client.subscribe(topic, 1)->wait_for(std::chrono::seconds(10)))
-        throw std::runtime_error("subscribe of " + client.get_client_id() + " timed out");
-}
-
 // A paho client that publishes a request and waits for the next message.
 class Requester {
 public:
@@ -64,7 +55,7 @@ public:
             ++received_;
             cv_.notify_one();
         });
-        connect_and_subscribe(client_, reply_topic, port);
+        bench::connect_and_subscribe(client_, reply_topic, port);
     }
     ~Requester() { client_.disconnect()->wait(); }
 
@@ -82,31 +73,6 @@ private:
     std::mutex mutex_;
     std::condition_variable cv_;
     std::uint64_t received_ = 0;
-};
-
-// The floor: answers every request at once, from paho's callback, with the
-// payload it was last given.
-class Echo {
-public:
-    Echo(const std::string& url, const std::string& request_topic, std::string reply_topic, int port)
-        : client_(url, "bench-echo", mqtt::create_options(MQTTVERSION_3_1_1), nullptr), reply_topic_(std::move(reply_topic)) {
-        client_.set_message_callback([this](mqtt::const_message_ptr) {
-            std::lock_guard<std::mutex> lock(mutex_);
-            client_.publish(reply_topic_, reply_.data(), reply_.size(), 1, false);
-        });
-        connect_and_subscribe(client_, request_topic, port);
-    }
-    ~Echo() { client_.disconnect()->wait(); }
-    void set_reply(std::string reply) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        reply_ = std::move(reply);
-    }
-
-private:
-    mqtt::async_client client_;
-    std::string reply_topic_;
-    std::mutex mutex_;
-    std::string reply_;
 };
 
 // ---------------------------------------------------------------- children
@@ -145,7 +111,14 @@ int adapter_child(int port) {
 
 // The floor. "reply <text>" sets the answer (one line: compact JSON), then "ok".
 int echo_child(int port) {
-    Echo echo("tcp://127.0.0.1:" + std::to_string(port), "Floor/Request", "Floor/Response", port);
+    // The answer is the payload last given, the adapter's answer size.
+    std::mutex mutex;
+    std::string reply;
+    bench::PahoEcho echo("tcp://127.0.0.1:" + std::to_string(port), "bench-echo", "Floor/Request", port,
+                         [&](const mqtt::message&, mqtt::async_client& client) {
+                             std::lock_guard<std::mutex> lock(mutex);
+                             client.publish("Floor/Response", reply.data(), reply.size(), 1, false);
+                         });
     std::printf("ready\n");
     std::fflush(stdout);
     std::string line;
@@ -153,7 +126,8 @@ int echo_child(int port) {
         if (line == "cpu") {
             std::printf("%.6f\n", bench::process_cpu_seconds());
         } else if (line.rfind("reply ", 0) == 0) {
-            echo.set_reply(line.substr(6));
+            std::lock_guard<std::mutex> lock(mutex);
+            reply = line.substr(6);
             std::printf("ok\n");
         }
         std::fflush(stdout);
