@@ -236,9 +236,13 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
             query_ms.push_back(seconds_since(t) * 1000);
         else
             ++row.query_failures;
+        // The same pause before either: a request after an idle gap costs
+        // more than one right after another (caches go cold), so the echo
+        // must not ride on the path the machine's query has just warmed.
+        std::this_thread::sleep_for(pause / 2);
         const auto f = Clock::now();
         if (ask_echo()) floor_ms.push_back(seconds_since(f) * 1000);
-        std::this_thread::sleep_for(pause);
+        std::this_thread::sleep_for(pause / 2);
     }
     const double window = seconds_since(w0);
     const std::uint64_t points1 = watcher.points;
