@@ -22,9 +22,6 @@
 // --rt-priority runs the adapter's sampling thread at SCHED_FIFO N with 1 ns
 // timer slack (sampling.rt_priority / timer_slack_ns), as on a firmware host.
 //
-// A load that is not lossless is run a second time; the search ends only when
-// that run is not lossless either.
-//
 // Lossless = every DTU the adapter published reached the subscriber, no ring
 // drop, nothing dropped by the spool or the transport, and at most 1% of the
 // values null (a null is a sample not taken: the sampler ran a period late,
