@@ -29,14 +29,22 @@ public:
           host_(std::move(host)),
           port_(port),
           link_(logger_, options_.broker_url, options_.client_id),
-          client_(options_.broker_url, options_.client_id,
-                  mqtt::create_options(options_.mqtt_version,
-                                       static_cast<int>(options_.outbox.max_in_flight) + 16),
-                  nullptr),
+          client_(std::make_unique<mqtt::async_client>(
+              options_.broker_url, options_.client_id,
+              mqtt::create_options(options_.mqtt_version, static_cast<int>(options_.outbox.max_in_flight) + 16),
+              nullptr)),
           outbox_(options_.outbox,
                   [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
 
-    ~MqttTransport() override { stop(milliseconds(0)); }
+    ~MqttTransport() override {
+        stop(milliseconds(0));
+        // Destroyed here, while every member is alive: paho fails each
+        // publish still unacknowledged from inside its destroy (on_failure on
+        // this thread), and the outbox is declared after the client, so
+        // member order alone would run that callback on a freed outbox
+        // (heap corruption, seen with QoS 1 DTUs in flight at shutdown).
+        client_.reset();
+    }
 
     void set_message_handler(MessageHandler handler) override { on_message_ = std::move(handler); }
     void set_state_handler(LinkStateHandler handler) override { on_state_ = std::move(handler); }
@@ -48,9 +56,9 @@ public:
             started_ = true;
         }
         // paho is never called with mutex_ held (see subscribe()).
-        client_.set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
-        client_.set_connected_handler([this](const std::string&) { on_connected(); });
-        client_.set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
+        client_->set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
+        client_->set_connected_handler([this](const std::string&) { on_connected(); });
+        client_->set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
         supervisor_ = std::thread([this] {
             detail::name_this_thread("nclink-mqtt");
             supervise();
@@ -72,14 +80,14 @@ public:
         if (supervisor_.joinable()) supervisor_.join();
         outbox_.stop();
         try {
-            if (client_.is_connected()) client_.disconnect(milliseconds(500).count())->wait_for(milliseconds(2000));
+            if (client_->is_connected()) client_->disconnect(milliseconds(500).count())->wait_for(milliseconds(2000));
         } catch (const mqtt::exception& e) {
             logger_.debug("mqtt: disconnect: {}", e.what());
         }
         try {
             // paho throws here too (-1) when the client is mid-reconnect;
             // an exception escaping stop() aborted Adapter::stop().
-            client_.disable_callbacks();
+            client_->disable_callbacks();
         } catch (const mqtt::exception& e) {
             logger_.debug("mqtt: disable callbacks: {}", e.what());
         }
@@ -107,7 +115,7 @@ public:
         }
         if (link_.state() == LinkState::connected) {
             try {
-                client_.unsubscribe(mqtt::string_collection::create(filters));
+                client_->unsubscribe(mqtt::string_collection::create(filters));
             } catch (const mqtt::exception& e) {
                 logger_.debug("mqtt: unsubscribe: {}", e.what());
             }
@@ -138,7 +146,7 @@ private:
             // Sample DTUs (bench_sampling_throughput 1 x 500).
             auto msg = mqtt::make_message(m.topic, mqtt::binary_ref(std::shared_ptr<const std::string>(shared, &m.payload)),
                                           m.qos, m.retained);
-            client_.publish(msg, reinterpret_cast<void*>(static_cast<std::uintptr_t>(attempt)), *this);
+            client_->publish(msg, reinterpret_cast<void*>(static_cast<std::uintptr_t>(attempt)), *this);
             return true;
         } catch (const mqtt::exception& e) {
             logger_.debug("mqtt: publish to {} refused: {}", m.topic, e.what());
@@ -192,7 +200,7 @@ private:
 
     void subscribe_now(const std::vector<std::string>& filters, int qos) {
         try {
-            client_.subscribe(mqtt::string_collection::create(filters), std::vector<int>(filters.size(), qos));
+            client_->subscribe(mqtt::string_collection::create(filters), std::vector<int>(filters.size(), qos));
         } catch (const mqtt::exception& e) {
             logger_.warn("mqtt: subscribe failed (retried on reconnect): {}", e.what());
         }
@@ -292,7 +300,7 @@ private:
                 bool ok = false;
                 std::optional<std::size_t> receive_maximum;
                 try {
-                    auto token = client_.connect(opts);
+                    auto token = client_->connect(opts);
                     ok = token->wait_for(options_.connect_timeout + milliseconds(500));
                     if (!ok) connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()),
                                             false, retry);
@@ -301,7 +309,7 @@ private:
                 } catch (const mqtt::exception& e) {
                     connect_failed(e, retry);
                 }
-                ok = ok && client_.is_connected();  // paho call: before taking mutex_
+                ok = ok && client_->is_connected();  // paho call: before taking mutex_
                 if (ok && options_.mqtt_version >= 5) {
                     // paho keeps QoS 1 messages beyond the broker's Receive
                     // Maximum in its own queue and sends them only when woken
@@ -336,7 +344,7 @@ private:
     const std::string host_;
     const int port_;
     detail::LinkRecord link_;
-    mqtt::async_client client_;
+    std::unique_ptr<mqtt::async_client> client_;  // reset first in the destructor (see there)
     detail::Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;

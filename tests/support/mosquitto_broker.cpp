@@ -141,8 +141,17 @@ void MosquittoBroker::crash() {
     while (port_accepts(port_)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
+void MosquittoBroker::freeze() {
+    if (pid_ > 0) ::kill(pid_, SIGSTOP);
+}
+
+void MosquittoBroker::thaw() {
+    if (pid_ > 0) ::kill(pid_, SIGCONT);
+}
+
 void MosquittoBroker::stop() {
     if (pid_ <= 0) return;
+    thaw();  // a stopped process would not act on SIGTERM
     ::kill(pid_, SIGTERM);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
     int status = 0;

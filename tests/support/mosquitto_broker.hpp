@@ -49,6 +49,11 @@ public:
     void crash();
     void start();
     void restart() { stop(); start(); }
+    /// SIGSTOP: the broker keeps its sockets open but reads and answers
+    /// nothing (a hung broker: QoS 1 messages stay unacknowledged).
+    void freeze();
+    /// SIGCONT after freeze(); stop() resumes a frozen broker first.
+    void thaw();
     bool running() const { return pid_ > 0; }
 
     int port() const { return port_; }

@@ -277,6 +277,32 @@ TEST_CASE("an abrupt disconnect publishes the last will, the transport reconnect
     app->stop();
 }
 
+// paho fails every unacknowledged publish from inside its client's destroy;
+// that callback once ran on the transport's outbox after the outbox was gone
+// (member order), corrupting the heap at shutdown. Under the ASan preset this
+// test reports the use after free without the fix; here it must not crash.
+TEST_CASE("a transport destroyed with QoS 1 messages unacknowledged by a hung broker shuts down cleanly") {
+    GENERATE_CLIENT();
+    MosquittoBroker broker;
+    auto t = connect(options_for(broker, "nclink-test-hung"));
+    REQUIRE(t->start().ok());
+    REQUIRE(eventually([&] { return t->state() == LinkState::connected; }));
+    broker.freeze();
+    for (int i = 0; i < 20; ++i) REQUIRE(t->publish({"x/hung", std::to_string(i), 1, false}).ok());
+    REQUIRE(eventually([&] { return t->stats().in_flight == 20; }));
+    CHECK(t->stats().published == 0);
+    t.reset();  // stop() and destroy with all 20 in flight
+    broker.thaw();
+
+    // The process goes on serving: a new transport on the same broker works.
+    auto again = connect(options_for(broker, "nclink-test-hung"));
+    REQUIRE(again->start().ok());
+    REQUIRE(eventually([&] { return again->state() == LinkState::connected; }));
+    REQUIRE(again->publish({"x/hung", "after", 1, false}).ok());
+    CHECK(again->flush(std::chrono::seconds(5)));
+    again->stop();
+}
+
 TEST_CASE("a transport started before its broker connects when the broker comes up") {
     GENERATE_CLIENT();
     MosquittoOptions bo;
