@@ -2,6 +2,7 @@
 // adapter's own Register/Request and Probe/Version): liberal decode, strict encode.
 #include "protocol/dtu_codec.hpp"
 #include "protocol/query_request_fast.hpp"
+#include "protocol/set_request_fast.hpp"
 
 #include <fmt/format.h>
 
@@ -213,7 +214,17 @@ Result<QueryRequest> decode<QueryRequest>(std::string_view payload) {
     if (auto fast = protocol_detail::fast_decode_query_request(payload)) return std::move(*fast);
     return protocol_detail::decode_payload<QueryRequest>(payload, false);
 }
-NCLINK_DEFINE_DECODE(SetRequest, false)
+// A Set in its plain form is scanned (set_request_fast.hpp); any other goes
+// to the tree, which gives every refusal its table-19 code and message.
+template <>
+Result<SetRequest> decode<SetRequest>(const Json& dtu) {
+    return protocol_detail::decode_json<SetRequest>(dtu);
+}
+template <>
+Result<SetRequest> decode<SetRequest>(std::string_view payload) {
+    if (auto plain = protocol_detail::plain_decode_set_request(payload)) return std::move(*plain);
+    return protocol_detail::decode_payload<SetRequest>(payload, false);
+}
 NCLINK_DEFINE_DECODE(SampleRegisterRequest, false)
 NCLINK_DEFINE_DECODE(SampleUnregisterRequest, false)
 NCLINK_DEFINE_DECODE(MethodCall, false)

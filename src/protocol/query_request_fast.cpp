@@ -7,6 +7,7 @@
 // the same rules as nlohmann's tree parser (a repeated key: the last wins).
 #include "protocol/query_request_fast.hpp"
 #include "protocol/dtu_codec.hpp"
+#include "protocol/plain_scanner.hpp"
 
 #include <vector>
 
@@ -252,49 +253,6 @@ private:
 // no SAX calls: a 100-item Query in a few microseconds where the SAX pass
 // takes ~15. Anything else (a number @id, params, privateInfo, another key,
 // an escape, a byte outside 0x20-0x7E, a key twice) is left to the SAX pass.
-class PlainScanner {
-public:
-    explicit PlainScanner(std::string_view text) : p_(text.data()), end_(text.data() + text.size()) {}
-
-    /// Skips whitespace; true (and steps over it) when the next byte is `c`.
-    bool take(char c) {
-        skip_space();
-        if (p_ == end_ || *p_ != c) return false;
-        ++p_;
-        return true;
-    }
-    bool next_is(char c) {
-        skip_space();
-        return p_ != end_ && *p_ == c;
-    }
-    /// A string of printable ASCII without escapes, its text without the quotes.
-    bool string(std::string_view& out) {
-        if (!take('"')) return false;
-        const char* const start = p_;
-        for (; p_ != end_; ++p_) {
-            const auto c = static_cast<unsigned char>(*p_);
-            if (c == '"') {
-                out = std::string_view(start, static_cast<std::size_t>(p_ - start));
-                ++p_;
-                return true;
-            }
-            if (c < 0x20 || c > 0x7E || c == '\\') return false;
-        }
-        return false;
-    }
-    bool at_end() {
-        skip_space();
-        return p_ == end_;
-    }
-
-private:
-    void skip_space() {
-        while (p_ != end_ && (*p_ == ' ' || *p_ == '\n' || *p_ == '\r' || *p_ == '\t')) ++p_;
-    }
-
-    const char* p_;
-    const char* const end_;
-};
 
 // One entry of "ids": {"id":"..."} or "...".
 bool plain_entry(PlainScanner& scan, QueryRequest& out) {
@@ -309,42 +267,15 @@ bool plain_entry(PlainScanner& scan, QueryRequest& out) {
     return true;
 }
 
-bool plain_ids(PlainScanner& scan, QueryRequest& out, std::size_t payload_size) {
-    if (!scan.take('[')) return false;
-    out.ids.reserve(payload_size / 11);  // as QueryRequestSax
-    if (scan.take(']')) return true;
-    do {
-        if (!plain_entry(scan, out)) return false;
-    } while (scan.take(','));
-    return scan.take(']');
-}
-
 }  // namespace
 
 std::optional<QueryRequest> plain_decode_query_request(std::string_view payload) {
-    PlainScanner scan(payload);
     QueryRequest out;
-    bool seen_at_id = false, seen_guid = false, seen_ids = false;
-    if (!scan.take('{') || scan.next_is('}')) return std::nullopt;
-    do {
-        std::string_view key, text;
-        if (!scan.string(key) || !scan.take(':')) return std::nullopt;
-        if (key == "@id" && !seen_at_id) {
-            if (!scan.string(text)) return std::nullopt;
-            out.msg_id = Json(std::string(text));
-            seen_at_id = true;
-        } else if (key == "guid" && !seen_guid) {
-            if (!scan.string(text)) return std::nullopt;
-            out.guid = std::string(text);
-            seen_guid = true;
-        } else if (key == "ids" && !seen_ids) {
-            if (!plain_ids(scan, out, payload.size())) return std::nullopt;
-            seen_ids = true;
-        } else {
-            return std::nullopt;
-        }
-    } while (scan.take(','));
-    if (!scan.take('}') || !scan.at_end() || !seen_ids) return std::nullopt;
+    const bool plain = plain_request(payload, "ids", out.msg_id, out.guid, [&](PlainScanner& scan) {
+        out.ids.reserve(payload.size() / 11);  // as QueryRequestSax
+        return plain_list(scan, [&](PlainScanner& entry) { return plain_entry(entry, out); });
+    });
+    if (!plain) return std::nullopt;
     return out;
 }
 

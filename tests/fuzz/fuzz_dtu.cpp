@@ -33,17 +33,18 @@ void exercise_all(std::string_view payload) {
     (exercise<T>(payload), ...);
 }
 
-// A Query request decodes by streaming when it can (the adapter's hot
-// path), else by the tree: from text it must always read as the tree reads
-// the same JSON, accepted or refused alike.
-void query_request_as_tree(std::string_view payload) {
+// A Query or Set request decodes by a scan or a stream when it can (the
+// adapter's hot path), else by the tree: from text it must always read as
+// the tree reads the same JSON, accepted or refused alike.
+template <class T>
+void request_as_tree(std::string_view payload) {
     std::size_t opened = 0;
     for (const char c : payload) opened += c == '[' || c == '{';
     if (opened > static_cast<std::size_t>(nclink::max_payload_depth)) return;  // the text path refuses deep nesting (412), the tree has no such limit
     const nclink::Json tree = nclink::Json::parse(payload.begin(), payload.end(), nullptr, false);
     if (tree.is_discarded() || !tree.is_object()) return;
-    const auto from_text = nclink::decode<nclink::QueryRequest>(payload);
-    const auto from_tree = nclink::decode<nclink::QueryRequest>(tree);
+    const auto from_text = nclink::decode<T>(payload);
+    const auto from_tree = nclink::decode<T>(tree);
     if (from_text.ok() != from_tree.ok()) std::abort();
     if (from_text.ok() && nclink::encode(*from_text) != nclink::encode(*from_tree)) std::abort();
     if (!from_text.ok() && from_text.error().code != from_tree.error().code) std::abort();
@@ -63,7 +64,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                  EventRegisterResponse, EventUnregisterRequest, EventUnregisterResponse, EventData, DevUnreachable>(
         input);
     (void)peek_message_id(input);
-    query_request_as_tree(input);
+    request_as_tree<QueryRequest>(input);
+    request_as_tree<SetRequest>(input);
 
     if (const auto topic = parse_topic(input)) {
         if (build_topic(*topic) != input) std::abort();  // parse and build are inverses
