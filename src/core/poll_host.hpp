@@ -9,11 +9,13 @@
 // - add() schedules the first poll at once; a poll returns the steady time
 //   of its next one (time_point::max(): only when woken).
 // - One pollable never runs on two threads at once; different pollables run
-//   in parallel on different threads. Whichever thread is free takes the
-//   earliest due pollable. One free thread waits for the next deadline; a
-//   pollable that comes due while that thread is still in a poll waits for
-//   it, at most kBackstop, then another thread takes it (so a stuck poll
-//   holds the others back by kBackstop, not for as long as it is stuck).
+//   in parallel on different threads. One free thread waits for the next
+//   deadline and serves what is due in deadline order; a pollable that is
+//   due while that thread is still in a poll waits for it, at most
+//   kBackstop, then another thread takes it (so a burst of due work is
+//   served by one thread while it keeps up, and a stuck poll holds the
+//   others back by kBackstop, not for as long as it is stuck). A pollable
+//   added or woken ahead of everything due goes to a free thread at once.
 // - wake() makes a pollable due now (also while it runs: it runs again right
 //   after). Thread-safe, cheap, never blocks on a running poll.
 // - remove() returns once the pollable is not running and never will again
