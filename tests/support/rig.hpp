@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -34,6 +35,7 @@ inline std::unique_ptr<Adapter> started_adapter(const AdapterConfig& config, std
 
 /// A started, connected client of application `ex`. `tweak` may adjust the
 /// options before the client is made (credentials, session, reconnect...).
+/// It waits `timeout` (at least 10 s) for the broker connection.
 inline std::unique_ptr<Client> started_client(const std::string& broker_url, const std::string& ex,
                                               std::chrono::milliseconds timeout = std::chrono::seconds(5),
                                               const std::function<void(MqttOptions&, ClientOptions&)>& tweak = {}) {
@@ -47,7 +49,7 @@ inline std::unique_ptr<Client> started_client(const std::string& broker_url, con
     REQUIRE(made.ok());
     auto client = std::move(made).value();
     REQUIRE(client->start().ok());
-    REQUIRE(client->wait_connected(std::chrono::seconds(10)));
+    REQUIRE(client->wait_connected(std::max<std::chrono::milliseconds>(std::chrono::seconds(10), timeout)));
     return client;
 }
 
