@@ -203,28 +203,10 @@ NCLINK_DEFINE_DECODE(DiscoveryRequest, false)
 NCLINK_DEFINE_DECODE(ProbeVersionRequest, false)
 NCLINK_DEFINE_DECODE(ProbeQueryRequest, true)  // an empty payload is a valid Probe/Query
 NCLINK_DEFINE_DECODE(ProbeSetRequest, false)
-// A Query decodes by streaming when it can (query_request_fast.hpp), else by
-// the tree, which gives every refusal its table-19 code and message.
-template <>
-Result<QueryRequest> decode<QueryRequest>(const Json& dtu) {
-    return protocol_detail::decode_json<QueryRequest>(dtu);
-}
-template <>
-Result<QueryRequest> decode<QueryRequest>(std::string_view payload) {
-    if (auto fast = protocol_detail::fast_decode_query_request(payload)) return std::move(*fast);
-    return protocol_detail::decode_payload<QueryRequest>(payload, false);
-}
-// A Set in its plain form is scanned (set_request_fast.hpp); any other goes
-// to the tree, which gives every refusal its table-19 code and message.
-template <>
-Result<SetRequest> decode<SetRequest>(const Json& dtu) {
-    return protocol_detail::decode_json<SetRequest>(dtu);
-}
-template <>
-Result<SetRequest> decode<SetRequest>(std::string_view payload) {
-    if (auto plain = protocol_detail::plain_decode_set_request(payload)) return std::move(*plain);
-    return protocol_detail::decode_payload<SetRequest>(payload, false);
-}
+// A Query decodes by streaming when it can (query_request_fast.hpp).
+NCLINK_DEFINE_DECODE_FAST(QueryRequest, protocol_detail::fast_decode_query_request)
+// A Set in its plain form is scanned (set_request_fast.hpp).
+NCLINK_DEFINE_DECODE_FAST(SetRequest, protocol_detail::plain_decode_set_request)
 NCLINK_DEFINE_DECODE(SampleRegisterRequest, false)
 NCLINK_DEFINE_DECODE(SampleUnregisterRequest, false)
 NCLINK_DEFINE_DECODE(MethodCall, false)

@@ -3,6 +3,7 @@
 // it answers for the requests applications really send; and what it leaves
 // to the tree still gets the tree's refusal through decode<QueryRequest>(text).
 #include "protocol/query_request_fast.hpp"
+#include "support/payload_damage.hpp"
 
 #include <nclink/dtu.hpp>
 
@@ -15,6 +16,7 @@
 #include <vector>
 
 using namespace nclink;
+using nclink::test::damage;
 using protocol_detail::fast_decode_query_request;
 
 namespace {
@@ -47,15 +49,6 @@ bool agrees(const std::string& payload) {
     return true;
 }
 
-// One byte somewhere dropped, doubled or replaced by one of `bytes`.
-void damage(std::string& payload, std::mt19937& random, std::string_view bytes) {
-    const auto at = static_cast<std::size_t>(random() % payload.size());
-    switch (random() % 3) {
-        case 0: payload.erase(at, 1); break;
-        case 1: payload.insert(at, 1, payload[at]); break;
-        default: payload[at] = bytes[random() % bytes.size()]; break;
-    }
-}
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 // requests applications really send; and what it leaves to the tree still
 // gets the tree's answer through decode<SetRequest>(text).
 #include "protocol/set_request_fast.hpp"
+#include "support/payload_damage.hpp"
 
 #include <nclink/dtu.hpp>
 
@@ -20,6 +21,7 @@
 #include <vector>
 
 using namespace nclink;
+using nclink::test::damage;
 using protocol_detail::plain_decode_set_request;
 
 namespace {
@@ -77,14 +79,6 @@ std::string set_of(const std::string& value) {
     return R"({"@id":"s1","guid":"dev","values":[{"id":"ovr","params":{"value":)" + value + "}}]}";
 }
 
-void damage(std::string& payload, std::mt19937& random, std::string_view bytes) {
-    const auto at = static_cast<std::size_t>(random() % payload.size());
-    switch (random() % 3) {
-        case 0: payload.erase(at, 1); break;
-        case 1: payload.insert(at, 1, payload[at]); break;
-        default: payload[at] = bytes[random() % bytes.size()]; break;
-    }
-}
 
 }  // namespace
 
