@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <future>
 #include <mutex>
 #include <random>
 #include <thread>
@@ -169,8 +170,18 @@ private:
         response.id = event_id;
         host_.logger.debug("event {} registered by {} on {}", event_id, topic.ex.value_or("(no terminal id)"),
                            spec->item);
+        // The activation is queued before the response goes out: a value
+        // pushed by anyone who has seen the response (notify_value from the
+        // application's side, a sample row) queues behind it and is
+        // evaluated, where queued the other way round it came before the
+        // activation and was not seen (a change lost). The events thread
+        // holds this registration's events until the response is published,
+        // so the application knows the event id first. A response that throws
+        // breaks the promise, which releases the wait too.
+        std::promise<void> responded;
+        inbox_->push_activation(event_id, std::move(current), read_at, registered_at, responded.get_future().share());
         host_.respond(topic, to_json(response));
-        inbox_->push_activation(event_id, std::move(current), read_at, registered_at);
+        responded.set_value();
     }
 
     // Thread: request worker.
@@ -267,6 +278,9 @@ private:
     }
 
     void process(ValueInbox::Item& item) {
+        // Not under engine_mutex_: the worker publishing the response takes
+        // no lock of this service between queueing and publishing.
+        if (item.activation && item.responded.valid()) item.responded.wait();
         std::vector<FiredEvent> fired;
         {
             std::lock_guard<std::mutex> lock(engine_mutex_);

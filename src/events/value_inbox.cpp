@@ -42,7 +42,7 @@ void ValueInbox::push_value(const std::string& id, const Json& value, std::int64
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (watched_.count(id) == 0 || !accept_locked()) return;
-        items_.push_back(Item{id, value, time_ms, false});
+        items_.push_back(Item{id, value, time_ms, false, {}, {}});
         ++values_;
     }
     wake_.notify_one();
@@ -57,7 +57,7 @@ void ValueInbox::push_row(const std::vector<std::string>& ids, const SampleValue
             if (watched_.count(ids[i]) == 0) continue;
             auto value = sample_value_to_json(values[i]);
             if (!value || !accept_locked()) continue;  // a missed read: nothing to evaluate
-            items_.push_back(Item{ids[i], std::move(value), time_ms, false});
+            items_.push_back(Item{ids[i], std::move(value), time_ms, false, {}, {}});
             ++values_;
             pushed = true;
         }
@@ -66,11 +66,11 @@ void ValueInbox::push_row(const std::vector<std::string>& ids, const SampleValue
 }
 
 void ValueInbox::push_activation(const std::string& event_id, std::optional<Json> whole, std::int64_t time_ms,
-                                 std::chrono::steady_clock::time_point at) {
+                                 std::chrono::steady_clock::time_point at, std::shared_future<void> responded) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (closed_) return;
-        items_.push_back(Item{event_id, std::move(whole), time_ms, true, at});
+        items_.push_back(Item{event_id, std::move(whole), time_ms, true, at, std::move(responded)});
     }
     wake_.notify_one();
 }

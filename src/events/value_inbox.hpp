@@ -14,6 +14,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -36,6 +37,9 @@ public:
         std::int64_t time_ms = 0;
         bool activation = false;
         std::chrono::steady_clock::time_point at{};  ///< activation: when the registration was made
+        /// activation: ready once the registration's response is published
+        /// (its events must not overtake it, 8.2.27.4).
+        std::shared_future<void> responded;
     };
     struct Work {
         std::vector<Item> items;
@@ -47,8 +51,11 @@ public:
     void set_watched(std::set<std::string> items);
     void push_value(const std::string& id, const Json& value, std::int64_t time_ms);
     void push_row(const std::vector<std::string>& ids, const SampleValue* values, std::int64_t time_ms);
+    /// Queued before the response goes out, so a value pushed by anyone who
+    /// has seen the response is evaluated after the activation; `responded`
+    /// becomes ready when the response is published.
     void push_activation(const std::string& event_id, std::optional<Json> whole, std::int64_t time_ms,
-                         std::chrono::steady_clock::time_point at);
+                         std::chrono::steady_clock::time_point at, std::shared_future<void> responded);
 
     /// Everything queued; waits for something (or close) when empty, at most
     /// `timeout` when given. Called by the one consumer.

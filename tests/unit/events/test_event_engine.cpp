@@ -194,7 +194,7 @@ TEST_CASE("value inbox: keeps only watched items and converts sample values") {
     const std::string warning = R"({"number":"7"})";
     const SampleValue values[] = {SampleValue::float64(1.5), SampleValue::int64(2), SampleValue::json(warning)};
     inbox.push_row(ids, values, 5);
-    inbox.push_activation("event_1", std::nullopt, 6, {});
+    inbox.push_activation("event_1", std::nullopt, 6, {}, {});
     auto work = inbox.wait(std::chrono::milliseconds(0));
     REQUIRE(work.items.size() == 3);
     CHECK(work.items[0].id == "a");
@@ -228,7 +228,7 @@ TEST_CASE("value inbox: bounded and closable") {
     ValueInbox inbox(2);
     inbox.set_watched({"a"});
     for (int i = 0; i < 5; ++i) inbox.push_value("a", i, i);
-    inbox.push_activation("event_1", Json(1), 0, {});  // never dropped
+    inbox.push_activation("event_1", Json(1), 0, {}, {});  // never dropped
     CHECK(inbox.dropped() == 3);
     CHECK(inbox.wait(std::chrono::milliseconds(0)).items.size() == 3);
     CHECK(inbox.wait(std::chrono::milliseconds(1)).items.empty());

@@ -9,6 +9,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <functional>
+#include <future>
+#include <thread>
+
 using namespace nclink;
 using namespace nclink::detail;
 using nclink::test::eventually;
@@ -48,6 +52,7 @@ struct ServiceRig {
             dev, logger, clock, transport, runner, model, tap, guard,
             [this](const ParsedTopic& topic, const Json& reply) {
                 (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
+                if (after_respond) after_respond(reply);
             },
             [this] { return "m" + std::to_string(++ids); },
             config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
@@ -81,6 +86,9 @@ struct ServiceRig {
     std::unique_ptr<FeatureHost> host;
     std::unique_ptr<Feature> service;
     int ids = 0;
+    /// Runs on the responding thread right after each response is published:
+    /// what an application that acts on the response at once does first.
+    std::function<void(const Json&)> after_respond;
 };
 
 }  // namespace
@@ -161,4 +169,42 @@ TEST_CASE("events service: a driver push is evaluated without waiting for a poll
     CHECK(rig.events()[0]["event"] == Json{{"id", "params"}, {"key", "name"}, {"oldValue", "fast"}, {"value", "slow"}});
     CHECK(rig.events()[0]["time"] == rig.clock->wall_ms());
     CHECK(rig.polls() == 0);
+}
+
+TEST_CASE("events service: a value pushed as soon as the registration is answered is evaluated") {
+    // The application has the response, so the event is in force: a change
+    // it then causes (or a push that follows) must fire. Queued before the
+    // activation it was not seen by the event (the activation came after it
+    // with the value read at registration): a lost change.
+    ServiceRig rig;
+    rig.after_respond = [&](const Json& reply) {
+        if (reply.value("code", "") == "OK") rig.service->on_value("status", "free");
+    };
+    const auto id = rig.register_event({{"@id", "1"}, {"id", "status"}, {"triggerType", "always"}});
+    REQUIRE(eventually([&] { return rig.events().size() == 1; }));
+    CHECK(rig.events()[0]["id"] == id);
+    CHECK(rig.events()[0]["event"] == Json{{"id", "status"}, {"oldValue", "running"}, {"value", "free"}});
+}
+
+TEST_CASE("events service: an event firing at registration waits for the response") {
+    // 8.2.27.4: an event that already matches fires at once, but after the
+    // response, or the application gets an event id it has not been given.
+    ServiceRig rig;
+    std::promise<void> release;
+    rig.after_respond = [&](const Json&) { release.get_future().wait(); };
+    const auto topic = parse_topic(topics::event_register_request(rig.dev, "app"));
+    std::thread worker([&] {
+        rig.service->handle(*topic, Json{{"@id", "1"}, {"id", "ovr"}, {"filters", {{{"type", "greater"}, {"value", 50}}}},
+                                         {"triggerType", "always"}}
+                                        .dump());
+    });
+    // The response is out and the responder not yet back: no event may
+    // have been published in the meantime.
+    REQUIRE(eventually([&] { return !rig.transport.on(topics::event_register_request(rig.dev, "app")).empty(); }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK(rig.events().empty());
+    release.set_value();
+    worker.join();
+    REQUIRE(eventually([&] { return rig.events().size() == 1; }));
+    CHECK(rig.events()[0]["event"] == Json{{"id", "ovr"}, {"value", 100}});
 }
