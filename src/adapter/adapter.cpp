@@ -232,7 +232,8 @@ Result<void> Adapter::Impl::make_features() {
         [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
         [this] { return next_msg_id(); },
         config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout,
-        shared_threads ? &shared_threads->impl().timers : nullptr});
+        shared_threads ? &shared_threads->impl().timers : nullptr,
+        shared_threads ? shared_threads->impl().next_sampling_phase() : 0.0});
     // (factories: features.push_back(detail::make_..._service(*feature_host));)
     features.push_back(detail::make_sampling_service(*feature_host));
     features.push_back(detail::make_methods_service(*feature_host));

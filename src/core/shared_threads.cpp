@@ -28,6 +28,14 @@ SharedThreads::~SharedThreads() {
     impl_->drivers.stop();
 }
 
+double SharedThreads::Impl::next_sampling_phase() {
+    std::uint32_t n = phases_given.fetch_add(1, std::memory_order_relaxed) % kSamplingPhases;
+    double phase = 0, bit = 0.5;
+    for (; n != 0; n >>= 1, bit /= 2)
+        if (n & 1u) phase += bit;
+    return phase;
+}
+
 std::size_t SharedThreads::timer_threads() const { return impl_->timers.threads(); }
 std::size_t SharedThreads::request_threads() const { return impl_->request_threads; }
 std::size_t SharedThreads::driver_threads() const { return impl_->drivers.threads(); }

@@ -9,6 +9,8 @@
 
 #include <nclink/shared_threads.hpp>
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 
@@ -30,6 +32,20 @@ struct NCLINK_LOCAL SharedThreads::Impl {
     bool multiplexed_mqtt = false;
     std::mutex mqtt_loop_mutex;
     std::shared_ptr<detail::MqttLoop> mqtt_loop;
+
+    /// Where in its channels' interval grid the next adapter samples, a
+    /// fraction in [0, 1): 0, 1/2, 1/4, 3/4, 1/8, ... (the base-2 van der
+    /// Corput sequence), so any number of adapters started one after another
+    /// spread evenly over the period. On one grid, every machine's 100 ms
+    /// channel came due at the same instant and a gateway of 1,000 machines
+    /// did all its sampling in one burst per tick, which every Query
+    /// arriving then waited behind.
+    /// Only kSamplingPhases places (a power of two): adapters in one place
+    /// still share a wake-up, where a place each cost a wake-up per machine
+    /// per tick (bench_fleet, 1,000 machines: 41-43 % CPU against 28-30 %).
+    double next_sampling_phase();
+    static constexpr std::uint32_t kSamplingPhases = 64;
+    std::atomic<std::uint32_t> phases_given{0};
 };
 
 }  // namespace nclink

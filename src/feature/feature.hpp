@@ -63,6 +63,9 @@ struct FeatureHost {
     /// Gateway mode: shared timer threads for periodic work (the sampling
     /// scheduler and uploader); null: each feature runs its own threads.
     PollHost* timers = nullptr;
+    /// Gateway mode: where in its interval's grid this adapter's sampling
+    /// ticks fall, a fraction in [0, 1) (EngineDeps::phase); 0 on its own.
+    double sampling_phase = 0;
 };
 
 /// The losses a feature counts, by cause (the "drops" of the statistics,

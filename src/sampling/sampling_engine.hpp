@@ -80,6 +80,12 @@ struct EngineDeps {
     /// time); `sleeper` is then unused and the real-time options are not
     /// applied (logged).
     PollHost* timers = nullptr;
+    /// Where the channels' timelines sit in their interval's grid, a fraction
+    /// in [0, 1): 0 puts the first tick on a multiple of the interval of the
+    /// monotonic clock, 0.5 half an interval later. The channels of one
+    /// engine keep one phase (they still share wake-ups); a gateway gives
+    /// its adapters different ones so they do not all sample at once.
+    double phase = 0;
 };
 
 class Scheduler;

@@ -32,6 +32,7 @@ SamplingService::SamplingService(FeatureHost& host) : host_(host) {
     deps.sleeper = sleeper_for(host_.clock);
     // Shared timer threads wait on real time: only for a real clock.
     if (dynamic_cast<const SystemClock*>(host_.clock.get()) != nullptr) deps.timers = host_.timers;
+    deps.phase = host_.sampling_phase;
     deps.logger = host_.logger;
     deps.config = host_.sampling;
     deps.dev = host_.dev;

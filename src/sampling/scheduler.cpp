@@ -51,9 +51,13 @@ void Scheduler::refresh(Clock::Steady now) {
         // together and share one wake-up, where start-up order would spread
         // their phases over the period (a wake-up per channel per tick). The
         // grid of intervals over a second is the second: their wake-ups are
-        // rare anyway, and the first row should not wait minutes.
+        // rare anyway, and the first row should not wait minutes. The grid is
+        // shifted by the engine's phase (EngineDeps::phase: other adapters of
+        // a gateway sit elsewhere in the period).
         const std::int64_t grid = std::min<std::int64_t>(core->sample_interval_ns(), 1'000'000'000);
-        const std::int64_t since = std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count();
+        const auto shift = static_cast<std::int64_t>(shared_.deps.phase * static_cast<double>(grid));
+        const std::int64_t since =
+            std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count() - shift;
         const std::int64_t phase = ((since % grid) + grid) % grid;
         const std::int64_t delay = phase == 0 ? 0 : grid - phase;
         lane.t0 = now + std::chrono::nanoseconds(delay);

@@ -245,6 +245,20 @@ TEST_CASE("gateway: machines share the timer, request and driver threads, and ea
             if (auto d = decode<SampleDtu>(m.payload)) seen.insert(d->guid);
         return seen.size() == kMachines;
     }, 30s));
+    // Not all at the same instant: each machine's rows sit at its own place
+    // in the 10 ms interval (SharedThreads gives out phases 0, 1/2, 1/4, ...).
+    // On one grid every beginTime would share its residue modulo 10 ms, give
+    // or take the millisecond the wall clock is truncated to.
+    {
+        std::map<std::string, std::int64_t> residue;
+        std::lock_guard<std::mutex> lock(inbox.mutex);
+        for (const auto& m : inbox.messages)
+            if (auto d = decode<SampleDtu>(m.payload)) residue.emplace(d->guid, d->begin_time % 10);
+        std::set<std::int64_t> places;
+        for (const auto& [guid, r] : residue) places.insert(r);
+        INFO("residues of beginTime modulo the 10 ms interval: " << places.size());
+        CHECK(places.size() >= 5);
+    }
     // Requests and driver calls of every machine on the shared workers.
     auto client = started_client(broker.url(), "gw-app-shared", 10s);
     for (int i = 0; i < kMachines; ++i) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));

@@ -55,7 +55,8 @@ struct EngineFixture {
     /// `model`/`values`: the snapshot whose chapter-7 rules sampled values are checked against.
     explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false,
                            std::shared_ptr<Driver> other_driver = nullptr,
-                           std::shared_ptr<const detail::ModelState> model = nullptr, detail::ValueGuard* values = nullptr) {
+                           std::shared_ptr<const detail::ModelState> model = nullptr, detail::ValueGuard* values = nullptr,
+                           double phase = 0) {
         driver = std::make_shared<CountingDriver>();
         runner = std::make_unique<detail::DriverRunner>(other_driver ? other_driver : std::shared_ptr<Driver>(driver),
                                                         detail::DriverRunner::Options{}, Logger{});
@@ -74,6 +75,7 @@ struct EngineFixture {
         deps.tap = &tap;
         if (model) deps.model = [model] { return model; };
         deps.values = values;
+        deps.phase = phase;
         engine = std::make_unique<detail::SamplingEngine>(std::move(deps));
     }
     ~EngineFixture() {

@@ -3,6 +3,9 @@
 #include "engine_fixture.hpp"
 
 #include "core/poll_host.hpp"
+#include "core/shared_threads_impl.hpp"
+
+#include <set>
 
 #include <dirent.h>
 
@@ -118,4 +121,22 @@ TEST_CASE("a channel added to a running hosted engine is sampled at once, a remo
     // what was sampled.
     REQUIRE(eventually([&] { return !e.column("late").empty(); }));
     REQUIRE(eventually([&] { return e.engine->stats().empty(); }));
+}
+
+TEST_CASE("shared threads give the adapters sampling phases spread evenly over the period") {
+    SharedThreads threads(SharedThreadsOptions{1, 1, 1, 1000, false});
+    auto& impl = threads.impl();
+    // 0, 1/2, 1/4, 3/4, 1/8, 5/8, 3/8, 7/8: the first n adapters are as far
+    // apart as n places allow, however many are started.
+    const std::vector<double> first{0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875};
+    for (double expected : first) CHECK(impl.next_sampling_phase() == expected);
+    std::set<double> places(first.begin(), first.end());
+    for (std::uint32_t i = first.size(); i < SharedThreads::Impl::kSamplingPhases; ++i) {
+        const double phase = impl.next_sampling_phase();
+        CHECK(phase >= 0);
+        CHECK(phase < 1);
+        places.insert(phase);
+    }
+    CHECK(places.size() == SharedThreads::Impl::kSamplingPhases);  // every place once
+    CHECK(impl.next_sampling_phase() == 0);   // then round again
 }

@@ -141,6 +141,25 @@ TEST_CASE("a channel started off its interval's grid waits for the grid, so chan
     CHECK(f.dtus("Sample/dev1/a").at(0).at("beginTime") == "1700000000010");
 }
 
+TEST_CASE("an engine's phase shifts its channels' grid by that fraction of the interval") {
+    // Gateway mode gives each adapter its own phase (EngineDeps::phase), so
+    // the machines of one process do not all sample at the same instant.
+    EngineFixture f({}, false, nullptr, nullptr, nullptr, 0.25);
+    f.clock->advance(3ms);
+    REQUIRE(f.engine->add_channel(EngineFixture::spec("a", {"a"}, 10, 100)).ok());
+    f.engine->run_sampling_once();
+    f.clock->advance(9ms);  // t = 12 ms: the unshifted grid point (10 ms) has passed
+    f.engine->run_sampling_once();
+    CHECK(f.stats("a").rows_sampled == 0);
+    f.clock->advance(500us);  // t = 12.5 ms = 10 ms + 0.25 x 10 ms
+    f.engine->run_sampling_once();
+    CHECK(f.stats("a").rows_sampled == 1);
+    CHECK(f.stats("a").lateness[0] == 1);  // on time
+    f.clock->advance(10ms);  // t = 22.5 ms: the next tick, one interval on
+    f.engine->run_sampling_once();
+    CHECK(f.stats("a").rows_sampled == 2);
+}
+
 TEST_CASE("a long-interval channel starts on the next whole second, not a whole interval later") {
     EngineFixture f;
     f.clock->advance(3ms);
