@@ -339,27 +339,49 @@ TEST_CASE("bridge shows other applications' method runs and events on the stream
         const auto end = text.rfind("\n\n");
         return end == std::string::npos ? std::string() : text.substr(0, end + 2);
     };
-    auto has_all = [&](const std::string& partial) {
-        const std::string text = complete(partial);
-        return text.find("event: method\ndata: ") != std::string::npos &&
-               text.find("\"result\":\"finished\"") != std::string::npos &&
-               text.find("event: event\ndata: ") != std::string::npos;
-    };
+    // What the reader has found so far. Each chunk is searched from where
+    // the last complete event ended, not the whole stream again: a reader
+    // that rescanned megabytes of values per chunk fell behind the bridge
+    // under TSan, and a stream that falls out of the buffer restarts with a
+    // snapshot instead of the live events this test is about.
+    std::size_t scanned = 0;
+    bool seen[3] = {false, false, false};  // a method run, its result "finished", an event
+    bool found_all = false;
     std::thread reader([&] {
         httplib::Client sse("127.0.0.1", rig.the_bridge->http_port());
         sse.set_read_timeout(5, 0);
-        const auto deadline = std::chrono::steady_clock::now() + 30s;
+        const auto deadline = std::chrono::steady_clock::now() + 60s;
         (void)sse.Get(("/nclink/v1/stream?dev=" + kDev).c_str(), [&](const char* data, size_t length) {
             std::lock_guard<std::mutex> lock(mutex);
             received.append(data, length);
-            return !done && !has_all(received) && std::chrono::steady_clock::now() < deadline;
+            if (const auto end = received.rfind("\n\n"); end != std::string::npos && end + 2 > scanned) {
+                static const char* const wanted[] = {"event: method\ndata: ", "\"result\":\"finished\"", "event: event\ndata: "};
+                const std::string_view fresh(received.data() + scanned, end + 2 - scanned);
+                for (int i = 0; i < 3; ++i) seen[i] = seen[i] || fresh.find(wanted[i]) != std::string_view::npos;
+                scanned = end + 2;
+                found_all = seen[0] && seen[1] && seen[2];
+            }
+            return !done && !found_all && std::chrono::steady_clock::now() < deadline;
         });
     });
+    // Joined however the test ends: a failed REQUIRE with the reader still
+    // running would otherwise terminate the process.
+    struct JoinReader {
+        std::atomic<bool>& done;
+        std::thread& reader;
+        ~JoinReader() {
+            done = true;
+            if (reader.joinable()) reader.join();
+        }
+    } join_reader{done, reader};
     auto read_so_far = [&] {
         std::lock_guard<std::mutex> lock(mutex);
         return received;
     };
-    REQUIRE(eventually([&] { return read_so_far().find("event: snapshot") != std::string::npos; }, 10s));
+    REQUIRE(eventually([&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return received.find("event: snapshot") != std::string::npos;
+    }, 10s));
 
     // Another application calls methods (one refused) and registers an event that then fires.
     auto op = rig.make_client("operator");
@@ -380,7 +402,10 @@ TEST_CASE("bridge shows other applications' method runs and events on the stream
     REQUIRE(eventually([&] { return fired.load() >= 1; }, 10s));
 
     // The stream: event: method with the caller, the call's @id, its result; event: event.
-    REQUIRE(eventually([&] { return has_all(read_so_far()); }, 20s));
+    REQUIRE(eventually([&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return found_all;
+    }, 30s));
     done = true;
     reader.join();
     const std::string stream = complete(read_so_far());

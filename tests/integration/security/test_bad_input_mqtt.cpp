@@ -192,9 +192,13 @@ TEST_CASE("the agent survives junk on its topics and keeps answering") {
     // Still answering: a discovery from a well-behaved application. The
     // test's agent and client share paho's one receive thread, where the
     // agent still works through the junk: 0.2 s here, 11 s under TSan. The
-    // point is that it answers, so connect and ask with a minute to spare.
+    // point is that it answers, so connect and ask with a minute to spare
+    // (the answer waits behind the same junk: a minute for it too).
     auto client = started_client(broker.url(), "good-app", 60s);
-    auto listed = client->discover();
+    RequestOptions patient;
+    patient.timeout = 60s;
+    auto listed = client->discover(patient);
+    INFO((listed ? std::string("listed") : listed.error().describe()));
     CHECK(listed.ok());
     client->stop();
     junk->stop();
