@@ -1,30 +1,14 @@
 #include "adapter/adapter_reload.hpp"
 
+#include "transport/broker_settings.hpp"
+
 namespace nclink::detail {
-namespace {
-
-bool same_tls(const std::optional<MqttTlsOptions>& a, const std::optional<MqttTlsOptions>& b) {
-    if (a.has_value() != b.has_value()) return false;
-    if (!a) return true;
-    return a->ca_file == b->ca_file && a->cert_file == b->cert_file && a->key_file == b->key_file &&
-           a->key_password == b->key_password && a->verify_server == b->verify_server;
-}
-
-}  // namespace
 
 std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const AdapterConfig& b) {
-    std::vector<std::string> out;
+    std::vector<std::string> out = broker_reload_keys(BrokerSettings::of(a), BrokerSettings::of(b));
     auto key = [&](bool same, const char* name) {
         if (!same) out.emplace_back(name);
     };
-    key(a.broker_url == b.broker_url, "broker.url");
-    key(a.client_id == b.client_id, "broker.client_id");
-    key(a.username == b.username, "broker.username");
-    key(a.password == b.password, "broker.password");
-    key(same_tls(a.tls, b.tls), "broker.tls");
-    key(a.mqtt_version == b.mqtt_version, "broker.mqtt_version");
-    key(a.keep_alive == b.keep_alive, "broker.keep_alive_s");
-    key(a.clean_session == b.clean_session, "broker.clean_session");
     key(a.model_path == b.model_path, "model");
     key(a.device_id == b.device_id, "device");
     key(a.dev_uuid == b.dev_uuid, "dev_uuid");

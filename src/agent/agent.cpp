@@ -3,6 +3,8 @@
 // (agent_impl.hpp lists them).
 #include "agent/agent_impl.hpp"
 
+#include "transport/broker_settings.hpp"
+
 #include <random>
 
 namespace nclink {
@@ -13,13 +15,6 @@ namespace {
 std::string random_suffix() {
     std::random_device device;
     return fmt::format("{:08x}", static_cast<std::uint32_t>(device()));
-}
-
-bool same_tls(const std::optional<MqttTlsOptions>& a, const std::optional<MqttTlsOptions>& b) {
-    if (a.has_value() != b.has_value()) return false;
-    if (!a) return true;
-    return a->ca_file == b->ca_file && a->cert_file == b->cert_file && a->key_file == b->key_file &&
-           a->key_password == b->key_password && a->verify_server == b->verify_server;
 }
 
 bool same_registration(const RegistrationPolicy& a, const RegistrationPolicy& b) {
@@ -110,13 +105,9 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     auto reloadable = [&](bool same, const char* key) {
         if (!same) report.applied.push_back(key);
     };
-    restart_only(config.broker_url == next.broker_url, "broker.url");
-    restart_only(config.client_id == next.client_id, "broker.client_id");
-    restart_only(config.username == next.username, "broker.username");
-    restart_only(config.password == next.password, "broker.password");
-    restart_only(config.mqtt_version == next.mqtt_version, "broker.mqtt_version");
-    restart_only(config.keep_alive == next.keep_alive, "broker.keep_alive_s");
-    restart_only(same_tls(config.tls, next.tls), "broker.tls");
+    for (const std::string& key :
+         detail::broker_reload_keys(detail::BrokerSettings::of(config), detail::BrokerSettings::of(next)))
+        restart_only(false, key.c_str());
     restart_only(config.agent_id == next.agent_id, "agent_id");
     restart_only(config.share_group == next.share_group, "share_group");
     restart_only(config.state_dir == next.state_dir, "state_dir");
@@ -154,13 +145,8 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
 
 MqttOptions Agent::Impl::mqtt_options() const {
     MqttOptions o;
-    o.broker_url = config.broker_url;
-    o.client_id = config.client_id.empty() ? config.agent_id + "-" + random_suffix() : config.client_id;
-    o.username = config.username;
-    o.password = config.password;
-    o.tls = config.tls;
-    o.mqtt_version = config.mqtt_version;
-    o.keep_alive = config.keep_alive;
+    detail::BrokerSettings::of(config).apply_to(o);
+    if (o.client_id.empty()) o.client_id = config.agent_id + "-" + random_suffix();
     return o;
 }
 

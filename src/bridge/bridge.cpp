@@ -9,6 +9,7 @@
 #include "bridge/shdr.hpp"
 #include "http/http_metrics.hpp"
 #include "http/http_server.hpp"
+#include "transport/broker_settings.hpp"
 
 #include <nclink/client.hpp>
 
@@ -43,13 +44,8 @@ Result<void> Bridge::start() {
     Impl& b = *impl_;
     const BridgeConfig& c = b.config;
     MqttOptions mqtt;
-    mqtt.broker_url = c.broker_url;
-    mqtt.client_id = c.client_id.empty() ? c.ex_cid : c.client_id;
-    mqtt.username = c.username;
-    mqtt.password = c.password;
-    mqtt.mqtt_version = c.mqtt_version;
-    mqtt.keep_alive = c.keep_alive;
-    mqtt.tls = c.tls;
+    nclink::detail::BrokerSettings::of(c).apply_to(mqtt);
+    if (mqtt.client_id.empty()) mqtt.client_id = c.ex_cid;
     ClientOptions options;
     options.ex_cid = c.ex_cid;
     options.default_timeout = c.request_timeout;
@@ -121,17 +117,6 @@ void Bridge::stop() {
     if (b.client) b.client->stop();
 }
 
-namespace {
-
-bool same_tls(const std::optional<MqttTlsOptions>& a, const std::optional<MqttTlsOptions>& b) {
-    if (a.has_value() != b.has_value()) return false;
-    if (!a) return true;
-    return a->ca_file == b->ca_file && a->cert_file == b->cert_file && a->key_file == b->key_file &&
-           a->key_password == b->key_password && a->verify_server == b->verify_server;
-}
-
-}  // namespace
-
 ConfigReload Bridge::reload(const BridgeConfig& next) {
     Impl& b = *impl_;
     const BridgeConfig& c = b.config;
@@ -139,13 +124,8 @@ ConfigReload Bridge::reload(const BridgeConfig& next) {
     auto restart = [&](bool same, const char* key) {
         if (!same) report.restart_needed.emplace_back(key);
     };
-    restart(c.broker_url == next.broker_url, "broker.url");
-    restart(c.client_id == next.client_id, "broker.client_id");
-    restart(c.username == next.username, "broker.username");
-    restart(c.password == next.password, "broker.password");
-    restart(c.mqtt_version == next.mqtt_version, "broker.mqtt_version");
-    restart(c.keep_alive == next.keep_alive, "broker.keep_alive_s");
-    restart(same_tls(c.tls, next.tls), "broker.tls");
+    report.restart_needed =
+        nclink::detail::broker_reload_keys(nclink::detail::BrokerSettings::of(c), nclink::detail::BrokerSettings::of(next));
     restart(c.ex_cid == next.ex_cid, "ex_cid");
     // A device more or less changes the MTConnect probe document, which an
     // instanceId promises to keep (MTConnect part 1 5.1.1): a restart.
