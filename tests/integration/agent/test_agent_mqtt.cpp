@@ -10,7 +10,7 @@
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
-#include "unit/adapter/adapter_fixture.hpp"  // FakeDriver, scratch_dir, test_model_path
+#include "support/adapter_fixture.hpp"  // FakeDriver, scratch_dir, test_model_path
 
 #include <catch2/catch.hpp>
 

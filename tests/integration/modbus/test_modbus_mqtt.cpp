@@ -6,7 +6,7 @@
 #include "modbus/modbus_driver.hpp"
 #include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
-#include "../../unit/modbus/test_plc.hpp"
+#include "support/test_plc.hpp"
 
 #include <fstream>
 

@@ -3,7 +3,7 @@
 // does not serve answered without a call, link() gating the driver, and a
 // driver's error code and reason reaching the wire unchanged (docs/wire.md,
 // "Vendor errors"), from a C++ driver and from a C plugin.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <algorithm>
 #include <fstream>

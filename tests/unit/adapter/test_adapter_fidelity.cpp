@@ -1,6 +1,6 @@
 // Chapter 7 at the SDK boundary and the request/response forms of 8.2 and
 // appendix A, through the wire.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <fstream>
 #include <sstream>

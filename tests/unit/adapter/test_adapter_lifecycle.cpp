@@ -1,6 +1,6 @@
 // Adapter lifecycle: model refusal, Probe/Query and Probe/Set, persistence,
 // registration, the state machine on link changes, clean stop.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 #include "support/heap_cycle.hpp"
 
 #include <nclink/model.hpp>

@@ -1,6 +1,6 @@
 // What an adapter says when it cannot start, and what it does not say: each
 // message a newcomer meets on the first day, shown here verbatim.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/run_adapter.hpp>

@@ -1,4 +1,4 @@
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include "adapter/adapter_metrics.hpp"
 #include "support/prometheus_check.hpp"

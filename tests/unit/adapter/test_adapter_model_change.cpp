@@ -2,7 +2,7 @@
 // Adapter::patch_model): validated first, swapped, announced (8.2.5.3),
 // registrations that no longer resolve answered 401; and which model a
 // restart serves when a persisted one meets a newer shipped one.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <nclink/model_version.hpp>
 

@@ -1,6 +1,9 @@
 // The adapter through the wire (loopback): Query, Set, Probe, error answers,
 // the docs/wire.md rules (mirror topics, @id echo, retained and repeated requests).
-#include "adapter_fixture.hpp"
+// Compiled again, through a real mosquitto, into the adapter's integration
+// tests (tests/integration/adapter/CMakeLists.txt): every data type and
+// operation, every error code they reach, mirror topics with and without ex.
+#include "support/adapter_fixture.hpp"
 
 using namespace nclink;
 using namespace nclink::test;

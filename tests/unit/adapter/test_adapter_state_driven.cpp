@@ -2,7 +2,7 @@
 // follows the row of (state, event). A scripted transport lets the test take
 // the link down and refuse publishes while requests still arrive, which a
 // real broker cannot arrange.
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <deque>
 #include <fstream>

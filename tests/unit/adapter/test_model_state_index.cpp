@@ -3,7 +3,7 @@
 // three lookups it replaces, before and after the binding is indexed.
 #include "adapter/model_host.hpp"
 #include "driver/driver_runner.hpp"
-#include "unit/adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -3,7 +3,7 @@
 // max_request_bytes are answered 404 unread, and the adapter serves again
 // once the backlog is gone.
 #include "adapter/request_gate.hpp"
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -9,7 +9,7 @@
 #include <nclink/topics.hpp>
 
 #include "support/wait.hpp"
-#include "unit/adapter/adapter_fixture.hpp"  // AppSide, FakeDriver, scratch_dir
+#include "support/adapter_fixture.hpp"  // AppSide, FakeDriver, scratch_dir
 
 #include <catch2/catch.hpp>
 

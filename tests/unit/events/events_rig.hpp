@@ -4,7 +4,7 @@
 // when NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO is defined (adapter_fixture.hpp).
 #pragma once
 
-#include "unit/adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <nclink/topics.hpp>
 

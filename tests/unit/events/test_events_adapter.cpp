@@ -1,7 +1,10 @@
-// The events feature of an Adapter, through the wire (loopback). The tests
-// about the wire itself run again through mosquitto
-// (tests/integration/events/test_events_adapter_mqtt.cpp); the others have
-// their mosquitto counterpart on the simulated machine
+// The events feature of an Adapter, through the wire (loopback). This file is
+// compiled again, through mosquitto, into the events integration tests
+// (tests/integration/events/CMakeLists.txt): both response spellings,
+// response-before-event order, every filter type and variance, every
+// Register/Event error code, malformed requests, Event/{dev} without a
+// terminal id. Triggers, elements, 416, release on offline and lease expiry
+// have their mosquitto counterpart on the simulated machine
 // (tests/integration/events/test_events_sim_mqtt.cpp).
 #include "events_rig.hpp"
 

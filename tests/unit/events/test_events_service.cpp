@@ -5,7 +5,7 @@
 #include "events/events_service.hpp"
 
 #include "support/recording_transport.hpp"
-#include "unit/adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -3,7 +3,7 @@
 // DTUs on topics.
 #pragma once
 
-#include "../adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <condition_variable>
 #include <stdexcept>

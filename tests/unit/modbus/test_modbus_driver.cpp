@@ -5,7 +5,7 @@
 
 #include "modbus/modbus_driver.hpp"
 #include "support/mosquitto_broker.hpp"
-#include "test_plc.hpp"
+#include "support/test_plc.hpp"
 
 using namespace nclink;
 using namespace nclink::modbus;

@@ -2,7 +2,7 @@
 // broker: Register/Sample and Unregister/Sample requests on the wire, the
 // answers of table 19, data on Sample/{dev}/{ex}/{channel}, release of a
 // gone application's channels.
-#include "unit/adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
 

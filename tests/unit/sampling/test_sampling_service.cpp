@@ -1,7 +1,7 @@
 // The "sampling" adapter service over the in-process loopback: the model's
 // channels run and publish, a Probe/Set restarts them, the statistics item
 // answers a Query, push mode through the Adapter, sampling.enabled.
-#include "unit/adapter/adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <fstream>
 #include <sstream>
