@@ -13,6 +13,7 @@
 #                                (with DEFINES_FOR_ALSO_COMPILED)
 #     [DEFINES_FOR_ALSO_COMPILED def...]
 #     [DEFINES def...]           compile definitions of the whole binary
+#     [INCLUDES dir...]          include directories of the whole binary
 #     [NAME exe] [PREFIX text] [LABELS label...] [TIMEOUT seconds])
 #
 # Defaults follow the folder: tests/unit/<m>/ -> test_<m>, each TEST_CASE a
@@ -20,7 +21,7 @@
 # "<m> (integration): <name>" labelled "integration;<m>"; timeout 300 s.
 function(nclink_test_folder)
   cmake_parse_arguments(T "" "NAME;PREFIX;TIMEOUT"
-                        "NEEDS;LINKS;RUNS;RUNS_IF_BUILT;ALSO_COMPILES;DEFINES_FOR_ALSO_COMPILED;DEFINES;LABELS" ${ARGN})
+                        "NEEDS;LINKS;RUNS;RUNS_IF_BUILT;ALSO_COMPILES;DEFINES_FOR_ALSO_COMPILED;DEFINES;INCLUDES;LABELS" ${ARGN})
   if(T_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "${CMAKE_CURRENT_SOURCE_DIR}: nclink_test_folder: unknown arguments ${T_UNPARSED_ARGUMENTS}")
   endif()
@@ -74,6 +75,9 @@ function(nclink_test_folder)
   endif()
   if(T_DEFINES)
     target_compile_definitions(${_exe} PRIVATE ${T_DEFINES})
+  endif()
+  if(T_INCLUDES)
+    target_include_directories(${_exe} PRIVATE ${T_INCLUDES})
   endif()
   target_link_libraries(${_exe} PRIVATE ${T_LINKS} nclink_catch_main nclink_test_support)
   foreach(_target IN LISTS T_RUNS)

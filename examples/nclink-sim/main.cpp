@@ -14,6 +14,7 @@
 //   nclink-sim --machines N [...]    N simulated machines in one gateway process
 //   nclink-sim --gateway FILE [...]  the machines a gateway file lists (SIGHUP re-reads it)
 #include "http/metrics_endpoint.hpp"
+#include "program.hpp"
 
 #include <nclink/adapter.hpp>
 #include <nclink/adapter_metrics.hpp>
@@ -22,16 +23,18 @@
 #include "sim/sim_driver.hpp"
 
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace {
+
+using nclink::program::kExitCannotRun;
+using nclink::program::kExitUsage;
+constexpr const char* kProgram = "nclink-sim";
 
 const char* kUsage = R"(usage: nclink-sim [options]
   --broker URL        MQTT broker (default tcp://127.0.0.1:1883)
@@ -68,20 +71,21 @@ struct Options {
 
 [[noreturn]] void usage_error(const std::string& message) {
     std::fprintf(stderr, "nclink-sim: %s\n%s\n", message.c_str(), kUsage);
-    std::exit(2);
+    std::exit(kExitUsage);
 }
 
 Options parse(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
+    for (nclink::program::Arguments args(argc, argv); args.next();) {
+        const std::string arg = args.current();
         auto value = [&]() -> std::string {
-            if (i + 1 >= argc) usage_error(arg + " needs a value");
-            return argv[++i];
+            std::string text;
+            if (!args.value(text)) usage_error(arg + " needs a value");
+            return text;
         };
-        if (arg == "--help" || arg == "-h") {
+        if (args.help()) {
             std::printf("%s\n", kUsage);
-            std::exit(0);
+            std::exit(nclink::program::kExitOk);
         } else if (arg == "--broker") {
             o.broker = value(), o.broker_given = true;
         } else if (arg == "--model") {
@@ -155,17 +159,13 @@ nclink::Result<nclink::GatewayConfig> gateway_machines(const Options& o, const n
 }
 
 nclink::Result<nclink::AdapterConfig> effective_config(const Options& o);
-std::string joined(const std::vector<std::string>& keys);
 
 // SIGHUP in gateway mode: the gateway file (or --config, for --machines) is
 // read again and Gateway::reload() serves what it now says; a file with a
 // problem is refused and every machine keeps running as it was.
 void reload_gateway(const Options& o, nclink::Gateway& gw, const nclink::Logger& logger) {
     const std::string file = o.gateway_file.empty() ? o.config_file : o.gateway_file;
-    if (file.empty()) {
-        logger.warn("nclink-sim: SIGHUP: no --gateway or --config file to reload");
-        return;
-    }
+    if (file.empty()) return nclink::program::log_nothing_to_reload(logger, kProgram, "--gateway or --config file");
     auto shared = effective_config(o);
     auto next = shared ? gateway_machines(o, *shared) : nclink::Result<nclink::GatewayConfig>(shared.error());
     if (!next) {
@@ -173,19 +173,17 @@ void reload_gateway(const Options& o, nclink::Gateway& gw, const nclink::Logger&
         return;
     }
     const nclink::GatewayReload r = gw.reload(std::move(next).value());
+    using nclink::program::joined;
     logger.info("nclink-sim: {} re-read: {} machine(s) serving; added [{}], removed [{}], restarted [{}], applied in place [{}]",
                 file, gw.machines().size(), joined(r.added), joined(r.removed), joined(r.restarted), joined(r.applied));
     for (const auto& e : r.errors) logger.error("nclink-sim: {}", e);
 }
 
 // Gateway mode: many simulated machines in this process until a signal.
-int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const sigset_t& signals,
+int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const nclink::program::Signals& signals,
                 const nclink::Logger& logger) {
     auto machines = gateway_machines(o, shared);
-    if (!machines) {
-        std::fprintf(stderr, "nclink-sim: %s\n", machines.error().message.c_str());
-        return 2;
-    }
+    if (!machines) return nclink::program::fail(kProgram, machines.error().message, kExitUsage);
     const nclink::GatewayConfig gateway = std::move(machines).value();
     nclink::Gateway gw(gateway, &sim_driver, logger);
     if (auto started = gw.start(); !started) logger.warn("nclink-sim: {}", started.error().message);
@@ -206,20 +204,15 @@ int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const sig
         if (!made) {
             logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
             gw.stop();
-            return 1;
+            return kExitCannotRun;
         }
         metrics = std::move(made).value();
         logger.info("nclink-sim: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
     }
-    for (;;) {
-        int signal_number = 0;
-        sigwait(&signals, &signal_number);
-        if (signal_number != SIGHUP) break;
-        reload_gateway(o, gw, logger);
-    }
+    signals.serve([&] { reload_gateway(o, gw, logger); });
     if (metrics) metrics->stop();
     gw.stop();
-    return 0;
+    return nclink::program::kExitOk;
 }
 
 // The file's configuration (if any) with the command line's options on top:
@@ -248,30 +241,11 @@ nclink::Result<nclink::AdapterConfig> effective_config(const Options& o) {
     return config;
 }
 
-std::string joined(const std::vector<std::string>& keys) {
-    std::string out;
-    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
-    return out;
-}
-
 void reload(const Options& o, nclink::Adapter& adapter, const nclink::Logger& logger) {
-    if (o.config_file.empty()) {
-        logger.warn("nclink-sim: SIGHUP: no --config file to reload");
-        return;
-    }
+    if (o.config_file.empty()) return nclink::program::log_nothing_to_reload(logger, kProgram);
     auto next = effective_config(o);
-    if (!next) {
-        logger.error("nclink-sim: reload refused, the running configuration stays: {}", next.error().message);
-        return;
-    }
-    const nclink::ConfigReload report = adapter.reload(*next);
-    if (report.applied.empty() && report.restart_needed.empty())
-        logger.info("nclink-sim: reloaded {}: nothing changed", o.config_file);
-    else if (!report.applied.empty())
-        logger.info("nclink-sim: reloaded {}: applied {}", o.config_file, joined(report.applied));
-    if (!report.restart_needed.empty())
-        logger.warn("nclink-sim: changed in {} but applied only after a restart: {}", o.config_file,
-                    joined(report.restart_needed));
+    if (!next) return nclink::program::log_reload_refused(logger, kProgram, next.error().message);
+    nclink::program::log_reload(logger, kProgram, o.config_file, adapter.reload(*next));
 }
 
 std::string default_model(const char* name) {
@@ -296,20 +270,11 @@ int main(int argc, char** argv) {
     // A configuration with a problem stops here, before anything starts:
     // one line naming the file, line and column.
     auto effective = effective_config(o);
-    if (!effective) {
-        std::fprintf(stderr, "nclink-sim: %s\n", effective.error().message.c_str());
-        return 2;
-    }
+    if (!effective) return nclink::program::fail(kProgram, effective.error().message, kExitUsage);
     const nclink::AdapterConfig config = std::move(effective).value();
     const nclink::Logger logger(nclink::stderr_sink(), config.log_level);
 
-    // Block the signals before any thread starts, so only sigwait() sees them.
-    sigset_t signals;
-    sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
-    sigaddset(&signals, SIGHUP);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    const nclink::program::Signals signals;  // before any thread starts
     if (o.machines > 0 || !o.gateway_file.empty()) return run_gateway(o, config, signals, logger);
 
     std::shared_ptr<nclink::Driver> driver;
@@ -317,18 +282,16 @@ int main(int argc, char** argv) {
         // The linked simulator simulates the configured model file.
         const auto loaded = nclink::load_model_file(config.model_path);
         if (!loaded.model) {
-            std::fprintf(stderr, "nclink-sim: %s cannot be simulated (run `nclink validate %s`)\n",
-                         config.model_path.c_str(), config.model_path.c_str());
-            return 1;
+            return nclink::program::fail(kProgram,
+                                         config.model_path + " cannot be simulated (run `nclink validate " +
+                                             config.model_path + "`)",
+                                         kExitCannotRun);
         }
         nclink::SimOptions sim;
         sim.seed = o.seed;
         sim.device = config.device_id;
         auto created = nclink::SimDriver::create(loaded.model, sim);
-        if (!created) {
-            std::fprintf(stderr, "nclink-sim: %s\n", created.error().describe().c_str());
-            return 1;
-        }
+        if (!created) return nclink::program::fail(kProgram, created.error().describe(), kExitCannotRun);
         driver = std::move(created).value();
     }
 
@@ -336,19 +299,12 @@ int main(int argc, char** argv) {
     logger.info("nclink-sim: simulating {} on {}", config.model_path, config.broker_url);
     if (auto started = adapter.start(); !started) {
         logger.error("nclink-sim: {}", started.error().message);
-        return 1;
+        return kExitCannotRun;
     }
-    // A broker that refuses us (credentials, a certificate) will go on
-    // refusing: say why and exit. An unreachable one is waited for (the
-    // adapter buffers meanwhile).
-    for (int i = 0; i < 200 && adapter.stats().transport.connects == 0; ++i) {
-        const auto link = adapter.stats().transport;
-        if (link.refused) {
-            adapter.stop(std::chrono::milliseconds(0));
-            std::fprintf(stderr, "nclink-sim: cannot connect to %s: %s\n", config.broker_url.c_str(), link.last_error.c_str());
-            return 1;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    // An unreachable broker is waited for (the adapter buffers meanwhile).
+    if (auto why = nclink::program::refused_by_broker([&adapter] { return adapter.stats().transport; })) {
+        adapter.stop(std::chrono::milliseconds(0));
+        return nclink::program::fail(kProgram, "cannot connect to " + config.broker_url + ": " + *why, kExitCannotRun);
     }
     logger.info("nclink-sim: answering as {} (Ctrl-C to stop)", adapter.dev_uuid());
     std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
@@ -358,23 +314,18 @@ int main(int argc, char** argv) {
         if (!made) {
             logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
             adapter.stop();
-            return 1;
+            return kExitCannotRun;
         }
         metrics = std::move(made).value();
         logger.info("nclink-sim: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
     }
 
-    int signal_number = 0;
-    while (true) {
-        sigwait(&signals, &signal_number);
-        if (signal_number != SIGHUP) break;
-        reload(o, adapter, logger);
-    }
-    logger.info("nclink-sim: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    const int stop_signal = signals.serve([&] { reload(o, adapter, logger); });
+    logger.info("nclink-sim: {} received, stopping", nclink::program::Signals::name(stop_signal));
     if (metrics) metrics->stop();
     adapter.stop();
     const auto stats = adapter.stats();
     logger.info("nclink-sim: answered {} request(s); {} ignored as repeats, {} retained ignored, {} malformed",
                 stats.requests, stats.ignored_duplicates, stats.ignored_retained, stats.rejected);
-    return 0;
+    return nclink::program::kExitOk;
 }

@@ -11,27 +11,25 @@
 // 1 when the agent cannot start, 2 for usage or configuration errors (a
 // systemd unit does not restart on those: RestartPreventExitStatus=2).
 #include "http/metrics_endpoint.hpp"
+#include "program.hpp"
 
 #include <nclink/agent.hpp>
 #include <nclink/agent_metrics.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 
-#include <chrono>
-#include <csignal>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <optional>
-#include <pthread.h>
 #include <unistd.h>
 #include <string>
-#include <thread>
 
 namespace {
 
-constexpr int kExitUsage = 2;  // usage and configuration errors
+using nclink::program::kExitCannotRun;
+using nclink::program::kExitUsage;
+constexpr const char* kProgram = "nclink-agent";
 
 void usage(std::ostream& out) {
     out << "usage: nclink-agent --broker URL [--config FILE] [--state-dir DIR] [--log-level LEVEL]\n"
@@ -69,61 +67,34 @@ nclink::Result<nclink::AgentConfig> effective_config(const Options& o) {
     return config;
 }
 
-std::string joined(const std::vector<std::string>& keys) {
-    std::string out;
-    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
-    return out;
-}
-
 void reload(const Options& o, nclink::Agent& agent, const nclink::Logger& logger) {
-    if (!o.config_path) {
-        logger.warn("nclink-agent: SIGHUP: no --config file to reload");
-        return;
-    }
+    if (!o.config_path) return nclink::program::log_nothing_to_reload(logger, kProgram);
     auto next = effective_config(o);
-    if (!next) {
-        logger.error("nclink-agent: reload refused, the running configuration stays: {}", next.error().message);
-        return;
-    }
+    if (!next) return nclink::program::log_reload_refused(logger, kProgram, next.error().message);
     auto report = agent.reload(*next);
-    if (!report) {
-        logger.error("nclink-agent: reload refused, the running configuration stays: {}", report.error().describe());
-        return;
-    }
-    if (report->applied.empty() && report->restart_needed.empty())
-        logger.info("nclink-agent: reloaded {}: nothing changed", *o.config_path);
-    else if (!report->applied.empty())
-        logger.info("nclink-agent: reloaded {}: applied {}", *o.config_path, joined(report->applied));
-    if (!report->restart_needed.empty())
-        logger.warn("nclink-agent: changed in {} but applied only after a restart: {}", *o.config_path,
-                    joined(report->restart_needed));
+    if (!report) return nclink::program::log_reload_refused(logger, kProgram, report.error().describe());
+    nclink::program::log_reload(logger, kProgram, *o.config_path, *report);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&](std::optional<std::string>& out) {
-            if (i + 1 >= argc) return false;
-            out = argv[++i];
-            return true;
-        };
+    for (nclink::program::Arguments args(argc, argv); args.next();) {
         bool ok = true;
-        if (arg == "--broker") ok = value(o.broker);
-        else if (arg == "--config") ok = value(o.config_path);
-        else if (arg == "--state-dir") ok = value(o.state_dir);
-        else if (arg == "--log-level") ok = value(o.log_level);
-        else if (arg == "--write-mosquitto-acl") ok = value(o.acl_path);
-        else if (arg == "--metrics") ok = value(o.metrics);
-        else if (arg == "--metrics-user") ok = value(o.metrics_user);
-        else if (arg == "--check-config") o.check_only = true;
-        else if (arg == "-h" || arg == "--help") {
+        if (args.is("--broker")) ok = args.value(o.broker);
+        else if (args.is("--config")) ok = args.value(o.config_path);
+        else if (args.is("--state-dir")) ok = args.value(o.state_dir);
+        else if (args.is("--log-level")) ok = args.value(o.log_level);
+        else if (args.is("--write-mosquitto-acl")) ok = args.value(o.acl_path);
+        else if (args.is("--metrics")) ok = args.value(o.metrics);
+        else if (args.is("--metrics-user")) ok = args.value(o.metrics_user);
+        else if (args.is("--check-config")) o.check_only = true;
+        else if (args.help()) {
             usage(std::cout);
-            return 0;
+            return nclink::program::kExitOk;
         } else {
-            std::cerr << "nclink-agent: unknown argument " << arg << "\n";
+            std::cerr << kProgram << ": unknown argument " << args.current() << "\n";
             ok = false;
         }
         if (!ok) {
@@ -131,22 +102,15 @@ int main(int argc, char** argv) {
             return kExitUsage;
         }
     }
-    if (o.log_level && !nclink::log_level_from_string(*o.log_level)) {
-        std::cerr << "nclink-agent: unknown log level " << *o.log_level << "\n";
-        return kExitUsage;
-    }
-    if (o.check_only && !o.config_path) {
-        std::cerr << "nclink-agent: --check-config needs --config FILE\n";
-        return kExitUsage;
-    }
+    if (o.log_level && !nclink::log_level_from_string(*o.log_level))
+        return nclink::program::fail(kProgram, "unknown log level " + *o.log_level, kExitUsage);
+    if (o.check_only && !o.config_path)
+        return nclink::program::fail(kProgram, "--check-config needs --config FILE", kExitUsage);
 
     // A configuration with a problem stops here, before anything is started
     // or written: one line naming the file, line and column.
     auto loaded = effective_config(o);
-    if (!loaded) {
-        std::cerr << "nclink-agent: " << loaded.error().message << "\n";
-        return kExitUsage;
-    }
+    if (!loaded) return nclink::program::fail(kProgram, loaded.error().message, kExitUsage);
     nclink::AgentConfig config = std::move(loaded).value();
     if (o.check_only) {
         std::cout << *o.config_path << ": OK\n";
@@ -156,24 +120,15 @@ int main(int argc, char** argv) {
     if (o.acl_path) {
         std::ofstream out(*o.acl_path);
         out << nclink::mosquitto_acl(config);
-        if (!out.good()) {
-            std::cerr << "nclink-agent: cannot write " << *o.acl_path << "\n";
-            return 1;
-        }
-        return 0;
+        if (!out.good()) return nclink::program::fail(kProgram, "cannot write " + *o.acl_path, kExitCannotRun);
+        return nclink::program::kExitOk;
     }
     if (!o.broker && !o.config_path) {
         usage(std::cerr);
         return kExitUsage;
     }
 
-    // Block the signals before any thread starts, so only sigwait() sees them.
-    sigset_t signals;
-    sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
-    sigaddset(&signals, SIGHUP);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    const nclink::program::Signals signals;  // before any thread starts
 
     nclink::Logger logger(nclink::stderr_sink(), config.log_level);
     {
@@ -208,36 +163,24 @@ int main(int argc, char** argv) {
             *o.metrics, [&agent] { return nclink::prometheus_metrics(agent); }, "nclink_agent", std::move(auth), logger);
         if (!made) {
             logger.error("nclink-agent: --metrics {}: {}", *o.metrics, made.error().describe());
-            return 1;
+            return kExitCannotRun;
         }
         metrics = std::move(made).value();
         logger.info("nclink-agent: metrics on http://{}:{}/metrics", metrics->host(), metrics->port());
     }
     if (auto started = agent.start(); !started) {
         logger.error("nclink-agent: {}", started.error().describe());
-        return 1;
+        return kExitCannotRun;
     }
-    // A broker that refuses us (credentials, a certificate) will go on
-    // refusing: say why and exit. An unreachable one is waited for.
-    for (int i = 0; i < 200 && agent.stats().transport.connects == 0; ++i) {
-        const auto link = agent.stats().transport;
-        if (link.refused) {
-            agent.stop();
-            std::cerr << "nclink-agent: cannot connect to " << config.broker_url << ": " << link.last_error << "\n";
-            return 1;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (auto why = nclink::program::refused_by_broker([&agent] { return agent.stats().transport; })) {
+        agent.stop();
+        return nclink::program::fail(kProgram, "cannot connect to " + config.broker_url + ": " + *why, kExitCannotRun);
     }
     logger.info("nclink-agent: serving on {} (share group '{}'); SIGHUP reloads, SIGINT/SIGTERM stops",
                 config.broker_url, config.share_group);
-    int signal_number = 0;
-    while (true) {
-        sigwait(&signals, &signal_number);
-        if (signal_number != SIGHUP) break;
-        reload(o, agent, logger);
-    }
-    logger.info("nclink-agent: {} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+    const int stop_signal = signals.serve([&] { reload(o, agent, logger); });
+    logger.info("nclink-agent: {} received, stopping", nclink::program::Signals::name(stop_signal));
     if (metrics) metrics->stop();
     agent.stop();
-    return 0;
+    return nclink::program::kExitOk;
 }

@@ -6,20 +6,23 @@
 // Exit codes: 0 clean stop (SIGINT/SIGTERM), 1 cannot run (config, bind), 2 usage.
 // SIGHUP re-reads --config (Bridge::reload; docs/bridge.md "Reload").
 #include "bridge/bridge.hpp"
+#include "program.hpp"
 
 #include <nclink/log.hpp>
 
-#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <optional>
-#include <pthread.h>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
 namespace {
+
+using nclink::program::kExitCannotRun;
+using nclink::program::kExitUsage;
+constexpr const char* kProgram = "nclink-bridge";
 
 void usage(std::ostream& out) {
     out << "usage: nclink-bridge --broker URL [--device GUID]... [--http HOST:PORT] [--shdr HOST:PORT|off]\n"
@@ -62,48 +65,23 @@ nclink::Result<nclink::bridge::BridgeConfig> effective_config(const Options& o) 
     return config;
 }
 
-std::string joined(const std::vector<std::string>& keys) {
-    std::string out;
-    for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
-    return out;
-}
-
 // SIGHUP: a file that does not read is refused whole; the running
 // configuration stays.
 void reload(const Options& o, nclink::bridge::Bridge& bridge, const nclink::Logger& logger) {
-    if (!o.config_path) {
-        logger.warn("nclink-bridge: SIGHUP: no --config file to reload");
-        return;
-    }
+    if (!o.config_path) return nclink::program::log_nothing_to_reload(logger, kProgram);
     auto next = effective_config(o);
-    if (!next) {
-        logger.error("nclink-bridge: reload refused, the running configuration stays: {}", next.error().describe());
-        return;
-    }
-    const nclink::ConfigReload report = bridge.reload(*next);
-    if (report.applied.empty() && report.restart_needed.empty())
-        logger.info("nclink-bridge: reloaded {}: nothing changed", *o.config_path);
-    else if (!report.applied.empty())
-        logger.info("nclink-bridge: reloaded {}: applied {}", *o.config_path, joined(report.applied));
-    if (!report.restart_needed.empty())
-        logger.warn("nclink-bridge: changed in {} but applied only after a restart: {}", *o.config_path,
-                    joined(report.restart_needed));
+    if (!next) return nclink::program::log_reload_refused(logger, kProgram, next.error().describe());
+    nclink::program::log_reload(logger, kProgram, *o.config_path, bridge.reload(*next));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&](std::optional<std::string>& out) {
-            if (i + 1 >= argc) return false;
-            out = argv[++i];
-            return true;
-        };
+    for (nclink::program::Arguments args(argc, argv); args.next();) {
         auto endpoint = [&](const char* name, std::optional<std::pair<std::string, int>>& out, bool* off) {
             std::optional<std::string> text;
-            if (!value(text)) return false;
+            if (!args.value(text)) return false;
             if (off && *text == "off") {
                 *off = true;
                 return true;
@@ -117,19 +95,19 @@ int main(int argc, char** argv) {
             return true;
         };
         bool ok = true;
-        if (arg == "--broker") ok = value(o.broker);
-        else if (arg == "--config") ok = value(o.config_path);
-        else if (arg == "--http") ok = endpoint("--http", o.http, nullptr);
-        else if (arg == "--shdr") ok = endpoint("--shdr", o.shdr, &o.shdr_off);
-        else if (arg == "--log-level") {
-            ok = value(o.log_level);
+        if (args.is("--broker")) ok = args.value(o.broker);
+        else if (args.is("--config")) ok = args.value(o.config_path);
+        else if (args.is("--http")) ok = endpoint("--http", o.http, nullptr);
+        else if (args.is("--shdr")) ok = endpoint("--shdr", o.shdr, &o.shdr_off);
+        else if (args.is("--log-level")) {
+            ok = args.value(o.log_level);
             if (ok && !nclink::log_level_from_string(*o.log_level)) {
                 std::cerr << "nclink-bridge: unknown log level " << *o.log_level << "\n";
                 ok = false;
             }
-        } else if (arg == "--buffer-size") {
+        } else if (args.is("--buffer-size")) {
             std::optional<std::string> text;
-            ok = value(text);
+            ok = args.value(text);
             if (ok) {
                 char* end = nullptr;
                 const unsigned long long n = std::strtoull(text->c_str(), &end, 10);
@@ -140,58 +118,45 @@ int main(int argc, char** argv) {
                     o.buffer_size = static_cast<std::size_t>(n);
                 }
             }
-        } else if (arg == "--device") {
+        } else if (args.is("--device")) {
             std::optional<std::string> d;
-            ok = value(d) && !d->empty();
+            ok = args.value(d) && !d->empty();
             if (ok) o.devices.push_back(*d);
-        } else if (arg == "-h" || arg == "--help") {
+        } else if (args.help()) {
             usage(std::cout);
-            return 0;
+            return nclink::program::kExitOk;
         } else {
-            std::cerr << "nclink-bridge: unknown argument " << arg << "\n";
+            std::cerr << kProgram << ": unknown argument " << args.current() << "\n";
             ok = false;
         }
         if (!ok) {
             usage(std::cerr);
-            return 2;
+            return kExitUsage;
         }
     }
     if (!o.broker && !o.config_path) {
         usage(std::cerr);
-        return 2;
+        return kExitUsage;
     }
 
+    // A configuration that does not read stops here: status 1, the bridge
+    // cannot run (the exit codes above).
     auto effective = effective_config(o);
-    if (!effective) {
-        std::cerr << "nclink-bridge: " << effective.error().describe() << "\n";
-        return 1;
-    }
+    if (!effective) return nclink::program::fail(kProgram, effective.error().describe(), kExitCannotRun);
     const nclink::bridge::BridgeConfig config = std::move(effective).value();
 
-    sigset_t signals;
-    sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
-    sigaddset(&signals, SIGHUP);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    const nclink::program::Signals signals;  // before any thread starts
 
     nclink::Logger logger(nclink::stderr_sink(), config.log_level);
     nclink::bridge::Bridge bridge(config, logger);
-    if (auto started = bridge.start(); !started) {
-        std::cerr << "nclink-bridge: " << started.error().describe() << "\n";
-        return 1;
-    }
+    if (auto started = bridge.start(); !started)
+        return nclink::program::fail(kProgram, started.error().describe(), kExitCannotRun);
     logger.info("nclink-bridge: MTConnect on http://{}:{}/, dashboard on http://{}:{}/dashboard, SHDR on {}:{}; "
                 "SIGHUP reloads, SIGINT/SIGTERM stops",
                 config.http_host, bridge.http_port(), config.http_host, bridge.http_port(), config.shdr_host,
                 bridge.shdr_port());
-    int signal_number = 0;
-    while (true) {
-        sigwait(&signals, &signal_number);
-        if (signal_number != SIGHUP) break;
-        reload(o, bridge, logger);
-    }
+    signals.serve([&] { reload(o, bridge, logger); });
     logger.info("nclink-bridge: stopping");
     bridge.stop();
-    return 0;
+    return nclink::program::kExitOk;
 }
