@@ -157,9 +157,5 @@ NCLINK_API std::string event(std::string_view dev, OptEx ex = std::nullopt);
 /// both spellings). Each filter once, in a fixed order.
 NCLINK_API std::vector<std::string> adapter_subscriptions(std::string_view dev);
 
-/// Filters an agent subscribes to: Register/Request, Discovery/Request/+,
-/// Probe/Version/+ and Notify/State/+.
-NCLINK_API std::vector<std::string> agent_subscriptions();
-
 }  // namespace topics
 }  // namespace nclink

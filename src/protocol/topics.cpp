@@ -364,6 +364,12 @@ std::vector<std::string> adapter_subscriptions(std::string_view dev) {
     return out;
 }
 
+// Released in 0.1.0 and no longer part of the API: it listed four filters
+// while the agent subscribes to the requests it answers and the states and
+// responses it observes (src/agent/agent.cpp, answer_filters() and
+// observe_filters()). Still exported so a program built against 0.1.0 keeps
+// loading (docs/building.md, "ABI check"); delete it with the next SONAME bump.
+NCLINK_API std::vector<std::string> agent_subscriptions();
 std::vector<std::string> agent_subscriptions() {
     return {"Register/Request", "Discovery/Request/+", "Probe/Version/+", "Notify/State/+"};
 }
