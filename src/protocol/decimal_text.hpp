@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace nclink::detail {
+namespace nclink::protocol_detail {
 
 /// Writes `value` in fixed notation ("-12.5", "0.000123") when it is the
 /// double nearest to a decimal with at most 6 fraction digits and lies in
@@ -40,4 +40,4 @@ inline char* write_short_decimal(char* out, double value) noexcept {
     return out + digits;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::protocol_detail

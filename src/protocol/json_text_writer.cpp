@@ -74,7 +74,7 @@ void JsonTextWriter::number(double value) {
         // nlohmann's exponent form is printf's %e layout (d.ddde-05,
         // d.ddde+300), which to_chars writes with the shortest digits.
         end = std::to_chars(end, text + sizeof text, magnitude, std::chars_format::scientific).ptr;
-    } else if (char* decimal = nclink::detail::write_short_decimal(end, magnitude)) {
+    } else if (char* decimal = write_short_decimal(end, magnitude)) {
         // Short decimals, the bulk of machine values, skip the digit search.
         end = decimal;
     } else {

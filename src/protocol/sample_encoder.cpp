@@ -154,7 +154,7 @@ inline void write_double(Writer& w, double value) {
     }
     // Short decimals (decimal_text.hpp): several times cheaper than the
     // general shortest-digits search below.
-    if (char* end = detail::write_short_decimal(p, value)) {
+    if (char* end = protocol_detail::write_short_decimal(p, value)) {
         w.commit(end);
         return;
     }
