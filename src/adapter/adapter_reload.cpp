@@ -5,7 +5,8 @@
 namespace nclink::detail {
 
 std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const AdapterConfig& b) {
-    std::vector<std::string> out = broker_reload_keys(BrokerSettings::of(a), BrokerSettings::of(b));
+    using transport_detail::BrokerSettings;
+    std::vector<std::string> out = transport_detail::broker_reload_keys(BrokerSettings::of(a), BrokerSettings::of(b));
     auto key = [&](bool same, const char* name) {
         if (!same) out.emplace_back(name);
     };

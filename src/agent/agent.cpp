@@ -106,7 +106,8 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
         if (!same) report.applied.push_back(key);
     };
     for (const std::string& key :
-         detail::broker_reload_keys(detail::BrokerSettings::of(config), detail::BrokerSettings::of(next)))
+         transport_detail::broker_reload_keys(transport_detail::BrokerSettings::of(config),
+                                               transport_detail::BrokerSettings::of(next)))
         restart_only(false, key.c_str());
     restart_only(config.agent_id == next.agent_id, "agent_id");
     restart_only(config.share_group == next.share_group, "share_group");
@@ -145,7 +146,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
 
 MqttOptions Agent::Impl::mqtt_options() const {
     MqttOptions o;
-    detail::BrokerSettings::of(config).apply_to(o);
+    transport_detail::BrokerSettings::of(config).apply_to(o);
     if (o.client_id.empty()) o.client_id = config.agent_id + "-" + random_suffix();
     return o;
 }

@@ -44,7 +44,7 @@ Result<void> Bridge::start() {
     Impl& b = *impl_;
     const BridgeConfig& c = b.config;
     MqttOptions mqtt;
-    nclink::detail::BrokerSettings::of(c).apply_to(mqtt);
+    nclink::transport_detail::BrokerSettings::of(c).apply_to(mqtt);
     if (mqtt.client_id.empty()) mqtt.client_id = c.ex_cid;
     ClientOptions options;
     options.ex_cid = c.ex_cid;
@@ -124,8 +124,8 @@ ConfigReload Bridge::reload(const BridgeConfig& next) {
     auto restart = [&](bool same, const char* key) {
         if (!same) report.restart_needed.emplace_back(key);
     };
-    report.restart_needed =
-        nclink::detail::broker_reload_keys(nclink::detail::BrokerSettings::of(c), nclink::detail::BrokerSettings::of(next));
+    using nclink::transport_detail::BrokerSettings;
+    report.restart_needed = nclink::transport_detail::broker_reload_keys(BrokerSettings::of(c), BrokerSettings::of(next));
     restart(c.ex_cid == next.ex_cid, "ex_cid");
     // A device more or less changes the MTConnect probe document, which an
     // instanceId promises to keep (MTConnect part 1 5.1.1): a restart.

@@ -1,6 +1,6 @@
 #include "transport/broker_settings.hpp"
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 void BrokerSettings::apply_to(MqttOptions& options) const {
     options.broker_url = broker_url;
@@ -59,4 +59,4 @@ std::vector<std::string> broker_reload_keys(const BrokerSettings& was, const Bro
     return keys;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

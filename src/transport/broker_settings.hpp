@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 struct BrokerSettings {
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
@@ -77,4 +77,4 @@ BrokerSettings BrokerSettings::of(const Config& c) {
     return s;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail
