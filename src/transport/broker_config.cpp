@@ -25,4 +25,17 @@ Result<void> read_tls(ConfigReader& broker, std::optional<MqttTlsOptions>& tls) 
     return ok_result();
 }
 
+Result<void> read_broker_settings(ConfigReader& broker, transport_detail::BrokerSettings& s) {
+    NCLINK_TRY(broker.str("url", s.broker_url));
+    NCLINK_TRY(broker.str("client_id", s.client_id));
+    NCLINK_TRY(broker.str("username", s.username));
+    NCLINK_TRY(broker.str("password", s.password));
+    NCLINK_TRY(broker.count("mqtt_version", s.mqtt_version));
+    NCLINK_TRY(broker.duration("keep_alive_s", s.keep_alive));
+    NCLINK_TRY(read_tls(broker, s.tls));
+    if (s.mqtt_version != 4 && s.mqtt_version != 5)
+        return broker.fail(ErrorCode::value_type, "mqtt_version", "must be 4 (MQTT 3.1.1) or 5");
+    return ok_result();
+}
+
 }  // namespace nclink::detail

@@ -2,17 +2,6 @@
 
 namespace nclink::transport_detail {
 
-void BrokerSettings::apply_to(MqttOptions& options) const {
-    options.broker_url = broker_url;
-    options.client_id = client_id;
-    options.username = username;
-    options.password = password;
-    options.tls = tls;
-    options.mqtt_version = mqtt_version;
-    options.keep_alive = keep_alive;
-    options.clean_session = clean_session;
-}
-
 bool operator==(const BrokerSettings& a, const BrokerSettings& b) { return broker_changes(a, b).empty(); }
 
 std::vector<std::string> broker_changes(const BrokerSettings& was, const BrokerSettings& now) {

@@ -32,9 +32,11 @@ struct BrokerSettings {
     template <class Config>
     static BrokerSettings of(const Config& c);
 
-    /// Sets the broker fields of `options` to these settings and leaves the
-    /// others (timeouts, last will, outbox) as they are.
-    void apply_to(MqttOptions& options) const;
+    /// Sets the fields of the same names in `target` (MqttOptions, or a
+    /// configuration) to these settings and leaves the others (timeouts,
+    /// last will, outbox) as they are; clean_session only where it exists.
+    template <class Target>
+    void apply_to(Target& target) const;
 };
 
 bool operator==(const BrokerSettings& a, const BrokerSettings& b);
@@ -75,6 +77,18 @@ BrokerSettings BrokerSettings::of(const Config& c) {
     s.keep_alive = c.keep_alive;
     if constexpr (broker_settings_traits::has_clean_session<Config>::value) s.clean_session = c.clean_session;
     return s;
+}
+
+template <class Target>
+void BrokerSettings::apply_to(Target& t) const {
+    t.broker_url = broker_url;
+    t.client_id = client_id;
+    t.username = username;
+    t.password = password;
+    t.tls = tls;
+    t.mqtt_version = mqtt_version;
+    t.keep_alive = keep_alive;
+    if constexpr (broker_settings_traits::has_clean_session<Target>::value) t.clean_session = clean_session;
 }
 
 }  // namespace nclink::transport_detail

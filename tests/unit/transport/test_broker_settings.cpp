@@ -109,4 +109,18 @@ TEST_CASE("broker settings: read from a configuration and applied to the transpo
     agent.broker_url = adapter.broker_url;
     CHECK(BrokerSettings::of(agent).clean_session == true);
     CHECK(BrokerSettings::of(agent).broker_url == "ssl://plant:8883");
+
+    // Back into a configuration: the broker fields, nothing else.
+    AgentConfig into;
+    into.agent_id = "agent-7";
+    s.apply_to(into);
+    CHECK(BrokerSettings::of(into) == [&] {
+        BrokerSettings expected = s;
+        expected.clean_session = true;  // the agent has none
+        return expected;
+    }());
+    CHECK(into.agent_id == "agent-7");
+    AdapterConfig adapter_into;
+    s.apply_to(adapter_into);
+    CHECK(BrokerSettings::of(adapter_into) == s);
 }
