@@ -11,7 +11,7 @@ packages=(build-essential cmake pkg-config git
           libssl-dev openssl
           mosquitto mosquitto-clients
           libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools
-          tmux)
+          tmux clang-format)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
 # dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
 # (MTConnect path=); libxml2-utils: xmllint, which the bridge's tests validate
@@ -22,6 +22,8 @@ packages=(build-essential cmake pkg-config git
 # libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
 # openssl: the TLS tests make their certificates with it.
 # abigail-tools: abidw/abidiff for the ABI check against the last release (tools/check-abi.sh).
+# clang-format (14 on Debian 12, the version .clang-format was tuned with):
+# tools/check-format.sh checks the files a change touches.
 # Heavier tools that only one test path needs (each test skips with a message
 # when its tool is missing):
 #   NCLINK_WITH_PACKAGING=1  lintian: the packaging test lints the .deb files
