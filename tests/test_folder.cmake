@@ -17,8 +17,9 @@
 #     [NAME exe] [PREFIX text] [LABELS label...] [TIMEOUT seconds])
 #
 # Defaults follow the folder: tests/unit/<m>/ -> test_<m>, each TEST_CASE a
-# ctest "<m>: <name>" labelled "unit;<m>"; tests/integration/<m>/ -> itest_<m>,
-# "<m> (integration): <name>" labelled "integration;<m>"; timeout 300 s.
+# ctest "<m>:<name>" labelled "unit;<m>"; tests/integration/<m>/ -> itest_<m>,
+# "<m> (integration):<name>" labelled "integration;<m>"; timeout 300 s. (The
+# prefix ends in a space; Catch2's discovery script drops it.)
 function(nclink_test_folder)
   cmake_parse_arguments(T "" "NAME;PREFIX;TIMEOUT"
                         "NEEDS;LINKS;RUNS;RUNS_IF_BUILT;ALSO_COMPILES;DEFINES_FOR_ALSO_COMPILED;DEFINES;INCLUDES;LABELS" ${ARGN})
