@@ -40,16 +40,23 @@ def test_channel_to_csv_unknown_device_fails_clearly(sim: Sim) -> None:
     assert "203 Timeout" in done.stderr
 
 
+def make_warning_setable(client: nclink.Client) -> None:
+    """The mill's WARNING item made setable by Probe/Set, so the test can raise an alarm."""
+    model = client.model(DEV)
+    model.find("warning").raw["setable"] = True
+    client.probe_set(DEV, model)
+
+
 def test_state_summary(sim: Sim, client: nclink.Client) -> None:
-    client.put(DEV, "emergency_stop", False)
-    client.call(DEV, "reset")
+    make_warning_setable(client)
+    client.call(DEV, "reset")  # idle
     proc = subprocess.Popen([sys.executable, os.path.join(EXAMPLES, "state_summary.py"), "--broker", sim.broker.url,
                              "--device", DEV, "--duration", "6", "--sample-ms", "50", "--json"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
     time.sleep(1.5)
     client.call(DEV, "cycle_start")  # running
     time.sleep(1.5)
-    client.put(DEV, "emergency_stop", True)  # alarm
+    client.put(DEV, "warning", {"number": "1001", "text": "spindle overload"})  # alarm
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 0, err
     summary = json.loads(out)

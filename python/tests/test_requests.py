@@ -98,9 +98,12 @@ def test_query_with_list_and_dict_operations(sim: Sim, client: nclink.Client) ->
     tools = client.get(DEV, "tools", indexes=[0])
     assert len(tools) == 1
     assert client.get(DEV, "tools", operation="get_length") == [length]
-    client.put(DEV, "parameters", key="P1", value=3)
-    assert client.get(DEV, "parameters", keys=["P1"]) == [3]
-    assert "P1" in client.get(DEV, "parameters", operation="get_keys")[0]
+    keys = client.get(DEV, "parameters", operation="get_keys")
+    assert "P0001" in keys
+    client.put(DEV, "parameters", key="P0001", value=3.5)
+    assert client.get(DEV, "parameters", keys=["P0001"]) == [3.5]
+    with pytest.raises(nclink.BadKey):
+        client.put(DEV, "parameters", key="no-such-key", value=1)
     # dict form of query items
     as_dict = client.query(DEV, {"feed_override": None, "tools": {"operation": "get_length"}})
     assert [r.id for r in as_dict] == ["feed_override", "tools"]

@@ -169,20 +169,32 @@ def test_method_call_with_progress_and_control(broker: Broker, workdir: str) -> 
             statuses: List[nclink.MethodStatus] = []
             runs: List[nclink.MethodRun] = []
             c.on_method_runs(DEV, runs.append)
+            done = c.call(DEV, "program_transfer", {"source": g_code(workdir, 12 * 1024)}, on_status=statuses.append)
+            assert done.result == "finished" and done.method == "program_transfer"
+            progress = [s.progress for s in statuses if s.progress is not None]
+            assert progress == sorted(progress) and progress[-1] > progress[0]
+            assert all(s.call_id == done.call_id for s in statuses)
+            assert wait_until(lambda: any(r.kind == "result" and r.app == c.client_id for r in runs))
+            # stop (pause) a running call, then cancel it
+            statuses.clear()
             result: List[Any] = []
-            caller = threading.Thread(target=lambda: result.append(
-                c.call(DEV, "program_transfer", {"source": g_code(workdir)}, on_status=statuses.append)))
+
+            def call() -> None:
+                try:
+                    result.append(c.call(DEV, "program_transfer", {"source": g_code(workdir)},
+                                         on_status=statuses.append))
+                except Exception as e:
+                    result.append(e)
+            caller = threading.Thread(target=call)
             caller.start()
             assert wait_until(lambda: any(s.status == "executing" for s in statuses))
             c.control(DEV, "program_transfer", "stop")
             assert wait_until(lambda: any(s.status == "stopped" for s in statuses))
-            c.control(DEV, "program_transfer", "resume")
+            c.control(DEV, "program_transfer", "cancel")
             caller.join(30)
             assert not caller.is_alive()
-            assert result[0].result == "finished" and result[0].method == "program_transfer"
-            progress = [s.progress for s in statuses if s.progress is not None]
-            assert progress == sorted(progress) and progress[-1] > progress[0]
-            assert any(r.kind == "result" for r in runs)
+            assert isinstance(result[0], nclink.MethodResult), result[0]
+            assert result[0].result == "canceled"
             # cancel, through asyncio this time
             import asyncio
 
@@ -270,7 +282,7 @@ def test_broker_restart_mid_subscription(sim: Sim, broker: Broker) -> None:
         assert wait_until(lambda: c.link_state == "connected", 15)
         back = time.time() * 1000
         assert wait_until(lambda: any(b.begin_time_ms > back for b in batches), 20)
-    assert "disconnected" in links and links[-1] == "connected"
+        assert "disconnected" in links and links[-1] == "connected"
 
 
 def test_asyncio(sim: Sim, client: nclink.Client) -> None:
