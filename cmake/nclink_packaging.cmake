@@ -286,6 +286,19 @@ nclink_service(opcua DIRECTORY tools/nclink-opcua JIT ARCHITECTURE all SKIP ncli
 the nclink user under systemd and takes its options from
 /etc/nclink/opcua.env.")
 
+# The Python package (python/, docs/python.md): `import nclink` for
+# Debian's python3 (3.11), the extension module linked with the static library.
+if(TARGET nclink_python)
+  nclink_package(python NAME python3-nclink SECTION python
+    DEPENDS "python3 (>= 3.11), python3 (<< 3.12)"
+    SUMMARY "NC-Link (GB/T 41970-2022) client library for Python 3"
+    DESCRIPTION "import nclink: an NC-Link application in Python over the nclink C++
+client. Connect to a broker, probe, query and set data items, call methods
+with progress, receive sample channels (callbacks, iterators, asyncio, pandas
+DataFrames), dynamic sampling and events. Errors are exceptions carrying the
+table-19 code.")
+endif()
+
 # ---------------------------------------------------------------- CPack
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME nclink)

@@ -11,7 +11,8 @@ packages=(build-essential cmake pkg-config git
           libssl-dev openssl
           mosquitto mosquitto-clients
           libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools
-          tmux clang-format)
+          tmux clang-format
+          python3-dev pybind11-dev python3-pybind11 python3-pytest python3-mypy)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
 # dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
 # (MTConnect path=); libxml2-utils: xmllint, which the bridge's tests validate
@@ -21,6 +22,10 @@ packages=(build-essential cmake pkg-config git
 # progress bar run the tool in a real terminal.
 # libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
 # openssl: the TLS tests make their certificates with it.
+# python3-dev, pybind11-dev, python3-pybind11: the Python package (python/,
+# docs/python.md) is built with Debian's pybind11 2.10 for Debian's python3
+# (3.11); python3-pytest runs its tests against nclink-sim, python3-mypy checks
+# its type stubs.
 # abigail-tools: abidw/abidiff for the ABI check against the last release (tools/check-abi.sh).
 # clang-format (14 on Debian 12, the version .clang-format was tuned with):
 # tools/check-format.sh checks the files a change touches.
@@ -29,10 +34,13 @@ packages=(build-essential cmake pkg-config git
 #   NCLINK_WITH_PACKAGING=1  lintian: the packaging test lints the .deb files
 #     (systemd-analyze, which verifies the units, comes with Debian's systemd).
 #   NCLINK_WITH_PROMETHEUS=1 prometheus: promtool checks the /metrics text.
+#   NCLINK_WITH_PANDAS=1     python3-pandas (about 65 MB with numpy): the
+#     DataFrame helper's test and the notebook example of the Python package.
 #   NCLINK_WITH_BROWSER=1    chromium, chromium-driver, python3-selenium: the
 #     dashboard's test in a real headless browser.
 if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
 if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
+if [[ "${NCLINK_WITH_PANDAS:-0}" == 1 ]]; then packages+=(python3-pandas); fi
 if [[ "${NCLINK_WITH_BROWSER:-0}" == 1 ]]; then packages+=(chromium chromium-driver python3-selenium); fi
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi

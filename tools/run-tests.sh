@@ -10,11 +10,13 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
 # The whole suite: the dashboard in a real browser, /metrics through
-# promtool, the .deb packages through lintian (set a variable to 0 to skip
+# promtool, the .deb packages through lintian, the Python package's DataFrame
+# helper with pandas (set a variable to 0 to skip
 # that path on a machine without room for it).
 export NCLINK_WITH_BROWSER=${NCLINK_WITH_BROWSER:-1}
 export NCLINK_WITH_PROMETHEUS=${NCLINK_WITH_PROMETHEUS:-1}
 export NCLINK_WITH_PACKAGING=${NCLINK_WITH_PACKAGING:-1}
+export NCLINK_WITH_PANDAS=${NCLINK_WITH_PANDAS:-1}
 tools/install-deps.sh
 
 # Formatting first, when CI knows the base a change goes into: a failure
