@@ -3,6 +3,8 @@
 // (agent_impl.hpp lists them).
 #include "agent/agent_impl.hpp"
 
+#include <nclink/paho_transport.hpp>
+
 #include <random>
 
 namespace nclink {
@@ -65,7 +67,7 @@ Result<void> Agent::Impl::start() {
                  to_string(row.next));
     }
     if (!transport) {
-        auto made = make_mqtt_transport(mqtt_options(), log);
+        auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
