@@ -1,9 +1,11 @@
 # Debian packages (CPack DEB): `cpack -G DEB` in the build tree, after a
 # build (docs/install.md). One package per install component:
 #
-#   component  package          what
-#   lib        libnclink0       the shared library (named after its soname)
-#   dev        libnclink-dev    headers, static library, CMake package, pkg-config
+#   component  package             what
+#   lib        libnclink0          the terminal library libnclink.so (named after its soname)
+#   dev        libnclink-dev       its headers, static library, CMake package, pkg-config
+#   plant_lib  libnclink-plant0    the plant library libnclink-plant.so (client, agent, mappings)
+#   plant_dev  libnclink-plant-dev its headers, static library, CMake targets, pkg-config
 #   tools      nclink-tools     nclink, nclink-conform, nclink-sim and its plugin,
 #                               models, configuration schemas
 #   <service>  nclink-<service> a program run by systemd: the table at the end
@@ -95,22 +97,49 @@ endfunction()
 # The shared library: a shlibs file for packages built against it, and the
 # ldconfig trigger (Debian policy 8.1.1).
 file(WRITE ${_pkg_out}/triggers "activate-noawait ldconfig\n")
+set(_dev_depends "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libmosquitto-dev")
+if(NCLINK_WITH_TLS)
+  string(APPEND _dev_depends ", libssl-dev")
+endif()
 nclink_package(lib NAME libnclink${PROJECT_VERSION_MAJOR} SECTION libs CONTROL ${_pkg_out}/triggers
-  SUMMARY "NC-Link (GB/T 41970-2022) SDK - shared library"
+  SUMMARY "NC-Link (GB/T 41970-2022) SDK - terminal library"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
-MQTT: the model engine, value operations, the adapter runtime, the
-application client and the agent.
+MQTT. The terminal library is what controller firmware links: the model
+engine, value operations, the adapter runtime and the gateway, over
+libmosquitto.
 
-This package holds the shared library.")
+This package holds the shared library libnclink.so.")
 
 nclink_package(dev NAME libnclink-dev SECTION libdevel
-  DEPENDS "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libpaho-mqttpp-dev, libpaho-mqtt-dev, libmosquitto-dev"
-  SUMMARY "NC-Link (GB/T 41970-2022) SDK - development files"
+  DEPENDS "${_dev_depends}"
+  SUMMARY "NC-Link (GB/T 41970-2022) SDK - terminal library, development files"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT.
 
-This package holds the headers, the static library, the CMake package
-(find_package(nclink CONFIG)) and the pkg-config file (nclink.pc).")
+This package holds the terminal library's headers, its static library, the
+CMake package (find_package(nclink CONFIG)) and the pkg-config files
+(nclink.pc, nclink-static.pc).")
+
+if(TARGET nclink_plant_static)
+  nclink_package(plant_lib NAME libnclink-plant${PROJECT_VERSION_MAJOR} SECTION libs CONTROL ${_pkg_out}/triggers
+    SUMMARY "NC-Link (GB/T 41970-2022) SDK - plant library"
+    DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
+MQTT. The plant library is what applications and plant services link: the
+application client, the agent and the MTConnect / OPC UA mappings, over
+paho-mqtt-cpp (MQTT 5, WebSocket). It uses the terminal library.
+
+This package holds the shared library libnclink-plant.so.")
+  nclink_package(plant_dev NAME libnclink-plant-dev SECTION libdevel
+    DEPENDS "libnclink-plant${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), libnclink-dev (= ${NCLINK_DEB_VERSION}), libpaho-mqttpp-dev, libpaho-mqtt-dev"
+    SUMMARY "NC-Link (GB/T 41970-2022) SDK - plant library, development files"
+    DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
+MQTT.
+
+This package holds the plant library's headers (client, agent, mappings,
+the paho transport), its static library, its CMake targets
+(nclink::plant) and the pkg-config files (nclink-plant.pc,
+nclink-plant-static.pc).")
+endif()
 
 nclink_package(tools NAME nclink-tools SECTION net
   SUMMARY "NC-Link (GB/T 41970-2022) command-line tools and simulated machine"

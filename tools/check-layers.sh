@@ -3,18 +3,26 @@
 # under src/ and include/nclink/ against the table in src/layers.txt. A module
 # may include itself and the modules its line names; a public header counts
 # as part of the module that owns it. Exit 0 when clean, 1 with one line per
-# upward (or unknown) include otherwise.
+# upward (or unknown) include otherwise. The `library` lines of the table put
+# each module in one library; a module may include modules of its own
+# library or of one listed before it (the terminal library holds no plant
+# code).
 #   tools/check-layers.sh [ROOT]     (ROOT: a source tree, default: this one)
 set -euo pipefail
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
 table="$root/src/layers.txt"
 [[ -f $table ]] || { echo "check-layers: no $table" >&2; exit 2; }
 
-declare -A allowed owner
+declare -A allowed owner library rank
+libraries=0
 while IFS= read -r line; do
   line=${line%%#*}
   [[ -z ${line// } ]] && continue
-  if [[ $line =~ ^public[[:space:]]+([a-z_]+):(.*)$ ]]; then
+  if [[ $line =~ ^library[[:space:]]+([a-z_]+):(.*)$ ]]; then
+    rank[${BASH_REMATCH[1]}]=$libraries
+    libraries=$((libraries + 1))
+    for m in ${BASH_REMATCH[2]}; do library[$m]=${BASH_REMATCH[1]}; done
+  elif [[ $line =~ ^public[[:space:]]+([a-z_]+):(.*)$ ]]; then
     for h in ${BASH_REMATCH[2]}; do owner[$h]=${BASH_REMATCH[1]}; done
   elif [[ $line =~ ^([a-z_]+):(.*)$ ]]; then
     allowed[${BASH_REMATCH[1]}]=" ${BASH_REMATCH[1]} ${BASH_REMATCH[2]} "
@@ -23,6 +31,18 @@ done <"$table"
 
 bad=0
 complain() { echo "$1"; bad=1; }
+
+# The table itself: a module's line names no module of a library after its own.
+for m in "${!allowed[@]}"; do
+  for d in ${allowed[$m]}; do
+    [[ -n ${library[$m]:-} && -n ${library[$d]:-} ]] || continue
+    ((${rank[${library[$d]}]} <= ${rank[${library[$m]}]})) ||
+      complain "src/layers.txt: $m (${library[$m]} library) names $d of the ${library[$d]} library"
+  done
+done
+for m in "${!library[@]}"; do
+  [[ -n ${allowed[$m]:-} ]] || complain "src/layers.txt: library line names $m, which has no module line"
+done
 
 # check FILE MODULE: every include of FILE must be visible from MODULE.
 check() {
@@ -42,13 +62,18 @@ check() {
       continue
     fi
     [[ ${allowed[${module#public:}]} == *" $dep "* ]] ||
-      complain "$rel:$n: ${module#public:} includes $target of $dep, which src/layers.txt does not put below it"
+      { complain "$rel:$n: ${module#public:} includes $target of $dep, which src/layers.txt does not put below it"; continue; }
+    local from=${library[${module#public:}]:-} to=${library[$dep]:-}
+    [[ -n $from && -n $to ]] || continue   # reported below: a module without a library
+    ((${rank[$to]} <= ${rank[$from]})) ||
+      complain "$rel:$n: ${module#public:} ($from library) includes $target of $dep ($to library): the $from library may not use the $to library"
   done <"$file"
 }
 
 for dir in "$root"/src/*/; do
   module=$(basename "$dir")
   [[ -n ${allowed[$module]:-} ]] || { complain "src/$module/ is not a module of src/layers.txt"; continue; }
+  [[ -n ${library[$module]:-} ]] || complain "src/$module/ is in no library line of src/layers.txt"
   while IFS= read -r -d '' f; do check "$f" "$module"; done < <(find "$dir" -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' \) -print0)
 done
 while IFS= read -r -d '' f; do

@@ -68,9 +68,10 @@ struct NCLINK_API GatewayConfig {
     /// "mqtt_client": "mosquitto" (default): every machine's broker
     /// connection is served by one epoll thread of the gateway over
     /// libmosquitto, so a packet costs the same at 10 or 1,000 machines;
-    /// "paho": each machine on paho like a single adapter (whose one
-    /// receive thread polls every connection of the process on each packet).
-    /// ws:// and wss:// brokers always use paho.
+    /// "paho" (the name kept from when single adapters ran on paho): each
+    /// machine's connection with an I/O thread of its own, as a single
+    /// adapter's. libnclink has no WebSocket client: ws:// and wss://
+    /// brokers are refused (docs/building.md).
     std::string mqtt_client = "mosquitto";
     LogLevel log_level = LogLevel::info;  ///< "log_level"
 };

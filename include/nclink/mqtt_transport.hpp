@@ -1,4 +1,8 @@
-// MQTT transport over paho-mqtt-cpp (Debian libpaho-mqttpp-dev 1.2).
+// The MQTT transport of libnclink, over libmosquitto (Debian libmosquitto-dev
+// 2.0): the options every MQTT transport of nclink takes, and its factory.
+// The plant library (libnclink-plant) has a paho transport with the same
+// options (paho_transport.hpp); docs/building.md says why the terminal
+// library has libmosquitto only.
 #pragma once
 
 #include <nclink/export.hpp>
@@ -22,7 +26,8 @@ struct NCLINK_API MqttTlsOptions {
 };
 
 struct NCLINK_API MqttOptions {
-    /// tcp://host:port, ssl://host:port (TLS), ws://, wss://.
+    /// tcp://host:port, ssl://host:port (TLS); ws:// and wss:// with the
+    /// paho transport of libnclink-plant only (make_paho_transport()).
     std::string broker_url = "tcp://127.0.0.1:1883";
     std::string client_id;                 ///< required; unique on the broker
     std::string username;                  ///< empty = anonymous
@@ -36,9 +41,10 @@ struct NCLINK_API MqttOptions {
     std::chrono::milliseconds reconnect_max{10000}; ///< retry delay cap
     std::optional<Message> last_will;
     OutboxLimits outbox;
-    /// paho C 1.3.12 never sets TCP_NODELAY; without it a QoS 1 round trip
-    /// through mosquitto takes ~88 ms (Nagle meets delayed ACK) instead of
-    /// ~0.5 ms. On by default; see src/transport/tcp_nodelay.cpp for how.
+    /// Without TCP_NODELAY a QoS 1 round trip through mosquitto takes ~88 ms
+    /// (Nagle meets delayed ACK) instead of ~0.5 ms. On by default
+    /// (libmosquitto sets it on its socket; the paho transport finds paho's,
+    /// src/transport/tcp_nodelay.cpp).
     bool tcp_nodelay = true;
 };
 
@@ -66,13 +72,17 @@ NCLINK_API Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options
 /// docs/performance.md); empty when it does not. Pure: no I/O.
 NCLINK_API std::string broker_delay_warning(const BrokerRoundTrip& measured);
 
-/// Creates an MQTT transport. Fails with ErrorCode::parameter_missing /
-/// value_type for unusable options (no client id, bad URL).
-/// Whether `url` is a broker URL make_mqtt_transport() can use; else a
+/// Whether `url` is a broker URL an MQTT transport of nclink can use; else a
 /// value_type error saying what is wrong and showing the expected form
 /// ("SCHEME://HOST[:PORT]"). Checks the text only, connects nowhere.
 NCLINK_API Result<void> check_broker_url(const std::string& url);
 
+/// Creates the MQTT transport of libnclink: libmosquitto, its socket served
+/// by an I/O thread of its own ("nclink-mqtt-io", which runs every callback
+/// of the transport). Fails with ErrorCode::parameter_missing / value_type
+/// for unusable options: no client id, a bad URL, a ws:// or wss:// URL
+/// (the paho transport of libnclink-plant speaks those), an ssl:// URL in a
+/// build without TLS (NCLINK_WITH_TLS=OFF, docs/building.md).
 NCLINK_API Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger = {});
 
 }  // namespace nclink

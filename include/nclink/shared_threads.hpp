@@ -43,9 +43,8 @@ struct NCLINK_API SharedThreadsOptions {
     std::size_t driver_stuck_ms = 1000;
     /// The adapters' broker connections (each still its own, with its own
     /// last will) served by one I/O thread over libmosquitto and epoll
-    /// instead of paho, whose one receive thread polls every connection of
-    /// the process on each packet. tcp:// and ssl:// brokers; ws:// stays on
-    /// paho. A gateway turns it on ("mqtt_client", docs/gateway.md).
+    /// instead of one I/O thread per connection (a single adapter's
+    /// transport). A gateway turns it on ("mqtt_client", docs/gateway.md).
     bool shared_mqtt_io = false;
 };
 

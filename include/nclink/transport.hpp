@@ -1,5 +1,6 @@
 // The link between an NC-Link terminal and the broker: publish, subscribe,
-// connection state. Implementations: MQTT over paho (mqtt_transport.hpp) and an
+// connection state. Implementations: MQTT over libmosquitto (mqtt_transport.hpp,
+// libnclink), MQTT over paho (paho_transport.hpp, libnclink-plant) and an
 // in-process loopback for tests (loopback_transport.hpp). The transport knows
 // nothing of DTUs.
 #pragma once
@@ -57,7 +58,7 @@ struct NCLINK_API TransportStats {
 };
 
 /// Called for every message matching a subscription.
-/// Thread: the transport's callback thread (paho's, or the loopback broker's),
+/// Thread: the transport's callback thread (its I/O thread, paho's, or the loopback broker's),
 /// one message at a time, in arrival order. It must not block: decode and hand
 /// work over. It may call publish()/subscribe().
 using MessageHandler = std::function<void(const Message&)>;

@@ -5,6 +5,8 @@
 
 #include "transport/broker_settings.hpp"
 
+#include <nclink/paho_transport.hpp>
+
 #include <random>
 
 namespace nclink {
@@ -60,7 +62,7 @@ Result<void> Agent::Impl::start() {
                  to_string(row.next));
     }
     if (!transport) {
-        auto made = make_mqtt_transport(mqtt_options(), log);
+        auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }

@@ -3,6 +3,7 @@
 // blocking forms, subscriptions and statistics. The engine behind it is
 // client_impl.cpp.
 #include <nclink/client.hpp>
+#include <nclink/paho_transport.hpp>
 
 #include "client/blocking_call.hpp"
 #include "client/client_impl.hpp"
@@ -50,7 +51,7 @@ Result<std::unique_ptr<Client>> Client::create(std::unique_ptr<Transport> transp
 
 Result<std::unique_ptr<Client>> Client::create(MqttOptions mqtt, ClientOptions options) {
     if (mqtt.client_id.empty()) mqtt.client_id = options.ex_cid;
-    auto transport = make_mqtt_transport(std::move(mqtt), options.logger);
+    auto transport = make_paho_transport(std::move(mqtt), options.logger);  // MQTT 5, ws:// (paho_transport.hpp)
     if (!transport) return std::move(transport).error();
     return create(std::move(transport).value(), std::move(options));
 }

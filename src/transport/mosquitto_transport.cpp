@@ -5,12 +5,15 @@
 #include "transport/mqtt_loop.hpp"
 #include "transport/outbox.hpp"
 #include "transport/tcp_nodelay.hpp"
-#include "transport/tls_check.hpp"
 
 #include <mosquitto.h>
 #include <mqtt_protocol.h>
+#if NCLINK_WITH_TLS
+#include "transport/tls_check.hpp"
+
 #include <openssl/ssl.h>
 #include <openssl/x509.h>
+#endif
 
 #include <atomic>
 #include <condition_variable>
@@ -29,6 +32,8 @@ namespace {
 
 using std::chrono::milliseconds;
 using Steady = std::chrono::steady_clock;
+
+constexpr bool kWithTls = NCLINK_WITH_TLS != 0;
 
 void init_library_once() {
     static std::once_flag once;
@@ -217,6 +222,7 @@ private:
     // is named by OpenSSL's verdict on the broker's certificate, as the paho
     // path names it (tls_check.hpp).
     void attempt_failed(int rc) {
+#if NCLINK_WITH_TLS
         if (rc == MOSQ_ERR_TLS && mosq_ != nullptr) {
             const auto* ssl = static_cast<const SSL*>(mosquitto_ssl_get(mosq_));
             const long verify = ssl != nullptr ? SSL_get_verify_result(ssl) : X509_V_OK;
@@ -236,6 +242,7 @@ private:
                 });
             return;
         }
+#endif
         std::string why = rc == MOSQ_ERR_ERRNO ? std::string(std::strerror(errno)) : std::string(mosquitto_strerror(rc));
         if (options_.tls) why = "TLS connection failed: " + why;
         connect_failed(why, false);
@@ -246,12 +253,14 @@ private:
             std::lock_guard<std::mutex> lock(mutex_);
             if (stopping_) return;
         }
+#if NCLINK_WITH_TLS
         if (diagnosis_.valid() && diagnosis_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
             if (auto problem = diagnosis_.get(); problem && !connected_) {
                 tls_verdict_ = problem;
                 link_.attempt_named(*problem, true);  // retrying will not help until the configuration changes
             }
         }
+#endif
         if (mosq_ == nullptr) {
             if (now >= retry_at_) begin_connect();
         } else if (!connected_ && now >= attempt_deadline_) {
@@ -303,6 +312,7 @@ private:
             const auto& w = *options_.last_will;
             mosquitto_will_set(m, w.topic.c_str(), static_cast<int>(w.payload.size()), w.payload.data(), w.qos, w.retained);
         }
+#if NCLINK_WITH_TLS
         if (options_.tls) {
             const auto& t = *options_.tls;
             if (auto problem = tls_file_problem(t)) {
@@ -322,6 +332,7 @@ private:
             mosquitto_tls_opts_set(m, t.verify_server ? 1 : 0, nullptr, nullptr);
             mosquitto_tls_insecure_set(m, !t.verify_server);
         }
+#endif
         {
             std::unique_lock<std::shared_mutex> client(client_mutex_);
             mosq_ = m;
@@ -462,6 +473,7 @@ private:
         on_message_(m);
     }
 
+#if NCLINK_WITH_TLS
     // OpenSSL's user data here is the libmosquitto client, not ours.
     static int key_password(char* buf, int size, int, void* client) {
         auto* self = static_cast<MosquittoTransport*>(mosquitto_userdata(static_cast<mosquitto*>(client)));
@@ -471,6 +483,7 @@ private:
         buf[n] = '\0';
         return n;
     }
+#endif
 
     friend Result<std::unique_ptr<Transport>> detail::make_mosquitto_transport(MqttOptions, Logger, std::shared_ptr<MqttLoop>);
 
@@ -530,9 +543,17 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
     int port = 0;
     if (!parse_broker_url(options.broker_url, host, port, scheme)) return check_broker_url(options.broker_url).error();
     if (!mosquitto_supports(options.broker_url))
-        return make_error(ErrorCode::value_type, fmt::format("{}: the multiplexed MQTT client speaks tcp:// and ssl:// only",
-                                                             options.broker_url));
-    if ((scheme == "ssl" || scheme == "mqtts") && !options.tls) options.tls = MqttTlsOptions{};
+        return make_error(ErrorCode::value_type,
+                          fmt::format("{}: the MQTT client of libnclink (libmosquitto) speaks tcp:// and ssl:// only; "
+                                      "ws:// and wss:// need the paho transport of libnclink-plant",
+                                      options.broker_url));
+    const bool tls = scheme == "ssl" || scheme == "mqtts" || options.tls;
+    if (tls && !kWithTls)
+        return make_error(ErrorCode::value_type,
+                          fmt::format("{}: TLS to the broker is not available: this libnclink was built without it "
+                                      "(NCLINK_WITH_TLS=OFF); use a tcp:// broker or a build with TLS",
+                                      options.broker_url));
+    if (tls && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
     auto t = std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop));
     t->host_ = host;
@@ -541,3 +562,22 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
 }
 
 }  // namespace nclink::detail
+
+namespace nclink {
+
+// A transport with its own loop: the loop lives as long as its one member
+// (the transport holds the only reference), and its thread is the
+// transport's callback thread.
+Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger) {
+    if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
+    if (auto usable = check_broker_url(options.broker_url); !usable) return std::move(usable).error();
+    std::shared_ptr<detail::MqttLoop> loop;
+    try {
+        loop = std::make_shared<detail::MqttLoop>(logger);
+    } catch (const std::exception& e) {  // no descriptor or thread left for it
+        return make_error(ErrorCode::unavailable, fmt::format("MQTT client: {}", e.what()));
+    }
+    return detail::make_mosquitto_transport(std::move(options), std::move(logger), std::move(loop));
+}
+
+}  // namespace nclink

@@ -1,8 +1,8 @@
-// An MQTT transport on libmosquitto whose socket is served by a shared
-// MqttLoop: what a gateway's machines use (one epoll thread for all of their
-// connections instead of paho's one polling thread per process). Same
-// contract and options as make_mqtt_transport() (transport.hpp), for tcp://
-// and ssl:// brokers; ws:// and wss:// stay with paho.
+// The MQTT transport of libnclink: libmosquitto, its socket served by an
+// MqttLoop. A gateway's machines share one loop (one epoll thread for all of
+// their connections); make_mqtt_transport() gives a single adapter a loop of
+// its own. The contract of transport.hpp, for tcp:// and ssl:// brokers;
+// ws:// and wss:// are the paho transport's (libnclink-plant).
 #pragma once
 
 #include <nclink/mqtt_transport.hpp>

@@ -1,7 +1,9 @@
 # libnclink.so exports the SDK API and nothing else: every defined dynamic
 # symbol demangles into the nclink namespace, and none into a detail
-# namespace (include/nclink/export.hpp, cmake/libnclink.map).
-#   cmake -DLIB=<libnclink.so> -P exported_symbols.cmake
+# namespace (include/nclink/export.hpp, cmake/libnclink.map). With OTHER (the
+# plant library checked against the terminal one): LIB also defines none of
+# OTHER's symbols, so the objects it copies from libnclink.a stay its own.
+#   cmake -DLIB=<libnclink.so> [-DOTHER=<libnclink.so>] -P exported_symbols.cmake
 execute_process(COMMAND nm -D --defined-only -C ${LIB} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "nm failed on ${LIB}: ${err}")
@@ -23,6 +25,29 @@ if(count LESS 50)
   message(FATAL_ERROR "only ${count} exported symbols: is the API exported at all?")
 endif()
 if(bad)
-  message(FATAL_ERROR "libnclink.so exports symbols that are not SDK API:\n${bad}")
+  message(FATAL_ERROR "${LIB} exports symbols that are not SDK API:\n${bad}")
+endif()
+if(OTHER)
+  execute_process(COMMAND nm -D --defined-only ${LIB} OUTPUT_VARIABLE mine RESULT_VARIABLE rc1)
+  execute_process(COMMAND nm -D --defined-only ${OTHER} OUTPUT_VARIABLE theirs RESULT_VARIABLE rc2)
+  if(NOT rc1 EQUAL 0 OR NOT rc2 EQUAL 0)
+    message(FATAL_ERROR "nm failed on ${LIB} or ${OTHER}")
+  endif()
+  # Strong definitions only (T, D, B, R): inline functions and template
+  # instantiations are weak (W, V, u) and legitimately in both.
+  string(REGEX MATCHALL "[0-9a-f]+ [TDBR] [^\n]*" mine "${mine}")
+  string(REGEX MATCHALL "[0-9a-f]+ [TDBR] [^\n]*" theirs "${theirs}")
+  list(TRANSFORM mine REPLACE "^[0-9a-f]+ [TDBR] " "")
+  list(TRANSFORM theirs REPLACE "^[0-9a-f]+ [TDBR] " "")
+  set(both "")
+  foreach(symbol IN LISTS mine)
+    list(FIND theirs "${symbol}" at)
+    if(at GREATER -1)
+      string(APPEND both "  ${symbol}\n")
+    endif()
+  endforeach()
+  if(both)
+    message(FATAL_ERROR "${LIB} defines symbols that ${OTHER} exports too (two copies):\n${both}")
+  endif()
 endif()
 message(STATUS "${count} exported symbols, all nclink API")

@@ -22,7 +22,7 @@ release=$(sed -n 's/^set(CPACK_DEBIAN_PACKAGE_RELEASE "\(.*\)")$/\1/p' "$build/C
 soversion=${version%%.*}
 arch=$(dpkg --print-architecture)
 declare -A deb
-for p in "libnclink$soversion" libnclink-dev nclink-tools nclink-agent nclink-bridge; do
+for p in "libnclink$soversion" libnclink-dev "libnclink-plant$soversion" libnclink-plant-dev nclink-tools nclink-agent nclink-bridge; do
   deb[$p]=$work/packages/${p}_${version}-${release}_${arch}.deb
   [[ -f ${deb[$p]} ]] || { ls "$work/packages"; fail "no package ${deb[$p]##*/}"; }
 done
@@ -41,6 +41,17 @@ for p in "${!deb[@]}"; do
   [[ $(field "$p" Version) == "$version-$release" ]] || fail "$p: Version $(field "$p" Version)"
 done
 [[ $(field libnclink-dev Depends) == *"libnclink$soversion (= $version-$release)"* ]] || fail "libnclink-dev: Depends $(field libnclink-dev Depends)"
+# The two libraries (docs/building.md): the terminal one needs no paho, the
+# plant one needs the terminal one.
+[[ $(field libnclink-dev Depends) != *paho* ]] || fail "libnclink-dev: Depends $(field libnclink-dev Depends)"
+[[ $(field "libnclink$soversion" Depends) != *paho* ]] || fail "libnclink$soversion: Depends $(field "libnclink$soversion" Depends)"
+[[ $(field libnclink-plant-dev Depends) == *"libnclink-plant$soversion (= $version-$release)"* &&
+   $(field libnclink-plant-dev Depends) == *"libnclink-dev (= $version-$release)"* ]] ||
+  fail "libnclink-plant-dev: Depends $(field libnclink-plant-dev Depends)"
+[[ $(field "libnclink-plant$soversion" Depends) == *"libnclink$soversion"* && $(field "libnclink-plant$soversion" Depends) == *libpaho-mqttpp3* ]] ||
+  fail "libnclink-plant$soversion: Depends $(field "libnclink-plant$soversion" Depends)"
+dpkg-deb -c "${deb[libnclink-dev]}" | grep -E "include/nclink/(client|agent|mapping|paho_transport)\.hpp" && fail "libnclink-dev ships plant headers"
+dpkg-deb -c "${deb[libnclink-plant-dev]}" | grep "include/nclink/client.hpp" >/dev/null || fail "libnclink-plant-dev: no client.hpp"
 # dpkg-shlibdeps found what the programs link.
 [[ $(field nclink-tools Depends) == *libpaho-mqttpp3* ]] || fail "nclink-tools: Depends $(field nclink-tools Depends)"
 [[ $(field nclink-agent Depends) == *adduser* && $(field nclink-agent Depends) == *libc6* ]] || fail "nclink-agent: Depends $(field nclink-agent Depends)"
@@ -51,6 +62,8 @@ dpkg-deb --ctrl-tarfile "${deb[nclink-bridge]}" | tar -xO ./conffiles | grep -x 
 [[ $(field nclink-bridge Depends) == *libcpp-httplib* ]] || fail "nclink-bridge: Depends $(field nclink-bridge Depends)"
 dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep "^libnclink $soversion libnclink$soversion" >/dev/null ||
   fail "libnclink$soversion: no shlibs"
+dpkg-deb --ctrl-tarfile "${deb[libnclink-plant$soversion]}" | tar -xO ./shlibs | grep "^libnclink-plant $soversion libnclink-plant$soversion" >/dev/null ||
+  fail "libnclink-plant$soversion: no shlibs"
 
 step "dpkg -x into $root"
 for p in "${!deb[@]}"; do dpkg -x "${deb[$p]}" "$root"; done
@@ -63,6 +76,7 @@ for f in usr/bin/nclink usr/bin/nclink-conform usr/bin/nclink-sim usr/bin/nclink
   [[ -e $root/$f ]] || fail "not installed: /$f"
 done
 [[ -n $(find "$root" -name 'libnclink.so.*' -print -quit) ]] || fail "no libnclink.so.*"
+[[ -n $(find "$root" -name 'libnclink-plant.so.*' -print -quit) ]] || fail "no libnclink-plant.so.*"
 [[ -n $(find "$root" -path '*/nclink/drivers/nclink-sim.so' -print -quit) ]] || fail "no sim plugin"
 pcdir=$(dirname "$(find "$root" -name nclink.pc -print -quit)")
 libdir=$(dirname "$pcdir")

@@ -223,7 +223,7 @@ TEST_CASE("gateway: machines share the timer, request and driver threads, and ea
     // machines' one MQTT I/O thread. Each machine adds its connection's
     // sender, its events engine, its method ticker and its sample spool,
     // which all sleep while idle. With threads of their own it was 12 each;
-    // on paho (mqtt_client "paho") a connection supervisor more.
+    // with mqtt_client "paho" each machine an MQTT I/O thread of its own more.
     const auto after = threads_in_process();
     const std::size_t added = count(after) - count(before);
     INFO("threads added by the gateway: " << added << " (" << added_names(before, after) << ")");

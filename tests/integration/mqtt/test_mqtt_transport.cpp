@@ -1,5 +1,6 @@
 // MqttTransport against a real mosquitto on a free 127.0.0.1 port.
 #include <nclink/mqtt_transport.hpp>
+#include <nclink/paho_transport.hpp>
 
 #include "support/mosquitto_broker.hpp"
 #include "support/test_pki.hpp"
@@ -43,12 +44,18 @@ MqttOptions options_for(const MosquittoBroker& broker, const std::string& id) {
     return o;
 }
 
-// Which client the tests marked GENERATE_CLIENT() run on: paho (single
-// adapters) or libmosquitto on a shared loop (gateways). Both keep one contract.
-bool g_mosquitto = false;
-#define GENERATE_CLIENT()                 \
-    g_mosquitto = GENERATE(false, true); \
-    INFO((g_mosquitto ? "libmosquitto on a shared loop" : "paho"))
+// Which client the tests marked GENERATE_CLIENT() run on: libmosquitto with
+// a loop of its own (make_mqtt_transport(): libnclink, single adapters),
+// libmosquitto on a shared loop (gateways), paho (make_paho_transport():
+// libnclink-plant, the client and the agent). All keep one contract.
+enum class Client { own_loop, shared_loop, paho };
+Client g_client = Client::own_loop;
+const char* client_name(Client c) {
+    return c == Client::paho ? "paho" : c == Client::shared_loop ? "libmosquitto on a shared loop" : "libmosquitto on its own loop";
+}
+#define GENERATE_CLIENT()                                                          \
+    g_client = GENERATE(Client::own_loop, Client::shared_loop, Client::paho);     \
+    INFO(client_name(g_client))
 
 // One loop for the transports alive at once, as in a gateway.
 std::shared_ptr<detail::MqttLoop> shared_loop() {
@@ -62,7 +69,8 @@ std::shared_ptr<detail::MqttLoop> shared_loop() {
 }
 
 Result<std::unique_ptr<Transport>> make_transport(MqttOptions o, Logger logger = o_logger) {
-    if (g_mosquitto) return detail::make_mosquitto_transport(std::move(o), std::move(logger), shared_loop());
+    if (g_client == Client::shared_loop) return detail::make_mosquitto_transport(std::move(o), std::move(logger), shared_loop());
+    if (g_client == Client::paho) return make_paho_transport(std::move(o), std::move(logger));
     return make_mqtt_transport(std::move(o), std::move(logger));
 }
 
@@ -349,6 +357,21 @@ TEST_CASE("unusable options are refused with a clear error") {
     CHECK_FALSE(make_mqtt_transport(o).ok());
 }
 
+TEST_CASE("the transport of libnclink refuses WebSocket brokers and names the plant library's, which takes them") {
+    MqttOptions o;
+    o.client_id = "x";
+    for (const char* url : {"ws://127.0.0.1:9001/mqtt", "wss://broker.plant/mqtt"}) {
+        o.broker_url = url;
+        auto r = make_mqtt_transport(o);
+        REQUIRE_FALSE(r.ok());
+        CHECK(r.error().code == ErrorCode::value_type);
+        CHECK(r.error().message.find("libnclink-plant") != std::string::npos);
+        CHECK(make_paho_transport(o).ok());  // connects nowhere until started
+    }
+    o.broker_url = "ssl://127.0.0.1:8883";
+    CHECK(make_mqtt_transport(o).ok());  // this build has TLS (NCLINK_WITH_TLS, docs/building.md)
+}
+
 TEST_CASE("broker URLs parse with default ports") {
     std::string host, scheme;
     int port = 0;
@@ -399,7 +422,7 @@ int threads_named(const std::string& name) {
 }  // namespace
 
 TEST_CASE("two hundred connections share one I/O thread and each gets exactly its own messages") {
-    g_mosquitto = true;
+    g_client = Client::shared_loop;
     MosquittoBroker broker;
     constexpr int kMachines = 200;
     auto loop = std::make_shared<detail::MqttLoop>(o_logger);

@@ -1,11 +1,14 @@
-#include <nclink/mqtt_transport.hpp>
+// The paho transport (paho_transport.hpp): the plant library's MQTT client.
+#include <nclink/paho_transport.hpp>
 
 #include "transport/outbox.hpp"
 #include "core/thread_name.hpp"
 #include "transport/backoff.hpp"
 #include "transport/link_record.hpp"
 #include "transport/tcp_nodelay.hpp"
-#include "transport/tls_check.hpp"
+#if NCLINK_WITH_TLS
+#include "transport/tls_check.hpp"  // names the cause of a failed handshake
+#endif
 
 #include <mqtt/async_client.h>
 
@@ -276,11 +279,13 @@ private:
             return connect_failed("the broker refused the connection: not authorized (user name, password or certificate)",
                                   true, delay);
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
+#if NCLINK_WITH_TLS
         if (options_.tls) {
             if (auto problem = detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
             if (auto problem = detail::tls_handshake_problem(host_, port_, *options_.tls, options_.connect_timeout))
                 return connect_failed(*problem, true, delay);
         }
+#endif
         connect_failed(e.what(), false, delay);
     }
 
@@ -361,7 +366,7 @@ private:
 
 }  // namespace
 
-Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger) {
+Result<std::unique_ptr<Transport>> make_paho_transport(MqttOptions options, Logger logger) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     std::string host, scheme;
     int port = 0;
