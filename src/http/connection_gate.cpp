@@ -268,15 +268,19 @@ void ConnectionGate::stop() {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         returned.swap(returned_);
-        // The descriptors stay open (their workers close them); shutting them
-        // down makes every read and write on them end at once.
-        for (int fd : with_workers_) ::shutdown(fd, SHUT_RDWR);
     }
     for (auto& c : returned) release(c->fd, c->peer_ip);
     if (listen_fd_ >= 0) {
         ::close(listen_fd_);
         listen_fd_ = -1;
     }
+}
+
+void ConnectionGate::interrupt_served() {
+    // The descriptors stay open (their workers close them); shutting them
+    // down makes every read and write on them end at once.
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (int fd : with_workers_) ::shutdown(fd, SHUT_RDWR);
 }
 
 ConnectionCounters ConnectionGate::counters() const {

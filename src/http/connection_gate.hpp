@@ -70,9 +70,11 @@ public:
     /// Closes a connection the gate handed out.
     void close(std::unique_ptr<Connection> connection);
     /// Stops the thread, closes every waiting connection and the listening
-    /// socket, and shuts down (without closing) those with workers so their
-    /// reads and writes end at once. Idempotent.
+    /// socket. Connections with workers stay as they are. Idempotent.
     void stop();
+    /// Shuts down (without closing) the connections with workers, so their
+    /// reads and writes end at once. After stop().
+    void interrupt_served();
 
     ConnectionCounters counters() const;
 

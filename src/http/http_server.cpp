@@ -533,7 +533,11 @@ void HttpServer::stop() {
     impl.stop_cv.notify_all();
     if (!impl.started) return;
     impl.server.serving(false);  // a running stream's chunk loop ends
-    impl.gate.stop();            // no new connections; reads and writes of served ones end
+    impl.gate.stop();            // no new connections; the waiting ones are closed
+    // Streams end cleanly (their last chunk) once they see `stopped`; give
+    // them a moment before every served connection's socket is shut down.
+    for (int i = 0; i < 100 && impl.streams > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    impl.gate.interrupt_served();  // reads and writes of requests still served end
     if (impl.pool) impl.pool->shutdown();
 }
 
