@@ -7,10 +7,23 @@
 // RSS. Each run is done twice: with the bounded intake (max_pending_requests
 // 256, the default) and with it effectively unbounded, in the same run.
 //
-//   bench_request_flood [--rt-priority N] [requests=20000] [quiet_ms=2000]
+//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace]
+//                       [requests=20000] [quiet_ms=2000]
 //
 // --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
 // needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
+// --runs N repeats each intake N times (issue 46: the adapter went deaf after
+// a burst in 2 of 5 runs) and prints, per intake, the share of runs in which
+// a clean Query from a fresh client was answered within 1 s of the burst,
+// the null-row share during the burst and the time to the first clean
+// answer. --plain-broker runs mosquitto with its own defaults (no shipped
+// settings, default queue limits), as a plant might. --trace prints the
+// adapter's counters every 100 ms through the burst (received, handled,
+// shed, malformed, repeats, pending, outbox depth, in flight, published,
+// ch_fast rows) with the broker's $SYS counters (published once a second, the
+// broker's shortest period); a run that stays deaf prints it anyway. The
+// flooding client, as in the issue, also subscribes to the answers and the
+// 1 ms channel.
 #include <nclink/adapter.hpp>
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
@@ -19,8 +32,13 @@
 #include "support/mosquitto_broker.hpp"
 #include "support/request_flood.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -84,89 +102,248 @@ long rss_kib() {
     return 0;
 }
 
-void run(const std::string& label, std::size_t max_pending, std::size_t requests, std::chrono::milliseconds quiet,
-         int rt_priority) {
-    test::MosquittoBroker broker;
+struct Options {
+    std::size_t requests = 20000;
+    std::chrono::milliseconds quiet{2000};
+    int rt_priority = 0;
+    int runs = 1;
+    bool plain_broker = false;
+    bool trace = false;
+};
+
+struct RunResult {
+    bool answered_within_1s = false;
+    std::optional<double> answer_ms;  ///< none: no clean answer within the give-up time
+    double null_share_flood = 0;
+};
+
+// One look at the adapter's counters (and the broker's latest $SYS values).
+struct Sample {
+    double t_ms = 0;
+    std::uint64_t received = 0, handled = 0, shed = 0, rejected = 0, repeats = 0, published = 0, fast_rows = 0;
+    std::size_t pending = 0, buffered = 0, in_flight = 0;
+    std::string broker;
+};
+
+// The broker's $SYS counters as they arrive (mosquitto publishes them every
+// sys_interval, at least a second).
+class SysWatch {
+public:
+    explicit SysWatch(const std::string& url) {
+        MqttOptions m;
+        m.broker_url = url;
+        m.client_id = "bench-sys";
+        transport_ = make_mqtt_transport(m).value();
+        transport_->set_message_handler([this](const Message& msg) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            values_[msg.topic.substr(std::string("$SYS/broker/").size())] = msg.payload;
+        });
+        (void)transport_->start();
+        (void)transport_->subscribe({"$SYS/broker/messages/#", "$SYS/broker/publish/messages/#",
+                                     "$SYS/broker/store/messages/#", "$SYS/broker/clients/connected",
+                                     "$SYS/broker/load/messages/received/1min"},
+                                    0);
+    }
+    ~SysWatch() { transport_->stop(); }
+    std::string line() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::string out;
+        for (const char* key : {"messages/received", "messages/sent", "publish/messages/dropped", "store/messages/count",
+                                "clients/connected"}) {
+            auto it = values_.find(key);
+            out += std::string(" ") + key + "=" + (it == values_.end() ? "?" : it->second);
+        }
+        return out;
+    }
+
+private:
+    std::unique_ptr<Transport> transport_;
+    mutable std::mutex mutex_;
+    std::map<std::string, std::string> values_;
+};
+
+RunResult run(const std::string& label, std::size_t max_pending, const Options& opt) {
+    test::MosquittoOptions bo;
+    if (opt.plain_broker) {
+        bo.shipped_settings = false;
+        bo.large_queues = false;
+    }
+    bo.extra_config = "sys_interval 1\n";
+    test::MosquittoBroker broker(bo);
     AdapterConfig config;
     config.broker_url = broker.url();
     config.model_path = std::string(NCLINK_SOURCE_DIR) + "/models/sim-mill.json";
     config.log_level = LogLevel::error;
     config.max_pending_requests = max_pending;
     config.register_timeout = 200ms;
-    config.sampling.rt_priority = rt_priority;  // 0: normal scheduling
+    config.sampling.rt_priority = opt.rt_priority;  // 0: normal scheduling
     const auto loaded = load_model_file(config.model_path);
     auto created = SimDriver::create(loaded.model, SimOptions{});
     std::shared_ptr<SimDriver> sim = std::move(created).value();
     Adapter adapter(config, sim, Logger(stderr_sink(), LogLevel::error));
     if (!adapter.start().ok()) std::abort();
     while (adapter.stats().transport.connects == 0) std::this_thread::sleep_for(10ms);
+    SysWatch sys(broker.url());
 
-    MqttOptions m;
-    m.broker_url = broker.url();
-    ClientOptions o;
-    o.ex_cid = "bench-probe";
-    o.default_timeout = 200ms;
-    auto probe = Client::create(m, o).value();
-    (void)probe->start();
-    probe->wait_connected(10s);
-    auto answers = [&] {
-        auto r = probe->query(kDev, {QueryItem{"x_position", std::nullopt}});
+    auto make_probe = [&](const std::string& id) {
+        MqttOptions m;
+        m.broker_url = broker.url();
+        ClientOptions o;
+        o.ex_cid = id;
+        o.default_timeout = 200ms;
+        auto probe = Client::create(m, o).value();
+        (void)probe->start();
+        probe->wait_connected(10s);
+        return probe;
+    };
+    auto answers = [&](Client& probe) {
+        auto r = probe.query(kDev, {QueryItem{"x_position", std::nullopt}});
         return r.ok() && (*r)[0].status.ok;
     };
-    while (!answers()) {
+    {
+        auto probe = make_probe("bench-probe-before");
+        while (!answers(*probe)) {
+        }
+        probe->stop();
     }
 
     const auto quiet_start = fast_channel(adapter);
-    std::this_thread::sleep_for(quiet);
+    std::this_thread::sleep_for(opt.quiet);
     const auto quiet_end = fast_channel(adapter);
 
     auto flooder = test::flood_transport(broker.url(), "flooder");
+    std::atomic<std::uint64_t> flooder_got{0};
+    flooder->set_message_handler([&](const Message&) { ++flooder_got; });
     (void)flooder->start();
     while (flooder->state() != LinkState::connected) std::this_thread::sleep_for(5ms);
+    // As in the issue: the flooding client takes the answers and the 1 ms channel.
+    (void)flooder->subscribe({"Query/Response/" + kDev + "/#", "Set/Response/" + kDev + "/#", "Sample/" + kDev + "/#"}, 0);
+    std::this_thread::sleep_for(200ms);
+
+    // The adapter's counters every 100 ms from just before the burst.
+    std::vector<Sample> samples;
+    std::atomic<bool> sampling{true};
+    const auto t0 = std::chrono::steady_clock::now();
+    std::thread sampler([&] {
+        while (sampling) {
+            const auto st = adapter.stats();
+            Sample s;
+            s.t_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            s.received = st.transport.received;
+            s.handled = st.requests;
+            s.shed = st.shed;
+            s.rejected = st.rejected;
+            s.repeats = st.ignored_duplicates;
+            s.pending = st.pending_requests;
+            s.buffered = st.transport.buffered;
+            s.in_flight = st.transport.in_flight;
+            s.published = st.transport.published;
+            s.fast_rows = fast_channel(adapter).rows;
+            s.broker = sys.line();
+            samples.push_back(std::move(s));
+            std::this_thread::sleep_for(100ms);
+        }
+    });
+
     const auto before = adapter.stats();
     const auto flood_start = fast_channel(adapter);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (std::size_t i = 0; i < requests; ++i) (void)flooder->publish(test::flood_message(i, kDev, "flooder", "x_position"));
+    for (std::size_t i = 0; i < opt.requests; ++i)
+        (void)flooder->publish(test::flood_message(i, kDev, "flooder", "x_position"));
     (void)flooder->flush(600s);
     const auto sent = std::chrono::steady_clock::now();
     const auto flood_end = fast_channel(adapter);
     const long rss_flood = rss_kib();
-    while (!answers()) {
+    // A fresh client's clean Query, retried until answered or 15 s passed.
+    RunResult result;
+    {
+        auto probe = make_probe("bench-probe-after");
+        const auto give_up = sent + 15s;
+        while (std::chrono::steady_clock::now() < give_up) {
+            if (answers(*probe)) {
+                result.answer_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - sent).count();
+                break;
+            }
+        }
+        probe->stop();
     }
-    const auto back = std::chrono::steady_clock::now();
+    result.answered_within_1s = result.answer_ms && *result.answer_ms <= 1000.0;
+    result.null_share_flood = null_row_share(flood_start, flood_end);
     // The backlog drained: everything counted.
-    for (int i = 0; i < 600 && adapter.stats().pending_requests > 0; ++i) std::this_thread::sleep_for(100ms);
+    for (int i = 0; i < 100 && adapter.stats().pending_requests > 0; ++i) std::this_thread::sleep_for(100ms);
+    sampling = false;
+    sampler.join();
     const auto after = adapter.stats();
     const double send_ms = std::chrono::duration<double, std::milli>(sent - t0).count();
-    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10.0f %9llu %9llu %9llu %9ld\n", label.c_str(),
-                static_cast<double>(requests) / (send_ms / 1000.0), 100.0 * null_row_share(quiet_start, quiet_end),
-                100.0 * null_row_share(flood_start, flood_end), 100.0 * missed_row_share(flood_start, flood_end),
-                std::chrono::duration<double, std::milli>(back - sent).count(),
+    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10s %9llu %9llu %9llu %9ld\n", label.c_str(),
+                static_cast<double>(opt.requests) / (send_ms / 1000.0), 100.0 * null_row_share(quiet_start, quiet_end),
+                100.0 * result.null_share_flood, 100.0 * missed_row_share(flood_start, flood_end),
+                result.answer_ms ? std::to_string(static_cast<long>(*result.answer_ms)).c_str() : "DEAF",
                 static_cast<unsigned long long>(after.requests - before.requests),
                 static_cast<unsigned long long>(after.shed - before.shed),
                 static_cast<unsigned long long>(after.rejected - before.rejected), rss_flood);
+    if (opt.trace || !result.answer_ms) {
+        std::printf("  trace (ms from burst start; burst sent at %.0f ms; flooder received %llu):\n", send_ms,
+                    static_cast<unsigned long long>(flooder_got.load()));
+        std::printf("  %7s %8s %8s %7s %7s %7s %7s %7s %7s %8s %8s  broker $SYS\n", "t", "recv", "handled", "shed",
+                    "malf", "repeat", "pending", "outbox", "inflt", "publ", "fastrows");
+        for (const auto& x : samples)
+            std::printf("  %7.0f %8llu %8llu %7llu %7llu %7llu %7zu %7zu %7zu %8llu %8llu %s\n", x.t_ms,
+                        static_cast<unsigned long long>(x.received), static_cast<unsigned long long>(x.handled),
+                        static_cast<unsigned long long>(x.shed), static_cast<unsigned long long>(x.rejected),
+                        static_cast<unsigned long long>(x.repeats), x.pending, x.buffered, x.in_flight,
+                        static_cast<unsigned long long>(x.published), static_cast<unsigned long long>(x.fast_rows),
+                        x.broker.c_str());
+    }
     flooder->stop();
-    probe->stop();
     adapter.stop();
+    return result;
+}
+
+void summary(const std::string& label, const std::vector<RunResult>& results) {
+    std::size_t within = 0;
+    std::vector<double> nulls, answers;
+    for (const auto& r : results) {
+        within += r.answered_within_1s ? 1 : 0;
+        nulls.push_back(100.0 * r.null_share_flood);
+        if (r.answer_ms) answers.push_back(*r.answer_ms);
+    }
+    std::sort(nulls.begin(), nulls.end());
+    std::sort(answers.begin(), answers.end());
+    std::printf("%s: %zu runs, clean Query answered within 1 s after the burst in %zu (%.0f %%); "
+                "never answered (15 s) in %zu; null rows during the burst median %.2f %% max %.2f %%; "
+                "first clean answer median %.0f ms max %.0f ms\n",
+                label.c_str(), results.size(), within, 100.0 * static_cast<double>(within) / static_cast<double>(results.size()),
+                results.size() - answers.size(), nulls[nulls.size() / 2], nulls.back(),
+                answers.empty() ? -1.0 : answers[answers.size() / 2], answers.empty() ? -1.0 : answers.back());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
-    int rt_priority = 0;
-    std::vector<std::string> args(argv + 1, argv + argc);
-    if (args.size() >= 2 && args[0] == "--rt-priority") {
-        rt_priority = std::atoi(args[1].c_str());
-        args.erase(args.begin(), args.begin() + 2);
+    Options opt;
+    std::vector<std::string> args;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--rt-priority" && i + 1 < argc) opt.rt_priority = std::atoi(argv[++i]);
+        else if (a == "--runs" && i + 1 < argc) opt.runs = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--plain-broker") opt.plain_broker = true;
+        else if (a == "--trace") opt.trace = true;
+        else args.push_back(a);
     }
-    const std::size_t requests = !args.empty() ? std::strtoull(args[0].c_str(), nullptr, 10) : 20000;
-    const auto quiet = std::chrono::milliseconds(args.size() > 1 ? std::atoi(args[1].c_str()) : 2000);
-    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s\n",
-                requests, rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling");
+    if (!args.empty()) opt.requests = std::strtoull(args[0].c_str(), nullptr, 10);
+    if (args.size() > 1) opt.quiet = std::chrono::milliseconds(std::atoi(args[1].c_str()));
+    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s\n",
+                opt.requests, opt.rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling",
+                opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf");
     std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
                 "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB");
-    run("bounded", 256, requests, quiet, rt_priority);
-    run("unbounded", std::numeric_limits<std::size_t>::max() / 2, requests, quiet, rt_priority);
+    std::vector<RunResult> bounded, unbounded;
+    for (int i = 0; i < opt.runs; ++i) {
+        bounded.push_back(run("bounded", 256, opt));
+        unbounded.push_back(run("unbounded", std::numeric_limits<std::size_t>::max() / 2, opt));
+    }
+    summary("bounded", bounded);
+    summary("unbounded", unbounded);
     return 0;
 }

@@ -70,6 +70,13 @@ Result<void> Bridge::start() {
     http_options.port = c.http_port;
     http_options.workers = c.http_workers;
     http_options.max_body_bytes = c.max_request_bytes;
+    http_options.max_streams = c.http_max_streams;
+    http_options.header_timeout = c.http_header_timeout;
+    http_options.keep_alive_timeout = c.http_keep_alive;
+    http_options.read_timeout = c.http_read_timeout;
+    http_options.write_timeout = c.http_write_timeout;
+    http_options.max_connections = c.http_max_connections;
+    http_options.max_connections_per_peer = c.http_max_connections_per_peer;
     http_options.logger = b.logger;
     if (!c.http_username.empty() || !c.http_password.empty())
         http_options.auth = http::BasicAuth{c.http_username, c.http_password, "nclink-bridge", {}};
@@ -135,6 +142,13 @@ ConfigReload Bridge::reload(const BridgeConfig& next) {
     restart(c.http_password == next.http_password, "http_password");
     restart(c.http_workers == next.http_workers, "http_workers");
     restart(c.max_request_bytes == next.max_request_bytes, "max_request_bytes");
+    restart(c.http_max_streams == next.http_max_streams, "http_max_streams");
+    restart(c.http_header_timeout == next.http_header_timeout, "http_header_timeout_ms");
+    restart(c.http_keep_alive == next.http_keep_alive, "http_keep_alive_ms");
+    restart(c.http_read_timeout == next.http_read_timeout, "http_read_timeout_ms");
+    restart(c.http_write_timeout == next.http_write_timeout, "http_write_timeout_ms");
+    restart(c.http_max_connections == next.http_max_connections, "http_max_connections");
+    restart(c.http_max_connections_per_peer == next.http_max_connections_per_peer, "http_max_connections_per_peer");
     restart(c.shdr_host == next.shdr_host && c.shdr_port == next.shdr_port, "shdr");
     restart(c.shdr_enabled == next.shdr_enabled, "shdr_enabled");
     restart(c.buffer_size == next.buffer_size, "buffer_size");

@@ -43,6 +43,14 @@ struct BridgeConfig {
     std::string http_password;
     std::size_t http_workers = 16;
     std::size_t max_request_bytes = 64 * 1024;
+    /// Slow and idle clients (docs/bridge.md "Slow and idle clients").
+    std::size_t http_max_streams = 64;           ///< SSE/MTConnect streams at once, each on its own thread
+    std::chrono::milliseconds http_header_timeout{3000};  ///< a request head must be whole within this
+    std::chrono::milliseconds http_keep_alive{5000};      ///< idle keep-alive connections closed after this
+    std::chrono::milliseconds http_read_timeout{5000};    ///< a request body must arrive within this
+    std::chrono::milliseconds http_write_timeout{5000};   ///< a client must take an answer within this
+    std::size_t http_max_connections = 512;
+    std::size_t http_max_connections_per_peer = 64;  ///< 0: no cap
     bool shdr_enabled = true;
     std::string shdr_host = "127.0.0.1";
     int shdr_port = 7878;                  ///< 0: any free port

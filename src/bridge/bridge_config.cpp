@@ -61,6 +61,13 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     NCLINK_TRY(top.str("http_password", c.http_password));
     NCLINK_TRY(top.count("http_workers", c.http_workers));
     NCLINK_TRY(top.count("max_request_bytes", c.max_request_bytes));
+    NCLINK_TRY(top.count("http_max_streams", c.http_max_streams));
+    NCLINK_TRY(top.duration("http_header_timeout_ms", c.http_header_timeout));
+    NCLINK_TRY(top.duration("http_keep_alive_ms", c.http_keep_alive));
+    NCLINK_TRY(top.duration("http_read_timeout_ms", c.http_read_timeout));
+    NCLINK_TRY(top.duration("http_write_timeout_ms", c.http_write_timeout));
+    NCLINK_TRY(top.count("http_max_connections", c.http_max_connections));
+    NCLINK_TRY(top.count("http_max_connections_per_peer", c.http_max_connections_per_peer));
     NCLINK_TRY(read_endpoint(top, "shdr", c.shdr_host, c.shdr_port));
     NCLINK_TRY(top.boolean("shdr_enabled", c.shdr_enabled));
     NCLINK_TRY(top.count("buffer_size", c.buffer_size));
@@ -75,6 +82,16 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     if (c.buffer_size < 1 || c.buffer_size > (1u << 26))
         return make_error(ErrorCode::out_of_range, "configuration: buffer_size must be 1..67108864");
     if (c.http_workers < 3) return make_error(ErrorCode::out_of_range, "configuration: http_workers must be at least 3");
+    if (c.http_max_streams < 1)
+        return make_error(ErrorCode::out_of_range, "configuration: http_max_streams must be at least 1");
+    if (c.http_max_connections < 1)
+        return make_error(ErrorCode::out_of_range, "configuration: http_max_connections must be at least 1");
+    for (const auto& [key, value] : {std::pair{"http_header_timeout_ms", c.http_header_timeout},
+                                     std::pair{"http_keep_alive_ms", c.http_keep_alive},
+                                     std::pair{"http_read_timeout_ms", c.http_read_timeout},
+                                     std::pair{"http_write_timeout_ms", c.http_write_timeout}})
+        if (value.count() < 10)
+            return make_error(ErrorCode::out_of_range, std::string("configuration: ") + key + " must be at least 10");
     if (c.request_timeout.count() <= 0)
         return make_error(ErrorCode::out_of_range, "configuration: request_timeout_ms must be positive");
     if (c.heartbeat.count() < 10) return make_error(ErrorCode::out_of_range, "configuration: heartbeat_ms must be at least 10");

@@ -1,13 +1,15 @@
-// HttpServer over cpp-httplib. httplib does the HTTP (parsing, keep-alive,
-// chunked transfer, the 413 body cap); this file routes, fills in the
-// answers nobody writes (404/405/413/503/500) and runs stream bodies.
+// HttpServer over cpp-httplib. httplib does the HTTP (parsing, chunked
+// transfer, the 413 body cap) one request at a time on a connection the gate
+// (http/connection_gate.hpp) hands over with its head complete; this file
+// routes, fills in the answers nobody writes (404/405/413/503/500), runs
+// stream bodies and moves connections between the gate and the workers.
 #include "http/http_server.hpp"
 
+#include "http/connection_gate.hpp"
 #include "http/router.hpp"
+#include "http/worker_pool.hpp"
 
 #include <httplib.h>
-
-#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
@@ -198,10 +200,42 @@ bool SseWriter::comment(std::string_view text) {
 
 // ------------------------------------------------------------------ server
 
+namespace {
+
+// cpp-httplib's request processing for one request on a stream we own. The
+// library's own accept loop and keep-alive wait (which hold a worker per
+// connection, idle or not) are not used; process_request() is the library's
+// protected entry for one request. Its "shutting down" test is that the
+// listening socket it knows is invalid: serving(true) marks it valid (the
+// value is never used as a socket, as listen() and stop() are never called).
+class Engine final : public httplib::Server {
+public:
+    bool serve_one(httplib::Stream& stream, bool last, bool& closed) {
+        return process_request(stream, last, closed, nullptr);
+    }
+    void serving(bool on) { svr_sock_ = on ? 0 : INVALID_SOCKET; }
+};
+
+// The stream of the request this worker thread serves now (dispatch marks it
+// streaming when the response is a stream).
+thread_local ConnectionStream* current_stream = nullptr;
+
+GateOptions gate_options(const HttpOptions& o) {
+    GateOptions g;
+    g.header_timeout = o.header_timeout;
+    g.keep_alive_timeout = o.keep_alive_timeout;
+    g.max_connections = o.max_connections;
+    g.max_connections_per_peer = o.max_connections_per_peer;
+    return g;
+}
+
+}  // namespace
+
 struct HttpServer::Impl {
-    explicit Impl(HttpOptions o) : options(std::move(o)) {
+    explicit Impl(HttpOptions o) : options(std::move(o)), gate(gate_options(options), options.logger) {
         if (options.workers == 0) options.workers = 1;
-        if (options.max_streams == 0) options.max_streams = options.workers > 2 ? options.workers - 2 : 1;
+        if (options.max_streams == 0) options.max_streams = 32;
+        if (options.keep_alive_max_requests == 0) options.keep_alive_max_requests = 1;
     }
 
     HttpOptions options;
@@ -209,8 +243,9 @@ struct HttpServer::Impl {
     std::vector<Handler> handlers;  // by route index
     ErrorPage error_page;
     RequestObserver observer;
-    httplib::Server server;
-    std::thread listener;
+    Engine server;
+    ConnectionGate gate;
+    std::unique_ptr<WorkerPool> pool;
     std::atomic<int> bound_port{0};
     std::atomic<bool> started{false};
     std::atomic<bool> stopped{false};
@@ -346,6 +381,26 @@ struct HttpServer::Impl {
         return std::nullopt;
     }
 
+    // A worker's job: the requests of one connection whose head is buffered,
+    // then the connection goes back to the gate (or is closed).
+    void serve_connection(std::unique_ptr<Connection> c) {
+        for (;;) {
+            if (stopped) return gate.close(std::move(c));
+            ConnectionStream stream(*c, Connection::Clock::now() + options.read_timeout, options.write_timeout);
+            const bool last = ++c->requests >= options.keep_alive_max_requests;
+            bool closed = false;
+            current_stream = &stream;
+            const bool ok = server.serve_one(stream, last, closed);
+            current_stream = nullptr;
+            if (!ok || closed || last || !stream.healthy() || stopped) return gate.close(std::move(c));
+            c->compact();
+            if (c->head_ready()) continue;  // the next request is already here
+            c->idle = c->pending().empty();
+            c->deadline = Connection::Clock::now() + (c->idle ? options.keep_alive_timeout : options.header_timeout);
+            return gate.give_back(std::move(c));
+        }
+    }
+
     void dispatch(const httplib::Request& req, httplib::Response& res) {
         const auto begun = std::chrono::steady_clock::now();
         HttpRequest request = convert(req);
@@ -387,6 +442,10 @@ struct HttpServer::Impl {
                 --streams;
                 response = error_response(503, request, "too many streams at once (" +
                                                             std::to_string(options.max_streams) + ")");
+            } else {
+                // The stream keeps this thread; a new worker takes its place.
+                if (current_stream) current_stream->streaming();
+                if (pool) pool->lend_current();
             }
         }
         observe(request.method, router.pattern(match.route), response.status, begun, static_cast<bool>(response.stream));
@@ -422,19 +481,11 @@ Result<void> HttpServer::start() {
                               " is not a loopback address: serving it needs a username and password "
                               "(HTTP Basic; docs/dashboard.md, Security)");
     auto& svr = impl.server;
-    const std::size_t workers = impl.options.workers;
-    svr.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
     svr.set_payload_max_length(impl.options.max_body_bytes);
-    svr.set_read_timeout(static_cast<time_t>(impl.options.read_timeout.count()), 0);
-    svr.set_keep_alive_timeout(static_cast<time_t>(impl.options.keep_alive_timeout.count()));
-    svr.set_tcp_nodelay(true);
-    // httplib's default is SO_REUSEPORT, with which a second server silently
-    // shares a port already in use; SO_REUSEADDR alone lets a restart rebind
-    // at once yet makes a taken port an error.
-    svr.set_socket_options([](int sock) {
-        int yes = 1;
-        ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
-    });
+    // Only what the library writes in its Keep-Alive header; the gate keeps
+    // the real time (in milliseconds) and the worker the real count.
+    svr.set_keep_alive_timeout(static_cast<time_t>((impl.options.keep_alive_timeout.count() + 999) / 1000));
+    svr.set_keep_alive_max_count(impl.options.keep_alive_max_requests);
     auto handler = [&impl](const httplib::Request& req, httplib::Response& res) { impl.dispatch(req, res); };
     svr.Get(".*", handler);
     svr.Post(".*", handler);
@@ -458,19 +509,17 @@ Result<void> HttpServer::start() {
         return httplib::Server::HandlerResponse::Handled;
     }));
 
-    int port = impl.options.port;
-    if (port == 0) {
-        port = svr.bind_to_any_port(impl.options.host);
-        if (port <= 0)
-            return make_error(ErrorCode::unavailable, "http: cannot bind " + impl.options.host + " (any port)");
-    } else if (!svr.bind_to_port(impl.options.host, port)) {
-        return make_error(ErrorCode::unavailable,
-                          "http: cannot bind " + impl.options.host + ":" + std::to_string(port));
-    }
+    auto bound = impl.gate.bind(impl.options.host, impl.options.port);
+    if (!bound) return std::move(bound).error();
+    const int port = *bound;
     impl.bound_port = port;
-    impl.listener = std::thread([&impl] { impl.server.listen_after_bind(); });
-    // stop() only reaches a server that is already listening: wait for it.
-    for (int i = 0; i < 5000 && !svr.is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    impl.server.serving(true);
+    impl.pool = std::make_unique<WorkerPool>(impl.options.workers);
+    impl.gate.start([&impl](std::unique_ptr<Connection> c) {
+        auto shared = std::make_shared<std::unique_ptr<Connection>>(std::move(c));
+        if (!impl.pool->submit([&impl, shared] { impl.serve_connection(std::move(*shared)); }))
+            impl.gate.close(std::move(*shared));
+    });
     impl.options.logger.info("http: serving on {}:{}", impl.options.host, port);
     return ok_result();
 }
@@ -483,8 +532,15 @@ void HttpServer::stop() {
     }
     impl.stop_cv.notify_all();
     if (!impl.started) return;
-    impl.server.stop();
-    if (impl.listener.joinable()) impl.listener.join();
+    impl.server.serving(false);  // a running stream's chunk loop ends
+    impl.gate.stop();            // no new connections; the waiting ones are closed
+    // Streams end cleanly (their last chunk) once they see `stopped`; give
+    // them a moment before every served connection's socket is shut down.
+    for (int i = 0; i < 100 && impl.streams > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    impl.gate.interrupt_served();  // reads and writes of requests still served end
+    if (impl.pool) impl.pool->shutdown();
 }
+
+ConnectionCounters HttpServer::connection_counters() const { return impl_->gate.counters(); }
 
 }  // namespace nclink::http

@@ -16,6 +16,11 @@
 //  - streaming responses (chunked transfer) with StreamSink, and Server-Sent
 //    Events on top of it (SseWriter), both ended cleanly by stop();
 //  - a bounded pool of worker threads and a clean, idempotent stop();
+//  - slow and idle clients cost no worker (docs/bridge.md "Slow and idle
+//    clients"): a connection reaches a worker only once its whole request
+//    head has arrived (http/connection_gate.hpp); idle keep-alive
+//    connections wait in the same poll set; heads that do not arrive within
+//    header_timeout are closed; connections are capped in all and per peer;
 //  - security for servers that reach beyond the machine (docs/dashboard.md
 //    "Security"): loopback unless configured; bound anywhere else, start()
 //    refuses to run without HTTP Basic authentication (RFC 7617), and then
@@ -31,16 +36,21 @@
 //    workers of them, created by start(), joined by stop()); handlers run
 //    concurrently with each other, so whatever they share must be
 //    thread-safe. A handler never runs on the caller of start()/stop().
-//  - A stream body (HttpResponse::stream) runs on the worker thread of its
-//    request for as long as the stream lasts, so at most
-//    HttpOptions::max_streams streams run at once (the rest get 503) and the
-//    other workers keep serving ordinary requests.
+//  - A stream body (HttpResponse::stream) runs on the thread of its request
+//    for as long as the stream lasts; that thread stops counting as a worker
+//    when the stream begins and a new worker takes its place, so streams
+//    never hold request workers. At most HttpOptions::max_streams streams
+//    run at once (the rest get 503).
+//  - One more thread (the connection gate) accepts connections and holds the
+//    waiting ones; it runs no handler.
 //  - start(), stop(), port() and active_streams() may be called from any
 //    thread; stop() must not be called from a handler (it joins the workers).
 //  - The observer runs on the worker thread of the request, after its
 //    handler (for a stream: when the stream begins); it must be thread-safe
 //    and quick.
 #pragma once
+
+#include "http/connection_counters.hpp"
 
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
@@ -74,13 +84,28 @@ struct BasicAuth {
 struct HttpOptions {
     std::string host = "127.0.0.1";  ///< loopback unless told otherwise
     int port = 0;                    ///< 0: any free port (see HttpServer::port())
-    std::size_t workers = 8;         ///< worker threads (each serves one connection at a time)
-    /// Streams (StreamSink) running at once; more are answered 503. Keep it
-    /// below `workers` so ordinary requests are still served. 0 = workers - 2 (at least 1).
+    /// Worker threads serving requests (each one request at a time). Streams
+    /// do not take them: a worker that begins a stream is replaced at once.
+    std::size_t workers = 8;
+    /// Streams (StreamSink) running at once, each on its own thread; more are answered 503. 0 = 32.
     std::size_t max_streams = 0;
     std::size_t max_body_bytes = 64 * 1024;  ///< request bodies over this get 413
-    std::chrono::seconds read_timeout{5};
-    std::chrono::seconds keep_alive_timeout{2};  ///< also bounds how long stop() waits for an idle connection
+    /// A connection's request head (request line and header fields) must be
+    /// whole within this after the connection is accepted, or after the first
+    /// byte of a later request on it; otherwise it is closed (408). Until its
+    /// head is whole a connection takes no worker.
+    std::chrono::milliseconds header_timeout{3000};
+    /// A request's body must arrive within this after its head.
+    std::chrono::milliseconds read_timeout{5000};
+    /// A response must be taken by the client within this (a stream: each write).
+    std::chrono::milliseconds write_timeout{5000};
+    /// An idle keep-alive connection is closed after this; it waits without a worker.
+    std::chrono::milliseconds keep_alive_timeout{5000};
+    std::size_t keep_alive_max_requests = 100;  ///< requests on one connection before it is closed
+    /// Connections open at once (all peers); more are closed at once.
+    std::size_t max_connections = 512;
+    /// Connections open at once from one address; more are closed at once. 0 = no cap.
+    std::size_t max_connections_per_peer = 64;
     /// Required when `host` is not a loopback address (start() fails without).
     std::optional<BasicAuth> auth;
     /// 403 for a POST/PUT/PATCH/DELETE whose Origin is not this server's Host.
@@ -202,6 +227,8 @@ public:
     int port() const noexcept;
     /// Streams running now.
     std::size_t active_streams() const noexcept;
+    /// What the connection gate did so far (connections open, refused, timed out).
+    ConnectionCounters connection_counters() const;
     /// Ends every stream, stops accepting, waits for the workers. Idempotent.
     void stop();
 
