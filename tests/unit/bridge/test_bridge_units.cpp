@@ -159,14 +159,14 @@ TEST_CASE("sample parameters: integers in range, INVALID_REQUEST for text, OUT_O
 
 TEST_CASE("current parameters and the at and from windows") {
     CurrentParams p;
-    CHECK_FALSE(parse_current_params({{"at", "12"}}, p));
+    CHECK_FALSE(parse_current_params({{"at", "12"}}, 1000, p));
     CHECK(*p.at == 12);
     CurrentParams both;
-    auto e = parse_current_params({{"at", "12"}, {"interval", "10"}}, both);
+    auto e = parse_current_params({{"at", "12"}, {"interval", "10"}}, 1000, both);
     REQUIRE(e);
     CHECK(e->code == MtErrorCode::invalid_request);
     CurrentParams bad;
-    REQUIRE(parse_current_params({{"at", "x"}}, bad));
+    REQUIRE(parse_current_params({{"at", "x"}}, 1000, bad));
     // part 1 5.5.2: first 12, last 19
     CHECK(check_at(11, 12, 19)->code == MtErrorCode::out_of_range);
     CHECK_FALSE(check_at(12, 12, 19));
