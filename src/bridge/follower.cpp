@@ -377,4 +377,29 @@ Result<std::vector<SetResult>> Follower::set(const std::string& dev, std::vector
     return client_.set(dev, std::move(items), request_options_);
 }
 
+Result<MethodResult> Follower::call(const std::string& dev, const std::string& method, Json args,
+                                    std::chrono::milliseconds timeout) {
+    // The client's own timeout restarts with every Method/Status (a long run
+    // keeps its call alive); `timeout` bounds the whole wait. The completion
+    // may come after this returned: it holds the state, not this frame.
+    struct Waiting {
+        std::mutex mutex;
+        std::condition_variable done;
+        std::optional<Result<MethodResult>> result;
+    };
+    auto waiting = std::make_shared<Waiting>();
+    client_.call_method_async(dev, method, std::move(args), {},
+                              [waiting](Result<MethodResult> r) {
+                                  std::lock_guard<std::mutex> lock(waiting->mutex);
+                                  waiting->result.emplace(std::move(r));
+                                  waiting->done.notify_all();
+                              },
+                              request_options_);
+    std::unique_lock<std::mutex> lock(waiting->mutex);
+    if (!waiting->done.wait_for(lock, timeout, [&] { return waiting->result.has_value(); }))
+        return make_error(ErrorCode::timeout,
+                          "no Method/Result of " + method + " within " + std::to_string(timeout.count()) + " ms");
+    return std::move(*waiting->result);
+}
+
 }  // namespace nclink::bridge

@@ -45,6 +45,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -74,6 +75,12 @@ public:
 
     /// NC-Link Set of `items` at `dev` (blocking; not from a client callback).
     Result<std::vector<SetResult>> set(const std::string& dev, std::vector<SetItem> items);
+    /// NC-Link Method/Call of `method` at `dev` (8.2.22), answered with its
+    /// Method/Result (8.2.24; a refused call is a result `error` with its
+    /// table-19 code). Blocks until the result or `timeout` (then timeout 203;
+    /// the run itself goes on at the machine). Not from a client callback.
+    Result<MethodResult> call(const std::string& dev, const std::string& method, Json args,
+                              std::chrono::milliseconds timeout);
 
 private:
     struct Followed {

@@ -1,6 +1,9 @@
 #include "bridge/json_api.hpp"
 
+#include "bridge/request_params.hpp"
+
 #include <algorithm>
+#include <limits>
 #include <map>
 
 namespace nclink::bridge {
@@ -137,6 +140,97 @@ http::HttpResponse JsonApi::set(const std::string& dev, const std::string& body)
                                     {"reason", r.status.reason.value_or("")}});
 }
 
+http::HttpResponse JsonApi::call(const std::string& dev, const std::string& body) const {
+    Json request = Json::parse(body, nullptr, false);
+    if (request.is_discarded() || !request.is_object() || !request.contains("method") || !request["method"].is_string() ||
+        request["method"].get_ref<const std::string&>().empty())
+        return json_error(400, "the body must be a JSON object {\"method\": ..., \"args\": {...}, \"timeout_ms\": ...}");
+    Json args = request.value("args", Json());
+    if (!args.is_null() && !args.is_object()) return json_error(400, "args must be an object");
+    // A run waits for its Method/Result: at most an hour, a minute unless told.
+    std::int64_t timeout_ms = 60000;
+    if (request.contains("timeout_ms")) {
+        const Json& t = request["timeout_ms"];
+        if (!t.is_number_integer() || t.get<std::int64_t>() < 1 || t.get<std::int64_t>() > 3600000)
+            return json_error(400, "timeout_ms must be an integer from 1 to 3600000");
+        timeout_ms = t.get<std::int64_t>();
+    }
+    std::string target;
+    store_.read([&](const BridgeState& st) {
+        if (const DeviceEntry* d = st.find_device(dev)) target = d->dev;
+        return 0;
+    });
+    if (target.empty()) return json_error(404, "no device " + dev);
+    auto result = follower_.call(target, request["method"].get<std::string>(), std::move(args),
+                                 std::chrono::milliseconds(timeout_ms));
+    // No Method/Result: NG with the client's code (203 timeout, 202 unreachable).
+    if (!result)
+        return http::json_response(Json{{"code", "NG"},
+                                        {"result", "error"},
+                                        {"error", static_cast<int>(result.error().code)},
+                                        {"reason", result.error().describe()}},
+                                   result.error().code == ErrorCode::timeout ? 504 : 502);
+    Json answer{{"code", result->status.ok ? "OK" : "NG"}, {"result", result->result}};
+    if (result->status.error) answer["error"] = *result->status.error;
+    if (result->status.reason) answer["reason"] = *result->status.reason;
+    if (result->return_value) answer["return"] = *result->return_value;
+    if (result->private_info) answer["privateInfo"] = *result->private_info;
+    return http::json_response(answer);
+}
+
+http::HttpResponse JsonApi::history(const std::string& dev, const http::HttpRequest& request) const {
+    // ?id=<item>&from=<ms>&to=<ms>&max=<n>: the item's observations still in
+    // the buffer with from <= time <= to, oldest first, at most max (for the
+    // OPC UA server's HistoryRead).
+    const auto id = request.param("id");
+    if (!id || id->empty()) return json_error(400, "id (an item id) is required");
+    std::int64_t from = std::numeric_limits<std::int64_t>::min(), to = std::numeric_limits<std::int64_t>::max();
+    std::size_t max = 10000;
+    const auto integer = [&](const char* name, std::int64_t& out) -> bool {
+        const auto text = request.param(name);
+        if (!text) return true;
+        const bool negative = !text->empty() && (*text)[0] == '-';
+        const auto digits = parse_unsigned(negative ? std::string_view(*text).substr(1) : std::string_view(*text));
+        if (!digits || *digits > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return false;
+        out = negative ? -static_cast<std::int64_t>(*digits) : static_cast<std::int64_t>(*digits);
+        return true;
+    };
+    if (!integer("from", from) || !integer("to", to))
+        return json_error(400, "from and to must be integers (ms since the epoch)");
+    if (const auto text = request.param("max")) {
+        const auto n = parse_unsigned(*text);
+        if (!n || *n < 1 || *n > 100000) return json_error(400, "max must be an integer from 1 to 100000");
+        max = static_cast<std::size_t>(*n);
+    }
+    return store_.read([&](const BridgeState& st) -> http::HttpResponse {
+        const DeviceEntry* d = st.find_device(dev);
+        if (!d) return json_error(404, "no device " + dev);
+        const auto it = d->by_nclink_id.find(*id);
+        if (it == d->by_nclink_id.end()) return json_error(404, "no item " + *id + " at " + dev);
+        const ItemIndex wanted = it->second;
+        Json values = Json::array();
+        bool more = false;
+        std::int64_t oldest = 0;
+        bool any = false;
+        for (std::uint64_t seq = st.buffer.first_sequence(); seq <= st.buffer.last_sequence(); ++seq) {
+            const Observation* o = st.buffer.find(seq);
+            if (!o || o->item != wanted) continue;
+            if (!any) oldest = o->time_ms;
+            any = true;
+            if (o->time_ms < from || o->time_ms > to) continue;
+            if (values.size() == max) {
+                more = true;
+                break;
+            }
+            // quality as the stream says it: bad for UNAVAILABLE (offline, or the adapter could not read it).
+            values.push_back(Json{{"value", o->value}, {"time", o->time_ms}, {"quality", o->value.is_null() ? "bad" : "good"}});
+        }
+        Json answer{{"dev", d->dev}, {"id", *id}, {"values", std::move(values)}, {"more", more}};
+        if (any) answer["oldest"] = oldest;  // what the buffer still holds of the item begins here
+        return http::json_response(answer);
+    });
+}
+
 http::HttpResponse JsonApi::stream(const std::string& dev) const {
     bool known = dev.empty();
     if (!known)
@@ -247,6 +341,8 @@ void JsonApi::install(http::HttpServer& server) {
     });
     server.get("/nclink/v1/stream", [this](const http::HttpRequest& r) { return stream(r.param("dev").value_or("")); });
     server.post("/nclink/v1/devices/{dev}/set", [this](const http::HttpRequest& r) { return set(r.path_param("dev"), r.body); });
+    server.post("/nclink/v1/devices/{dev}/call", [this](const http::HttpRequest& r) { return call(r.path_param("dev"), r.body); });
+    server.get("/nclink/v1/devices/{dev}/history", [this](const http::HttpRequest& r) { return history(r.path_param("dev"), r); });
 }
 
 }  // namespace nclink::bridge

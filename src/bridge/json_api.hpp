@@ -1,9 +1,10 @@
 // The live JSON API for the OPC UA server and dashboards (docs/bridge.md
 // "JSON API"): /nclink/v1/devices, .../{dev}/model, .../{dev}/nodeset.xml,
 // .../{dev}/activity (method runs and events), the Server-Sent Events stream
-// /nclink/v1/stream and .../{dev}/set.
+// /nclink/v1/stream, .../{dev}/history (an item's buffered values), .../{dev}/set
+// and .../{dev}/call (NC-Link Method/Call).
 // Handlers run on HTTP worker threads; set blocks its worker for at most the
-// request timeout.
+// request timeout, call for at most its timeout_ms.
 #pragma once
 
 #include "bridge/bridge_store.hpp"
@@ -36,6 +37,8 @@ private:
     http::HttpResponse nodeset(const std::string& dev, const std::string& profile) const;
     http::HttpResponse stream(const std::string& dev) const;
     http::HttpResponse set(const std::string& dev, const std::string& body) const;
+    http::HttpResponse call(const std::string& dev, const std::string& body) const;
+    http::HttpResponse history(const std::string& dev, const http::HttpRequest& request) const;
 
     const BridgeStore& store_;
     Follower& follower_;

@@ -123,7 +123,7 @@ http::HttpResponse MtConnectApi::probe(const std::string& device) const {
 
 http::HttpResponse MtConnectApi::current(const std::string& device, const QueryParams& query) const {
     CurrentParams params;
-    if (auto e = parse_current_params(query, params)) return error({*e});
+    if (auto e = parse_current_params(query, store_.buffer_size(), params)) return error({*e});
     if (params.interval) return stream_current(device, params);
     return store_.read([&](const BridgeState& st) -> http::HttpResponse {
         Selection sel;

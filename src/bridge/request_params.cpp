@@ -1,6 +1,7 @@
 #include "bridge/request_params.hpp"
 
 #include <limits>
+#include <vector>
 
 namespace nclink::bridge {
 
@@ -50,10 +51,15 @@ std::optional<std::uint64_t> parse_unsigned(std::string_view text) {
 
 namespace {
 
-const std::string* find(const QueryParams& query, const char* name, const char* gbt_name) {
-    auto it = query.find(name);
-    if (it == query.end()) it = query.find(gbt_name);
-    return it == query.end() ? nullptr : &it->second;
+// Every value given for a parameter, in request order, under either
+// spelling (part 1's lower case, GB/T 18759.6 tables 7-8's capital).
+std::vector<const std::string*> values_of(const QueryParams& query, const char* name, const char* gbt_name) {
+    std::vector<const std::string*> out;
+    for (const char* spelling : {name, gbt_name}) {
+        auto [begin, end] = query.equal_range(spelling);
+        for (auto it = begin; it != end; ++it) out.push_back(&it->second);
+    }
+    return out;
 }
 
 bool looks_negative_integer(const std::string& text) {
@@ -84,51 +90,73 @@ std::optional<MtError> integer(const std::string& text, const char* name, std::u
     return std::nullopt;
 }
 
+// An integer parameter given once or more: every value must be valid (a
+// malformed one is an error even beside a good one, 6.3.4) and all must agree.
+std::optional<MtError> one_integer(const QueryParams& query, const char* name, const char* gbt_name,
+                                   std::uint64_t min, std::uint64_t max, std::optional<std::uint64_t>& out) {
+    for (const std::string* text : values_of(query, name, gbt_name)) {
+        std::uint64_t value = 0;
+        if (auto e = integer(*text, name, min, max, value)) return e;
+        if (out && *out != value)
+            return MtError{MtErrorCode::invalid_request, std::string("'") + name + "' is given twice with different values"};
+        out = value;
+    }
+    return std::nullopt;
+}
+
+// path: an XPath (part 1 8.3.1). libxml2 reads it up to a NUL byte, so one
+// with a NUL in it would be answered as its head: refused instead.
+std::optional<MtError> one_path(const QueryParams& query, std::optional<std::string>& out) {
+    for (const std::string* text : values_of(query, "path", "Path")) {
+        if (text->find('\0') != std::string::npos)
+            return MtError{MtErrorCode::invalid_path, "the path holds a NUL character"};
+        if (out && *out != *text)
+            return MtError{MtErrorCode::invalid_request, "'path' is given twice with different values"};
+        out = *text;
+    }
+    return std::nullopt;
+}
+
 // Interval and heartbeat are milliseconds; a day is more than any dashboard waits.
 constexpr std::uint64_t kMaxMillis = 24ull * 3600 * 1000;
 
 std::optional<MtError> streaming(const QueryParams& query, std::optional<std::chrono::milliseconds>& interval,
                                  std::chrono::milliseconds& heartbeat) {
-    std::uint64_t value = 0;
-    if (const auto* text = find(query, "interval", "Interval")) {
-        if (auto e = integer(*text, "interval", 0, kMaxMillis, value)) return e;
-        interval = std::chrono::milliseconds(value);
-    }
-    if (const auto* text = find(query, "heartbeat", "Heartbeat")) {
-        if (auto e = integer(*text, "heartbeat", 10, kMaxMillis, value)) return e;
-        heartbeat = std::chrono::milliseconds(value);
-    }
+    std::optional<std::uint64_t> value;
+    if (auto e = one_integer(query, "interval", "Interval", 0, kMaxMillis, value)) return e;
+    if (value) interval = std::chrono::milliseconds(*value);
+    value.reset();
+    if (auto e = one_integer(query, "heartbeat", "Heartbeat", 10, kMaxMillis, value)) return e;
+    if (value) heartbeat = std::chrono::milliseconds(*value);
     return std::nullopt;
 }
 
 }  // namespace
 
 std::optional<MtError> parse_sample_params(const QueryParams& query, std::size_t buffer_size, SampleParams& out) {
-    std::uint64_t value = 0;
-    if (const auto* text = find(query, "from", "From")) {
-        if (auto e = integer(*text, "from", 1, std::numeric_limits<std::uint64_t>::max(), value)) return e;
-        out.from = value;
-    }
-    if (const auto* text = find(query, "count", "Count")) {
-        if (auto e = integer(*text, "count", 1, buffer_size, value)) return e;
-        out.count = static_cast<std::size_t>(value);
-    }
+    std::optional<std::uint64_t> value;
+    if (auto e = one_integer(query, "from", "From", 1, std::numeric_limits<std::uint64_t>::max(), value)) return e;
+    if (value) out.from = *value;
+    value.reset();
+    if (auto e = one_integer(query, "count", "Count", 1, buffer_size, value)) return e;
+    if (value) out.count = static_cast<std::size_t>(*value);
     if (auto e = streaming(query, out.interval, out.heartbeat)) return e;
-    if (const auto* text = find(query, "path", "Path")) out.path = *text;
-    return std::nullopt;
+    return one_path(query, out.path);
 }
 
-std::optional<MtError> parse_current_params(const QueryParams& query, CurrentParams& out) {
-    std::uint64_t value = 0;
-    if (const auto* text = find(query, "at", "At")) {
-        if (auto e = integer(*text, "at", 0, std::numeric_limits<std::uint64_t>::max(), value)) return e;
-        out.at = value;
-    }
+std::optional<MtError> parse_current_params(const QueryParams& query, std::size_t buffer_size, CurrentParams& out) {
+    std::optional<std::uint64_t> value;
+    if (auto e = one_integer(query, "at", "At", 0, std::numeric_limits<std::uint64_t>::max(), value)) return e;
+    out.at = value;
+    // GB/T 18759.6 table 7 lists Count for the snapshot too: checked as
+    // /sample's count (1..bufferSize), though a snapshot has one value per item.
+    value.reset();
+    if (auto e = one_integer(query, "count", "Count", 1, buffer_size, value)) return e;
+    out.count = value;
     if (auto e = streaming(query, out.interval, out.heartbeat)) return e;
     if (out.at && out.interval)
         return MtError{MtErrorCode::invalid_request, "'at' and 'interval' cannot be given together"};
-    if (const auto* text = find(query, "path", "Path")) out.path = *text;
-    return std::nullopt;
+    return one_path(query, out.path);
 }
 
 std::optional<MtError> check_from(std::uint64_t from, std::uint64_t first, std::uint64_t next) {

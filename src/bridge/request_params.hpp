@@ -52,6 +52,7 @@ struct SampleParams {
 
 struct CurrentParams {
     std::optional<std::uint64_t> at;
+    std::optional<std::uint64_t> count;  ///< GB/T 18759.6 table 7 Count: checked, then unused
     std::optional<std::chrono::milliseconds> interval;
     std::chrono::milliseconds heartbeat{10000};
     std::optional<std::string> path;
@@ -60,8 +61,14 @@ struct CurrentParams {
 /// Parses /sample's parameters; checks count against `buffer_size`
 /// (1..bufferSize). Names are case-sensitive as in part 1; GB/T 18759.6
 /// spells them with a capital (From, Count, Interval, Path, At): both work.
+/// Every value of a parameter given more than once is checked (a malformed
+/// one is an error beside a good one), and differing values are
+/// INVALID_REQUEST. A path with a NUL byte is INVALID_PATH (an XPath that
+/// does not parse is found when it is evaluated).
 std::optional<MtError> parse_sample_params(const QueryParams& query, std::size_t buffer_size, SampleParams& out);
-std::optional<MtError> parse_current_params(const QueryParams& query, CurrentParams& out);
+/// /current's (and GB/T 18759.6 snapshot's) parameters: at, interval,
+/// heartbeat, path, and table 7's Count (1..bufferSize).
+std::optional<MtError> parse_current_params(const QueryParams& query, std::size_t buffer_size, CurrentParams& out);
 
 /// from must lie in [firstSequence, nextSequence] (nextSequence: nothing yet, poll again).
 std::optional<MtError> check_from(std::uint64_t from, std::uint64_t first, std::uint64_t next);

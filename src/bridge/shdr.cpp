@@ -25,8 +25,39 @@ std::string shdr_escape(std::string_view text) {
     return out;
 }
 
+std::string shdr_value(std::string_view text) {
+    std::string plain;
+    plain.reserve(text.size());
+    for (char c : text) plain += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
+    const auto first = plain.find_first_not_of(' ');
+    const bool quote = plain.find('|') != std::string::npos ||
+                       (first != std::string::npos && (first > 0 || plain[first] == '"'));
+    if (!quote) return plain;
+    // The adapter protocol's quoted form: '"' ... '"' with '\' before each
+    // '|', '"' and '\' inside; the agent drops the backslashes and keeps
+    // the character after each.
+    std::string out = "\"";
+    out.reserve(plain.size() + 8);
+    for (char c : plain) {
+        if (c == '|' || c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    out += '"';
+    return out;
+}
+
+std::string shdr_device_key(const MtDevice& device) {
+    // An agent finds the device of "<device>:<item>" by uuid first, then by
+    // name, and splits the key at its first ':'. Names need not be unique
+    // (two machines of one model), uuids are: the uuid unless it holds a
+    // character that would split or end the key.
+    const bool usable = !device.uuid.empty() &&
+                        device.uuid.find_first_of(":| \t\r\n") == std::string::npos;
+    return shdr_escape(usable ? device.uuid : device.name);
+}
+
 std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& o) {
-    const std::string prefix = iso_time(o.time_ms) + "|" + shdr_escape(device.mt.name) + ":" + shdr_escape(item.mt.id) + "|";
+    const std::string prefix = iso_time(o.time_ms) + "|" + shdr_device_key(device.mt) + ":" + shdr_escape(item.mt.id) + "|";
     std::string out;
     if (item.availability) {
         out = prefix + (o.value.is_null() ? "UNAVAILABLE" : "AVAILABLE") + "\n";
@@ -38,11 +69,17 @@ std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const O
         for (const auto& ob : observations) {
             std::string level = ob.element == "Fault" ? "fault" : ob.element == "Warning" ? "warning"
                                 : ob.element == "Normal" ? "normal" : "unavailable";
-            out += prefix + level + "|" + shdr_escape(ob.native_code) + "|||" + shdr_escape(ob.value) + "\n";
+            out += prefix + level + "|" + shdr_value(ob.native_code) + "|||" + shdr_value(ob.value) + "\n";
         }
         return out;
     }
-    for (const auto& ob : observations) out += prefix + shdr_escape(ob.value) + "\n";
+    // A MESSAGE is read as nativeCode|text (part 2 MESSAGE: its nativeCode
+    // attribute): with the value alone the agent takes it for the code,
+    // finds no text and records UNAVAILABLE, which is how the list and dict
+    // items (EVENT MESSAGE x:<type>, docs/mapping.md) were lost. The code is
+    // left empty, so the agent sets none.
+    const bool message = item.mt.type == "MESSAGE";
+    for (const auto& ob : observations) out += prefix + (message ? "|" : "") + shdr_value(ob.value) + "\n";
     return out;
 }
 

@@ -1,9 +1,12 @@
 // SHDR, the line protocol an MTConnect agent reads from its adapters
 // (cppagent's "adapter" input), so an existing agent ingests NC-Link machines
 // unchanged (docs/bridge.md "SHDR"):
-//   2024-01-01T00:00:00.123Z|mill:x_position|12.5
-//   2024-01-01T00:00:00.123Z|mill:system_alarm|fault|1001|||Spindle overload
-// One line per change; the key is "<Device name>:<DataItem id>"; UNAVAILABLE
+//   2024-01-01T00:00:00.123Z|mill-01:x_position|12.5
+//   2024-01-01T00:00:00.123Z|mill-01:system_alarm|fault|1001|||Spindle overload
+//   2024-01-01T00:00:00.123Z|mill-01:tools||[{"id":"T1","len":1.5}]
+// One line per change; the key is "<Device uuid>:<DataItem id>"; a MESSAGE
+// (how list and dict items are mapped) as nativeCode|text; a value with '|'
+// quoted (shdr_value); UNAVAILABLE
 // when the adapter is offline; a full snapshot to every new connection; a
 // "* PING" line is answered "* PONG <heartbeat ms>".
 //
@@ -25,9 +28,21 @@
 
 namespace nclink::bridge {
 
-/// A value as SHDR text: '|' would split the line and line breaks end it, so
-/// '|' becomes '/', CR/LF/TAB and other control characters become spaces.
+/// A key part (device, DataItem id) as SHDR text: '|' would split the line
+/// and line breaks end it, so '|' becomes '/', CR/LF/TAB and other control
+/// characters become spaces.
 std::string shdr_escape(std::string_view text);
+
+/// A value as an SHDR field. Control characters (a line break would end the
+/// line) become spaces. A value with '|', or starting with '"' or a space
+/// (which the agent would take for a quote or trim), is sent in the adapter
+/// protocol's quoted form, "text with \| and \" and \\", which the agent
+/// reads back to the text; any other value goes as it is.
+std::string shdr_value(std::string_view text);
+
+/// The device part of a key: the Device uuid (unique; an agent looks it up
+/// before the name), or its name when the uuid holds ':', '|' or a space.
+std::string shdr_device_key(const MtDevice& device);
 
 /// The SHDR line(s) of one observation (with "\n"); a condition gives one line per active alarm.
 std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& observation);

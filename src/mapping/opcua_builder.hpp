@@ -6,9 +6,11 @@
 #include "mapping/opcua_nodes.hpp"
 
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace nclink::mapping_detail {
@@ -68,8 +70,16 @@ private:
     std::size_t property(std::size_t parent, std::string node_id, std::string browse_name,
                          std::string data_type, UaValue value);
     /// EngineeringUnits / EURange of an analog variable (`ns` of the browse names).
+    /// EURange (mandatory, B.8) always has a value: `model_range` (the
+    /// item's limits in its own unit) if given, else the quantity's range
+    /// (row), else the default of the unit's dimension, else +-kNoLimit
+    /// (docs/opcua.md "EURange").
     void analog_properties(std::size_t variable, const std::string& id, const UnitRow* unit,
-                           const DataTypeRow* row, bool always_units, int browse_ns);
+                           const DataTypeRow* row, bool always_units, int browse_ns,
+                           std::optional<std::pair<double, double>> model_range = std::nullopt);
+    /// The limits the model gives an analog item (its minimum/maximum, or an
+    /// UPPER_LIMIT/LOWER_LIMIT config beside it in the same unit dimension), in its unit.
+    std::optional<std::pair<double, double>> model_range(const PlannedItem& item) const;
     std::string unique_browse_name(std::size_t parent, const std::string& wanted,
                                    const std::string& fallback);
     std::string node_id(std::string_view id) const { return string_node_id(ns_, id); }
@@ -104,6 +114,8 @@ private:
     std::size_t components_folder_ = 0;
     std::size_t data_items_folder_ = 0;
     std::map<std::size_t, std::set<std::string>> browse_names_;
+    /// The data objects beside the items being built (their component's, or the device's).
+    const std::vector<PlannedItem>* siblings_ = nullptr;
     // cnc
     std::unordered_map<const DataObject*, CncFill> fills_;
     /// (component, slot path) -> the data object filling it.

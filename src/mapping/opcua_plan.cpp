@@ -171,6 +171,34 @@ UaValue fixed_value(const DataObject& d, const UaVariable& v) {
 
 std::string dev_name(const Device& d) { return d.name.empty() ? d.id : d.name; }
 
+/// EURange of a quantity with no range of its own and none in the model, in
+/// MTConnect units (docs/opcua.md "EURange"): wider than any machine tool
+/// reaches, so a value outside means a fault, not a bigger machine.
+std::optional<std::pair<double, double>> default_range(Dimension dimension) {
+    switch (dimension) {
+        case Dimension::length: return std::make_pair(-10000.0, 10000.0);            // mm: 10 m each way
+        case Dimension::velocity: return std::make_pair(-10000.0, 10000.0);          // mm/s: 600 m/min
+        case Dimension::acceleration: return std::make_pair(-100000.0, 100000.0);    // mm/s^2: 10 g
+        case Dimension::angle: return std::make_pair(-3600.0, 3600.0);               // degrees: ten turns
+        case Dimension::angular_velocity: return std::make_pair(-600000.0, 600000.0);  // deg/s: 100000 r/min
+        case Dimension::rotational_speed: return std::make_pair(-100000.0, 100000.0);  // r/min
+        case Dimension::current: return std::make_pair(-1000.0, 1000.0);             // A
+        case Dimension::voltage: return std::make_pair(-1000.0, 1000.0);             // V
+        case Dimension::ratio: return std::make_pair(0.0, 200.0);                    // percent: loads, overrides
+        case Dimension::temperature: return std::make_pair(-50.0, 500.0);            // degrees Celsius
+        default: return std::nullopt;
+    }
+}
+
+/// A quantity with no range anywhere: +-1e9 of its unit (no limit known).
+constexpr double kNoLimit = 1e9;
+
+/// A value in MTConnect units as a value in `unit` (MTConnect = v * scale + offset).
+double in_unit(double common, const UnitRow* unit) {
+    if (unit == nullptr || unit->scale == 0) return common;
+    return (common - unit->offset) / unit->scale;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ device builder
@@ -185,6 +213,7 @@ void UaDeviceBuilder::build() {
     if (cnc_ns_ != 0) cnc_interface(device);
     for (const auto& c : device_.components) component(c, components_folder_);
     // Device-level items last: a CNC channel object they fill exists by now.
+    siblings_ = &device_.items;
     for (const auto& i : device_.items) item(i, data_items_folder_);
 }
 
@@ -353,6 +382,7 @@ void UaDeviceBuilder::component(const PlannedComponent& c, std::size_t nclink_pa
     if (!c.known_type)
         doc_.unmapped.push_back(UnmappedItem{comp.id, comp.type, "ComponentType",
                                              std::string(c.row->clause)});
+    siblings_ = &c.items;
     for (const auto& i : c.items) item(i, object);
     for (const auto& child : c.children) component(child, object);
 }
@@ -386,6 +416,14 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
         v.type_definition = "DataItemType";
         v.data_type = "String";
         v.encoding = UaEncoding::json;
+    } else if (planned.fixed_scalar() && d.value->is_string() &&
+               (row.ua_kind == UaKind::two_state || row.ua_kind == UaKind::multi_state)) {
+        // A word the model fixes (a CATAGORY "milling" or "linear", a fixed
+        // TOOL_CHANGE "auto") never changes, so a discrete type's index or
+        // flag only hides it: a client reading the variable must see the
+        // word (B.7 DataItemType, String), as the model states it.
+        v.type_definition = "DataItemType";
+        v.data_type = "String";
     } else {
         v.type_definition = std::string(type_definition_name(row.ua_kind));
         v.data_type = std::string(row.ua_data_type);
@@ -439,7 +477,7 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
     // Properties of tables B.8, B.10, B.11.
     if (v.type_definition == "AnalogItemType") {
         const bool slot_units = cnc != nullptr && cnc->slot->kind == CncSlotKind::analog;
-        analog_properties(index, d.id, planned.unit, &row, slot_units, 0);
+        analog_properties(index, d.id, planned.unit, &row, slot_units, 0, model_range(planned));
     } else if (v.type_definition == "TwoStateDiscreteType") {
         property(index, node_id(d.id + ".TrueState"), "TrueState", "LocalizedText",
                  localized(std::string(row.true_state.empty() ? "true" : row.true_state)));
@@ -451,13 +489,22 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
         list.list = v.enum_strings;
         property(index, node_id(d.id + ".EnumStrings"), "EnumStrings", "LocalizedText", std::move(list));
     }
+    // Table B.7: SampleInterval (Duration, ms) of a variable a SAMPLE_CHANNEL
+    // lists, its channel's sampleInterval (the shortest, when several list it).
+    if (planned.sample_interval_ms > 0) {
+        UaValue interval;
+        interval.kind = UaValue::Kind::number;
+        interval.number = planned.sample_interval_ms;
+        property(index, node_id(d.id + ".SampleInterval"), qualified(ns_, "SampleInterval"), "Duration", interval);
+    }
     OpcUaMappingBuilder::variables(doc_.mapping).push_back(std::move(v));
     return index;
 }
 
 void UaDeviceBuilder::analog_properties(std::size_t variable, const std::string& id,
                                         const UnitRow* unit, const DataTypeRow* row,
-                                        bool always_units, int browse_ns) {
+                                        bool always_units, int browse_ns,
+                                        std::optional<std::pair<double, double>> model_range) {
     const auto browse = [&](const char* name) {
         return browse_ns == 0 ? std::string(name) : qualified(browse_ns, name);
     };
@@ -471,14 +518,60 @@ void UaDeviceBuilder::analog_properties(std::size_t variable, const std::string&
         property(variable, node_id(id + ".EngineeringUnits"), browse("EngineeringUnits"),
                  "EUInformation", UaValue{});
     }
-    // EURange is mandatory (table B.8); its value only where the quantity has one.
+    // EURange is mandatory (table B.8) and a client scales and deadbands with
+    // it (OPC 10000-8 5.3.2.2 PercentDeadband), so it always has a value.
     UaValue range;
-    if (row != nullptr && row->range_low && row->range_high) {
-        range.kind = UaValue::Kind::range;
+    range.kind = UaValue::Kind::range;
+    if (model_range) {
+        range.low = model_range->first;
+        range.high = model_range->second;
+    } else if (row != nullptr && row->range_low && row->range_high) {
         range.low = *row->range_low;
         range.high = *row->range_high;
+    } else {
+        const Dimension dimension = unit != nullptr ? unit->dimension
+                                    : row != nullptr ? row->dimension
+                                                     : Dimension::none;
+        const auto fallback = default_range(dimension);
+        range.low = fallback ? in_unit(fallback->first, unit) : -kNoLimit;
+        range.high = fallback ? in_unit(fallback->second, unit) : kNoLimit;
     }
     property(variable, node_id(id + ".EURange"), browse("EURange"), "Range", range);
+}
+
+std::optional<std::pair<double, double>> UaDeviceBuilder::model_range(const PlannedItem& item) const {
+    const DataObject& d = *item.object;
+    // GB/T 39561.3 table A.x LValue/HValue (Minimum/Maximum): the item's own limits.
+    std::optional<double> low, high;
+    const auto number = [&](const char* key) -> std::optional<double> {
+        const auto it = d.extra.find(key);
+        if (it == d.extra.end() || !it->is_number()) return std::nullopt;
+        const double v = it->get<double>();
+        return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+    };
+    low = number("minimum");
+    high = number("maximum");
+    // Else a LOWER_LIMIT/UPPER_LIMIT config (table 12) of the same component
+    // whose units measure the same quantity (a limit without units, or in
+    // another quantity, says nothing about this item).
+    if (!low && !high && siblings_ != nullptr && item.unit != nullptr) {
+        for (const auto& s : *siblings_) {
+            if (&s == &item || !s.fixed_scalar() || !s.object->value->is_number() || s.unit == nullptr ||
+                s.unit->dimension != item.unit->dimension)
+                continue;
+            const double common = s.object->value->get<double>() * s.unit->scale + s.unit->offset;
+            const double own = in_unit(common, item.unit);
+            if (s.type == "UPPER_LIMIT" && !high) high = own;
+            if (s.type == "LOWER_LIMIT" && !low) low = own;
+        }
+    }
+    if (!low && !high) return std::nullopt;
+    const Dimension dimension = item.unit != nullptr ? item.unit->dimension : item.row->dimension;
+    const auto fallback = default_range(dimension);
+    const double lo = low ? *low : fallback ? in_unit(fallback->first, item.unit) : -kNoLimit;
+    const double hi = high ? *high : fallback ? in_unit(fallback->second, item.unit) : kNoLimit;
+    if (!(lo < hi)) return std::nullopt;  // contradictory limits: not used
+    return std::make_pair(lo, hi);
 }
 
 std::string UaDeviceBuilder::unique_browse_name(std::size_t parent, const std::string& wanted,

@@ -47,7 +47,7 @@ async function main() {
     options,
     log,
     host: new ServerHost({ opcua, options, log, version }),
-    bridge: new BridgeClient(options.bridge, { timeoutMs: options.requestTimeoutMs }),
+    bridge: new BridgeClient(options.bridge, { timeoutMs: options.requestTimeoutMs, callTimeoutMs: options.callTimeoutMs }),
     stream: new BridgeStream(options.bridge, { reconnectMaxMs: options.reconnectMaxMs, idleMs: options.streamIdleMs }),
   });
 

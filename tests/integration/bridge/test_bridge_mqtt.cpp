@@ -7,6 +7,7 @@
 #include "integration/bridge/bridge_itest.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
+#include "support/shdr_agent.hpp"
 #include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
@@ -325,6 +326,41 @@ TEST_CASE("bridge speaks SHDR: snapshot, line format, PING PONG, reconnect") {
         const std::string live = read_until(fd, [](const std::string& t) { return t.find(":" + kDev + ".x_position|") != std::string::npos; });
         CHECK(live.find(":" + kDev + ".x_position|") != std::string::npos);
         ::close(fd);
+    }
+}
+
+TEST_CASE("an agent reading the bridge's SHDR gets the mill's list and dict items with their value") {
+    // What cppagent does with the bridge's /probe as Devices file and its
+    // SHDR port as adapter (tests/support/shdr_agent.hpp): the tool table,
+    // machine parameters and work coordinate systems arrive as NC-Link has them.
+    Rig rig;
+    // The list and dict items are polled: wait until the bridge has them.
+    for (const char* id : {"tools", "parameters", "coordinates"})
+        REQUIRE(eventually([&] {
+            auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + "." + id + "\"]"));
+            return r && r->status == 200 && r->body.find("<Message") != std::string::npos &&
+                   r->body.find(">UNAVAILABLE</Message>") == std::string::npos;
+        }, 20s));
+    const auto probe = rig.get("/probe");
+    REQUIRE(probe);
+    nclink::test::ShdrAgent agent(probe->body);
+    int fd = connect_to(rig.the_bridge->shdr_port());
+    // The snapshot until each of the three items' line is complete.
+    agent.feed(read_until(fd, [](const std::string& t) {
+        for (const char* id : {".tools|", ".parameters|", ".coordinates|"}) {
+            const auto at = t.find(":" + kDev + id);
+            if (at == std::string::npos || t.find('\n', at) == std::string::npos) return false;
+        }
+        return true;
+    }));
+    ::close(fd);
+    CHECK(agent.problems().empty());
+    for (const char* id : {"tools", "parameters", "coordinates"}) {
+        INFO(id);
+        const auto* c = agent.current(kDev + "." + id);
+        REQUIRE(c);
+        REQUIRE(c->available);
+        CHECK(Json::parse(c->value) == rig.query_one(id));
     }
 }
 

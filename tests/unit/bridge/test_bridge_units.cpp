@@ -159,14 +159,14 @@ TEST_CASE("sample parameters: integers in range, INVALID_REQUEST for text, OUT_O
 
 TEST_CASE("current parameters and the at and from windows") {
     CurrentParams p;
-    CHECK_FALSE(parse_current_params({{"at", "12"}}, p));
+    CHECK_FALSE(parse_current_params({{"at", "12"}}, 1000, p));
     CHECK(*p.at == 12);
     CurrentParams both;
-    auto e = parse_current_params({{"at", "12"}, {"interval", "10"}}, both);
+    auto e = parse_current_params({{"at", "12"}, {"interval", "10"}}, 1000, both);
     REQUIRE(e);
     CHECK(e->code == MtErrorCode::invalid_request);
     CurrentParams bad;
-    REQUIRE(parse_current_params({{"at", "x"}}, bad));
+    REQUIRE(parse_current_params({{"at", "x"}}, 1000, bad));
     // part 1 5.5.2: first 12, last 19
     CHECK(check_at(11, 12, 19)->code == MtErrorCode::out_of_range);
     CHECK_FALSE(check_at(12, 12, 19));
@@ -296,7 +296,7 @@ TEST_CASE("two devices of one model make one valid document: ids unique, each a 
         CHECK(streams.find("dataItemId=\"mill-02.x_position\"") != std::string::npos);
         // SHDR keys differ although both Devices have the model's name.
         const ItemEntry& x = st.items[second->by_nclink_id.at("x_position")];
-        CHECK(shdr_lines(*second, x, *st.buffer.latest()[x.index]).find("|Mill:mill-02.x_position|2.5") != std::string::npos);
+        CHECK(shdr_lines(*second, x, *st.buffer.latest()[x.index]).find("|mill-02:mill-02.x_position|2.5") != std::string::npos);
         return 0;
     });
 }
@@ -336,7 +336,8 @@ TEST_CASE("SHDR lines: timestamp, device-prefixed key, escaped value, PING answe
         const DeviceEntry* d = st.find_device("mill-01");
         const ItemEntry& item = st.items[d->by_nclink_id.at("status")];
         const std::string line = shdr_lines(*d, item, *st.buffer.latest()[item.index]);
-        CHECK(line.rfind("2023-11-14T22:13:20.000Z|" + d->mt.name + ":mill-01.status|", 0) == 0);
+        // keyed by the Device uuid, which an agent looks up first and which is unique
+        CHECK(line.rfind("2023-11-14T22:13:20.000Z|mill-01:mill-01.status|", 0) == 0);
         CHECK(line.back() == '\n');
         CHECK(std::count(line.begin(), line.end(), '\n') == 1);
         CHECK(std::count(line.begin(), line.end(), '|') == 2);

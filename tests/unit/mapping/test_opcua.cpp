@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <set>
+#include <sstream>
 
 #include <regex>
 
@@ -122,6 +123,92 @@ TEST_CASE("EURange carries a value where the quantity has one") {
     CHECK(contains(range, "<uax:High>1</uax:High>"));
 }
 
+TEST_CASE("every variable a SAMPLE_CHANNEL lists carries SampleInterval in ms (table B.7), no other") {
+    const auto model = load_mapping_model("sim-mill.json");
+    for (const auto profile : {OpcUaProfile::basic, OpcUaProfile::cnc}) {
+        auto doc = map_to_opcua(*model, fixed_options(profile));
+        auto m = opcua_mapping(*model, fixed_options(profile));
+        REQUIRE(doc.ok());
+        REQUIRE(m.ok());
+        std::size_t sampled = 0;
+        for (const auto& v : m->variables()) {
+            INFO(v.item_id);
+            const std::string property = element(doc->xml, v.node_id + ".SampleInterval");
+            if (v.minimum_sampling_interval > 0) {
+                ++sampled;
+                CHECK(contains(start_tag(doc->xml, v.node_id + ".SampleInterval"), R"(DataType="Duration")"));
+                CHECK(contains(start_tag(doc->xml, v.node_id + ".SampleInterval"), R"(BrowseName="1:SampleInterval")"));
+                std::ostringstream ms;
+                ms << v.minimum_sampling_interval;
+                CHECK(contains(property, "<uax:Double>" + ms.str() + "</uax:Double>"));
+                CHECK(contains(start_tag(doc->xml, v.node_id + ".SampleInterval"), "ParentNodeId=\"" + v.node_id + "\""));
+            } else {
+                CHECK(property.empty());
+            }
+        }
+        CHECK(sampled >= 10);  // the mill's two channels
+    }
+    // x_position is in the 1 ms channel.
+    auto doc = map_to_opcua(*model, fixed_options());
+    CHECK(contains(element(doc->xml, "ns=1;s=x_position.SampleInterval"), "<uax:Double>1</uax:Double>"));
+}
+
+TEST_CASE("every AnalogItem has an EURange value: the model's limits, else the quantity's, else a default") {
+    // The mill: every analog variable (positions, speeds, loads, currents,
+    // overrides, feed) has Low and High.
+    const auto mill = load_mapping_model("sim-mill.json");
+    for (const auto profile : {OpcUaProfile::basic, OpcUaProfile::cnc}) {
+        auto doc = map_to_opcua(*mill, fixed_options(profile));
+        REQUIRE(doc.ok());
+        std::size_t analog = 0;
+        std::regex range_element(R"re(<UAVariable NodeId="([^"]*\.EURange)")re");
+        for (auto it = std::sregex_iterator(doc->xml.begin(), doc->xml.end(), range_element); it != std::sregex_iterator(); ++it) {
+            INFO((*it)[1]);
+            const std::string range = element(doc->xml, (*it)[1]);
+            CHECK(contains(range, "<uax:Low>"));
+            CHECK(contains(range, "<uax:High>"));
+            ++analog;
+        }
+        CHECK(analog >= 17);
+    }
+    auto doc = map_to_opcua(*mill, fixed_options());
+    // Defaults, in the item's unit: length +-10000 mm, percent 0..200, r/min +-100000, A +-1000.
+    CHECK(contains(element(doc->xml, "ns=1;s=x_position.EURange"), "<uax:Low>-10000</uax:Low>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=x_position.EURange"), "<uax:High>10000</uax:High>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=spindle_override.EURange"), "<uax:Low>0</uax:Low>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=spindle_override.EURange"), "<uax:High>200</uax:High>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=x_current.EURange"), "<uax:High>1000</uax:High>"));
+
+    const auto model = parse_mapping_model(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0",
+      "devices":[{"id":"d","type":"MACHINE","version":"1.0.0","guid":"g","components":[
+        {"id":"ax","type":"AXIS","number":"X","dataItems":[
+          {"id":"x","type":"POSITION","units":"mm","minimum":-500,"maximum":850},
+          {"id":"xm","type":"POSITION","units":"m"},
+          {"id":"xh","type":"POSITION","units":"mm","maximum":900}]},
+        {"id":"sp","type":"AXIS","number":"S",
+         "configs":[{"id":"smax","type":"UPPER_LIMIT","value":12000,"units":"r/min"},
+                    {"id":"nolimit","type":"UPPER_LIMIT","value":7}],
+         "dataItems":[{"id":"s","type":"SPINDLE_SPEED","units":"r/min"},
+                      {"id":"l","type":"AXIS_LOAD","units":"PERCENT"}]}]}]})");
+    REQUIRE(model);
+    doc = map_to_opcua(*model, fixed_options());
+    REQUIRE(doc.ok());
+    const auto range = [&](const char* id) { return element(doc->xml, std::string("ns=1;s=") + id + ".EURange"); };
+    // The item's own minimum/maximum (GB/T 39561.3 LValue/HValue).
+    CHECK(contains(range("x"), "<uax:Low>-500</uax:Low>"));
+    CHECK(contains(range("x"), "<uax:High>850</uax:High>"));
+    // Only a maximum: the low end from the default.
+    CHECK(contains(range("xh"), "<uax:Low>-10000</uax:Low>"));
+    CHECK(contains(range("xh"), "<uax:High>900</uax:High>"));
+    // The default converted to the item's unit: 10000 mm is 10 m.
+    CHECK(contains(range("xm"), "<uax:Low>-10</uax:Low>"));
+    CHECK(contains(range("xm"), "<uax:High>10</uax:High>"));
+    // An UPPER_LIMIT of the same quantity beside it bounds the spindle speed,
+    // not the load (another quantity); the one without units bounds nothing.
+    CHECK(contains(range("s"), "<uax:High>12000</uax:High>"));
+    CHECK(contains(range("l"), "<uax:High>200</uax:High>"));
+}
+
 TEST_CASE("states are discrete types - two words TwoState and more MultiState with EnumStrings") {
     const auto model = load_mapping_model("sim-mill.json");
     auto doc = map_to_opcua(*model, fixed_options());
@@ -164,10 +251,24 @@ TEST_CASE("fixed values go into the NodeSet in the variable's DataType") {
     CHECK(contains(element(doc->xml, "ns=1;s=spindle_max_speed"), "<uax:Double>12000</uax:Double>"));
     CHECK(contains(element(doc->xml, "ns=1;s=machine_model"), "<uax:String>SIM-VMC-850</uax:String>"));
     CHECK(contains(element(doc->xml, "ns=1;s=serial_number"), "<uax:String>1</uax:String>"));
-    // CATAGORY on the device: MultiState over table 16's machine kinds, "milling" is 1.
-    CHECK(contains(element(doc->xml, "ns=1;s=machine_category"), "<uax:UInt32>1</uax:UInt32>"));
-    // CATAGORY on an axis: TwoState, "linear" is false.
-    CHECK(contains(element(doc->xml, "ns=1;s=x_category"), "<uax:Boolean>false</uax:Boolean>"));
+    // A fixed word is a String holding the word, not a discrete type's index
+    // or flag: CATAGORY on the device (table 16 machine kinds) and on an axis.
+    CHECK(contains(element(doc->xml, "ns=1;s=machine_category"), "<uax:String>milling</uax:String>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=x_category"), "<uax:String>linear</uax:String>"));
+    auto m = opcua_mapping(*model, fixed_options());
+    for (const char* id : {"machine_category", "x_category"}) {
+        INFO(id);
+        const UaVariable* v = m->find(id);
+        REQUIRE(v);
+        CHECK(v->data_type == "String");
+        CHECK(v->encoding == UaEncoding::scalar);
+        CHECK(v->type_definition == "DataItemType");
+        CHECK(contains(start_tag(doc->xml, std::string("ns=1;s=") + id), R"(DataType="String")"));
+        CHECK_FALSE(contains(doc->xml, std::string("ns=1;s=") + id + ".EnumStrings"));
+        CHECK_FALSE(contains(doc->xml, std::string("ns=1;s=") + id + ".TrueState"));
+    }
+    // A word the model does not fix keeps its discrete type (work_mode, above).
+    CHECK(m->find("work_mode")->encoding == UaEncoding::two_state);
 }
 
 TEST_CASE("unknown types fall back to BaseDataVariableType and are listed") {

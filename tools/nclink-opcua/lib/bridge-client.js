@@ -2,7 +2,10 @@
 // The nclink-bridge JSON API (docs/opcua.md, "The bridge contract"):
 //   GET  /nclink/v1/devices
 //   GET  /nclink/v1/devices/{dev}/nodeset.xml?profile=basic|cnc
+//   GET  /nclink/v1/devices/{dev}/model
+//   GET  /nclink/v1/devices/{dev}/history?id=&from=&to=&max=
 //   POST /nclink/v1/devices/{dev}/set   {"id", "value"}
+//   POST /nclink/v1/devices/{dev}/call  {"method", "args", "timeout_ms"}
 //   GET  /nclink/v1/stream              (lib/bridge-stream.js)
 const http = require("node:http");
 const https = require("node:https");
@@ -23,9 +26,10 @@ function transportOf(url) {
 
 class BridgeClient {
   /// base: bridge URL without trailing slash (options.parseBridgeUrl).
-  constructor(base, { timeoutMs = 10000 } = {}) {
+  constructor(base, { timeoutMs = 10000, callTimeoutMs = 60000 } = {}) {
     this.base = base;
     this.timeoutMs = timeoutMs;
+    this.callTimeoutMs = callTimeoutMs;
     // One keep-alive agent: a write per OPC UA Write should not pay a TCP handshake.
     this.agent = new (transportOf(new URL(base)).Agent)({ keepAlive: true, maxSockets: 8 });
   }
@@ -39,7 +43,7 @@ class BridgeClient {
   }
 
   /// -> {status, body (string)}; rejects with BridgeError unreachable/timeout.
-  request(method, path, body) {
+  request(method, path, body, timeoutMs = this.timeoutMs) {
     const url = this.url(path);
     return new Promise((resolve, reject) => {
       const headers = { Accept: method === "GET" && path.endsWith(".xml") ? "application/xml" : "application/json" };
@@ -55,8 +59,8 @@ class BridgeClient {
         res.on("end", () => resolve({ status: res.statusCode, body: Buffer.concat(chunks).toString("utf8") }));
         res.on("error", (e) => reject(new BridgeError("unreachable", `${method} ${url.pathname}: ${e.message}`)));
       });
-      req.setTimeout(this.timeoutMs, () => {
-        req.destroy(new BridgeError("timeout", `${method} ${url.pathname}: no answer in ${this.timeoutMs} ms`));
+      req.setTimeout(timeoutMs, () => {
+        req.destroy(new BridgeError("timeout", `${method} ${url.pathname}: no answer in ${timeoutMs} ms`));
       });
       req.on("error", (e) => {
         reject(e instanceof BridgeError ? e : new BridgeError("unreachable", `${method} ${url.pathname}: ${e.code || e.message}`));
@@ -97,6 +101,41 @@ class BridgeClient {
   async set(dev, id, value) {
     const path = this.devicePath(dev, "set");
     const r = await this.request("POST", path, { id, value });
+    let answer;
+    try {
+      answer = JSON.parse(r.body);
+    } catch {
+      throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, not a JSON answer`, r.status);
+    }
+    if (answer && (answer.code === "OK" || answer.code === "NG")) return answer;
+    throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, no "code" OK/NG`, r.status);
+  }
+
+  /// The device's NC-Link model (the adapter's Probe answer).
+  async model(dev) {
+    return this.getJson(this.devicePath(dev, "model"));
+  }
+
+  /// The item's values the bridge still buffers, from..to (ms, both ends
+  /// included; undefined = open), oldest first, at most max ->
+  /// {values: [{value, time, quality}], more}.
+  async history(dev, id, from, to, max) {
+    const query = new URLSearchParams({ id });
+    if (from !== undefined) query.set("from", String(Math.floor(from)));
+    if (to !== undefined) query.set("to", String(Math.ceil(to)));
+    if (max !== undefined) query.set("max", String(max));
+    const answer = await this.getJson(this.devicePath(dev, `history?${query}`));
+    if (!answer || !Array.isArray(answer.values)) throw new BridgeError("malformed", `GET history of ${dev}/${id}: no "values" array`);
+    return answer;
+  }
+
+  /// An NC-Link Method/Call, answered at its Method/Result:
+  /// {code: "OK", result, return} or {code: "NG", result, error, reason}. The
+  /// bridge waits callTimeoutMs for the result (then answers NG 203); the
+  /// HTTP request a little longer, so the bridge's answer wins.
+  async call(dev, method, args) {
+    const path = this.devicePath(dev, "call");
+    const r = await this.request("POST", path, { method, args, timeout_ms: this.callTimeoutMs }, this.callTimeoutMs + 5000);
     let answer;
     try {
       answer = JSON.parse(r.body);

@@ -6,6 +6,9 @@
 const { toVariant, fromVariant } = require("./values");
 const { itemStatus, setAnswerStatus, setFailureStatus } = require("./status");
 const { stringIdOf } = require("./nodeset-info");
+const { addMethods } = require("./methods");
+const { DeviceAlarms } = require("./alarms");
+const { BridgeHistorian } = require("./history");
 
 const CURRENT_WRITE = 0x02; // AccessLevel bit (OPC 10000-3 8.57)
 const PROPERTY_TYPE = "ns=0;i=68";
@@ -32,6 +35,8 @@ class DeviceModel {
     this.setItem = setItem; // (dev, id, json) -> Promise<answer>, rejects with BridgeError
     this.items = new Map();
     this.unknownIds = new Set();
+    this.methods = []; // UAMethods (addMethods)
+    this.alarms = null; // DeviceAlarms (addAlarms)
     this.namespaceIndex = addressSpace.getNamespaceIndex(info.namespaceUris[0]);
     this.availability = this.findVariable(`${entry.dev}.Availability`);
     this.collectItems();
@@ -137,6 +142,66 @@ class DeviceModel {
     return { value, statusCode: StatusCodes[status], sourceTimestamp, problem };
   }
 
+  /// The model's METHOD configs (lib/methods.js methodsOf) as Methods on the
+  /// device object, each calling `call(dev, id, args)`.
+  addMethods(methods, call) {
+    this.methods = [];
+    if (!methods || methods.length === 0) return;
+    const deviceNode = this.addressSpace.findNode(`ns=${this.namespaceIndex};s=${this.entry.dev}`);
+    if (!deviceNode) {
+      this.log.warn(`device ${this.entry.dev}: no device object ns=${this.namespaceIndex};s=${this.entry.dev}; its ${methods.length} method(s) are not offered`);
+      return;
+    }
+    try {
+      this.methods = addMethods({ opcua: this.opcua, namespace: this.addressSpace.getNamespace(this.namespaceIndex), deviceNode, dev: this.entry.dev, methods, call, log: this.log });
+    } catch (e) {
+      this.log.warn(`device ${this.entry.dev}: methods not added: ${e.message}`);
+    }
+  }
+
+  /// HistoryRead of every item over the bridge's buffer (lib/history.js).
+  addHistory(history) {
+    let count = 0;
+    for (const item of this.items.values()) {
+      try {
+        const historian = new BridgeHistorian({ opcua: this.opcua, history, dev: this.entry.dev, item, log: this.log });
+        this.addressSpace.installHistoricalDataNode(item.variable, { historian });
+        count++;
+      } catch (e) {
+        this.log.warn(`device ${this.entry.dev}: no history for ${item.id}: ${e.message}`);
+      }
+    }
+    this.historized = count;
+  }
+
+  /// The WARNING items as Alarms & Conditions on the device object (lib/alarms.js).
+  addAlarms() {
+    const warnings = [...this.info.items.values()].filter((x) => x.type === "WARNING" && this.items.has(x.id)).map((x) => ({ id: x.id, variable: this.items.get(x.id).variable }));
+    if (warnings.length === 0) return;
+    const deviceNode = this.addressSpace.findNode(`ns=${this.namespaceIndex};s=${this.entry.dev}`);
+    if (!deviceNode) return;
+    try {
+      this.alarms = new DeviceAlarms({ opcua: this.opcua, addressSpace: this.addressSpace, namespace: this.addressSpace.getNamespace(this.namespaceIndex), deviceNode, dev: this.entry.dev, items: warnings, log: this.log });
+    } catch (e) {
+      this.log.warn(`device ${this.entry.dev}: alarms not offered: ${e.message}`);
+    }
+  }
+
+  /// While the device is online its WARNING values raise and clear alarms;
+  /// otherwise (offline, bridge unreachable) they stay as last known.
+  updateAlarms(item) {
+    if (!this.alarms || !this.alarms.has(item.id)) return;
+    const link = this.entry.link();
+    if (!link.bridgeUp || !link.live || link.state !== "online") return;
+    const cached = this.entry.cache.get(item.id);
+    if (!cached || cached.quality === "bad") return;
+    try {
+      this.alarms.update(item.id, cached.value);
+    } catch (e) {
+      this.log.warn(`device ${this.entry.dev}: alarm of ${item.id} not updated: ${e.message}`);
+    }
+  }
+
   noteProblem(item, problem) {
     if (problem === item.lastProblem) return;
     item.lastProblem = problem;
@@ -157,6 +222,7 @@ class DeviceModel {
       item.variable.setValueFromSource(new Variant({ dataType: DataType.Null }), StatusCodes.BadConfigurationError, dv.sourceTimestamp);
     }
     this.noteProblem(item, problem);
+    this.updateAlarms(item);
   }
 
   publishAvailability() {

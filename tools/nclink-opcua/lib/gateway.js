@@ -13,6 +13,7 @@
 const { DeviceModel } = require("./device-model");
 const { scanNodeset } = require("./nodeset-info");
 const { backoffDelay } = require("./bridge-stream");
+const { methodsOf } = require("./methods");
 
 const STATES = new Set(["online", "offline", "unknown"]);
 
@@ -161,7 +162,15 @@ class Gateway {
     for (const other of this.devices.values())
       if (other !== entry && other.info && other.info.namespaceUris[0] === info.namespaceUris[0])
         throw new Error(`namespace ${info.namespaceUris[0]} is already served for device ${other.dev}`);
-    return { xml, info, version };
+    // The METHOD configs become Methods (lib/methods.js); without the model
+    // the device is still served, without them.
+    let methods = [];
+    try {
+      methods = methodsOf(await this.bridge.model(entry.dev), entry.dev);
+    } catch (e) {
+      this.log.warn(`device ${entry.dev}: model not read, no methods offered: ${e.message}`);
+    }
+    return { xml, info, version, methods };
   }
 
   loadFailed(entry, version, e) {
@@ -178,7 +187,7 @@ class Gateway {
       return;
     }
     entry.failed = null;
-    Object.assign(entry, { xml: fetched.xml, info: fetched.info, loadedVersion: fetched.version });
+    Object.assign(entry, { xml: fetched.xml, info: fetched.info, loadedVersion: fetched.version, methods: fetched.methods });
     this.attach(entry, this.host.addressSpace);
     if (entry.version !== entry.loadedVersion) this.reconcile(entry);
   }
@@ -192,9 +201,12 @@ class Gateway {
       log: this.log,
       setItem: (dev, id, value) => this.bridge.set(dev, id, value),
     });
+    entry.model.addMethods(entry.methods, (dev, id, args) => this.bridge.call(dev, id, args));
+    entry.model.addAlarms();
+    entry.model.addHistory((dev, id, from, to, max) => this.bridge.history(dev, id, from, to, max));
     entry.model.publishAll();
     const writable = [...entry.model.items.values()].filter((i) => i.writable).length;
-    this.log.info(`device ${entry.dev}: serving ${entry.model.items.size} items (${writable} writable) in namespace ${entry.info.namespaceUris[0]} (ns=${entry.model.namespaceIndex}, version ${entry.loadedVersion === undefined ? "?" : entry.loadedVersion})`);
+    this.log.info(`device ${entry.dev}: serving ${entry.model.items.size} items (${writable} writable), ${entry.model.methods.length} methods, ${entry.model.alarms ? entry.model.alarms.items.size : 0} alarm items, in namespace ${entry.info.namespaceUris[0]} (ns=${entry.model.namespaceIndex}, version ${entry.loadedVersion === undefined ? "?" : entry.loadedVersion})`);
   }
 
   /// A loaded device's model changed: a new server with every device's
@@ -203,9 +215,9 @@ class Gateway {
     this.log.info(`device ${changed.dev}: model changed (version ${changed.loadedVersion} -> ${fetched.version}); restarting the OPC UA server to reload it, clients reconnect`);
     const plan = {
       changed,
-      previous: changed.xml ? { xml: changed.xml, info: changed.info, loadedVersion: changed.loadedVersion } : null,
+      previous: changed.xml ? { xml: changed.xml, info: changed.info, loadedVersion: changed.loadedVersion, methods: changed.methods } : null,
     };
-    Object.assign(changed, { xml: fetched.xml, info: fetched.info, loadedVersion: fetched.version });
+    Object.assign(changed, { xml: fetched.xml, info: fetched.info, loadedVersion: fetched.version, methods: fetched.methods });
     for (let attempt = 0; !this.stopped; ) {
       for (const entry of this.devices.values()) entry.model = null;
       try {

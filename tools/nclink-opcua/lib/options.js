@@ -27,6 +27,8 @@ const usage = `usage: nclink-opcua --bridge URL [options]
   --nodeset FILE          another NodeSet2 to load at start, e.g. a companion
                           specification a device nodeset requires (repeatable)
   --request-timeout MS    timeout of a request to the bridge (default 10000)
+  --call-timeout MS       how long an OPC UA method call waits for the machine's
+                          result before it is answered BadTimeout (default 60000)
   --reconnect-max MS      longest wait between stream reconnects (default 10000)
   --stream-idle MS        reconnect when the stream is silent this long (default 45000)
   --help, --version
@@ -112,6 +114,7 @@ function parseOptions(argv, env = process.env) {
         profile: { type: "string" },
         nodeset: { type: "string", multiple: true },
         "request-timeout": { type: "string" },
+        "call-timeout": { type: "string" },
         "reconnect-max": { type: "string" },
         "stream-idle": { type: "string" },
         help: { type: "boolean", short: "h" },
@@ -139,6 +142,7 @@ function parseOptions(argv, env = process.env) {
     profile: v.profile === undefined ? "basic" : v.profile,
     nodesets: (v.nodeset || []).map((f) => path.resolve(f)),
     requestTimeoutMs: v["request-timeout"] === undefined ? 10000 : parseInteger("--request-timeout", v["request-timeout"], 1, 600000),
+    callTimeoutMs: v["call-timeout"] === undefined ? 60000 : parseInteger("--call-timeout", v["call-timeout"], 1, 3600000),
     reconnectMaxMs: v["reconnect-max"] === undefined ? 10000 : parseInteger("--reconnect-max", v["reconnect-max"], 1, 600000),
     streamIdleMs: v["stream-idle"] === undefined ? 45000 : parseInteger("--stream-idle", v["stream-idle"], 1, 3600000),
   };

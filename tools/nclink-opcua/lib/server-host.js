@@ -106,6 +106,8 @@ class ServerHost {
     this.server = server;
     try {
       await server.initialize();
+      // Acknowledge, Confirm, ... of the alarms (lib/alarms.js).
+      server.engine.addressSpace.installAlarmsAndConditionsService();
       await beforeListen(server.engine.addressSpace);
     } catch (e) {
       this.server = null;

@@ -13,6 +13,7 @@ const { setAnswerStatus, setFailureStatus, itemStatus } = require("../lib/status
 const { scanNodeset } = require("../lib/nodeset-info");
 const { backoffDelay } = require("../lib/bridge-stream");
 const { oneLine } = require("../lib/log");
+const { methodsOf, argsOf, callArgs, callAnswerStatus } = require("../lib/methods");
 const { makeNodeset, testDevice, itemIds } = require("./support/fake-nodeset");
 
 test("sse: events, data lines joined, comments, CRLF split across chunks", () => {
@@ -215,4 +216,27 @@ test("stream backoff: 250 ms doubling up to the maximum", () => {
 
 test("log: one line per message", () => {
   assert.equal(oneLine(["a\n  b", 3]), "a | b 3");
+});
+
+test("methods: the METHOD configs of the root and the device, their args, the call's args and status", () => {
+  const model = {
+    configs: [{ id: "a", type: "METHOD", args: {} }, { id: "v", type: "VERSION" }, { id: "a", type: "METHOD" }, { type: "METHOD" }],
+    devices: [{ guid: "d1", configs: [{ id: "b", name: "B", type: "METHOD", args: ["x", { name: "y", default: 1 }] }] }, { guid: "d2", configs: [{ id: "c", type: "METHOD" }] }],
+  };
+  assert.deepEqual(methodsOf(model, "d1").map((m) => m.id), ["a", "b"]);
+  assert.deepEqual(methodsOf(model, "d2").map((m) => m.id), ["a", "c"]);
+  assert.deepEqual(methodsOf(null, "d1"), []);
+  assert.deepEqual(argsOf(["x", { name: "y", default: 1 }, { name: "z", optional: true }, 7]).map((a) => [a.name, a.optional]), [["x", false], ["y", true], ["z", true]]);
+  assert.deepEqual(argsOf({ p: 1, q: "s" }).map((a) => a.name), ["p", "q"]);
+  assert.equal(argsOf(undefined), null);
+  const declared = argsOf(["x", { name: "y", optional: true }]);
+  assert.deepEqual(callArgs(declared, [{ value: "1" }, { value: "" }]), { args: { x: "1" } });
+  assert.deepEqual(callArgs(declared, [{ value: "" }, { value: "2" }]), { args: { x: "", y: "2" } }, "a required one is sent even empty: the adapter says 102 if it must");
+  assert.deepEqual(callArgs(null, [{ value: '{"k":1}' }]), { args: { k: 1 } });
+  assert.deepEqual(callArgs(null, [{ value: "" }]), { args: {} });
+  assert.equal(callArgs(null, [{ value: "3" }]).status, "BadInvalidArgument");
+  assert.equal(callAnswerStatus({ code: "OK", result: "canceled" }), "Good");
+  assert.equal(callAnswerStatus({ code: "NG", error: 401 }), "BadMethodInvalid");
+  assert.equal(callAnswerStatus({ code: "NG", error: 203, reason: "DEV_UNREACHABLE" }), "BadCommunicationError");
+  assert.equal(callAnswerStatus({ code: "NG", error: 1 }), "BadUnexpectedError");
 });

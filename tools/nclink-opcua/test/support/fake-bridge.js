@@ -3,7 +3,10 @@
 // reads (docs/opcua.md "The bridge contract"), driven by the test:
 //   GET  /nclink/v1/devices
 //   GET  /nclink/v1/devices/{dev}/nodeset.xml?profile=...
+//   GET  /nclink/v1/devices/{dev}/model   (404 when the test gave none)
+//   GET  /nclink/v1/devices/{dev}/history (every value the test gave, as the bridge's buffer)
 //   POST /nclink/v1/devices/{dev}/set
+//   POST /nclink/v1/devices/{dev}/call
 //   GET  /nclink/v1/stream  (snapshot per device, then value/device events, ": ping")
 const http = require("node:http");
 
@@ -14,14 +17,19 @@ class FakeBridge {
     this.sets = []; // every set request: {dev, id, value}
     this.setAnswer = () => ({ code: "OK" }); // (dev, id, value) -> answer object (or a Promise)
     this.nodesetRequests = [];
+    this.calls = []; // every call request: {dev, method, args, timeoutMs}
+    this.callAnswer = () => ({ code: "OK", result: "finished" }); // (dev, method, args) -> answer (or a Promise)
     this.pingMs = pingMs;
     this.server = null;
     this.port = 0;
   }
 
-  addDevice({ dev, name = dev, state = "online", version = "1", nodeset, values = {} }) {
-    const d = { dev, name, state, version, nodeset, values: new Map() };
-    for (const [id, value] of Object.entries(values)) d.values.set(id, { id, value, time: Date.now(), quality: "good" });
+  addDevice({ dev, name = dev, state = "online", version = "1", nodeset, values = {}, model = null }) {
+    const d = { dev, name, state, version, nodeset, values: new Map(), model, history: [] };
+    for (const [id, value] of Object.entries(values)) {
+      d.values.set(id, { id, value, time: Date.now(), quality: "good" });
+      d.history.push(d.values.get(id));
+    }
     this.devices.set(dev, d);
     return d;
   }
@@ -72,6 +80,7 @@ class FakeBridge {
   pushValue(dev, id, value, { quality = "good", time = Date.now() } = {}) {
     const v = { id, value, time, quality };
     this.devices.get(dev).values.set(id, v);
+    this.devices.get(dev).history.push(v);
     this.send("value", { dev, ...v });
     return v;
   }
@@ -111,7 +120,7 @@ class FakeBridge {
       res.on("close", () => this.clients.delete(res));
       return undefined;
     }
-    const m = /^\/nclink\/v1\/devices\/([^/]+)\/(nodeset\.xml|set)$/.exec(url.pathname);
+    const m = /^\/nclink\/v1\/devices\/([^/]+)\/(nodeset\.xml|set|model|call|history)$/.exec(url.pathname);
     const d = m && this.devices.get(decodeURIComponent(m[1]));
     if (!d) return json(404, { code: "NG", error: 202, reason: "Unavailable" });
     if (req.method === "GET" && m[2] === "nodeset.xml") {
@@ -120,6 +129,32 @@ class FakeBridge {
       if (!d.nodeset) return json(404, { error: `the model of ${d.dev} is not known yet` });
       res.writeHead(200, { "Content-Type": "application/xml" });
       return res.end(d.nodeset);
+    }
+    if (req.method === "GET" && m[2] === "history") {
+      this.historyRequests = (this.historyRequests || []).concat([Object.fromEntries(url.searchParams)]);
+      const id = url.searchParams.get("id");
+      const from = url.searchParams.has("from") ? Number(url.searchParams.get("from")) : -Infinity;
+      const to = url.searchParams.has("to") ? Number(url.searchParams.get("to")) : Infinity;
+      const max = url.searchParams.has("max") ? Number(url.searchParams.get("max")) : 10000;
+      const all = d.history.filter((v) => v.id === id && v.time >= from && v.time <= to);
+      return json(200, { dev: d.dev, id, values: all.slice(0, max).map(({ value, time, quality }) => ({ value, time, quality })), more: all.length > max });
+    }
+    if (req.method === "GET" && m[2] === "model") {
+      if (!d.model) return json(404, { error: `the model of ${d.dev} is not known yet` });
+      return json(200, d.model);
+    }
+    if (req.method === "POST" && m[2] === "call") {
+      const chunks = [];
+      for await (const c of req) chunks.push(c);
+      let body;
+      try {
+        body = JSON.parse(Buffer.concat(chunks).toString("utf8"));
+      } catch {
+        return json(400, { code: "NG", error: 412, reason: "syntax error" });
+      }
+      this.calls.push({ dev: d.dev, method: body.method, args: body.args, timeoutMs: body.timeout_ms });
+      const answer = await this.callAnswer(d.dev, body.method, body.args);
+      return json(answer.code === "OK" ? 200 : answer.status || 200, answer);
     }
     if (req.method === "POST" && m[2] === "set") {
       const chunks = [];
