@@ -7,8 +7,7 @@
 #include "core/shared_threads_impl.hpp"
 #include "adapter/adapter_reload.hpp"
 #include "adapter/request_handlers.hpp"
-#include "events/events_service.hpp"
-#include "methods/methods_service.hpp"
+#include "adapter/adapter_features.hpp"
 #include "sampling/sampling_service.hpp"
 #include "transport/mosquitto_transport.hpp"
 #include "transport/mqtt_loop.hpp"
@@ -225,19 +224,16 @@ Message Adapter::Impl::state_message(const char* state_text) const {
 }
 
 
-// The features beside Query/Set/Probe. Each module adds its factory here.
+// The features beside Query/Set/Probe (adapter_features.cpp lists them).
 Result<void> Adapter::Impl::make_features() {
     feature_host = std::make_unique<detail::FeatureHost>(detail::FeatureHost{
         dev, logger, clock, *transport, *runner, host, sample_tap, *value_guard,
         [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
         [this] { return next_msg_id(); },
-        config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout,
+        config.persistence_dir, config.driver_timeout,
         shared_threads ? &shared_threads->impl().timers : nullptr,
         shared_threads ? shared_threads->impl().next_sampling_phase() : 0.0});
-    // (factories: features.push_back(detail::make_..._service(*feature_host));)
-    features.push_back(detail::make_sampling_service(*feature_host));
-    features.push_back(detail::make_methods_service(*feature_host));
-    features.push_back(detail::make_events_service(*feature_host));
+    features = detail::make_features(*feature_host, config);  // adapter_features.cpp
     for (std::size_t i = 0; i < features.size(); ++i) {
         if (auto begun = features[i]->start(); !begun) {
             for (std::size_t j = i; j-- > 0;) features[j]->stop();

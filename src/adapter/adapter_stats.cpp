@@ -1,6 +1,7 @@
 // What the adapter counts, as AdapterStats and as the JSON of the
 // statistics item and `nclink stats` (docs/sampling.md).
 #include "adapter/adapter_impl.hpp"
+#include "adapter/adapter_features.hpp"
 
 namespace nclink {
 
@@ -29,27 +30,10 @@ AdapterStats Adapter::stats() const {
 
 namespace {
 
-std::uint64_t counter(const Json& object, std::initializer_list<const char*> path) {
-    const Json* at = &object;
-    for (const char* key : path) {
-        if (!at->is_object()) return 0;
-        const auto it = at->find(key);
-        if (it == at->end()) return 0;
-        at = &*it;
-    }
-    return at->is_number_unsigned() || at->is_number_integer() ? at->get<std::uint64_t>() : 0;
-}
-
 // The same counts read from a statistics snapshot (its features' JSON).
 detail::DropCounts feature_drops(const AdapterStats& s) {
     detail::DropCounts d;
-    if (const auto it = s.features.find("sampling"); it != s.features.end() && it->is_object())
-        if (const auto channels = it->find("channels"); channels != it->end() && channels->is_array())
-            for (const auto& c : *channels) d.sample_ring_full += counter(c, {"drops"});
-    d.sample_spool_full = counter(s.features, {"sampling", "spool", "dropped"});
-    d.sample_publish_refused = counter(s.features, {"sampling", "publish_errors"});
-    d.event_values_queue_full = counter(s.features, {"events", "dropped_values"});
-    d.events_publish_refused = counter(s.features, {"events", "publish_errors"});
+    detail::feature_drops_from_stats(s.features, d);
     return d;
 }
 
@@ -59,16 +43,13 @@ namespace detail {
 
 // Every place a DTU or a value can be lost, by cause (docs/delivery.md,
 // "Counted drops"). Each is also logged, once per burst, where it happens.
-Json drops_by_cause(const DropCounts& d, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
-    return Json{{"offline_buffer_full", offline_buffer_full},
-                {"sample_ring_full", d.sample_ring_full},
-                {"sample_spool_full", d.sample_spool_full},
-                {"sample_publish_refused", d.sample_publish_refused},
-                {"event_values_queue_full", d.event_values_queue_full},
-                {"events_publish_refused", d.events_publish_refused},
-                // Requests beyond max_pending_requests: dropped unanswered
-                // (the requester's timeout, 203, is its answer).
-                {"requests_shed", requests_shed}};
+Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
+    Json out{{"offline_buffer_full", offline_buffer_full},
+             // Requests beyond max_pending_requests: dropped unanswered
+             // (the requester's timeout, 203, is its answer).
+             {"requests_shed", requests_shed}};
+    for (const auto& [cause, count] : features.causes()) out[cause] = count;  // each feature's own
+    return out;
 }
 
 }  // namespace detail
