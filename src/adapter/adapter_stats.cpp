@@ -7,22 +7,27 @@ namespace nclink {
 
 AdapterStats Adapter::stats() const {
     AdapterStats s;
-    s.requests = impl_->requests;
-    s.ignored_retained = impl_->ignored_retained;
-    s.ignored_duplicates = impl_->ignored_duplicates;
-    s.rejected = impl_->rejected;
-    s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
-    s.applications_released = impl_->applications_released;
-    if (impl_->runner) s.machine_link = impl_->runner->link();
-    if (impl_->gate) {
-        s.shed = impl_->gate->shed();
-        s.oversized = impl_->gate->oversized();
-        s.pending_requests = impl_->gate->pending();
+    const bool composed = impl_->composed.load(std::memory_order_acquire);
+    if (composed) {
+        const auto c = impl_->requests->counts();
+        s.requests = c.requests;
+        s.ignored_retained = c.ignored_retained;
+        s.ignored_duplicates = c.ignored_duplicates;
+        s.rejected = c.rejected;
+        s.driver_timeouts = c.affine_timeouts;
+        s.shed = c.shed;
+        s.oversized = c.oversized;
+        s.pending_requests = c.pending;
+        s.applications_released = impl_->applications->released();
+        s.registered = impl_->link->registered();
     }
-    s.registered = impl_->registration.registered();
+    if (impl_->runner) {
+        s.driver_timeouts += impl_->runner->timeouts();
+        s.machine_link = impl_->runner->link();
+    }
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
-    for (const auto& service : impl_->features) s.features[std::string(service->name())] = service->stats();
+    impl_->features.add_stats(s.features);
     s.values_refused = impl_->value_guard->refused();
     s.values_refused_items = impl_->value_guard->refused_items();
     return s;
@@ -59,8 +64,8 @@ Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_ful
 // CPU (perf, docs/performance.md "Fleet").
 Json Adapter::Impl::drops_now() const {
     detail::DropCounts d;
-    for (const auto& feature : features) feature->add_drops(d);
-    return detail::drops_by_cause(d, transport ? transport->stats().dropped : 0, gate ? gate->shed() : 0);
+    features.add_drops(d);
+    return detail::drops_by_cause(d, transport->stats().dropped, requests->shed());
 }
 
 Json to_json(const AdapterStats& s) {
