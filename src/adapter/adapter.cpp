@@ -1,14 +1,11 @@
 // The adapter's facade and lifecycle: load and validate the model, open the
-// driver, connect, start the features; stop in reverse order. The link,
-// request intake, Probe/Set and statistics live beside this file
-// (adapter_impl.hpp lists them).
+// driver, connect, build the objects (adapter_impl.hpp lists them) and start
+// the features; stop in reverse order.
 #include "adapter/adapter_impl.hpp"
-#include "core/thread_name.hpp"
 #include "core/shared_threads_impl.hpp"
+#include "adapter/adapter_model_load.hpp"
 #include "adapter/adapter_reload.hpp"
 #include "adapter/request_handlers.hpp"
-#include "events/events_service.hpp"
-#include "methods/methods_service.hpp"
 #include "sampling/sampling_service.hpp"
 #include "transport/mosquitto_transport.hpp"
 #include "transport/mqtt_loop.hpp"
@@ -17,12 +14,6 @@
 #include <nclink/heap.hpp>
 #include <nclink/mqtt_transport.hpp>
 
-#include <nclink/model_version.hpp>
-
-#include <filesystem>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <random>
 
 namespace nclink {
@@ -39,7 +30,7 @@ Result<void> Adapter::Impl::start() {
     // open(): a start that fails later leaves an opened driver unclosed.
     if (!transport)
         if (auto usable = check_broker_url(config.broker_url); !usable) return usable;
-    auto loaded = load_model();
+    auto loaded = detail::load_adapter_model(config, host, logger);
     if (!loaded) return std::move(loaded).error();
 
     if (!driver && !config.driver_plugin.empty()) {
@@ -69,27 +60,14 @@ Result<void> Adapter::Impl::start() {
         return make_error(bound.error().code, "driver refused the model in bind(): " + bound.error().message);
     host.install(built.value());
     dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
-    instance = fmt::format("{:x}{:08x}", static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                                                    std::chrono::system_clock::now().time_since_epoch())
-                                                                    .count()),
-                           std::random_device{}());
-    msg_id_prefix = fmt::format("{}-{}-", dev, instance);
+    const std::string instance = fmt::format(
+        "{:x}{:08x}",
+        static_cast<std::uint64_t>(
+            std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count()),
+        std::random_device{}());
     logger.info("adapter {} serving device {} (model version {}, {} SDK-held item(s), {} driver point(s))", dev,
                 built.value()->device->id, built.value()->device->version, built.value()->store->size(),
                 built.value()->points->points().size());
-    if (shared_threads) {
-        auto& shared = shared_threads->impl();
-        executor = std::make_unique<detail::TaskGroup>(shared.requests);
-        watchdog = std::make_unique<detail::WatchdogScope>(shared.watchdog);
-    } else {
-        own_executor = std::make_shared<detail::Executor>(config.request_threads);
-        executor = std::make_unique<detail::TaskGroup>(own_executor);
-        own_watchdog = std::make_unique<detail::DeadlineWatchdog>();
-        watchdog = std::make_unique<detail::WatchdogScope>(*own_watchdog);
-    }
-    gate = std::make_shared<detail::RequestGate>(config.max_pending_requests, config.max_request_bytes, logger);
-    dedup = std::make_unique<detail::DedupWindow>(config.dedup_window, config.dedup_capacity, clock);
-    applications = std::make_unique<detail::ApplicationTracker>(config.application_lease);
 
     if (!transport) {
         auto options = mqtt_options();
@@ -101,104 +79,46 @@ Result<void> Adapter::Impl::start() {
         transport = std::move(made).value();
     }
     transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
+
+    // The objects, each on what it needs (adapter_impl.hpp).
+    auto* shared = shared_threads ? &shared_threads->impl() : nullptr;
+    link = std::make_unique<detail::AdapterLink>(config, *transport, host, clock, logger, dev, instance, [this] {
+        if (housekeeping) housekeeping->wake();
+    });
+    applications = std::make_unique<detail::ApplicationWatch>(
+        *transport, dev, config.application_lease, logger, [this](const std::string& ex) { features.on_application_gone(ex); });
+    model_change = std::make_unique<detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features,
+                                                         listeners, [this] { return running(); });
+    requests = std::make_unique<detail::RequestIntake>(detail::RequestIntake::Parts{
+        config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features, *applications, *model_change,
+        [this] { return to_json(self->stats()); }, shared});
+    housekeeping = std::make_unique<detail::Housekeeping>(
+        *link, *applications, [this] { return features.ready() ? drops_now() : Json(); }, clock, logger,
+        shared ? &shared->timers : nullptr);
+    composed.store(true, std::memory_order_release);
+
     transport->set_message_handler([this](const Message& m) { on_message(m); });
-    transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
+    transport->set_state_handler([this](LinkState s, std::string_view) { on_link(s); });
     auto subscriptions = topics::adapter_subscriptions(dev);
     // Applications going offline (8.2.18.3): each application's Notify/State
-    // is subscribed when it first sends a DTU (adapter_link.cpp), not
+    // is subscribed when it first sends a DTU (adapter_applications.cpp), not
     // Notify/State/+: that would bring every terminal's retained state to
     // every adapter, N x N messages when a plant of N terminals (re)connects.
     if (auto subscribed = transport->subscribe(subscriptions, 1); !subscribed) return subscribed;
-    if (auto made = make_features(); !made) return made;
-    fire(AdapterEvent::initialized);
-    fire(AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
-    if (shared_threads)
-        housekeeping_entry = shared_threads->impl().timers.add([this](detail::PollHost::Time now) {
-            housekeep_once();
-            return now + kSharedHousekeepingPeriod;
-        });
-    else
-        housekeeping = std::thread([this] {
-            detail::name_this_thread("nclink-house");
-            housekeep();
-        });
+    // The features beside Query/Set/Probe (adapter_features.cpp lists them).
+    if (auto begun = features.start(
+            detail::FeatureHost{dev, logger, clock, *transport, *runner, host, features.sample_tap(), *value_guard,
+                                [this](const ParsedTopic& topic, const Json& reply) { link->respond(topic, reply); },
+                                [this] { return link->next_msg_id(); }, config.persistence_dir, config.driver_timeout,
+                                shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0},
+            config);
+        !begun)
+        return begun;
+    link->fire(AdapterEvent::initialized);
+    link->fire(AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
+    housekeeping->start();
     return transport->start();
 }
-
-
-namespace {
-
-/// The first device's version of a model file, "" when it cannot be read.
-std::string device_version_of(const LoadResult& loaded, const std::string& device_id) {
-    if (!loaded.model || loaded.model->devices().empty()) return {};
-    const Device* device = device_id.empty() ? &loaded.model->devices().front() : loaded.model->device(device_id);
-    return device ? device->version : std::string();
-}
-
-}  // namespace
-
-// Which model to serve: the one a Probe/Set or replace_model() persisted
-// (it is the current one for this device), unless the vendor ships a model
-// with a newer version (a firmware update): then the shipped one wins and
-// replaces the persisted file. Equal, older, or versions that cannot be
-// ordered keep the persisted one. The log says which was used and why.
-Result<LoadResult> Adapter::Impl::load_model() {
-    std::string path = config.model_path;
-    const std::string persisted = host.persisted_model_path();
-    LoadResult loaded;
-    bool adopt_shipped = false;
-    if (!persisted.empty()) {
-        LoadResult kept = load_model_file(persisted);
-        LoadResult shipped = config.model_path.empty() ? LoadResult{} : load_model_file(config.model_path);
-        const std::string kept_version = device_version_of(kept, config.device_id);
-        const std::string shipped_version = device_version_of(shipped, config.device_id);
-        const auto order = compare_model_versions(shipped_version, kept_version);
-        if (shipped.model && (!kept.model || (order && *order > 0))) {
-            logger.info("using the shipped model {} (version {}): newer than the persisted {} (version {})",
-                        config.model_path, shipped_version, persisted, kept_version.empty() ? "?" : kept_version);
-            loaded = std::move(shipped);
-            adopt_shipped = true;
-        } else {
-            logger.info("using the persisted model {} (version {}) of the last model change{}", persisted,
-                        kept_version,
-                        shipped.model ? fmt::format("; the shipped {} has version {}", config.model_path,
-                                                    shipped_version)
-                                      : std::string());
-            path = persisted;
-            loaded = std::move(kept);
-        }
-    } else {
-        if (path.empty()) return make_error(ErrorCode::parameter_missing, "no model file configured");
-        // A file that is not there is not a model with a syntax error: say so
-        // with the system's reason, once (the caller logs the error).
-        if (std::FILE* f = std::fopen(path.c_str(), "rb"); !f) {
-            const int why = errno;
-            return make_error(ErrorCode::unavailable, fmt::format("cannot read the model file {}: {}", path, std::strerror(why)));
-        } else {
-            std::fclose(f);
-        }
-        loaded = load_model_file(path);
-        logger.info("using the model {} (version {})", path, device_version_of(loaded, config.device_id));
-    }
-    for (const auto& p : loaded.problems) {
-        // What refuses the model is part of the error the caller reports.
-        if (p.severity == Severity::fatal || (config.strict && p.severity == Severity::conformance)) continue;
-        const auto level = p.severity == Severity::warning ? LogLevel::debug : LogLevel::warn;
-        logger.log(level, "{}:{}: {}: {}", path, p.pointer.empty() ? "/" : p.pointer, to_string(p.severity), p.message);
-    }
-    const std::string refused = detail::refusal_reasons(loaded, config.strict);
-    if (!refused.empty() || !loaded.model)
-        return make_error(ErrorCode::syntax_error,
-                          fmt::format("model {} refused{}: {}", path, config.strict ? " (strict)" : "", refused));
-    if (adopt_shipped) {
-        // The persisted file is stale from now on: remove it so the next
-        // start does not weigh it again.
-        std::error_code ec;
-        std::filesystem::remove(persisted, ec);
-    }
-    return loaded;
-}
-
 
 MqttOptions Adapter::Impl::mqtt_options() const {
     MqttOptions o;
@@ -212,42 +132,40 @@ MqttOptions Adapter::Impl::mqtt_options() const {
     o.clean_session = config.clean_session;
     o.outbox.max_bytes = config.offline_buffer_bytes;
     o.outbox.max_in_flight = config.max_in_flight;
-    o.last_will = state_message("offline");
+    o.last_will = detail::state_message(dev, "offline");
     return o;
 }
 
 
-Message Adapter::Impl::state_message(const char* state_text) const {
-    NotifyState notify;
-    notify.tid = dev;
-    notify.state = state_text;
-    return Message{topics::notify_state(dev), encode(notify), 1, true};
+bool Adapter::Impl::running() {
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!started || stopped) return false;
+    }
+    return composed.load(std::memory_order_acquire) && link->state() != AdapterState::initial;
 }
 
-
-// The features beside Query/Set/Probe. Each module adds its factory here.
-Result<void> Adapter::Impl::make_features() {
-    feature_host = std::make_unique<detail::FeatureHost>(detail::FeatureHost{
-        dev, logger, clock, *transport, *runner, host, sample_tap, *value_guard,
-        [this](const ParsedTopic& topic, const Json& reply) { respond(topic, reply); },
-        [this] { return next_msg_id(); },
-        config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout,
-        shared_threads ? &shared_threads->impl().timers : nullptr,
-        shared_threads ? shared_threads->impl().next_sampling_phase() : 0.0});
-    // (factories: features.push_back(detail::make_..._service(*feature_host));)
-    features.push_back(detail::make_sampling_service(*feature_host));
-    features.push_back(detail::make_methods_service(*feature_host));
-    features.push_back(detail::make_events_service(*feature_host));
-    for (std::size_t i = 0; i < features.size(); ++i) {
-        if (auto begun = features[i]->start(); !begun) {
-            for (std::size_t j = i; j-- > 0;) features[j]->stop();
-            features.clear();
-            return make_error(begun.error().code,
-                              fmt::format("{} failed to start: {}", features[i]->name(), begun.error().message));
-        }
+// Thread: transport callback. Routes; never blocks.
+void Adapter::Impl::on_message(const Message& message) {
+    const auto parsed = parse_topic(message.topic);
+    if (!parsed) return;
+    if (parsed->kind == TopicKind::register_response) {
+        link->on_register_response(message.payload);
+        return;
     }
-    features_ready.store(true, std::memory_order_release);  // notify_value may reach them now
-    return ok_result();
+    if (parsed->kind == TopicKind::notify_state) {
+        // A retained state comes from subscribing, not from a change: the
+        // one stored before this application's current run may say offline.
+        if (!message.retained) applications->on_notify_state(*parsed, message.payload);
+        return;
+    }
+    requests->on_request(*parsed, message);
+}
+
+// Thread: transport callback/supervisor thread. Never blocks.
+void Adapter::Impl::on_link(LinkState state) {
+    link->on_link(state);
+    features.on_link(state);
 }
 
 
@@ -257,31 +175,20 @@ void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
         if (!started || stopped) return;
         stopped = true;
     }
-    {
-        std::lock_guard<std::mutex> lock(housekeeping_mutex);
-        housekeeping_stopping = true;
-    }
-    housekeeping_wake.notify_all();
-    if (housekeeping.joinable()) housekeeping.join();
-    if (shared_threads) shared_threads->impl().timers.remove(housekeeping_entry);
-    if (watchdog) watchdog->close();
-    if (own_watchdog) own_watchdog->stop();
-    if (executor) executor->close();  // answers what is queued
-    if (own_executor) own_executor->stop();
-    for (auto it = features.rbegin(); it != features.rend(); ++it) (*it)->stop();
+    if (link) link->stopping();
+    if (housekeeping) housekeeping->stop();
+    if (requests) requests->close();  // answers what is queued
+    features.stop();
     if (transport) {
-        (void)transport->publish(state_message("offline"));  // a clean stop sends no last will
+        (void)transport->publish(detail::state_message(dev, "offline"));  // a clean stop sends no last will
         transport->stop(flush_timeout);
     }
     // A driver call gets its usual deadline to finish; one stuck longer
     // is abandoned rather than holding up the shutdown.
     if (runner) runner->stop(std::max(config.driver_timeout, std::chrono::milliseconds(100)));
-    {
-        // A driver-affine task still inside a stuck driver must not answer
-        // through a destroyed adapter when it comes back.
-        std::lock_guard<std::mutex> lock(lifetime->mutex);
-        lifetime->alive = false;
-    }
+    // A driver-affine task still inside a stuck driver must not answer
+    // through a destroyed adapter when it comes back.
+    if (requests) requests->release_driver_tasks();
     logger.info("adapter {} stopped", dev);
 }
 
@@ -326,41 +233,48 @@ std::vector<Problem> Adapter::model_problems() const {
 }
 
 AdapterState Adapter::state() const {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    return impl_->state;
+    return impl_->composed.load(std::memory_order_acquire) ? impl_->link->state() : AdapterState::initial;
 }
 
 void Adapter::notify_value(const std::string& id, Json value) {
-    if (!impl_->features_ready.load(std::memory_order_acquire)) return;
+    if (!impl_->features.ready()) return;
     // Chapter 7: a pushed value breaking its item's rule reaches no event.
     if (const auto state = impl_->host.current(); state && !impl_->value_guard->admit(*state, id, value, "notify_value"))
         return;
-    for (const auto& service : impl_->features) service->on_value(id, value);
+    impl_->features.on_value(id, value);
 }
-
-namespace {
-detail::SamplingService* sampling_service(const std::vector<std::unique_ptr<detail::Feature>>& features) {
-    for (const auto& service : features)
-        if (auto* sampling = dynamic_cast<detail::SamplingService*>(service.get())) return sampling;
-    return nullptr;
-}
-}  // namespace
 
 Result<PushChannel> Adapter::push_channel(const std::string& channel_id) const {
-    auto* sampling = impl_->features_ready.load(std::memory_order_acquire) ? sampling_service(impl_->features) : nullptr;
+    auto* sampling = impl_->features.find<detail::SamplingService>();
     if (!sampling || !impl_->config.sampling.enabled)
         return make_error(ErrorCode::unavailable, "sampling is not running (adapter not started, or sampling.enabled is false)");
     return sampling->push_channel(channel_id);
 }
 
 SamplingStats Adapter::sampling_stats() const {
-    auto* sampling = impl_->features_ready.load(std::memory_order_acquire) ? sampling_service(impl_->features) : nullptr;
+    auto* sampling = impl_->features.find<detail::SamplingService>();
     return sampling ? sampling->typed_stats() : SamplingStats{};
 }
 
-void Adapter::add_model_listener(ModelListener listener) {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    impl_->listeners.push_back(std::move(listener));
+void Adapter::add_model_listener(ModelListener listener) { impl_->listeners.add(std::move(listener)); }
+
+Result<std::string> Adapter::replace_model(const std::string& model_json) {
+    if (!impl_->composed.load(std::memory_order_acquire)) return make_error(ErrorCode::unavailable, "the adapter is not running");
+    return impl_->model_change->adopt(model_json, "Adapter::replace_model");
+}
+
+Result<std::string> Adapter::patch_model(const Json& patch) {
+    if (!patch.is_array()) return make_error(ErrorCode::value_type, "a JSON Patch is an array of operations");
+    const auto current = impl_->host.current();
+    if (!current || !impl_->composed.load(std::memory_order_acquire))
+        return make_error(ErrorCode::unavailable, "the adapter is not running");
+    Json patched;
+    try {
+        patched = Json::parse(*current->probe_text).patch(patch);
+    } catch (const std::exception& e) {
+        return make_error(ErrorCode::keys_of_arguments, std::string("the patch does not apply: ") + e.what());
+    }
+    return impl_->model_change->adopt(patched.dump(), "Adapter::patch_model");
 }
 
 }  // namespace nclink

@@ -2,9 +2,7 @@
 
 #include "core/config_common.hpp"
 #include "transport/broker_config.hpp"
-#include "events/events_config.hpp"
-#include "methods/methods_config.hpp"
-#include "sampling/sampling_config.hpp"
+#include "adapter/adapter_features.hpp"
 
 namespace nclink {
 using detail::ConfigReader;
@@ -39,9 +37,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(top.duration("register_retry_max_ms", c.register_retry_max));
     NCLINK_TRY(top.duration("application_lease_ms", c.application_lease));
     NCLINK_TRY(top.count("heap_keep_bytes", c.heap_keep_bytes));
-    if (const Json* section = top.object("sampling")) NCLINK_TRY(detail::read_sampling_config(*section, c.sampling));
-    if (const Json* section = top.object("events")) NCLINK_TRY(detail::read_events_config(*section, c.events));
-    if (const Json* section = top.object("methods")) NCLINK_TRY(detail::read_methods_config(*section, c.methods));
+    NCLINK_TRY(detail::read_feature_sections(top, c));  // "sampling", "events", "methods"
 
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
 

@@ -8,19 +8,11 @@
 
 namespace nclink {
 
-void Adapter::Impl::observe_request(TopicKind kind, std::chrono::steady_clock::time_point received) noexcept {
-    const auto index = static_cast<std::size_t>(kind);
-    if (index < request_latency.size()) request_latency[index].observe(std::chrono::steady_clock::now() - received);
-}
-
 TrafficStats Adapter::traffic_stats() const {
     TrafficStats t;
     t.dtus_in = impl_->dtus->in();
     t.dtus_out = impl_->dtus->out();
-    for (std::size_t i = 0; i < impl_->request_latency.size(); ++i) {
-        if (impl_->request_latency[i].count() == 0) continue;
-        t.request_seconds[std::string(to_string(static_cast<TopicKind>(i)))] = impl_->request_latency[i].snapshot();
-    }
+    if (impl_->composed.load(std::memory_order_acquire)) impl_->requests->add_latency(t);
     return t;
 }
 

@@ -1,27 +1,33 @@
 // What the adapter counts, as AdapterStats and as the JSON of the
 // statistics item and `nclink stats` (docs/sampling.md).
 #include "adapter/adapter_impl.hpp"
+#include "adapter/adapter_features.hpp"
 
 namespace nclink {
 
 AdapterStats Adapter::stats() const {
     AdapterStats s;
-    s.requests = impl_->requests;
-    s.ignored_retained = impl_->ignored_retained;
-    s.ignored_duplicates = impl_->ignored_duplicates;
-    s.rejected = impl_->rejected;
-    s.driver_timeouts = (impl_->runner ? impl_->runner->timeouts() : 0) + impl_->affine_timeouts;
-    s.applications_released = impl_->applications_released;
-    if (impl_->runner) s.machine_link = impl_->runner->link();
-    if (impl_->gate) {
-        s.shed = impl_->gate->shed();
-        s.oversized = impl_->gate->oversized();
-        s.pending_requests = impl_->gate->pending();
+    const bool composed = impl_->composed.load(std::memory_order_acquire);
+    if (composed) {
+        const auto c = impl_->requests->counts();
+        s.requests = c.requests;
+        s.ignored_retained = c.ignored_retained;
+        s.ignored_duplicates = c.ignored_duplicates;
+        s.rejected = c.rejected;
+        s.driver_timeouts = c.affine_timeouts;
+        s.shed = c.shed;
+        s.oversized = c.oversized;
+        s.pending_requests = c.pending;
+        s.applications_released = impl_->applications->released();
+        s.registered = impl_->link->registered();
     }
-    s.registered = impl_->registration.registered();
+    if (impl_->runner) {
+        s.driver_timeouts += impl_->runner->timeouts();
+        s.machine_link = impl_->runner->link();
+    }
     s.state = state();
     if (impl_->transport) s.transport = impl_->transport->stats();
-    for (const auto& service : impl_->features) s.features[std::string(service->name())] = service->stats();
+    impl_->features.add_stats(s.features);
     s.values_refused = impl_->value_guard->refused();
     s.values_refused_items = impl_->value_guard->refused_items();
     return s;
@@ -29,27 +35,10 @@ AdapterStats Adapter::stats() const {
 
 namespace {
 
-std::uint64_t counter(const Json& object, std::initializer_list<const char*> path) {
-    const Json* at = &object;
-    for (const char* key : path) {
-        if (!at->is_object()) return 0;
-        const auto it = at->find(key);
-        if (it == at->end()) return 0;
-        at = &*it;
-    }
-    return at->is_number_unsigned() || at->is_number_integer() ? at->get<std::uint64_t>() : 0;
-}
-
 // The same counts read from a statistics snapshot (its features' JSON).
 detail::DropCounts feature_drops(const AdapterStats& s) {
     detail::DropCounts d;
-    if (const auto it = s.features.find("sampling"); it != s.features.end() && it->is_object())
-        if (const auto channels = it->find("channels"); channels != it->end() && channels->is_array())
-            for (const auto& c : *channels) d.sample_ring_full += counter(c, {"drops"});
-    d.sample_spool_full = counter(s.features, {"sampling", "spool", "dropped"});
-    d.sample_publish_refused = counter(s.features, {"sampling", "publish_errors"});
-    d.event_values_queue_full = counter(s.features, {"events", "dropped_values"});
-    d.events_publish_refused = counter(s.features, {"events", "publish_errors"});
+    detail::feature_drops_from_stats(s.features, d);
     return d;
 }
 
@@ -59,16 +48,13 @@ namespace detail {
 
 // Every place a DTU or a value can be lost, by cause (docs/delivery.md,
 // "Counted drops"). Each is also logged, once per burst, where it happens.
-Json drops_by_cause(const DropCounts& d, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
-    return Json{{"offline_buffer_full", offline_buffer_full},
-                {"sample_ring_full", d.sample_ring_full},
-                {"sample_spool_full", d.sample_spool_full},
-                {"sample_publish_refused", d.sample_publish_refused},
-                {"event_values_queue_full", d.event_values_queue_full},
-                {"events_publish_refused", d.events_publish_refused},
-                // Requests beyond max_pending_requests: dropped unanswered
-                // (the requester's timeout, 203, is its answer).
-                {"requests_shed", requests_shed}};
+Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
+    Json out{{"offline_buffer_full", offline_buffer_full},
+             // Requests beyond max_pending_requests: dropped unanswered
+             // (the requester's timeout, 203, is its answer).
+             {"requests_shed", requests_shed}};
+    for (const auto& [cause, count] : features.causes()) out[cause] = count;  // each feature's own
+    return out;
 }
 
 }  // namespace detail
@@ -78,8 +64,8 @@ Json drops_by_cause(const DropCounts& d, std::uint64_t offline_buffer_full, std:
 // CPU (perf, docs/performance.md "Fleet").
 Json Adapter::Impl::drops_now() const {
     detail::DropCounts d;
-    for (const auto& feature : features) feature->add_drops(d);
-    return detail::drops_by_cause(d, transport ? transport->stats().dropped : 0, gate ? gate->shed() : 0);
+    features.add_drops(d);
+    return detail::drops_by_cause(d, transport->stats().dropped, requests->shed());
 }
 
 Json to_json(const AdapterStats& s) {

@@ -16,7 +16,7 @@
 
 namespace nclink::detail {
 
-struct DropCounts;
+class DropCounts;
 /// The statistics' "drops" object: every cause by name (adapter_stats.cpp).
 Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed);
 

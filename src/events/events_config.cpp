@@ -18,4 +18,14 @@ Result<void> read_events_config(const Json& section, EventsConfig& out) {
     return r.no_unknown_keys();
 }
 
+void events_config_changes(const EventsConfig& a, const EventsConfig& b, std::vector<std::string>& out) {
+    const auto key = [&](bool same, const char* name) {
+        if (!same) out.emplace_back(name);
+    };
+    key(a.max_events == b.max_events, "events.max_events");
+    key(a.poll_interval == b.poll_interval, "events.poll_interval_ms");
+    key(a.max_queued_values == b.max_queued_values, "events.max_queued_values");
+    key(a.qos == b.qos, "events.qos");
+}
+
 }  // namespace nclink::detail

@@ -21,11 +21,15 @@ namespace {
 // again now and then: this bounds how long it sleeps while polling is due.
 constexpr std::chrono::milliseconds kMaxSleep{20};
 
+// The causes of the statistics' "drops" (docs/delivery.md, "Counted drops").
+constexpr std::string_view kValuesQueueFull = "event_values_queue_full";
+constexpr std::string_view kPublishRefused = "events_publish_refused";
+
 class EventsServiceImpl final : public Feature {
 public:
-    explicit EventsServiceImpl(FeatureHost& host)
+    EventsServiceImpl(FeatureHost& host, EventsConfig config)
         : host_(host),
-          config_(host.events),
+          config_(std::move(config)),
           engine_(config_.max_events, fmt::format("{:x}", std::random_device{}() & 0xffffffu)) {}
 
     ~EventsServiceImpl() override { stop(); }
@@ -116,8 +120,8 @@ public:
                     {"dropped_values", inbox_->dropped()}};
     }
     void add_drops(DropCounts& out) const override {
-        out.event_values_queue_full += inbox_->dropped();
-        out.events_publish_refused += publish_errors_.load();
+        out.add(kValuesQueueFull, inbox_->dropped());
+        out.add(kPublishRefused, publish_errors_.load());
     }
 
 private:
@@ -367,7 +371,7 @@ private:
             event.dtu.guid = host_.dev;
             const auto topic = topics::event(host_.dev, event.owner ? std::optional<std::string_view>(*event.owner)
                                                                      : std::nullopt);
-            if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), host_.events.qos, false}); !sent) {
+            if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), config_.qos, false}); !sent) {
                 // Logged once per burst: the first refusal after a success.
                 if (publish_errors_++ == publish_errors_at_last_success_)
                     host_.logger.warn("event {} not published: {} (further refusals counted in events.publish_errors)",
@@ -420,8 +424,18 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Feature> make_events_service(FeatureHost& host) {
-    return std::make_unique<EventsServiceImpl>(host);
+std::unique_ptr<Feature> make_events_service(FeatureHost& host, const EventsConfig& config) {
+    return std::make_unique<EventsServiceImpl>(host, config);
+}
+
+void events_drops_from_stats(const Json& stats, DropCounts& out) {
+    const auto count = [&](const char* key) -> std::uint64_t {
+        if (!stats.is_object()) return 0;
+        const auto it = stats.find(key);
+        return it != stats.end() && (it->is_number_unsigned() || it->is_number_integer()) ? it->get<std::uint64_t>() : 0;
+    };
+    out.add(kValuesQueueFull, count("dropped_values"));
+    out.add(kPublishRefused, count("publish_errors"));
 }
 
 }  // namespace nclink::detail

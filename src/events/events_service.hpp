@@ -20,13 +20,20 @@
 
 #include "feature/feature.hpp"
 
+#include <nclink/feature_config.hpp>
+
 #include <memory>
 
 namespace nclink::detail {
 
 class EventsService;
 
-/// The service; `host` outlives it.
-std::unique_ptr<Feature> make_events_service(FeatureHost& host);
+/// The service; `host` outlives it. `config`: the "events" section of the
+/// configuration (this feature's own).
+std::unique_ptr<Feature> make_events_service(FeatureHost& host, const EventsConfig& config);
+
+/// The causes the service's add_drops adds, read back from its stats() JSON
+/// (a statistics snapshot's "events"; null when absent: all 0).
+void events_drops_from_stats(const Json& stats, DropCounts& out);
 
 }  // namespace nclink::detail

@@ -25,7 +25,6 @@
 
 #include <nclink/clock.hpp>
 #include <nclink/dtu.hpp>
-#include <nclink/feature_config.hpp>
 #include <nclink/log.hpp>
 #include <nclink/topics.hpp>
 #include <nclink/transport.hpp>
@@ -35,6 +34,8 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace nclink::detail {
 
@@ -54,29 +55,41 @@ struct FeatureHost {
     /// A fresh @id for DTUs the host originates.
     std::function<std::string()> next_msg_id;
 
-    // --- settings (the host's configuration)
-    const SamplingConfig& sampling;
-    const EventsConfig& events;
-    const MethodsConfig& methods;
+    // --- settings the host shares with every feature. A feature's own
+    // section of the configuration (SamplingConfig, ...) is handed to its
+    // factory by whoever composes the features, never held here: adding a
+    // feature does not touch the host.
     const std::string& persistence_dir;   ///< "" = nothing persisted
     std::chrono::milliseconds driver_timeout;
-    /// Gateway mode: shared timer threads for periodic work (the sampling
-    /// scheduler and uploader); null: each feature runs its own threads.
+    /// Gateway mode: shared timer threads for periodic work (e.g. the
+    /// sampling scheduler and uploader); null: each feature runs its own threads.
     PollHost* timers = nullptr;
-    /// Gateway mode: where in its interval's grid this adapter's sampling
+    /// Gateway mode: where in their interval's grid this adapter's periodic
     /// ticks fall, a fraction in [0, 1) (EngineDeps::phase); 0 on its own.
-    double sampling_phase = 0;
+    double timer_phase = 0;
 };
 
-/// The losses a feature counts, by cause (the "drops" of the statistics,
-/// docs/delivery.md): plain counters the adapter's housekeeping reads once a
-/// second without building the statistics.
-struct DropCounts {
-    std::uint64_t sample_ring_full = 0;
-    std::uint64_t sample_spool_full = 0;
-    std::uint64_t sample_publish_refused = 0;
-    std::uint64_t event_values_queue_full = 0;
-    std::uint64_t events_publish_refused = 0;
+/// The losses the features count, by cause (the names of the statistics'
+/// "drops" object, docs/delivery.md): plain counters the adapter's
+/// housekeeping reads once a second without building the statistics. Each
+/// feature names its own causes; a cause added twice sums.
+class DropCounts {
+public:
+    /// Adds `n` to `cause` (0 too: a feature adds every cause it has, so
+    /// the statistics list each one from the start).
+    void add(std::string_view cause, std::uint64_t n) {
+        for (auto& [name, count] : causes_)
+            if (name == cause) {
+                count += n;
+                return;
+            }
+        causes_.emplace_back(std::string(cause), n);
+    }
+    /// Cause -> count, in the order first added.
+    const std::vector<std::pair<std::string, std::uint64_t>>& causes() const { return causes_; }
+
+private:
+    std::vector<std::pair<std::string, std::uint64_t>> causes_;  // a handful: a scan beats a map
 };
 
 class Feature {
@@ -102,7 +115,9 @@ public:
     virtual void on_value(const std::string& /*id*/, const Json& /*value*/) {}
     /// Counters for AdapterStats/`nclink stats` (a JSON object).
     virtual Json stats() const { return Json::object(); }
-    /// Adds this feature's losses to `out` (the same counts stats() shows).
+    /// Adds this feature's losses to `out`, every cause it has (the same
+    /// counts stats() shows; a free function beside the feature reads them
+    /// back from that JSON for a statistics snapshot).
     virtual void add_drops(DropCounts& /*out*/) const {}
 };
 

@@ -17,4 +17,13 @@ Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
     return ok_result();
 }
 
+void methods_config_changes(const MethodsConfig& a, const MethodsConfig& b, std::vector<std::string>& out) {
+    const auto key = [&](bool same, const char* name) {
+        if (!same) out.emplace_back(name);
+    };
+    key(a.max_running == b.max_running, "methods.max_running");
+    key(a.status_period == b.status_period, "methods.status_period_ms");
+    key(a.stop_grace == b.stop_grace, "methods.stop_grace_ms");
+}
+
 }  // namespace nclink::detail

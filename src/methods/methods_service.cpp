@@ -32,12 +32,12 @@ std::optional<Json> detail_of(const Error& error) {
 
 class MethodsService final : public Feature {
 public:
-    explicit MethodsService(FeatureHost& host) : host_(host) {
+    MethodsService(FeatureHost& host, const MethodsConfig& config) : host_(host), stop_grace_(config.stop_grace) {
         MethodTable::Outlet outlet;
         outlet.dev = host.dev;
         outlet.transport = &host.transport;
         outlet.respond = host.respond;
-        table_ = MethodTable::create(host.methods, std::move(outlet), host.logger, host.clock);
+        table_ = MethodTable::create(config, std::move(outlet), host.logger, host.clock);
     }
     ~MethodsService() override { stop(); }
 
@@ -52,7 +52,7 @@ public:
         return ok_result();
     }
 
-    void stop() override { table_->shutdown(host_.methods.stop_grace); }
+    void stop() override { table_->shutdown(stop_grace_); }
 
     // Thread: a request worker.
     void handle(const ParsedTopic& topic, const std::string& payload) override {
@@ -190,14 +190,15 @@ private:
     }
 
     FeatureHost& host_;
+    const std::chrono::milliseconds stop_grace_;
     std::shared_ptr<MethodTable> table_;
     std::atomic<std::uint64_t> rejected_calls_{0}, control_requests_{0};
 };
 
 }  // namespace
 
-std::unique_ptr<Feature> make_methods_service(FeatureHost& host) {
-    return std::make_unique<MethodsService>(host);
+std::unique_ptr<Feature> make_methods_service(FeatureHost& host, const MethodsConfig& config) {
+    return std::make_unique<MethodsService>(host, config);
 }
 
 }  // namespace nclink::detail

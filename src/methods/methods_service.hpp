@@ -4,6 +4,8 @@
 
 #include "feature/feature.hpp"
 
+#include <nclink/feature_config.hpp>
+
 #include <memory>
 
 namespace nclink::detail {
@@ -11,6 +13,7 @@ namespace nclink::detail {
 /// Runs accepted calls on method threads of their own (up to
 /// MethodsConfig::max_running), beside the driver runner's read()/write()
 /// worker: a long method never holds up Query, Set or sampling.
-std::unique_ptr<Feature> make_methods_service(FeatureHost& host);
+/// `config`: the "methods" section of the configuration (this feature's own).
+std::unique_ptr<Feature> make_methods_service(FeatureHost& host, const MethodsConfig& config);
 
 }  // namespace nclink::detail

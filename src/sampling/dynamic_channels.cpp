@@ -26,7 +26,8 @@ int requested_qos(const std::optional<Json>& private_info, int fallback) {
 
 }  // namespace
 
-DynamicChannels::DynamicChannels(FeatureHost& host, SamplingEngine& engine) : host_(host), engine_(engine) {}
+DynamicChannels::DynamicChannels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config)
+    : host_(host), engine_(engine), config_(config) {}
 
 bool DynamicChannels::handles(TopicKind kind) const {
     return kind == TopicKind::sample_register_request || kind == TopicKind::sample_unregister_request;
@@ -78,10 +79,10 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
     spec.sample_interval_ms = request.sample_interval;
     spec.upload_interval_ms = request.upload_interval;
     spec.owner_ex = *topic.ex;
-    spec.qos = requested_qos(request.private_info, host_.sampling.qos);
+    spec.qos = requested_qos(request.private_info, config_.qos);
 
     std::lock_guard<std::mutex> lock(mutex_);
-    if (owners_.size() >= host_.sampling.max_dynamic_channels) {
+    if (owners_.size() >= config_.max_dynamic_channels) {
         host_.logger.info("Register/Sample from {} refused: {} dynamic channel(s) in use (415)", *topic.ex,
                           owners_.size());
         return refuse(response, ErrorCode::insufficient_dynamic_sampling);
@@ -192,7 +193,7 @@ Json DynamicChannels::stats() const {
     Json owners = Json::object();
     for (const auto& [id, owner] : owners_) owners[id] = owner;
     return Json{{"channels", owners_.size()},
-                {"max_channels", host_.sampling.max_dynamic_channels},
+                {"max_channels", config_.max_dynamic_channels},
                 {"registered", registered_},
                 {"unregistered", unregistered_},
                 {"released", released_},
@@ -200,8 +201,9 @@ Json DynamicChannels::stats() const {
                 {"owners", owners}};
 }
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine) {
-    return std::make_unique<DynamicChannels>(host, engine);
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine,
+                                                         const SamplingConfig& config) {
+    return std::make_unique<DynamicChannels>(host, engine, config);
 }
 
 }  // namespace nclink::detail

@@ -40,7 +40,7 @@ namespace nclink::detail {
 
 class DynamicChannels final : public SamplingExtension {
 public:
-    DynamicChannels(FeatureHost& host, SamplingEngine& engine);
+    DynamicChannels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config);
 
     std::string_view name() const override { return "dynamic"; }
     bool handles(TopicKind kind) const override;
@@ -61,6 +61,7 @@ private:
 
     FeatureHost& host_;
     SamplingEngine& engine_;
+    const SamplingConfig& config_;  // the service's, which outlives its extensions
 
     mutable std::mutex mutex_;
     std::map<std::string, std::string> owners_;  // channel id -> ex_cid
@@ -69,6 +70,7 @@ private:
     std::uint64_t registered_ = 0, unregistered_ = 0, released_ = 0, refused_ = 0;
 };
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine);
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine,
+                                                         const SamplingConfig& config);
 
 }  // namespace nclink::detail

@@ -56,4 +56,29 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
     return r.no_unknown_keys();
 }
 
+void sampling_config_changes(const SamplingConfig& s, const SamplingConfig& t, std::vector<std::string>& out) {
+    const auto key = [&](bool same, const char* name) {
+        if (!same) out.emplace_back(name);
+    };
+    key(s.enabled == t.enabled, "sampling.enabled");
+    key(s.max_dynamic_channels == t.max_dynamic_channels, "sampling.max_dynamic_channels");
+    key(s.push_channels == t.push_channels, "sampling.push_channels");
+    key(s.qos == t.qos, "sampling.qos");
+    key(s.channel_qos == t.channel_qos, "sampling.channel_qos");
+    key(s.full_policy == t.full_policy, "sampling.full_policy");
+    key(s.ring_periods == t.ring_periods, "sampling.ring_periods");
+    key(s.ring_max_rows == t.ring_max_rows, "sampling.ring_max_rows");
+    key(s.direct_reads == t.direct_reads, "sampling.direct_reads");
+    key(s.rt_priority == t.rt_priority, "sampling.rt_priority");
+    key(s.timer_slack_ns == t.timer_slack_ns, "sampling.timer_slack_ns");
+    key(s.cpu == t.cpu, "sampling.cpu");
+    key(s.slice_us == t.slice_us, "sampling.slice_us");
+    key(s.overrun_log_interval == t.overrun_log_interval, "sampling.overrun_log_interval_ms");
+    key(s.text_budget_bytes == t.text_budget_bytes, "sampling.text_budget_bytes");
+    key(s.max_dtu_bytes == t.max_dtu_bytes, "sampling.max_dtu_bytes");
+    key(s.stats_item == t.stats_item, "sampling.stats_item");
+    key(s.spool_memory_bytes == t.spool_memory_bytes, "sampling.spool_memory_bytes");
+    key(s.spool_disk_bytes == t.spool_disk_bytes, "sampling.spool_disk_bytes");
+}
+
 }  // namespace nclink::detail

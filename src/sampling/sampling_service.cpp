@@ -18,7 +18,7 @@ std::shared_ptr<Sleeper> sleeper_for(const std::shared_ptr<const Clock>& clock) 
 
 }  // namespace
 
-SamplingService::SamplingService(FeatureHost& host) : host_(host) {
+SamplingService::SamplingService(FeatureHost& host, SamplingConfig config) : host_(host), config_(std::move(config)) {
     sink_ = [this](Message message) {
         if (auto published = host_.transport.publish(std::move(message)); !published) {
             publish_errors_.fetch_add(1, std::memory_order_relaxed);
@@ -32,16 +32,16 @@ SamplingService::SamplingService(FeatureHost& host) : host_(host) {
     deps.sleeper = sleeper_for(host_.clock);
     // Shared timer threads wait on real time: only for a real clock.
     if (dynamic_cast<const SystemClock*>(host_.clock.get()) != nullptr) deps.timers = host_.timers;
-    deps.phase = host_.sampling_phase;
+    deps.phase = host_.timer_phase;
     deps.logger = host_.logger;
-    deps.config = host_.sampling;
+    deps.config = config_;
     deps.dev = host_.dev;
     deps.sink = [this](Message message) { sink_(std::move(message)); };
     deps.tap = &host_.sample_tap;
     deps.values = &host_.values;
     engine_ = std::make_unique<SamplingEngine>(std::move(deps));
     // EXTENSIONS (dynamic sampling, spool: see sampling_service.hpp)
-    add_extension(make_dynamic_channels(host_, *engine_));
+    add_extension(make_dynamic_channels(host_, *engine_, config_));
     add_extension(make_spool_extension(host_, *this));
 }
 
@@ -67,7 +67,7 @@ void SamplingService::handle(const ParsedTopic& topic, const std::string& payloa
 }
 
 Result<void> SamplingService::start() {
-    if (!host_.sampling.enabled) {
+    if (!config_.enabled) {
         host_.logger.info("sampling disabled by configuration (sampling.enabled = false)");
         return ok_result();
     }
@@ -99,7 +99,7 @@ void SamplingService::stop() {
 void SamplingService::start_model_channels(const ModelState& state) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!state.model || !state.device) return;
-    const auto& config = host_.sampling;
+    const auto& config = config_;
     for (const auto& id : config.push_channels)
         if (!state.model->channel(id)) host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
     for (const auto& entry : config.channel_qos)
@@ -132,7 +132,7 @@ void SamplingService::start_model_channels(const ModelState& state) {
 
 void SamplingService::on_model(std::shared_ptr<const ModelState> state) {
     engine_->set_model(state);
-    if (host_.sampling.enabled && state) {
+    if (config_.enabled && state) {
         std::vector<std::string> old;
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -165,16 +165,45 @@ Result<PushChannel> SamplingService::push_channel(const std::string& id) const {
 
 Json SamplingService::stats() const {
     Json out = to_json(typed_stats());
-    out["enabled"] = host_.sampling.enabled;
+    out["enabled"] = config_.enabled;
     out["publish_errors"] = publish_errors_.load(std::memory_order_relaxed);
     for (const auto& extension : extensions_) out[std::string(extension->name())] = extension->stats();
     return out;
 }
 
+namespace {
+// The causes of the statistics' "drops" (docs/delivery.md, "Counted drops").
+constexpr std::string_view kRingFull = "sample_ring_full";
+constexpr std::string_view kPublishRefused = "sample_publish_refused";
+constexpr std::string_view kSpoolFull = "sample_spool_full";
+
+std::uint64_t count_at(const Json& object, std::initializer_list<const char*> path) {
+    const Json* at = &object;
+    for (const char* key : path) {
+        if (!at->is_object()) return 0;
+        const auto it = at->find(key);
+        if (it == at->end()) return 0;
+        at = &*it;
+    }
+    return at->is_number_unsigned() || at->is_number_integer() ? at->get<std::uint64_t>() : 0;
+}
+}  // namespace
+
 void SamplingService::add_drops(DropCounts& out) const {
-    out.sample_ring_full += engine_->ring_drops();
-    out.sample_publish_refused += publish_errors_.load(std::memory_order_relaxed);
+    out.add(kRingFull, engine_->ring_drops());
+    out.add(kSpoolFull, 0);  // the spool extension adds its own
+    out.add(kPublishRefused, publish_errors_.load(std::memory_order_relaxed));
     for (const auto& extension : extensions_) extension->add_drops(out);
+}
+
+void sampling_drops_from_stats(const Json& stats, DropCounts& out) {
+    std::uint64_t ring_full = 0;
+    if (stats.is_object())
+        if (const auto channels = stats.find("channels"); channels != stats.end() && channels->is_array())
+            for (const auto& c : *channels) ring_full += count_at(c, {"drops"});
+    out.add(kRingFull, ring_full);
+    out.add(kSpoolFull, count_at(stats, {"spool", "dropped"}));
+    out.add(kPublishRefused, count_at(stats, {"publish_errors"}));
 }
 
 Json to_json(const SamplingStats& stats) {
@@ -214,6 +243,8 @@ Json to_json(const SamplingStats& stats) {
     return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
 }
 
-std::unique_ptr<Feature> make_sampling_service(FeatureHost& host) { return std::make_unique<SamplingService>(host); }
+std::unique_ptr<Feature> make_sampling_service(FeatureHost& host, const SamplingConfig& config) {
+    return std::make_unique<SamplingService>(host, config);
+}
 
 }  // namespace nclink::detail

@@ -46,7 +46,8 @@ public:
 
 class SamplingService final : public Feature {
 public:
-    explicit SamplingService(FeatureHost& host);
+    /// `config`: the "sampling" section of the configuration (this feature's own).
+    SamplingService(FeatureHost& host, SamplingConfig config);
     ~SamplingService() override;
 
     std::string_view name() const override { return "sampling"; }
@@ -65,6 +66,7 @@ public:
     void wrap_sink(const std::function<DtuSink(DtuSink)>& wrapper);
 
     SamplingEngine& engine() { return *engine_; }
+    const SamplingConfig& config() const { return config_; }
     /// Typed statistics (for Adapter::sampling_stats()).
     SamplingStats typed_stats() const;
     /// Push handle for a push-mode model channel (401 unknown, 405 not push-mode).
@@ -74,6 +76,7 @@ private:
     void start_model_channels(const ModelState& state);
 
     FeatureHost& host_;
+    const SamplingConfig config_;
     DtuSink sink_;  // what the engine's sink forwards to (wrappable before start)
     std::unique_ptr<SamplingEngine> engine_;
     std::vector<std::unique_ptr<SamplingExtension>> extensions_;
@@ -83,7 +86,11 @@ private:
     std::atomic<std::uint64_t> publish_errors_{0};
 };
 
-std::unique_ptr<Feature> make_sampling_service(FeatureHost& host);
+std::unique_ptr<Feature> make_sampling_service(FeatureHost& host, const SamplingConfig& config);
+
+/// The causes SamplingService::add_drops adds, read back from its stats()
+/// JSON (a statistics snapshot's "sampling"; null when absent: all 0).
+void sampling_drops_from_stats(const Json& stats, DropCounts& out);
 
 /// Json view of the typed stats (also what `nclink stats` prints).
 Json to_json(const SamplingStats& stats);

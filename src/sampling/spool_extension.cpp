@@ -7,10 +7,10 @@
 namespace nclink::detail {
 namespace {
 
-SpoolOptions spool_options(const FeatureHost& host) {
+SpoolOptions spool_options(const FeatureHost& host, const SamplingConfig& config) {
     SpoolOptions o;
-    o.memory_bytes = host.sampling.spool_memory_bytes;
-    o.disk_bytes = host.sampling.spool_disk_bytes;
+    o.memory_bytes = config.spool_memory_bytes;
+    o.disk_bytes = config.spool_disk_bytes;
     if (o.disk_bytes > 0 && !host.persistence_dir.empty())
         o.disk_dir = (std::filesystem::path(host.persistence_dir) / "sample-spool").string();
     else if (o.disk_bytes > 0)
@@ -21,7 +21,7 @@ SpoolOptions spool_options(const FeatureHost& host) {
 class SpoolExtension final : public SamplingExtension {
 public:
     SpoolExtension(FeatureHost& host, SamplingService& service)
-        : engine_(service.engine()), spool_(std::make_shared<SampleSpool>(spool_options(host), host.transport, host.logger)) {
+        : engine_(service.engine()), spool_(std::make_shared<SampleSpool>(spool_options(host, service.config()), host.transport, host.logger)) {
         // The sink holds the spool: the engine may flush into it until it is
         // destroyed, whatever the order members go in.
         service.wrap_sink([spool = spool_](DtuSink) { return DtuSink([spool](Message m) { spool->publish(std::move(m)); }); });
@@ -37,7 +37,7 @@ public:
     }
     void on_link(LinkState link) override { spool_->on_link(link); }
     Json stats() const override { return to_json(spool_->stats()); }
-    void add_drops(DropCounts& out) const override { out.sample_spool_full += spool_->stats().dropped; }
+    void add_drops(DropCounts& out) const override { out.add("sample_spool_full", spool_->stats().dropped); }
 
 private:
     SamplingEngine& engine_;

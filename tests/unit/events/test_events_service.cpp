@@ -55,8 +55,8 @@ struct ServiceRig {
                 if (after_respond) after_respond(reply);
             },
             [this] { return "m" + std::to_string(++ids); },
-            config.sampling, config.events, config.methods, config.persistence_dir, config.driver_timeout});
-        service = make_events_service(*host);
+            config.persistence_dir, config.driver_timeout});
+        service = make_events_service(*host, config.events);
         REQUIRE(service->start().ok());
     }
     ~ServiceRig() { service->stop(); }

@@ -1,0 +1,79 @@
+// The features the adapter composes beside Query/Set/Probe (sampling,
+// methods, events; the contract is feature/feature.hpp, which names none of
+// them). The functions below are the one place of the adapter that names
+// each: a new feature adds its configuration section, its factory and its
+// drops there. Each feature owns its section (reading it, comparing it on
+// reload) and its drop causes; these functions only list them.
+//
+// FeatureSet is the running features, one object: it lends them the host
+// (FeatureHost), starts and stops them, and passes them what happens
+// (feature.hpp says on which thread each call comes). The list is written
+// once, in start() on the owner thread, before ready() turns true; it is
+// only read afterwards, so it needs no lock.
+#pragma once
+
+#include "core/config_reader.hpp"
+#include "feature/feature.hpp"
+
+#include <nclink/adapter_config.hpp>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace nclink::detail {
+
+/// Reads the features' sections of a configuration file (docs/configuration.md).
+Result<void> read_feature_sections(ConfigReader& top, AdapterConfig& out);
+
+/// Appends the keys of the features' sections that differ (adapter_reload.hpp).
+void feature_config_changes(const AdapterConfig& a, const AdapterConfig& b, std::vector<std::string>& out);
+
+/// The features, in start order (stopped in reverse), each given its own section.
+std::vector<std::unique_ptr<Feature>> make_features(FeatureHost& host, const AdapterConfig& config);
+
+/// Every feature's drop causes read from a statistics snapshot's "features"
+/// object (AdapterStats::features): what their add_drops() count live.
+void feature_drops_from_stats(const Json& features, DropCounts& out);
+
+/// The running features and their host.
+class FeatureSet {
+public:
+    /// Makes the features (make_features) on `host` and starts them in
+    /// order; on a failure the started ones are stopped again and the
+    /// error names the feature. Owner thread, once.
+    Result<void> start(FeatureHost host, const AdapterConfig& config);
+    /// Stops them in reverse order. Owner thread.
+    void stop();
+    /// True once every feature started: notify_value and the statistics may reach them.
+    bool ready() const { return ready_.load(std::memory_order_acquire); }
+
+    SampleTap& sample_tap() { return sample_tap_; }
+
+    /// Hands a request to the feature that answers its kind; false when none does.
+    bool handle(const ParsedTopic& topic, const std::string& payload);
+    void on_link(LinkState link);
+    void on_model(const std::shared_ptr<const ModelState>& state);
+    void on_application_gone(const std::string& ex_cid);
+    void on_value(const std::string& id, const Json& value);
+    /// Each feature's statistics under its name (AdapterStats::features).
+    void add_stats(Json& out) const;
+    void add_drops(DropCounts& out) const;
+    /// The feature of type T, null when it does not run (e.g. SamplingService).
+    template <class T>
+    T* find() const {
+        if (!ready()) return nullptr;
+        for (const auto& feature : features_)
+            if (auto* found = dynamic_cast<T*>(feature.get())) return found;
+        return nullptr;
+    }
+
+private:
+    SampleTap sample_tap_;
+    std::unique_ptr<FeatureHost> host_;
+    std::vector<std::unique_ptr<Feature>> features_;
+    std::atomic<bool> ready_{false};
+};
+
+}  // namespace nclink::detail

@@ -1,0 +1,73 @@
+// The adapter's housekeeping, one object: a periodic pass that registers
+// again when no agent answered (AdapterLink::tick_registration), ends silent
+// applications (ApplicationWatch::expire), tries kept responses again while
+// connected (AdapterLink::retry_kept) and, once a second, logs every loss
+// once per burst (drop_reporter.hpp).
+//
+// Threads: its own thread "nclink-house" (start() to stop()), or, in
+// gateway mode, a pollable on the shared timer threads. wake() from any
+// thread. The registration and lease clocks are the injected clock, polled
+// every kHousekeepingPeriod, so tests drive them with a ManualClock.
+#pragma once
+
+#include "adapter/adapter_applications.hpp"
+#include "adapter/adapter_link.hpp"
+#include "adapter/drop_reporter.hpp"
+#include "core/poll_host.hpp"
+
+#include <nclink/clock.hpp>
+#include <nclink/json.hpp>
+#include <nclink/log.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace nclink::detail {
+
+/// How often housekeeping looks at registration retries, leases and drops
+/// (real time; the registration and lease clocks are the injected clock).
+inline constexpr std::chrono::milliseconds kHousekeepingPeriod{50};
+/// The same on shared timer threads (gateway mode, real clock only): a
+/// thousand machines at 50 ms would be 20,000 passes a second for retries
+/// measured in seconds and leases in minutes.
+inline constexpr std::chrono::milliseconds kSharedHousekeepingPeriod{250};
+
+class Housekeeping {
+public:
+    /// `drops`: the statistics' "drops" object now (null Json while there
+    /// is nothing to look at). `timers`: the shared timer threads, or null
+    /// for a thread of its own. Everything referenced outlives it.
+    Housekeeping(AdapterLink& link, ApplicationWatch& applications, std::function<Json()> drops,
+                 std::shared_ptr<const Clock> clock, const Logger& logger, PollHost* timers);
+    ~Housekeeping() { stop(); }
+
+    void start();
+    /// Returns when no pass runs any more. Idempotent.
+    void stop();
+    /// Runs a pass soon (a registration went out or was answered).
+    void wake();
+
+private:
+    void run();   // the own thread's loop
+    void pass();  // one pass (also the pollable on shared threads)
+
+    AdapterLink& link_;
+    ApplicationWatch& applications_;
+    const std::function<Json()> drops_;
+    const std::shared_ptr<const Clock> clock_;
+    PollHost* const timers_;
+    DropReporter drop_reporter_;                          // passes only (one at a time)
+    std::chrono::steady_clock::time_point last_drop_check_{};  // passes only
+
+    std::mutex mutex_;  // stopping_, with wake_
+    std::condition_variable wake_;
+    bool stopping_ = false;
+    std::thread thread_;              // without shared timers
+    PollHost::Handle entry_;          // with shared timers
+};
+
+}  // namespace nclink::detail
