@@ -95,7 +95,7 @@ endfunction()
 # The shared library: a shlibs file for packages built against it, and the
 # ldconfig trigger (Debian policy 8.1.1).
 file(WRITE ${_pkg_out}/triggers "activate-noawait ldconfig\n")
-nclink_package(lib NAME libnclink${PROJECT_VERSION_MAJOR} SECTION libs CONTROL ${_pkg_out}/triggers
+nclink_package(lib NAME libnclink${NCLINK_SOVERSION} SECTION libs CONTROL ${_pkg_out}/triggers
   SUMMARY "NC-Link (GB/T 41970-2022) SDK - shared library"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT: the model engine, value operations, the adapter runtime, the
@@ -104,7 +104,7 @@ application client and the agent.
 This package holds the shared library.")
 
 nclink_package(dev NAME libnclink-dev SECTION libdevel
-  DEPENDS "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libpaho-mqttpp-dev, libpaho-mqtt-dev, libmosquitto-dev"
+  DEPENDS "libnclink${NCLINK_SOVERSION} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libpaho-mqttpp-dev, libpaho-mqtt-dev, libmosquitto-dev"
   SUMMARY "NC-Link (GB/T 41970-2022) SDK - development files"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT.
