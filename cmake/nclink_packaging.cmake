@@ -97,11 +97,11 @@ endfunction()
 # The shared library: a shlibs file for packages built against it, and the
 # ldconfig trigger (Debian policy 8.1.1).
 file(WRITE ${_pkg_out}/triggers "activate-noawait ldconfig\n")
-set(_dev_depends "libnclink${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libmosquitto-dev")
+set(_dev_depends "libnclink${NCLINK_SOVERSION} (= ${NCLINK_DEB_VERSION}), nlohmann-json3-dev (>= 3.11), libfmt-dev, libmosquitto-dev")
 if(NCLINK_WITH_TLS)
   string(APPEND _dev_depends ", libssl-dev")
 endif()
-nclink_package(lib NAME libnclink${PROJECT_VERSION_MAJOR} SECTION libs CONTROL ${_pkg_out}/triggers
+nclink_package(lib NAME libnclink${NCLINK_SOVERSION} SECTION libs CONTROL ${_pkg_out}/triggers
   SUMMARY "NC-Link (GB/T 41970-2022) SDK - terminal library"
   DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT. The terminal library is what controller firmware links: the model
@@ -121,7 +121,7 @@ CMake package (find_package(nclink CONFIG)) and the pkg-config files
 (nclink.pc, nclink-static.pc).")
 
 if(TARGET nclink_plant_static)
-  nclink_package(plant_lib NAME libnclink-plant${PROJECT_VERSION_MAJOR} SECTION libs CONTROL ${_pkg_out}/triggers
+  nclink_package(plant_lib NAME libnclink-plant${NCLINK_SOVERSION} SECTION libs CONTROL ${_pkg_out}/triggers
     SUMMARY "NC-Link (GB/T 41970-2022) SDK - plant library"
     DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT. The plant library is what applications and plant services link: the
@@ -130,7 +130,7 @@ paho-mqtt-cpp (MQTT 5, WebSocket). It uses the terminal library.
 
 This package holds the shared library libnclink-plant.so.")
   nclink_package(plant_dev NAME libnclink-plant-dev SECTION libdevel
-    DEPENDS "libnclink-plant${PROJECT_VERSION_MAJOR} (= ${NCLINK_DEB_VERSION}), libnclink-dev (= ${NCLINK_DEB_VERSION}), libpaho-mqttpp-dev, libpaho-mqtt-dev"
+    DEPENDS "libnclink-plant${NCLINK_SOVERSION} (= ${NCLINK_DEB_VERSION}), libnclink-dev (= ${NCLINK_DEB_VERSION}), libpaho-mqttpp-dev, libpaho-mqtt-dev"
     SUMMARY "NC-Link (GB/T 41970-2022) SDK - plant library, development files"
     DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT.

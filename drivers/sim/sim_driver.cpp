@@ -321,10 +321,6 @@ Result<void> SimDriver::write(const WriteRequest& request) {
     return impl_->commit(item, std::move(value));
 }
 
-Result<Json> SimDriver::call_method(const std::string& method_id, const Json& args, MethodControl& control) {
-    return run_method(PointRef{method_id, DataKind::single, no_handle}, args, control);
-}
-
 Result<Json> SimDriver::run_method(const PointRef& point, const Json& args, MethodControl& control) {
     const std::string& method_id = point.id;
     std::unique_lock<std::mutex> lock(impl_->mutex);

@@ -81,9 +81,8 @@ public:
     /// program_transfer (a G-code file between program_dir and a local path,
     /// progress per KiB, pause/cancel between chunks, never a partial file;
     /// docs/simulator.md). Other models: Unavailable for methods of the
-    /// model, Node not exists for unknown ids.
-    Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override;
-    /// call_method() dispatched on the handle bind() gave the method.
+    /// model, Node not exists for unknown ids. Dispatched on the handle
+    /// bind() gave the method, else on its id.
     Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) override;
     /// True for configuration objects without a fixed value in the model (the
     /// simulator has them: tool table, parameters...); fixed values stay the SDK's.

@@ -69,12 +69,6 @@ public:
         return sim_->write(request);
     }
 
-    nclink::Result<nclink::Json> call_method(const std::string& method_id, const nclink::Json& args,
-                                             nclink::MethodControl& control) override {
-        if (!sim_) return nclink::make_error(nclink::ErrorCode::unavailable, "nclink-sim is not open");
-        return sim_->call_method(method_id, args, control);
-    }
-
     nclink::Result<nclink::Json> run_method(const nclink::PointRef& method, const nclink::Json& args,
                                             nclink::MethodControl& control) override {
         if (!sim_) return nclink::make_error(nclink::ErrorCode::unavailable, "nclink-sim is not open");

@@ -52,10 +52,10 @@
 //   (run_method() may: methods keep running across a model change). It waits
 //   at most driver_timeout for a running call to finish, else the model is
 //   refused with Timeout (203).
-// - call_method()/run_method() runs on a method thread of its own, one per accepted
+// - run_method() runs on a method thread of its own, one per accepted
 //   Method/Call (at most AdapterConfig::methods.max_running at once). It
 //   overlaps read() and write() — a program transfer or a cycle must not stop
-//   Query, Set and sampling — and other call_method() calls, whatever
+//   Query, Set and sampling — and other run_method() calls, whatever
 //   info().concurrent says. The driver synchronizes what its methods share
 //   with reads and writes itself (e.g. one mutex held for each short step,
 //   never across a long wait). There is no deadline: a method runs until it
@@ -272,24 +272,18 @@ public:
         return make_error(ErrorCode::permission_denied, "driver '" + info().name + "' is read-only, cannot set " + request.id);
     }
 
-    /// Runs a METHOD of the model (method thread: see the threading contract
-    /// above). `args` is the call's args object, checked against the METHOD
+    /// Runs a METHOD of the model (Method/Call; method thread: see the
+    /// threading contract above). `method` carries the METHOD's id and the
+    /// handle bind() gave it (no_handle when none), so a driver dispatches on
+    /// either. `args` is the call's args object, checked against the METHOD
     /// object's declared args (defaults filled in). Returns the method's
     /// `return` value (null = none), or a table-19 error: the Method/Result is
     /// then "error" with that code, the message going to its privateInfo.
-    /// Default: Unavailable (202), a driver without methods. The SDK calls
-    /// run_method(), which calls this unless overridden.
-    virtual Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) {
+    /// Default: Unavailable (202), a driver without methods.
+    virtual Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) {
         (void)args;
         (void)control;
-        return make_error(ErrorCode::unavailable, "driver '" + info().name + "' does not implement method " + method_id);
-    }
-
-    /// What the SDK calls for a Method/Call: `method` carries the METHOD's id
-    /// and the handle bind() gave it. Override this instead of call_method()
-    /// to dispatch on the handle. Default: call_method(method.id, ...).
-    virtual Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) {
-        return call_method(method.id, args, control);
+        return make_error(ErrorCode::unavailable, "driver '" + info().name + "' does not implement method " + method.id);
     }
 
     /// The machine link (see "The machine link" above): cheap, thread-safe,

@@ -6,10 +6,10 @@
  * The SDK dlopen()s it, reads abi_version (the first field of every version),
  * checks the required functions, then creates one driver instance.
  *
- * Versions. abi_version 2 is this header. Plugins built for version 1 (the
- * layout in driver_plugin_v1.h) still load: the host adapts them (no handles,
- * no typed read, no link). Any other version is refused with one line naming
- * it. Growth within version 2 needs no new version: every struct starts with
+ * Versions. abi_version 2 is this header, and the only version the host
+ * loads (version 1 was removed before the first release); any other is
+ * refused with one line naming it. Growth within version 2 needs no new
+ * version: every struct starts with
  * struct_size = sizeof as its writer was built, a later header only appends
  * fields, and a reader uses a field only when struct_size covers it
  * (NCLINK_HAS_FIELD), so neither side needs rebuilding when the other grows.
@@ -52,8 +52,8 @@ extern "C" {
 #endif
 
 #define NCLINK_DRIVER_ABI_VERSION 2u
-/* The oldest version the host still loads (adapted). */
-#define NCLINK_DRIVER_ABI_OLDEST 1u
+/* The oldest version the host loads (docs/abi.md). */
+#define NCLINK_DRIVER_ABI_OLDEST 2u
 #define NCLINK_DRIVER_ENTRY_SYMBOL "nclink_driver_entry"
 
 /* True when the struct *s (with its struct_size) includes `field`. */

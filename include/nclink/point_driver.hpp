@@ -3,7 +3,7 @@
 // with optional range or enumeration checks for Sets. The SDK does the rest
 // (Query/Set semantics, sampling, events, MQTT), exactly as for a hand-written
 // Driver, which it is: subclass it to add open()/close(), methods
-// (call_method()) or anything else of the Driver interface.
+// (run_method()) or anything else of the Driver interface.
 //
 //   nclink::PointDriver driver({"acme-lathe", "1.0"});
 //   driver.point("x_position", [&] { return cnc.x(); });

@@ -220,12 +220,8 @@ public:
         return d_.claims && d_.claims(instance_, std::string(id).c_str()) != 0;
     }
 
-    Result<Json> call_method(const std::string& method_id, const Json& args, MethodControl& control) override {
-        return run_method(PointRef{method_id, DataKind::single, no_handle}, args, control);
-    }
-
     Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) override {
-        if (!d_.call_method) return Driver::call_method(method.id, args, control);
+        if (!d_.call_method) return Driver::run_method(method, args, control);
         nclink_method_control c{};
         c.struct_size = sizeof c;
         c.context = &control;

@@ -1,6 +1,7 @@
 // dlopen()s a driver plugin and hands it to the adapter of its ABI version
-// (driver_plugin.h, "Versions"): 2 is current, 1 is still loaded, anything
-// else is refused in one line that names the version.
+// (driver_plugin.h, "Versions"): 2 is the only one; anything else (also 1,
+// removed before the first release, docs/abi.md) is refused in one line
+// that names the version.
 #include "driver/plugin_drivers.hpp"
 
 #include <nclink/driver_plugin_loader.hpp>
@@ -41,17 +42,9 @@ Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, cons
     if (version == NCLINK_DRIVER_ABI_VERSION)
         return detail::make_plugin_driver_v2(std::move(library), *static_cast<const nclink_driver_descriptor*>(entry_result),
                                              path, config, std::move(logger));
-    if (version == NCLINK_DRIVER_ABI_VERSION_1) {
-        logger.info("driver plugin {} speaks ABI version 1: loaded without handles, typed reads or link "
-                    "(rebuild it against driver_plugin.h for version {})",
-                    path, NCLINK_DRIVER_ABI_VERSION);
-        return detail::make_plugin_driver_v1(std::move(library),
-                                             *static_cast<const nclink_driver_descriptor_v1*>(entry_result), path, config,
-                                             std::move(logger));
-    }
     return make_error(ErrorCode::value_type,
-                      fmt::format("{}: driver ABI version {} is not supported (this nclink loads versions {} to {})", path,
-                                  version, NCLINK_DRIVER_ABI_OLDEST, NCLINK_DRIVER_ABI_VERSION));
+                      fmt::format("{}: driver ABI version {} is not supported (this nclink loads version {})", path,
+                                  version, NCLINK_DRIVER_ABI_VERSION));
 }
 
 }  // namespace nclink

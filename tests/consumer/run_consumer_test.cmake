@@ -75,6 +75,25 @@ foreach(flavour shared static)
   message(STATUS "pkg-config consumer (${flavour}): ${LAST_OUTPUT}")
 endforeach()
 
+# C firmware (docs/porting-guide.md, "From C firmware"): the example built by
+# the C compiler alone, strict C11, with pkg-config's flags for the shared
+# library; it starts its adapter (the broker is not there: it keeps trying),
+# pushes from its servo thread and stops.
+if(CC AND C_FIRMWARE_DIR)
+  run(${PKG_CONFIG} --cflags --libs nclink)
+  string(STRIP "${LAST_OUTPUT}" pc_flags)
+  separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
+  set(program ${WORK_DIR}/c_firmware)
+  run(${CC} -std=c11 -Wall -Wextra -Werror -pedantic ${C_FIRMWARE_DIR}/main.c ${C_FIRMWARE_DIR}/machine.c
+      ${C_FIRMWARE_DIR}/driver.c -o ${program} ${pc_flags} -lpthread -lm)
+  expect_linkage(${program} shared)
+  run(${program} --broker tcp://127.0.0.1:1 --model ${C_FIRMWARE_DIR}/model.json --seconds 1)
+  if(NOT LAST_OUTPUT MATCHES "c-firmware: serving .* rows pushed, 0 refused")
+    message(FATAL_ERROR "the C firmware printed: ${LAST_OUTPUT}")
+  endif()
+  message(STATUS "C firmware (cc + pkg-config): ${LAST_OUTPUT}")
+endif()
+
 # The template project, copied out of the installed SDK and built as-is
 # (docs/porting-guide.md, "Quick start"), shared and static; then its
 # adapter checks its configuration and model.

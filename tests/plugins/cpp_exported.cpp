@@ -39,10 +39,10 @@ public:
         return nclink::ok_result();
     }
 
-    nclink::Result<nclink::Json> call_method(const std::string& id, const nclink::Json& args,
-                                             nclink::MethodControl& control) override {
+    nclink::Result<nclink::Json> run_method(const nclink::PointRef& method, const nclink::Json& args,
+                                            nclink::MethodControl& control) override {
         control.progress(100);
-        return nclink::Json{{"method", id}, {"args", args}};
+        return nclink::Json{{"method", method.id}, {"args", args}};
     }
 
     nclink::MachineLinkStatus link() const override { return {nclink::MachineLink::disconnected, "E-stop"}; }

@@ -128,7 +128,7 @@ TEST_CASE("a plain C plugin of ABI version 2 binds, reads typed values, writes a
     REQUIRE(ret.ok());
     CHECK(ret.value() == Json{{"counted", 3}});
     CHECK(control.seen == std::vector<double>{0, 50, 100});
-    auto unknown = driver->call_method("nope", nullptr, control);
+    auto unknown = driver->run_method(PointRef{"nope"}, nullptr, control);
     REQUIRE_FALSE(unknown.ok());
     CHECK(unknown.error().code == ErrorCode::node_not_exists);
     CHECK(unknown.error().message == "no such method");
@@ -144,39 +144,6 @@ TEST_CASE("a C plugin's link and its configuration checks cross the ABI") {
     REQUIRE_FALSE(bad.ok());
     CHECK(bad.error().code == ErrorCode::value_type);  // create()'s code
     CHECK_THAT(bad.error().message, Catch::Contains("refused to start: link_down must be true or false"));
-}
-
-TEST_CASE("a plugin built for ABI version 1 still loads and serves by id through JSON") {
-    auto loaded = load_driver_plugin(plugin("c_counter_v1"), Json{{"machine", "old"}});
-    REQUIRE(loaded.ok());
-    auto driver = loaded.value();
-    CHECK(driver->info().name == "c-counter-v1");
-    std::vector<BindPoint> bind_points(1);
-    bind_points[0].id = "a";
-    std::vector<PointHandle> handles(1, no_handle);
-    REQUIRE(driver->bind(bind_points, handles).ok());
-    CHECK(handles[0] == no_handle);  // version 1 has no bind: every point by id
-    std::vector<PointRef> points{{"a", DataKind::single}, {"fail", DataKind::single}, {"vendor", DataKind::single}};
-    std::vector<Result<Json>> results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
-    driver->read(points, results);
-    CHECK(results[0].value() == 1);
-    CHECK(results[1].error().message == "sensor disconnected");
-    CHECK(static_cast<int>(results[2].error().code) == -7);
-    CHECK(results[2].error().message == "spindle drive fault E7");
-    std::vector<SampleValue> row(points.size());
-    CHECK_FALSE(driver->read_samples(points, row.data()));  // no typed read: the SDK converts read()'s Json
-    CHECK(driver->link().state == MachineLink::unknown);
-    WriteRequest w;
-    w.id = "ro";
-    w.new_value = 1;
-    auto refused = driver->write(w);
-    REQUIRE_FALSE(refused.ok());
-    CHECK(refused.error().code == ErrorCode::permission_denied);
-    CHECK(refused.error().message == "ro is wired read-only");
-    NoopControl control;
-    auto ret = driver->call_method("count", Json::object(), control);
-    REQUIRE(ret.ok());
-    CHECK(ret.value() == Json{{"counted", 3}});
 }
 
 TEST_CASE("a version-2 descriptor shorter than this header's is read only as far as its struct_size") {
@@ -198,18 +165,18 @@ TEST_CASE("method control crosses the C ABI: a cancelled checkpoint ends the met
         bool cancelled() const override { return !seen.empty() && seen.back() >= 50; }
         bool checkpoint() override { return !cancelled(); }
     } control;
-    auto ret = loaded.value()->call_method("count", Json::object(), control);
+    auto ret = loaded.value()->run_method(PointRef{"count"}, Json::object(), control);
     REQUIRE(ret.ok());
     CHECK(ret.value().is_null());  // cancelled before it put a return value
     CHECK(control.seen == std::vector<double>{0, 50});
 }
 
-TEST_CASE("a driver without methods answers 202 to call_method") {
+TEST_CASE("a driver without methods answers 202 to run_method") {
     struct Bare final : Driver {
         void read(const std::vector<PointRef>&, std::vector<Result<Json>>&) override {}
     } bare;
     NoopControl control;
-    auto r = bare.call_method("any", nullptr, control);
+    auto r = bare.run_method(PointRef{"any"}, nullptr, control);
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::unavailable);
 }
@@ -252,7 +219,7 @@ TEST_CASE("a C++ driver exported with NCLINK_EXPORT_DRIVER loads through the sam
     REQUIRE_FALSE(bad.ok());
     CHECK(bad.error().code == ErrorCode::value_type);
     NoopControl control;
-    auto ret = driver->call_method("m1", Json{{"a", 1}}, control);
+    auto ret = driver->run_method(PointRef{"m1"}, Json{{"a", 1}}, control);
     REQUIRE(ret.ok());
     CHECK(ret.value()["args"]["a"] == 1);
 
@@ -266,8 +233,14 @@ TEST_CASE("broken plugins are refused with a clear message") {
         auto r = load_driver_plugin(plugin("wrong_abi"));
         REQUIRE_FALSE(r.ok());
         CHECK(r.error().code == ErrorCode::value_type);
-        CHECK_THAT(r.error().message, Catch::Contains("driver ABI version 999 is not supported (this nclink loads versions 1 to 2)"));
+        CHECK_THAT(r.error().message, Catch::Contains("driver ABI version 999 is not supported (this nclink loads version 2)"));
         CHECK(r.error().message.find('\n') == std::string::npos);  // one line
+    }
+    SECTION("ABI version 1 (removed before the first release: no released plugin speaks it)") {
+        auto r = load_driver_plugin(plugin("old_abi"));
+        REQUIRE_FALSE(r.ok());
+        CHECK(r.error().code == ErrorCode::value_type);
+        CHECK_THAT(r.error().message, Catch::Contains("driver ABI version 1 is not supported (this nclink loads version 2)"));
     }
     SECTION("no entry symbol") {
         auto r = load_driver_plugin(plugin("no_entry"));

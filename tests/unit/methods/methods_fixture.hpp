@@ -19,7 +19,8 @@ public:
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
         for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(1.5);
     }
-    Result<Json> call_method(const std::string& id, const Json& args, MethodControl& control) override {
+    Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) override {
+        const std::string& id = method.id;
         {
             std::lock_guard<std::mutex> lock(mutex);
             calls.push_back({id, args});
@@ -50,7 +51,7 @@ public:
             }
             return Json{{"steps", step}};
         }
-        return Driver::call_method(id, args, control);
+        return Driver::run_method(method, args, control);
     }
     void release(int n = 1) {
         {

@@ -77,7 +77,7 @@ struct Rig {
             bool cancelled() const override { return false; }
             bool checkpoint() override { return true; }
         } control;
-        return driver->call_method(method, nclink::Json::object(), control);
+        return driver->run_method(nclink::PointRef{method}, nclink::Json::object(), control);
     }
 };
 

@@ -105,7 +105,7 @@ struct TransferRig : Rig {
         REQUIRE(driver->open(DriverContext{Json{{"program_dir", dirs.programs.string()}, {"transfer_rate", rate}}, {}}).ok());
     }
     Result<Json> transfer(const Json& args, MethodControl& control) {
-        return driver->call_method("program_transfer", args, control);
+        return driver->run_method(PointRef{"program_transfer"}, args, control);
     }
 };
 
@@ -157,7 +157,7 @@ TEST_CASE("program_transfer refuses what it cannot or must not do") {
     CHECK(rig.transfer(Json::object(), control).error().code == ErrorCode::parameter_missing);
     CHECK(Dirs::entries(rig.dirs.programs) == 0);
     Rig no_dir("sim-mill.json");
-    CHECK(no_dir.driver->call_method("program_transfer", Json{{"source", src}}, control).error().code ==
+    CHECK(no_dir.driver->run_method(PointRef{"program_transfer"}, Json{{"source", src}}, control).error().code ==
           ErrorCode::unavailable);
 }
 
@@ -196,14 +196,14 @@ TEST_CASE("operator methods act on the simulated state") {
     Rig rig("sim-mill.json", 1, false);
     TestControl control;
     CHECK(rig.value("status") == "free");
-    auto started = rig.driver->call_method("cycle_start", Json::object(), control);
+    auto started = rig.driver->run_method(PointRef{"cycle_start"}, Json::object(), control);
     REQUIRE(started.ok());
     CHECK(started.value() == Json{{"status", "running"}});
     CHECK(rig.value("status") == "running");
-    CHECK(rig.driver->call_method("feed_hold", Json::object(), control).value()["status"] == "holding");
+    CHECK(rig.driver->run_method(PointRef{"feed_hold"}, Json::object(), control).value()["status"] == "holding");
     CHECK(rig.value("status") == "holding");
     rig.driver->raise_alarm("1001", "spindle overload");
-    CHECK(rig.driver->call_method("reset", Json::object(), control).value()["status"] == "free");
+    CHECK(rig.driver->run_method(PointRef{"reset"}, Json::object(), control).value()["status"] == "free");
     CHECK(rig.value("status") == "free");
     CHECK(rig.value("line_number") == "0");
     CHECK(control.last() == 100);
@@ -218,7 +218,7 @@ TEST_CASE("the plugin transfers programs with the directory from its configurati
                                           {"transfer_rate", 0}});
     REQUIRE(loaded.ok());
     TestControl control;
-    auto r = loaded.value()->call_method("program_transfer", Json{{"source", (dirs.outside / "O9.nc").string()}}, control);
+    auto r = loaded.value()->run_method(PointRef{"program_transfer"}, Json{{"source", (dirs.outside / "O9.nc").string()}}, control);
     REQUIRE(r.ok());
     CHECK(r.value()["bytes"] == 2048);
     CHECK(fs::file_size(dirs.programs / "O9.nc") == 2048);

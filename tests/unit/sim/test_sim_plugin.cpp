@@ -45,7 +45,7 @@ TEST_CASE("the plugin simulates the mill from its configuration") {
     w.params = Json{{"value", 50}};
     CHECK(driver->write(w).ok());
     Control control;
-    auto held = driver->call_method("feed_hold", Json::object(), control);
+    auto held = driver->run_method(PointRef{"feed_hold"}, Json::object(), control);
     REQUIRE(held.ok());
     CHECK(held.value()["status"] == "holding");
     CHECK(control.last == 100);
