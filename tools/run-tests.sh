@@ -3,6 +3,11 @@
 # as they land, integration tests against a real mosquitto on loopback).
 #   tools/run-tests.sh            # RelWithDebInfo build in build/
 #   NCLINK_PRESET=asan tools/run-tests.sh   # ASan+UBSan build in build-asan/
+#   NCLINK_WITH_CROSS=0 tools/run-tests.sh  # without the aarch64 leg
+# After the native suite, the cross leg (tools/cross-test.sh aarch64): the
+# terminal library and its unit tests built for 64-bit ARM and run under
+# qemu-user, and nclink-sim for ARM serving a native client through a native
+# mosquitto. armhf is run by hand (docs/building.md, "Cross-building").
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -19,3 +24,16 @@ jobs=${NCLINK_JOBS:-$(nproc)}
 cmake --preset "$preset"
 cmake --build --preset "$preset" -j "$jobs"
 ctest --preset "$preset" -j "$jobs"
+
+# The cross leg runs after the default (native) suite only; a sanitizer
+# preset is about the native build.
+if [[ "${NCLINK_WITH_CROSS:-1}" != 0 && "$preset" == default ]]; then
+  if tools/cross-test.sh aarch64; then
+    echo "run-tests: cross leg aarch64 PASSED"
+  else
+    echo "run-tests: cross leg aarch64 FAILED" >&2
+    exit 1
+  fi
+else
+  echo "run-tests: cross leg skipped (NCLINK_WITH_CROSS=0 or preset $preset)"
+fi
