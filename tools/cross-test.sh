@@ -2,8 +2,9 @@
 # The cross leg: builds the terminal library, its unit tests and nclink-sim
 # for another CPU with Debian 12's cross compiler, runs the unit tests under
 # qemu-user, and runs one real-broker check: that CPU's nclink-sim (under
-# qemu) answering Probe/Query/Set and streaming sample channels through a
-# NATIVE mosquitto on a free loopback port to the NATIVE `nclink` tool.
+# qemu) answering Probe/Query/Set, refusing malformed input and streaming its
+# sample channels through a NATIVE mosquitto on a free loopback port to a
+# NATIVE client (mosquitto_pub/mosquitto_sub speaking NC-Link DTUs).
 #
 #   tools/cross-test.sh aarch64     # 64-bit ARM (preset cross-aarch64, build-aarch64/)
 #   tools/cross-test.sh armhf       # 32-bit ARM (preset cross-armhf, build-armhf/)
@@ -88,16 +89,6 @@ say "building ${build_targets[*]} (-j$jobs)"
 cmake --build "$build" -j "$jobs" --target "${build_targets[@]}"
 phase build
 
-# The native side of the integration check: the `nclink` tool (built by the
-# native suite already when run from tools/run-tests.sh).
-native_cli=build/bin/nclink
-if [[ ! -x $native_cli ]] || ! cmake --build build --target nclink_cli -j "$jobs" >/dev/null 2>&1; then
-  say "building the native nclink tool (build/, preset default)"
-  [[ -f build/CMakeCache.txt ]] || cmake --preset default >/dev/null
-  cmake --build build --target nclink_cli -j "$jobs"
-fi
-phase native-tool
-
 say "unit tests of ${tested[*]} under $qemu"
 regex="^($(IFS='|'; echo "${tested[*]}")): "
 # ctest's own report goes to a file: run from tools/run-tests.sh, the native
@@ -119,7 +110,7 @@ unit_line="$((total - failed_n)) of $total unit tests passed under $qemu"
 echo "  $unit_line (ctest's report: $unit_log)"
 
 # ---------------------------------------------------------------- integration
-say "integration: $arch nclink-sim under $qemu, native mosquitto, native nclink tool"
+say "integration: $arch nclink-sim under $qemu, native mosquitto and its clients"
 work=$(mktemp -d)
 pids=()
 stop_all() {
@@ -153,52 +144,84 @@ for _ in $(seq 100); do (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null && brea
 # The target's program, run by qemu-user explicitly (no binfmt needed).
 "$qemu" "$build/bin/nclink-sim" --broker "$broker" --log-level warn >"$work/sim.log" 2>&1 &
 pids+=($!)
-# Under emulation every request is slower: a generous timeout per request.
-nclink_t() { "$native_cli" "$2" --broker "$broker" --device "$device" --timeout "$1" "${@:3}"; }
-nclink() { nclink_t 10000 "$@"; }
 
-passed=0 failed=0
-check() {  # check NAME COMMAND...: the command's output is in $work/out
-  local name=$1; shift
-  if "$@" >"$work/out" 2>&1; then
-    passed=$((passed + 1)); echo "  ok    $name"
-  else
-    failed=$((failed + 1)); echo "  FAIL  $name"; sed 's/^/        /' "$work/out"
-  fi
-}
-online() {
-  for _ in $(seq 120); do
-    nclink_t 1000 state 2>/dev/null | grep -q online && return 0
-    kill -0 "${pids[1]}" 2>/dev/null || { cat "$work/sim.log"; return 1; }
+# The native client: mosquitto's own command-line clients, speaking NC-Link
+# DTUs (GB/T 41970-2022 8.2) as an application with terminal id "cross".
+# Nothing of nclink runs natively, so no native build is needed.
+sub() { mosquitto_sub -h 127.0.0.1 -p "$port" -q 1 "$@"; }
+pub() { mosquitto_pub -h 127.0.0.1 -p "$port" -q 1 "$@"; }
+# request KIND PAYLOAD: publishes on KIND/Request/dev/cross and leaves the
+# answer (KIND/Response/dev/cross, 8.2: the request's shape mirrored) in
+# $work/answer. A subscriber that was not ready in time gets a second try.
+request() {
+  local attempt
+  for attempt in 1 2 3; do
+    sub -t "$1/Response/$device/cross" -C 1 -W 20 >"$work/answer" 2>/dev/null &
+    local waiter=$!
     sleep 0.5
+    pub -t "$1/Request/$device/cross" -m "$2"
+    wait "$waiter" && [[ -s $work/answer ]] && return 0
   done
   return 1
 }
-probe_has_model() { nclink probe >"$work/probe" && grep -q ch_fast "$work/probe" && grep -q spindle_speed "$work/probe"; }
-query_numbers() {
-  nclink query x_position spindle_speed >"$work/query" &&
-    grep -Eq '^x_position = -?[0-9]' "$work/query" && grep -Eq '^spindle_speed = -?[0-9]' "$work/query"
-}
-set_and_read_back() {
-  nclink set feed_override=37 && nclink query feed_override >"$work/q" && grep -Eq '^feed_override = 37(\.0+)?$' "$work/q"
-}
-# A dynamic channel (Register/Sample): its rows must arrive, 20 of them.
-dynamic_channel() {
-  nclink sample x_position y_position --sample-ms 10 --upload-ms 100 --count 20 >"$work/rows" &&
-    [[ $(grep -Ec '^[0-9]{4}-' "$work/rows") -ge 20 ]]
-}
-# A static channel of the model (ch_slow, 100 ms rows): streamed as it runs.
-static_channel() { nclink watch --channel ch_slow --count 3 >"$work/watch" && [[ -s $work/watch ]]; }
-# Bad input: an unknown item is refused with a code, the simulator keeps serving.
-refuses_unknown() { ! nclink query no_such_item >/dev/null 2>&1 && nclink query status >/dev/null; }
 
-check "online (Notify/State)" online
-check "Probe/Query: the model" probe_has_model
-check "Query: values" query_numbers
-check "Set: feed_override=37, read back" set_and_read_back
-check "Sample: a dynamic channel streams 20 rows" dynamic_channel
-check "Sample: the static channel ch_slow streams" static_channel
-check "bad input refused, still serving" refuses_unknown
+passed=0 failed=0
+check() {  # check NAME COMMAND...: on failure the last answer is shown
+  local name=$1; shift
+  : >"$work/answer"
+  if "$@" >"$work/out" 2>&1; then
+    passed=$((passed + 1)); echo "  ok    $name"
+  else
+    failed=$((failed + 1)); echo "  FAIL  $name"
+    sed 's/^/        /' "$work/out" "$work/answer"
+  fi
+}
+# 8.2.2: the adapter's retained Notify/State says online once it is connected.
+online() {
+  for _ in $(seq 90); do
+    sub -t "Notify/State/$device" -C 1 -W 2 2>/dev/null | grep -q '"state" *: *"online"' && return 0
+    kill -0 "${pids[1]}" 2>/dev/null || { cat "$work/sim.log"; return 1; }
+  done
+  return 1
+}
+# 8.2.8 Probe/Query: the model as an object, with its channels and items.
+probe() {
+  request Probe/Query '{"@id":"p1"}' && grep -q '"@id" *: *"p1"' "$work/answer" &&
+    grep -q '"probe" *: *{' "$work/answer" && grep -q '"ch_fast"' "$work/answer" && grep -q '"spindle_speed"' "$work/answer"
+}
+# 8.2.11 Query: one OK entry with values per item asked.
+query() {
+  request Query '{"@id":"q1","ids":[{"id":"x_position"},{"id":"spindle_speed"}]}' &&
+    [[ $(grep -o '"code" *: *"OK"' "$work/answer" | wc -l) -eq 2 ]] && grep -q '"x_position"' "$work/answer"
+}
+# 8.2.13 Set, then Query reads the value back.
+set_read_back() {
+  request Set '{"@id":"s1","values":[{"id":"feed_override","params":{"value":37}}]}' &&
+    grep -q '"code" *: *"OK"' "$work/answer" &&
+    request Query '{"@id":"q2","ids":[{"id":"feed_override"}]}' &&
+    grep -Eq '"values" *: *\[ *37(\.0+)? *\]' "$work/answer"
+}
+# 8.2.17 Sample DTUs of the model's channels, streamed as the machine runs:
+# three of ch_slow and one of ch_fast (6 columns), each with its beginTime.
+stream() {
+  sub -t "Sample/$device/ch_slow" -C 3 -W 30 >"$work/slow" &&
+    sub -t "Sample/$device/ch_fast" -C 1 -W 30 >"$work/fast" &&
+    [[ $(grep -c '"beginTime"' "$work/slow") -eq 3 ]] && grep -q '"id" *: *"ch_slow"' "$work/slow" &&
+    [[ $(grep -o '"data" *: *\[' "$work/fast" | wc -l) -eq 7 ]]
+}
+# Bad input: malformed JSON is answered with 412 (table 19), and the
+# simulator keeps serving.
+refuses_garbage() {
+  request Query '{not json' && grep -q '"error" *: *412' "$work/answer" &&
+    request Query '{"@id":"q3","ids":[{"id":"status"}]}' && grep -q '"code" *: *"OK"' "$work/answer"
+}
+
+check "Notify/State online" online
+check "Probe/Query: the model" probe
+check "Query: two items" query
+check "Set feed_override=37, Query reads it back" set_read_back
+check "Sample: ch_slow and ch_fast stream" stream
+check "bad input answered with 412, still serving" refuses_garbage
 stop_all
 phase integration
 echo "  integration checks: $passed of $((passed + failed)) passed"
