@@ -13,7 +13,9 @@
 # idempotently. Prints one line "cross-test ARCH: PASS|FAIL ..." at the end
 # and exits non-zero on failure. docs/building.md, "Cross-building".
 # NCLINK_JOBS (default nproc) sets the build's parallelism; NCLINK_CROSS_TLS
-# (ON/OFF) is passed as NCLINK_WITH_TLS when the build has that option.
+# (ON/OFF) is passed as NCLINK_WITH_TLS when the build has that option;
+# NCLINK_CROSS_MODULES (e.g. "core sampling") runs the unit tests of those
+# modules only.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -76,7 +78,9 @@ phase configure
 
 # The terminal library's modules (src/layers.txt, up to the gateway) and the
 # unit-test programs of those that have one.
+# NCLINK_CROSS_MODULES="core sampling" narrows the unit tests to those modules.
 terminal_modules=(core model values protocol driver transport feature sampling events methods adapter gateway)
+if [[ -n "${NCLINK_CROSS_MODULES:-}" ]]; then read -ra terminal_modules <<<"$NCLINK_CROSS_MODULES"; fi
 targets=$(cmake --build "$build" --target help 2>/dev/null | sed -n 's/^\.\.\. \([^ ]*\).*/\1/p')
 has_target() { grep -qx "$1" <<<"$targets"; }
 build_targets=(nclink-sim)
