@@ -38,6 +38,8 @@ packages=(build-essential cmake pkg-config git
 #     DataFrame helper's test and the notebook example of the Python package.
 #   NCLINK_WITH_BROWSER=1    chromium, chromium-driver, python3-selenium: the
 #     dashboard's test in a real headless browser.
+#   NCLINK_WITH_CROSS=1      cross compiler, qemu-user and the arm64 libraries
+#     (tools/cross-test.sh; below).
 if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
 if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
 if [[ "${NCLINK_WITH_PANDAS:-0}" == 1 ]]; then packages+=(python3-pandas); fi
@@ -64,6 +66,48 @@ else
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
   # Debian starts a system mosquitto on :1883 when installing it; nclink's tests
   # start their own brokers on free ports and do not need it.
+fi
+
+# Cross builds (tools/cross-test.sh, docs/building.md "Cross-building"), only
+# when asked: NCLINK_WITH_CROSS=1 (arm64, the CI leg) or a list of Debian
+# architectures, e.g. NCLINK_WITH_CROSS="arm64 armhf". Each brings Debian's
+# cross compiler (crossbuild-essential-ARCH, with its recommends: the cross C
+# library), qemu-user to run the programs, and the libraries the build
+# finds as multiarch -dev:ARCH packages beside the host's. apt upgrades a
+# library's amd64 twin to the same version with it (multiarch needs equal
+# versions), e.g. libssl-dev.
+cross=${NCLINK_WITH_CROSS:-0}
+if [[ "$cross" == 1 ]]; then cross=arm64; fi
+if [[ "$cross" != 0 && -n "$cross" ]]; then
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  cross_missing=()
+  added=0
+  for arch in ${cross//,/ }; do
+    case "$arch" in
+      arm64 | armhf) ;;
+      *) echo "install-deps: NCLINK_WITH_CROSS: unknown architecture '$arch' (arm64, armhf)" >&2; exit 1 ;;
+    esac
+    if [[ "$arch" != "$(dpkg --print-architecture)" ]] && ! dpkg --print-foreign-architectures | grep -qx "$arch"; then
+      $sudo dpkg --add-architecture "$arch"
+      added=1
+    fi
+    for p in crossbuild-essential-"$arch" qemu-user; do
+      dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || cross_missing+=("$p")
+    done
+    for p in libfmt-dev libpaho-mqttpp-dev libpaho-mqtt-dev libmosquitto-dev libssl-dev libcpp-httplib-dev libxml2-dev; do
+      dpkg-query -W -f='${Status}' "$p:$arch" 2>/dev/null | grep -q 'install ok installed' || cross_missing+=("$p:$arch")
+    done
+  done
+  if ((${#cross_missing[@]} == 0)); then
+    echo "install-deps: cross packages present ($cross)"
+  else
+    echo "install-deps: installing ${cross_missing[*]}"
+    if ((added)) || [[ ${#missing[@]} -eq 0 ]]; then $sudo apt-get update -qq; fi
+    # --no-remove: a conflict must stop here, never uninstall the host's packages.
+    $sudo apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-remove "${cross_missing[@]}"
+  fi
 fi
 
 # node-opcua for tools/nclink-opcua, exactly as package-lock.json pins it.

@@ -6,6 +6,11 @@
 #   NCLINK_FORMAT_BASE=origin/main tools/run-tests.sh
 #       # first checks the format of the C/C++ files changed against that base
 #       # (tools/check-format.sh; CI sets it to the branch a change goes into)
+#   NCLINK_WITH_CROSS=0 tools/run-tests.sh  # without the aarch64 leg
+# After the native suite, the cross leg (tools/cross-test.sh aarch64): the
+# terminal library and its unit tests built for 64-bit ARM and run under
+# qemu-user, and nclink-sim for ARM serving a native client through a native
+# mosquitto. armhf is run by hand (docs/building.md, "Cross-building").
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -30,3 +35,16 @@ jobs=${NCLINK_JOBS:-$(nproc)}
 cmake --preset "$preset"
 cmake --build --preset "$preset" -j "$jobs"
 ctest --preset "$preset" -j "$jobs"
+
+# The cross leg runs after the default (native) suite only; a sanitizer
+# preset is about the native build.
+if [[ "${NCLINK_WITH_CROSS:-1}" != 0 && "$preset" == default ]]; then
+  if tools/cross-test.sh aarch64; then
+    echo "run-tests: cross leg aarch64 PASSED"
+  else
+    echo "run-tests: cross leg aarch64 FAILED" >&2
+    exit 1
+  fi
+else
+  echo "run-tests: cross leg skipped (NCLINK_WITH_CROSS=0 or preset $preset)"
+fi

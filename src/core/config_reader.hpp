@@ -14,10 +14,12 @@
 
 #include <fmt/format.h>
 
+#include <limits>
 #include <optional>
 #include <set>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace nclink::detail {
@@ -55,8 +57,19 @@ public:
     Result<void> boolean(const char* key, bool& out) {
         return read(key, out, [](const Json& j) { return j.is_boolean(); }, "true or false");
     }
+    /// A non-negative integer that fits `T`. A value past T's range is
+    /// refused, never cut: a byte limit of 5 GB read into a 32-bit size_t
+    /// (armhf) would otherwise become 705 MB.
     template <class T>
     Result<void> count(const char* key, T& out) {
+        static_assert(std::is_integral_v<T>, "count() reads integers");
+        constexpr auto max = static_cast<unsigned long long>(std::numeric_limits<T>::max());
+        const auto it = object_.find(key);
+        if (it != object_.end() && it->is_number_integer() && (it->is_number_unsigned() || it->template get<long long>() >= 0) &&
+            it->template get<unsigned long long>() > max) {
+            mark(key);
+            return fail(ErrorCode::value_type, key, fmt::format("must be at most {}", max));
+        }
         return read(key, out, [](const Json& j) { return j.is_number_unsigned() || (j.is_number_integer() && j.get<long long>() >= 0); },
                     "a non-negative integer");
     }

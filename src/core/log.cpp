@@ -1,8 +1,10 @@
 #include <nclink/log.hpp>
 
+#include "core/utc_time.hpp"
+
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
-#include <ctime>
 #include <string>
 
 namespace nclink {
@@ -22,16 +24,10 @@ std::string_view to_string(LogLevel level) noexcept {
 LogSink stderr_sink() {
     return [](LogLevel level, std::string_view message) {
         using namespace std::chrono;
-        const auto now = system_clock::now();
-        const std::time_t seconds = system_clock::to_time_t(now);
-        const auto millis = duration_cast<milliseconds>(now.time_since_epoch()).count() % 1000;
-        std::tm utc{};
-        gmtime_r(&seconds, &utc);
-        char stamp[32];
-        std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", &utc);
+        // int64 milliseconds, never time_t: 32 bits on Debian 12 armhf.
+        const std::int64_t now_ms = duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
         // One fwrite per line: stdio locks the stream, so lines never interleave.
-        const std::string line =
-            fmt::format("{}.{:03}Z {:<5} {}\n", stamp, millis, to_string(level), message);
+        const std::string line = fmt::format("{} {:<5} {}\n", detail::utc_iso8601_ms(now_ms), to_string(level), message);
         std::fwrite(line.data(), 1, line.size(), stderr);
     };
 }

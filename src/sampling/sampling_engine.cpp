@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ctime>
 #include <thread>
 
@@ -171,8 +172,18 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
     const auto& config = shared.deps.config;
     const double rows_per_upload = std::max(1.0, std::floor(spec.upload_interval_ms / spec.sample_interval_ms));
     const double wanted = std::ceil(rows_per_upload * config.ring_periods);
-    const std::size_t capacity =
-        static_cast<std::size_t>(std::clamp(wanted, 64.0, static_cast<double>(std::max<std::size_t>(64, config.ring_max_rows))));
+    // Capped at half of size_t, so the double converts back exactly.
+    const std::size_t max_rows = std::min(std::max<std::size_t>(64, config.ring_max_rows), std::numeric_limits<std::size_t>::max() / 2);
+    const std::size_t capacity = static_cast<std::size_t>(std::clamp(wanted, 64.0, static_cast<double>(max_rows)));
+    // The ring is allocated whole, now: one that cannot be addressed (more
+    // than half the address space; a large ring_max_rows on a 32-bit
+    // target) is refused instead of wrapping its size.
+    const std::size_t bytes = ring_bytes(capacity, spec.points.size());
+    if (bytes == 0 || bytes > std::numeric_limits<std::size_t>::max() / 2)
+        return make_error(ErrorCode::out_of_range,
+                          fmt::format("sample channel {}: a ring of {} rows of {} values does not fit in memory "
+                                      "(sampling.ring_max_rows {}, ring_periods {})",
+                                      spec.id, capacity, spec.points.size(), config.ring_max_rows, config.ring_periods));
     auto core = std::make_shared<ChannelCore>(std::move(spec), capacity, shared.policy, config.text_budget_bytes);
 
     std::lock_guard<std::mutex> lock(shared.mutex);

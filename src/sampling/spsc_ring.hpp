@@ -160,10 +160,27 @@ private:
     SingleWriterCounter drops_;
 };
 
+/// The power of two >= n, at most the top bit of size_t (past it the
+/// doubling would wrap to 0 and never end: n >= 2^31 on a 32-bit target).
 inline std::size_t round_up_pow2(std::size_t n) noexcept {
+    constexpr std::size_t top = ~(~std::size_t{0} >> 1);
     std::size_t p = 2;
-    while (p < n) p <<= 1;
+    while (p < n && p < top) p <<= 1;
     return p;
+}
+
+/// Bytes of one ring of `capacity` rows (rounded up as the ring does) of
+/// `width` values, or 0 when that does not fit size_t (the array sizes of
+/// the constructor would wrap: a large ring_max_rows on a 32-bit target).
+inline std::size_t ring_bytes(std::size_t capacity, std::size_t width) noexcept {
+    const std::size_t rows = round_up_pow2(capacity);
+    if (rows < capacity) return 0;
+    const std::size_t values = width == 0 ? 1 : width;
+    constexpr std::size_t max = ~std::size_t{0};
+    if (values > (max - 2 * sizeof(std::uint64_t)) / sizeof(SampleValue)) return 0;
+    const std::size_t per_row = values * sizeof(SampleValue) + sizeof(std::int64_t) + sizeof(std::uint64_t);
+    if (rows > max / per_row) return 0;
+    return rows * per_row;
 }
 
 inline SpscRowRing::SpscRowRing(std::size_t capacity, std::size_t width, FullPolicy policy)

@@ -6,10 +6,12 @@
 #include <nclink/log.hpp>
 
 #include "core/config_common.hpp"
+#include "core/config_reader.hpp"
 #include "core/json_locate.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 
@@ -75,6 +77,34 @@ TEST_CASE("config reader: wrong types and values point at their key, also in nes
     REQUIRE_FALSE(rights.ok());
     CHECK(rights.error().pointer == "/access/applications/mes/*");
     CHECK(agent_config_from_json(Json{{"request_timeout_ms", 0}}).error().pointer == "/request_timeout_ms");
+}
+
+TEST_CASE("config reader: a count past the range of its type is refused, never cut") {
+    const Json section = Json::parse(R"({"big": 5000000000, "fits": 4294967295, "negative": -1})");
+    ConfigReader reader(section, "limits.");
+    std::uint32_t big = 7, fits = 0, negative = 0;
+    const auto r = reader.count("big", big);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::value_type);
+    CHECK(r.error().message == "configuration: limits.big must be at most 4294967295");
+    CHECK(r.error().pointer == "/limits/big");
+    CHECK(big == 7);  // left as it was, not 705032704
+    CHECK(reader.count("fits", fits).ok());
+    CHECK(fits == 4294967295u);
+    CHECK_FALSE(reader.count("negative", negative).ok());
+    CHECK(reader.no_unknown_keys().ok());  // refused keys were read, not unknown
+
+    // A byte limit of 5 GB: kept on a 64-bit target, refused with its key on
+    // a 32-bit one (armhf: size_t is 32 bits), where it was cut before.
+    const auto cfg = adapter_config_from_json(Json{{"offline_buffer_bytes", 5'000'000'000ULL}});
+    if (sizeof(std::size_t) < 8) {
+        REQUIRE_FALSE(cfg.ok());
+        CHECK(cfg.error().pointer == "/offline_buffer_bytes");
+        CHECK_THAT(cfg.error().message, Catch::Contains("must be at most 4294967295"));
+    } else {
+        REQUIRE(cfg.ok());
+        CHECK(cfg.value().offline_buffer_bytes == 5'000'000'000ULL);
+    }
 }
 
 TEST_CASE("pointers: appended keys are escaped and dotted sections map to pointers") {

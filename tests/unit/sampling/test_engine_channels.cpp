@@ -4,8 +4,11 @@
 #include "engine_fixture.hpp"
 
 #include "adapter/model_host.hpp"
+#include "sampling/spsc_ring.hpp"
 
 #include <nclink/model.hpp>
+
+#include <limits>
 
 using namespace nclink;
 using namespace nclink::test;
@@ -263,4 +266,37 @@ TEST_CASE("a channel added while the uploader retires a removed one still gets p
     }
     const auto ch2 = std::count_if(sent.begin(), sent.end(), [](const Message& m) { return m.topic == "Sample/dev1/ch2"; });
     CHECK(ch2 >= 2);
+}
+
+TEST_CASE("a ring larger than the address space is refused with its channel, not wrapped") {
+    // A quarter of size_t in rows of 6 values: 24 GiB on a 32-bit target
+    // (armhf), exabytes on a 64-bit one. Before, the array size wrapped (a
+    // small allocation written as a large one) or the power-of-two rounding
+    // never ended.
+    SamplingConfig config;
+    config.ring_max_rows = std::numeric_limits<std::size_t>::max() / 4;
+    config.ring_periods = 1e30;
+    EngineFixture f(config);
+    const auto r = f.engine->add_channel(EngineFixture::spec("huge", {"a", "b", "c", "d", "e", "f"}, 1, 1000));
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::out_of_range);
+    CHECK_THAT(r.error().message, Catch::Contains("sample channel huge") && Catch::Contains("does not fit in memory"));
+    // The engine keeps serving: an ordinary channel still gets in and samples.
+    REQUIRE(f.engine->add_channel(EngineFixture::spec("ok", {"a"}, 1, 10)).ok());
+    f.engine->run_sampling_once();
+    CHECK(f.stats("ok").rows_sampled == 1);
+}
+
+TEST_CASE("ring sizes: rounding saturates at the top bit and a size past size_t is 0") {
+    using detail::ring_bytes;
+    using detail::round_up_pow2;
+    constexpr std::size_t top = ~(~std::size_t{0} >> 1);
+    CHECK(round_up_pow2(64) == 64);
+    CHECK(round_up_pow2(65) == 128);
+    CHECK(round_up_pow2(top) == top);
+    CHECK(round_up_pow2(top + 1) == top);  // was an endless loop
+    CHECK(ring_bytes(64, 6) == 64 * (6 * sizeof(SampleValue) + 16));
+    CHECK(ring_bytes(top + 1, 1) == 0);
+    CHECK(ring_bytes(top / 16, 6) == 0);
+    CHECK(ring_bytes(64, std::numeric_limits<std::size_t>::max() / 8) == 0);
 }
