@@ -3,7 +3,7 @@
 // (DropCounts) both live (housekeeping) and from a statistics snapshot.
 #include "adapter/adapter_features.hpp"
 #include "adapter/drop_reporter.hpp"
-#include "adapter_fixture.hpp"
+#include "support/adapter_fixture.hpp"
 
 #include <catch2/catch.hpp>
 
