@@ -75,7 +75,7 @@ sum_guest_rss() {
   echo "$kb"
 }
 
-status_kb() { sed -n "s/^$2: *\([0-9]*\) kB/\1/p" "/proc/$1/status"; }
+status_kb() { sed -n "s/^$2:[[:space:]]*\([0-9]*\) kB/\1/p" "/proc/$1/status"; }
 
 start_broker() {
   local port="" base=$((20000 + RANDOM % 20000)) candidate

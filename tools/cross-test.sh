@@ -94,7 +94,7 @@ cmake --build "$build" -j "$jobs" --target "${build_targets[@]}"
 phase build
 
 say "unit tests of ${tested[*]} under $qemu"
-regex="^($(IFS='|'; echo "${tested[*]}")): "
+regex="^($(IFS='|'; echo "${tested[*]}")):"
 # ctest's own report goes to a file: run from tools/run-tests.sh, the native
 # suite's closing line stays the last one a reader of the whole run sees.
 unit_log=$build/cross-unit.log

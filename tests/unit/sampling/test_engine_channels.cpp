@@ -275,9 +275,9 @@ TEST_CASE("a ring larger than the address space is refused with its channel, not
     // never ended.
     SamplingConfig config;
     config.ring_max_rows = std::numeric_limits<std::size_t>::max() / 4;
-    config.ring_periods = 1e30;
     EngineFixture f(config);
-    const auto r = f.engine->add_channel(EngineFixture::spec("huge", {"a", "b", "c", "d", "e", "f"}, 1, 1000));
+    // 4 upload periods of 1e12 rows each: capped at ring_max_rows.
+    const auto r = f.engine->add_channel(EngineFixture::spec("huge", {"a", "b", "c", "d", "e", "f"}, 1, 1e12));
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::out_of_range);
     CHECK_THAT(r.error().message, Catch::Contains("sample channel huge") && Catch::Contains("does not fit in memory"));
