@@ -40,9 +40,9 @@ summary="stopped early"
 finish() {
   local rc=${1:-$?}
   if [[ $result == PASS && $rc -eq 0 ]]; then
-    printf '\ncross-test %s: PASS (%s) in %ss [%s]\n' "$arch" "$summary" "$(( $(date +%s) - t0 ))" "${phase_times[*]}"
+    printf '\ncross-test %s: PASS (%s) in %ss [elapsed after %s]\n' "$arch" "$summary" "$(( $(date +%s) - t0 ))" "${phase_times[*]}"
   else
-    printf '\ncross-test %s: FAIL (%s) in %ss [%s]\n' "$arch" "$summary" "$(( $(date +%s) - t0 ))" "${phase_times[*]}" >&2
+    printf '\ncross-test %s: FAIL (%s) in %ss [elapsed after %s]\n' "$arch" "$summary" "$(( $(date +%s) - t0 ))" "${phase_times[*]}" >&2
     [[ $rc -ne 0 ]] || rc=1
   fi
   exit "$rc"
