@@ -12,7 +12,7 @@
 //
 // --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
 // needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
-// --runs N repeats each intake N times (issue 46: the adapter went deaf after
+// --runs N repeats each intake N times (the adapter went deaf after
 // a burst in 2 of 5 runs) and prints, per intake, the share of runs in which
 // a clean Query from a fresh client was answered within 1 s of the burst,
 // the null-row share during the burst and the time to the first clean

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <ctime>
 #include <thread>
 
@@ -184,7 +185,17 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
                           fmt::format("sample channel {}: a ring of {} rows of {} values does not fit in memory "
                                       "(sampling.ring_max_rows {}, ring_periods {})",
                                       spec.id, capacity, spec.points.size(), config.ring_max_rows, config.ring_periods));
-    auto core = std::make_shared<ChannelCore>(std::move(spec), capacity, shared.policy, config.text_budget_bytes);
+    // On a 64-bit target an addressable ring can still be more than the
+    // machine has: the allocation's failure is the same refusal, not a throw.
+    std::shared_ptr<ChannelCore> core;
+    try {
+        core = std::make_shared<ChannelCore>(spec, capacity, shared.policy, config.text_budget_bytes);
+    } catch (const std::bad_alloc&) {
+        return make_error(ErrorCode::out_of_range,
+                          fmt::format("sample channel {}: a ring of {} rows of {} values does not fit in memory "
+                                      "(sampling.ring_max_rows {}, ring_periods {})",
+                                      spec.id, capacity, spec.points.size(), config.ring_max_rows, config.ring_periods));
+    }
 
     std::lock_guard<std::mutex> lock(shared.mutex);
     for (const auto& c : shared.channels)

@@ -1,4 +1,4 @@
-// Slow and idle HTTP clients never blind the bridge (issue 46, docs/bridge.md
+// Slow and idle HTTP clients never blind the bridge (docs/bridge.md
 // "Slow and idle clients"): 200 connections that send nothing or half a
 // request and 50 readers of the JSON API's event stream that never read,
 // while an MTConnect client's /current, the dashboard and /metrics keep

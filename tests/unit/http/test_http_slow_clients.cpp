@@ -1,5 +1,5 @@
-// Slow and idle clients never hold the HTTP server's workers (issue 46,
-// docs/bridge.md "Slow and idle clients"): raw TCP peers that send nothing,
+// Slow and idle clients never hold the HTTP server's workers (docs/bridge.md
+// "Slow and idle clients"): raw TCP peers that send nothing,
 // half a request line, or never read a stream, against a real client on
 // loopback. Timings are bounds for a failing test on a loaded machine, not
 // speed claims; the load test prints what it measured.
