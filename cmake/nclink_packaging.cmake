@@ -121,7 +121,11 @@ CMake package (find_package(nclink CONFIG)) and the pkg-config files
 (nclink.pc, nclink-static.pc).")
 
 if(TARGET nclink_plant_static)
+  # dpkg-shlibdeps finds libnclink.so.0 in the build tree (it is in no
+  # installed package while the packages are being made); the dependency on
+  # the exact terminal package is stated here, as the -dev packages do.
   nclink_package(plant_lib NAME libnclink-plant${NCLINK_SOVERSION} SECTION libs CONTROL ${_pkg_out}/triggers
+    DEPENDS "libnclink${NCLINK_SOVERSION} (= ${NCLINK_DEB_VERSION})"
     SUMMARY "NC-Link (GB/T 41970-2022) SDK - plant library"
     DESCRIPTION "nclink lets CNC controllers and factory applications speak NC-Link over
 MQTT. The plant library is what applications and plant services link: the
@@ -353,6 +357,9 @@ set(CPACK_DEBIAN_PACKAGE_SOURCE ${NCLINK_SOURCE_PACKAGE})
 set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "")
 # Depends of the programs and the library come from dpkg-shlibdeps.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# The plant library links the terminal one, which lives in a sibling package
+# built in the same run: dpkg-shlibdeps looks for it here (-l).
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_LIBRARY_OUTPUT_DIRECTORY})
 # libnclink0 gets a shlibs file for packages built against it (plugins have
 # no soname and are left out).
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
