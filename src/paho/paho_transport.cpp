@@ -5,6 +5,7 @@
 #include "core/thread_name.hpp"
 #include "transport/backoff.hpp"
 #include "transport/link_record.hpp"
+#include "transport/subscription_set.hpp"
 #include "transport/tcp_nodelay.hpp"
 #if NCLINK_WITH_TLS
 #include "transport/tls_check.hpp"  // names the cause of a failed handshake
@@ -102,20 +103,14 @@ public:
     // paho is never called with mutex_ held: its callback thread may be
     // waiting for mutex_ in on_connected() while holding paho's own lock.
     Result<void> subscribe(std::vector<std::string> filters, int qos) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_[f] = qos;
-        }
+        subscriptions_.add(filters, qos);
         // If the link comes up meanwhile, on_connected() subscribes too: harmless.
         if (link_.state() == LinkState::connected) subscribe_now(filters, qos);
         return ok_result();
     }
 
     Result<void> unsubscribe(std::vector<std::string> filters) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_.erase(f);
-        }
+        subscriptions_.remove(filters);
         if (link_.state() == LinkState::connected) {
             try {
                 client_->unsubscribe(mqtt::string_collection::create(filters));
@@ -180,12 +175,7 @@ private:
             link_.nodelay_sockets(nodelay);
             if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
-        std::map<int, std::vector<std::string>> by_qos;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
-        }
-        for (const auto& [qos, filters] : by_qos) subscribe_now(filters, qos);
+        for (const auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(filters, qos);
         link_.connected();
         link_.set_state(LinkState::connected, options_.broker_url, on_state_);
         // MQTT 5: the supervisor opens the outbox once it has read the
@@ -354,9 +344,9 @@ private:
     MessageHandler on_message_;
     LinkStateHandler on_state_;
 
-    std::mutex mutex_;  // subscriptions_, started_, stopping_, supervisor wake-ups
+    std::mutex mutex_;  // started_, stopping_, supervisor wake-ups
     std::condition_variable wake_;
-    std::map<std::string, int> subscriptions_;
+    detail::SubscriptionSet subscriptions_;
     bool started_ = false;
     bool stopping_ = false;
     std::thread supervisor_;

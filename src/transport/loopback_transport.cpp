@@ -1,6 +1,7 @@
 #include <nclink/testing/loopback_transport.hpp>
 
 #include "transport/outbox.hpp"
+#include "transport/subscription_set.hpp"
 
 #include <atomic>
 #include <condition_variable>
@@ -261,19 +262,13 @@ public:
     Result<void> publish(Message message) override { return outbox_.push(std::move(message)); }
 
     Result<void> subscribe(std::vector<std::string> filters, int qos) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_[f] = qos;
-        }
+        subscriptions_.add(filters, qos);
         broker_.subscribe(options_.client_id, filters, qos);
         return ok_result();
     }
 
     Result<void> unsubscribe(std::vector<std::string> filters) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_.erase(f);
-        }
+        subscriptions_.remove(filters);
         broker_.unsubscribe(options_.client_id, filters);
         return ok_result();
     }
@@ -296,12 +291,7 @@ private:
 
     void on_link(LinkState state, std::string_view detail) override {
         if (state == LinkState::connected) {
-            std::map<std::string, int> subs;
-            {
-                std::lock_guard<std::mutex> lock(mutex_);
-                subs = subscriptions_;
-            }
-            for (const auto& [filter, qos] : subs) broker_.subscribe(options_.client_id, {filter}, qos);
+            for (const auto& [qos, filters] : subscriptions_.by_qos()) broker_.subscribe(options_.client_id, filters, qos);
             ++connects_;
             state_ = state;
             if (on_state_) on_state_(state, detail);
@@ -330,8 +320,7 @@ private:
     detail::Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;
-    std::mutex mutex_;
-    std::map<std::string, int> subscriptions_;
+    detail::SubscriptionSet subscriptions_;
     std::atomic<bool> started_{false};
     std::atomic<bool> stopped_{false};
     std::atomic<LinkState> state_{LinkState::disconnected};

@@ -4,6 +4,7 @@
 #include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
 #include "transport/outbox.hpp"
+#include "transport/subscription_set.hpp"
 #include "transport/tcp_nodelay.hpp"
 
 #include <mosquitto.h>
@@ -99,10 +100,7 @@ public:
     Result<void> publish(Message message) override { return outbox_.push(std::move(message)); }
 
     Result<void> subscribe(std::vector<std::string> filters, int qos) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_[f] = qos;
-        }
+        subscriptions_.add(filters, qos);
         // Sent at once when connected; every (re)connection subscribes to all.
         std::shared_lock<std::shared_mutex> client(client_mutex_);
         if (link_.state() == LinkState::connected && mosq_ != nullptr) {
@@ -113,10 +111,7 @@ public:
     }
 
     Result<void> unsubscribe(std::vector<std::string> filters) override {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& f : filters) subscriptions_.erase(f);
-        }
+        subscriptions_.remove(filters);
         std::shared_lock<std::shared_mutex> client(client_mutex_);
         if (link_.state() == LinkState::connected && mosq_ != nullptr && !filters.empty()) {
             std::vector<char*> list;
@@ -422,12 +417,7 @@ private:
         tls_verdict_.reset();
         delay_ = options_.reconnect_min;
         link_.nodelay_sockets(options_.tcp_nodelay ? 1 : 0);
-        std::map<int, std::vector<std::string>> by_qos;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            for (const auto& [filter, qos] : subscriptions_) by_qos[qos].push_back(filter);
-        }
-        for (auto& [qos, filters] : by_qos) subscribe_now(std::move(filters), qos);
+        for (auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(std::move(filters), qos);
         link_.connected();
         set_state(LinkState::connected, options_.broker_url);
         outbox_.link_up();
@@ -506,9 +496,9 @@ private:
     std::unordered_map<int, std::uint64_t> in_flight_;
     std::unordered_set<int> early_acks_;
 
-    std::mutex mutex_;  // subscriptions_, started_, stopping_, closed_
+    std::mutex mutex_;  // started_, stopping_, closed_
     std::condition_variable closed_cv_;
-    std::map<std::string, int> subscriptions_;
+    SubscriptionSet subscriptions_;
     bool started_ = false;
     bool stopping_ = false;
     bool closed_ = false;
