@@ -136,10 +136,27 @@ struct AdapterFixture {
         adapter->use_transport(make_loopback_transport(broker, o));
         adapter->use_clock(clock);
 #endif
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+        const std::size_t announced = app->on("Notify/State/test-dev").size();
+#endif
         auto started = adapter->start();
         INFO((started.ok() ? std::string() : started.error().describe()));
         REQUIRE(started.ok());
         REQUIRE(eventually([&] { return adapter->state() == AdapterState::normal; }));
+#ifdef NCLINK_ADAPTER_TESTS_OVER_MOSQUITTO
+        // The adapter's state says its SUBSCRIBE is queued, not that the
+        // broker has it: a request published now could reach the broker
+        // first and be delivered to nobody. The adapter subscribes before it
+        // announces itself (one connection: the broker keeps the order), so
+        // its online state arriving here means its requests will too, which
+        // is also what a real application waits for (8.3.1).
+        REQUIRE(eventually([&] {
+            const auto states = app->on("Notify/State/test-dev");
+            for (std::size_t i = announced; i < states.size(); ++i)
+                if (Json::parse(states[i].payload).value("state", "") == "online") return true;
+            return false;
+        }));
+#endif
     }
     Json query(const Json& ids, const std::string& ex = "app") {
         return app->request(topics::query_request("test-dev", ex), topics::query_response("test-dev", ex),
