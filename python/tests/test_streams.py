@@ -34,7 +34,7 @@ def test_sample_callback_rows_with_times_none_lost(sim: Sim, client: nclink.Clie
         batches.put(batch)
 
     with client.on_samples(DEV, on_batch, "ch_fast"):
-        got = [batches.get(timeout=5) for _ in range(4)]
+        got = [batches.get(timeout=15) for _ in range(4)]
     assert all(b.channel == "ch_fast" and b.dev == DEV and b.interval_ms == 1.0 for b in got)
     assert got[0].ids[:3] == ["x_position", "y_position", "z_position"]
     rows = [row for b in got for row in b.rows]
@@ -103,11 +103,19 @@ def test_dynamic_sampling_lease_kept_alive(broker: Broker, workdir: str) -> None
             channel = kept.sample(DEV, ["x_position", "spindle_speed"], 10, 100, lambda b: rows.extend(b.rows))
             other = lapsed.sample(DEV, ["x_position"], 10, 100, lambda b: lapsed_rows.extend(b.rows))
             assert channel.id.startswith("dyn") and other.id != channel.id
-            time.sleep(3.5)  # more than twice the 1.5 s lease
-            count, lapsed_count = len(rows), len(lapsed_rows)
-            time.sleep(1.0)
-            assert len(rows) > count, "the kept channel stopped: its lease ran out"
-            assert len(lapsed_rows) == lapsed_count, "the channel without keep-alive was not released"
+            # The adapter releases the lapsed channel a lease (1.5 s) after
+            # its last sign of life; a loaded machine may take longer, so
+            # wait for its rows to stop (a second without one) rather than a
+            # fixed time. Without the lease they never stop.
+            def lapsed_stopped() -> bool:
+                before = len(lapsed_rows)
+                time.sleep(1.0)
+                return len(lapsed_rows) == before
+
+            time.sleep(1.5)
+            assert wait_until(lapsed_stopped, timeout=30), "the channel without keep-alive was not released"
+            count = len(rows)
+            assert wait_until(lambda: len(rows) > count), "the kept channel stopped: its lease ran out"
             assert all(len(r) == 3 for r in rows)
             steps = {round((b[0] - a[0]) * 1000) for a, b in zip(rows, rows[1:])}
             assert 10 in steps
@@ -134,10 +142,10 @@ def test_events_registered_and_watched(sim: Sim, client: nclink.Client) -> None:
     with client.register_event(DEV, "feed_override", mine.put, filters=[{"type": "range", "from": 40, "to": 60}]) as reg:
         assert reg.id
         client.put(DEV, "feed_override", 50)
-        event = mine.get(timeout=5)
+        event = mine.get(timeout=15)
         assert event.item == "feed_override" and event.value == 50 and event.event_id == reg.id
         assert abs(event.time - time.time()) < 60
-        seen = watched.get(timeout=5)
+        seen = watched.get(timeout=15)
         assert seen.app == client.client_id and seen.value == 50
     with pytest.raises(nclink.Error) as raised:
         client.register_event(DEV, "feed_override", mine.put, trigger="sometimes")
@@ -217,7 +225,8 @@ def test_ctrl_c_interrupts_a_blocking_call(sim: Sim, client: nclink.Client) -> N
     started = time.monotonic()
     with pytest.raises(KeyboardInterrupt):
         client.get("no-such-device", "status", timeout=30)
-    assert time.monotonic() - started < 5
+    # Interrupted, not timed out: well before the call's own 30 s.
+    assert time.monotonic() - started < 20
     assert client.get(DEV, "status")  # the client goes on
 
 
@@ -231,7 +240,7 @@ def test_blocking_call_from_a_callback_raises_instead_of_hanging(sim: Sim, clien
             errors.put(e)
 
     with client.on_samples(DEV, on_batch, "ch_fast"):
-        err = errors.get(timeout=5)
+        err = errors.get(timeout=15)
     assert isinstance(err, nclink.Unavailable) and "callback" in err.message
 
 
