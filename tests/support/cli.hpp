@@ -33,4 +33,12 @@ inline CliRun run_cli(const std::string& args) {
     return run;
 }
 
+/// `nclink COMMAND --broker URL --device DEV REST...` for "COMMAND REST...".
+inline CliRun run_cli_on(const std::string& broker_url, const std::string& device, const std::string& args) {
+    const auto space = args.find(' ');
+    const std::string command = args.substr(0, space);
+    const std::string rest = space == std::string::npos ? std::string() : args.substr(space);
+    return run_cli(command + " --broker " + broker_url + " --device " + device + rest);
+}
+
 }  // namespace nclink::test
