@@ -8,44 +8,35 @@ include(CMakePackageConfigHelpers)
 # the plant library libnclink-plant, tools = the programs and their data.
 set(NCLINK_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/nclink)
 
-install(TARGETS nclink_static
-  EXPORT nclinkTargets
-  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
-  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-# `--strip` (and CPack) strip programs and shared libraries only; the static
-# library keeps its symbols but loses its debug information, as Debian's -dev
-# packages do (a RelWithDebInfo libnclink.a is mostly DWARF).
-if(CMAKE_STRIP)
-  install(CODE "if(CMAKE_INSTALL_DO_STRIP)
-  execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:nclink_static>\")
-endif()" COMPONENT dev)
-endif()
-if(TARGET nclink_shared)
-  install(TARGETS nclink_shared
-    EXPORT nclinkTargets
-    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT lib NAMELINK_COMPONENT dev
-    RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT lib
+# nclink_install_library(STATIC SHARED EXPORT DEV_COMPONENT LIB_COMPONENT):
+# one library's static and (when built) shared target with its export set.
+function(nclink_install_library static shared export dev lib)
+  install(TARGETS ${static}
+    EXPORT ${export}
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT ${dev}
     INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-endif()
+  # `--strip` (and CPack) strip programs and shared libraries only; the
+  # static library keeps its symbols but loses its debug information, as
+  # Debian's -dev packages do (a RelWithDebInfo libnclink.a is mostly DWARF).
+  if(CMAKE_STRIP)
+    install(CODE "if(CMAKE_INSTALL_DO_STRIP)
+  execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:${static}>\")
+endif()" COMPONENT ${dev})
+  endif()
+  if(TARGET ${shared})
+    install(TARGETS ${shared}
+      EXPORT ${export}
+      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT ${lib} NAMELINK_COMPONENT ${dev}
+      RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT ${lib}
+      INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  endif()
+endfunction()
+
+nclink_install_library(nclink_static nclink_shared nclinkTargets dev lib)
 # The plant library: its own components, its own export set (a file of the
 # CMake package that nclinkConfig.cmake includes when it is installed).
 if(TARGET nclink_plant_static)
-  install(TARGETS nclink_plant_static
-    EXPORT nclinkPlantTargets
-    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT plant_dev
-    INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  if(CMAKE_STRIP)
-    install(CODE "if(CMAKE_INSTALL_DO_STRIP)
-  execute_process(COMMAND \"${CMAKE_STRIP}\" --strip-debug \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:nclink_plant_static>\")
-endif()" COMPONENT plant_dev)
-  endif()
-  if(TARGET nclink_plant_shared)
-    install(TARGETS nclink_plant_shared
-      EXPORT nclinkPlantTargets
-      LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT plant_lib NAMELINK_COMPONENT plant_dev
-      RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT plant_lib
-      INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  endif()
+  nclink_install_library(nclink_plant_static nclink_plant_shared nclinkPlantTargets plant_dev plant_lib)
   install(EXPORT nclinkPlantTargets NAMESPACE nclink:: DESTINATION ${NCLINK_CMAKE_DIR} COMPONENT plant_dev)
 endif()
 
