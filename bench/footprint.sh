@@ -37,15 +37,8 @@ jobs=${NCLINK_JOBS:-$(nproc)}
 warmup=$(( seconds >= 30 ? 10 : seconds / 3 ))
 
 work=$(mktemp -d)
-pids=()
-cleanup() {
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
-    kill "${pids[i]}" 2>/dev/null || true
-    wait "${pids[i]}" 2>/dev/null || true
-  done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source tools/lib/local_broker.sh
+trap 'stop_children; rm -rf "$work"' EXIT
 
 # Options of the library split, when the tree has them (cmake -LH).
 split_options() {
@@ -77,22 +70,6 @@ sum_guest_rss() {
 
 status_kb() { sed -n "s/^$2:[[:space:]]*\([0-9]*\) kB/\1/p" "/proc/$1/status"; }
 
-start_broker() {
-  local port="" base=$((20000 + RANDOM % 20000)) candidate
-  for candidate in $(seq "$base" $((base + 200))); do
-    if ! (exec 3<>"/dev/tcp/127.0.0.1/$candidate") 2>/dev/null; then port=$candidate; break; fi
-  done
-  {
-    echo "listener $port 127.0.0.1"
-    echo "allow_anonymous true"
-    echo "persistence false"
-    cat tools/mosquitto/nclink.conf
-  } >"$work/mosquitto.conf"
-  "$(command -v mosquitto || echo /usr/sbin/mosquitto)" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
-  pids+=($!)
-  for _ in $(seq 100); do (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null && break; sleep 0.1; done
-  broker="tcp://127.0.0.1:$port"
-}
 
 measure() {
   local arch=$1 rel triplet qemu=() strip=strip toolchain="" preset
@@ -126,7 +103,7 @@ measure() {
   needed=$(readelf -d "$lib_small" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')
 
   echo "footprint $arch: nclink-sim for ${seconds} s" >&2
-  start_broker
+  start_local_broker
   local log=$work/qemu-$arch.log sim_pid rss whole threads names
   if ((${#qemu[@]})); then
     "${qemu[@]}" -d page -D "$log" "$rel/bin/nclink-sim" --broker "$broker" --log-level warn >"$work/sim.log" 2>&1 &
@@ -177,9 +154,7 @@ measure() {
   printf '| allocations by thread in %s s | %s | |\n' "$(kv window_s)" \
     "$(sed -n 's/^allocs_of=//p' "$out" | awk '{printf "%s%s %s", sep, $1, $2; sep=", "}')"
   # The broker of this architecture's run.
-  kill "${pids[0]}" 2>/dev/null || true
-  wait "${pids[0]}" 2>/dev/null || true
-  pids=()
+  stop_children
 }
 
 printf '# nclink footprint, %s, %s s per run (%s)\n' "$(date -u +%Y-%m-%d)" "$seconds" "$(git rev-parse --short HEAD 2>/dev/null || echo '?')"

@@ -116,34 +116,10 @@ echo "  $unit_line (ctest's report: $unit_log)"
 # ---------------------------------------------------------------- integration
 say "integration: $arch nclink-sim under $qemu, native mosquitto and its clients"
 work=$(mktemp -d)
-pids=()
-stop_all() {
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
-    kill "${pids[i]}" 2>/dev/null || true
-    wait "${pids[i]}" 2>/dev/null || true
-  done
-}
-cleanup() { stop_all; rm -rf "$work"; }
-trap 'rc=$?; cleanup; finish "$rc"' EXIT
-
-port=""
-base=$((20000 + RANDOM % 20000))
-for candidate in $(seq "$base" $((base + 200))); do
-  if ! (exec 3<>"/dev/tcp/127.0.0.1/$candidate") 2>/dev/null; then port=$candidate; break; fi
-done
-[[ -n $port ]] || { summary="no free loopback port"; exit 1; }
-broker="tcp://127.0.0.1:$port"
+source tools/lib/local_broker.sh
+trap 'rc=$?; stop_children; rm -rf "$work"; finish "$rc"' EXIT
+start_local_broker || { summary="no free loopback port"; exit 1; }
 device=nclink-sim-mill-01
-mosquitto_bin=$(command -v mosquitto || echo /usr/sbin/mosquitto)
-{
-  echo "listener $port 127.0.0.1"
-  echo "allow_anonymous true"
-  echo "persistence false"
-  cat tools/mosquitto/nclink.conf
-} >"$work/mosquitto.conf"
-"$mosquitto_bin" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null && break; sleep 0.1; done
 
 # The target's program, run by qemu-user explicitly (no binfmt needed).
 "$qemu" "$build/bin/nclink-sim" --broker "$broker" --log-level warn >"$work/sim.log" 2>&1 &
@@ -226,7 +202,7 @@ check "Query: two items" query
 check "Set feed_override=37, Query reads it back" set_read_back
 check "Sample: ch_slow and ch_fast stream" stream
 check "bad input answered with 412, still serving" refuses_garbage
-stop_all
+stop_children
 phase integration
 echo "  integration checks: $passed of $((passed + failed)) passed"
 

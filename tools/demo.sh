@@ -19,42 +19,16 @@ say "building nclink-sim, nclink-bridge and the nclink command-line tool"
 cmake --preset default >/dev/null
 cmake --build --preset default -j "$(nproc)" --target nclink-sim nclink_cli nclink_bridge_tool >/dev/null
 
-# A free loopback port: nothing answers on it.
-port=${NCLINK_DEMO_PORT:-}
-if [[ -z "$port" ]]; then
-  for candidate in $(seq 18830 18930); do
-    if ! (exec 3<>"/dev/tcp/127.0.0.1/$candidate") 2>/dev/null; then port=$candidate; break; fi
-  done
-fi
-broker="tcp://127.0.0.1:$port"
-device=nclink-sim-mill-01
-nclink() { build/bin/nclink "$1" --broker "$broker" --device "$device" "${@:2}"; }
-
 work=$(mktemp -d)
-pids=()
-cleanup() {
-  # Reverse start order: the simulator publishes its offline state while the
-  # broker is still there.
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
-    kill "${pids[i]}" 2>/dev/null || true
-    wait "${pids[i]}" 2>/dev/null || true
-  done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source tools/lib/local_broker.sh
+trap 'stop_children; rm -rf "$work"' EXIT
 trap 'exit 130' INT TERM
 
-mosquitto_bin=$(command -v mosquitto || echo /usr/sbin/mosquitto)
-cat > "$work/mosquitto.conf" <<CONF
-listener $port 127.0.0.1
-allow_anonymous true
-persistence false
-CONF
-cat tools/mosquitto/nclink.conf >> "$work/mosquitto.conf"  # set_tcp_nodelay true, ...
-say "starting mosquitto on $broker"
-"$mosquitto_bin" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 50); do (exec 3<>"/dev/tcp/127.0.0.1/$port") 2>/dev/null && break; sleep 0.1; done
+# Its own broker on a free loopback port (NCLINK_DEMO_PORT to choose one).
+start_local_broker "${NCLINK_DEMO_PORT:-$(free_port 18830)}" || { echo "demo: no free loopback port" >&2; exit 1; }
+say "started mosquitto on $broker"
+device=nclink-sim-mill-01
+nclink() { build/bin/nclink "$1" --broker "$broker" --device "$device" "${@:2}"; }
 
 say "starting the simulated mill (its log lines are marked [sim])"
 # Process substitution, not a pipe: $! must be the simulator itself.
