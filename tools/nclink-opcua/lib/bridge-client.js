@@ -24,6 +24,20 @@ function transportOf(url) {
   return url.protocol === "https:" ? https : http;
 }
 
+/// The NC-Link answer of a POST (Set, Method/Call): {code: "OK", ...} or
+/// {code: "NG", error, reason}, with any HTTP status; anything else is a
+/// BridgeError.
+function okOrNg(path, r) {
+  let answer;
+  try {
+    answer = JSON.parse(r.body);
+  } catch {
+    throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, not a JSON answer`, r.status);
+  }
+  if (answer && (answer.code === "OK" || answer.code === "NG")) return answer;
+  throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, no "code" OK/NG`, r.status);
+}
+
 class BridgeClient {
   /// base: bridge URL without trailing slash (options.parseBridgeUrl).
   constructor(base, { timeoutMs = 10000, callTimeoutMs = 60000 } = {}) {
@@ -101,14 +115,7 @@ class BridgeClient {
   async set(dev, id, value) {
     const path = this.devicePath(dev, "set");
     const r = await this.request("POST", path, { id, value });
-    let answer;
-    try {
-      answer = JSON.parse(r.body);
-    } catch {
-      throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, not a JSON answer`, r.status);
-    }
-    if (answer && (answer.code === "OK" || answer.code === "NG")) return answer;
-    throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, no "code" OK/NG`, r.status);
+    return okOrNg(path, r);
   }
 
   /// The device's NC-Link model (the adapter's Probe answer).
@@ -136,14 +143,7 @@ class BridgeClient {
   async call(dev, method, args) {
     const path = this.devicePath(dev, "call");
     const r = await this.request("POST", path, { method, args, timeout_ms: this.callTimeoutMs }, this.callTimeoutMs + 5000);
-    let answer;
-    try {
-      answer = JSON.parse(r.body);
-    } catch {
-      throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, not a JSON answer`, r.status);
-    }
-    if (answer && (answer.code === "OK" || answer.code === "NG")) return answer;
-    throw new BridgeError(r.status === 200 ? "malformed" : "http", `POST ${path}: HTTP ${r.status}, no "code" OK/NG`, r.status);
+    return okOrNg(path, r);
   }
 
   close() {

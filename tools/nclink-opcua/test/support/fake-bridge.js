@@ -10,6 +10,17 @@
 //   GET  /nclink/v1/stream  (snapshot per device, then value/device events, ": ping")
 const http = require("node:http");
 
+/// A request's body as JSON; undefined when it is not JSON.
+async function readJson(req) {
+  const chunks = [];
+  for await (const c of req) chunks.push(c);
+  try {
+    return JSON.parse(Buffer.concat(chunks).toString("utf8"));
+  } catch {
+    return undefined;
+  }
+}
+
 class FakeBridge {
   constructor({ pingMs = 1000 } = {}) {
     this.devices = new Map(); // dev -> {dev, name, state, version, nodeset, values: Map id -> {id,value,time,quality}}
@@ -144,27 +155,15 @@ class FakeBridge {
       return json(200, d.model);
     }
     if (req.method === "POST" && m[2] === "call") {
-      const chunks = [];
-      for await (const c of req) chunks.push(c);
-      let body;
-      try {
-        body = JSON.parse(Buffer.concat(chunks).toString("utf8"));
-      } catch {
-        return json(400, { code: "NG", error: 412, reason: "syntax error" });
-      }
+      const body = await readJson(req);
+      if (body === undefined) return json(400, { code: "NG", error: 412, reason: "syntax error" });
       this.calls.push({ dev: d.dev, method: body.method, args: body.args, timeoutMs: body.timeout_ms });
       const answer = await this.callAnswer(d.dev, body.method, body.args);
       return json(answer.code === "OK" ? 200 : answer.status || 200, answer);
     }
     if (req.method === "POST" && m[2] === "set") {
-      const chunks = [];
-      for await (const c of req) chunks.push(c);
-      let body;
-      try {
-        body = JSON.parse(Buffer.concat(chunks).toString("utf8"));
-      } catch {
-        return json(400, { code: "NG", error: 412, reason: "syntax error" });
-      }
+      const body = await readJson(req);
+      if (body === undefined) return json(400, { code: "NG", error: 412, reason: "syntax error" });
       this.sets.push({ dev: d.dev, id: body.id, value: body.value });
       const answer = await this.setAnswer(d.dev, body.id, body.value);
       return json(answer.code === "OK" ? 200 : 400, answer);
