@@ -12,9 +12,37 @@ from typing import Any, Optional
 from . import _errors
 
 
+class _ItemAnswer:
+    """What a Query and a Set item answer share: its NG as an exception."""
+
+    _operation = ""
+    _set_item = False
+    id: str
+    ok: bool
+    code: int
+    reason: Optional[str]
+    private_info: Any
+
+    def error(self) -> Optional[_errors.Error]:
+        """The item's NG as an exception (None when OK; a Set's 301 gives NotSetable)."""
+        if self.ok:
+            return None
+        message = f"{self._operation} of {self.id}"
+        if isinstance(self.private_info, dict) and "message" in self.private_info:
+            message += f": {self.private_info['message']}"
+        return _errors.from_code(self.code, self.reason, message, set_item=self._set_item)
+
+    def raise_for_error(self) -> None:
+        err = self.error()
+        if err is not None:
+            raise err
+
+
 @dataclass(frozen=True)
-class QueryResult:
+class QueryResult(_ItemAnswer):
     """One item of a Query answer (8.2.12): ``values`` (always a list) when ``ok``, else ``code``/``reason``."""
+
+    _operation = "query"
 
     id: str
     ok: bool
@@ -24,24 +52,13 @@ class QueryResult:
     params: Any
     private_info: Any
 
-    def error(self) -> Optional[_errors.Error]:
-        """The item's NG as an exception (None when OK)."""
-        if self.ok:
-            return None
-        message = f"query of {self.id}"
-        if isinstance(self.private_info, dict) and "message" in self.private_info:
-            message += f": {self.private_info['message']}"
-        return _errors.from_code(self.code, self.reason, message)
-
-    def raise_for_error(self) -> None:
-        err = self.error()
-        if err is not None:
-            raise err
-
 
 @dataclass(frozen=True)
-class SetResult:
+class SetResult(_ItemAnswer):
     """One item of a Set answer (8.2.14)."""
+
+    _operation = "set"
+    _set_item = True
 
     id: str
     ok: bool
@@ -49,20 +66,6 @@ class SetResult:
     reason: Optional[str]
     params: Any
     private_info: Any
-
-    def error(self) -> Optional[_errors.Error]:
-        """The item's NG as an exception (301 gives NotSetable); None when OK."""
-        if self.ok:
-            return None
-        message = f"set of {self.id}"
-        if isinstance(self.private_info, dict) and "message" in self.private_info:
-            message += f": {self.private_info['message']}"
-        return _errors.from_code(self.code, self.reason, message, set_item=True)
-
-    def raise_for_error(self) -> None:
-        err = self.error()
-        if err is not None:
-            raise err
 
 
 @dataclass(frozen=True)
