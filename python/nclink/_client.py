@@ -19,6 +19,7 @@ import asyncio
 import atexit
 import os
 import queue
+import threading
 import time
 import uuid
 import weakref
@@ -328,16 +329,31 @@ class Client:
                  username: Optional[str] = None, password: Optional[str] = None, tls: Optional[Tls] = None,
                  timeout: float = 2.0, keepalive: float = 60.0, clean_session: bool = True,
                  connect_timeout: float = 5.0, reconnect_max: float = 10.0, log_level: str = "error",
-                 on_link_state: Optional[Callable[[str], None]] = None) -> None:
+                 on_link_state: Optional[Callable[[str], None]] = None,
+                 max_queued_requests: Optional[int] = None, duplicate_memory: Optional[int] = None,
+                 stop_flush_timeout: Optional[float] = None, mqtt_version: Optional[int] = None,
+                 mqtt_keepalive: Optional[float] = None, reconnect_min: Optional[float] = None,
+                 outbox_max_bytes: Optional[int] = None, outbox_max_in_flight: Optional[int] = None,
+                 tcp_nodelay: Optional[bool] = None, last_will: Optional[Tuple[str, str, int, bool]] = None) -> None:
         if client_id is None:
             client_id = f"nclink-py-{os.getpid()}-{uuid.uuid4().hex[:8]}"
         tls_dict = None if tls is None else {
             "ca_file": tls.ca_file, "cert_file": tls.cert_file, "key_file": tls.key_file,
             "key_password": tls.key_password, "verify_server": tls.verify_server}
+        # The less used options go by name, only when given: the C++ defaults stand otherwise.
+        given = {"max_queued_requests": max_queued_requests, "duplicate_memory": duplicate_memory,
+                 "stop_flush_timeout": stop_flush_timeout, "mqtt_version": mqtt_version,
+                 "mqtt_keepalive": mqtt_keepalive, "reconnect_min": reconnect_min,
+                 "outbox_max_bytes": outbox_max_bytes, "outbox_max_in_flight": outbox_max_in_flight,
+                 "tcp_nodelay": tcp_nodelay, "last_will": last_will}
+        advanced = {k: v for k, v in given.items() if v is not None}
         self.broker = broker
+        self._timeout = timeout
         self._core = _nclink.Core(broker, client_id, username or "", password or "", tls_dict, timeout, keepalive,
-                                  clean_session, connect_timeout, reconnect_max, log_level, on_link_state)
+                                  clean_session, connect_timeout, reconnect_max, log_level, on_link_state,
+                                  advanced or None)
         self._models: Dict[str, Model] = {}
+        self._model_fetched = threading.Condition()
         self._closed = False
         _live_clients.add(self)
 
@@ -368,7 +384,7 @@ class Client:
 
     # ---- requests -----------------------------------------------------------------
     def register(self, timeout: Optional[float] = None) -> str:
-        """Register/Request again: "accepted" or "refused" (nclink.Timeout when no agent answers)."""
+        """Register/Request again: "accepted", "refused" or "no_answer" (no agent answered in time)."""
         return str(self._core.register(timeout))
 
     def discover(self, timeout: Optional[float] = None) -> List[Device]:
@@ -555,6 +571,73 @@ class Client:
         self._core.register_event(dev, id, key, index, list(filters), trigger, callback, timeout, done)
         return EventRegistration(self, dev, str(await future))
 
+    # ---- model cache ---------------------------------------------------------------
+    def _follow(self, dev: str, callback: Optional[Callable[[str, Dict[str, Any]], None]],
+                first: Optional[Callable[[Dict[str, Any]], None]] = None) -> None:
+        pending = [first]
+
+        def on_model(d: str, model: Dict[str, Any]) -> None:  # the dispatch thread
+            with self._model_fetched:
+                self._model_fetched.notify_all()
+            once = pending[0]
+            if once is not None:
+                pending[0] = None
+                once(model)
+            if callback is not None:
+                callback(d, model)
+
+        self._core.follow_model(dev, on_model)
+
+    def follow_model(self, dev: str, callback: Optional[Callable[[str, Dict[str, Any]], None]] = None) -> None:
+        """Keeps the device's model in the client's cache (8.2.7.3): probes it now, and again whenever
+        the adapter announces (Probe/Version, 8.2.5) a version other than the cached one.
+        ``callback(dev, model)`` gets every model fetched, on the dispatch thread. Returns at once
+        (also from a callback); ``wait_model()``/``afollow_model()`` wait for the model. A second
+        call for the same device replaces the callback. Needs connect() first (nclink.Unavailable)."""
+        self._follow(dev, callback)
+
+    async def afollow_model(self, dev: str, callback: Optional[Callable[[str, Dict[str, Any]], None]] = None,
+                            timeout: Optional[float] = None) -> Dict[str, Any]:
+        """follow_model(), then awaits the model it fetches. nclink.Timeout when none comes within
+        ``timeout`` (default: the client's request timeout and a second)."""
+        future, done = _bridge(asyncio.get_running_loop())
+        self._follow(dev, callback, lambda model: done(model, None))
+        wait = self._timeout + 1.0 if timeout is None else timeout
+        try:
+            return dict(await asyncio.wait_for(future, wait))
+        except asyncio.TimeoutError:
+            raise _errors.Timeout(_errors.Timeout.CODE, "Timeout",
+                                  f"no model of {dev} fetched within {wait} s") from None
+
+    def wait_model(self, dev: str, timeout: Optional[float] = None) -> Dict[str, Any]:
+        """The cached model of a followed device, waiting until one is fetched (nclink.Timeout after
+        ``timeout``, default: the client's request timeout and a second; Ctrl-C works). From a callback
+        of this client it raises nclink.Unavailable: the fetch would wait for the very thread."""
+        if self._core.in_callback:
+            raise _errors.Unavailable(_errors.Unavailable.CODE, "Unavailable",
+                                      "wait_model() in a callback of the same client would never end: "
+                                      "use follow_model(dev, callback) or afollow_model()")
+        wait = self._timeout + 1.0 if timeout is None else timeout
+        end = time.monotonic() + wait
+        while True:
+            model = self.cached_model(dev)
+            if model is not None:
+                return model
+            left = end - time.monotonic()
+            if left <= 0:
+                raise _errors.Timeout(_errors.Timeout.CODE, "Timeout", f"no model of {dev} fetched within {wait} s")
+            with self._model_fetched:
+                self._model_fetched.wait(min(left, 0.05))
+
+    def cached_model(self, dev: str) -> Optional[Dict[str, Any]]:
+        """The model the cache holds for a followed device (plain dicts), None until one is fetched."""
+        model = self._core.cached_model(dev)
+        return None if model is None else dict(model)
+
+    def cached_model_version(self, dev: str) -> str:
+        """The cached model's device version ("" when none is cached)."""
+        return str(self._core.cached_model_version(dev))
+
     # ---- introspection ---------------------------------------------------------------
     def stats(self) -> Dict[str, Any]:
         """The client's counters (requests, responses, timeouts, samples, events, ..., transport)."""
@@ -577,6 +660,21 @@ class Client:
     @property
     def pending_requests(self) -> int:
         return int(self._core.pending_requests)
+
+    @property
+    def event_registrations(self) -> int:
+        """Event registrations of this client whose callbacks are in place (once ones leave after firing)."""
+        return int(self._core.event_registrations)
+
+    @property
+    def model_reprobes(self) -> int:
+        """Models the cache fetched (follow_model(), and each announced version change)."""
+        return int(self._core.model_reprobes)
+
+    @property
+    def reregistrations(self) -> int:
+        """Event registrations and dynamic channels made again after their adapter restarted."""
+        return int(self._core.reregistrations)
 
     # ---- asyncio -----------------------------------------------------------------------
     async def _await(self, method: Callable[..., Any], *args: Any) -> Any:

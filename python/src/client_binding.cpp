@@ -150,6 +150,44 @@ ChannelLayouts layouts_from(const py::dict& layouts) {
     return out;
 }
 
+/// The less used options of ClientOptions and MqttOptions, given by name
+/// (nclink.Client passes only those the caller set; the rest keep the C++
+/// defaults, so they are written down once, in the headers).
+void apply_advanced(const py::dict& d, MqttOptions& mqtt, ClientOptions& options) {
+    for (auto item : d) {
+        const auto key = item.first.cast<std::string>();
+        const py::handle value = item.second;
+        if (key == "max_queued_requests") {
+            options.max_queued_requests = value.cast<std::size_t>();
+        } else if (key == "duplicate_memory") {
+            options.duplicate_memory = value.cast<std::size_t>();
+        } else if (key == "stop_flush_timeout") {
+            options.stop_flush_timeout = to_ms(value.cast<double>());
+        } else if (key == "mqtt_version") {
+            const int version = value.cast<int>();
+            if (version != 4 && version != 5) throw py::value_error("mqtt_version: 4 (MQTT 3.1.1) or 5");
+            mqtt.mqtt_version = version;
+        } else if (key == "mqtt_keepalive") {
+            mqtt.keep_alive = std::chrono::duration_cast<std::chrono::seconds>(to_ms(value.cast<double>()));
+        } else if (key == "reconnect_min") {
+            mqtt.reconnect_min = to_ms(value.cast<double>());
+        } else if (key == "outbox_max_bytes") {
+            mqtt.outbox.max_bytes = value.cast<std::size_t>();
+        } else if (key == "outbox_max_in_flight") {
+            mqtt.outbox.max_in_flight = value.cast<std::size_t>();
+        } else if (key == "tcp_nodelay") {
+            mqtt.tcp_nodelay = value.cast<bool>();
+        } else if (key == "last_will") {
+            auto will = value.cast<py::tuple>();
+            if (will.size() != 4) throw py::value_error("last_will is (topic, payload, qos, retain)");
+            mqtt.last_will = Message{will[0].cast<std::string>(), will[1].cast<std::string>(), will[2].cast<int>(),
+                                     will[3].cast<bool>()};
+        } else {
+            throw py::value_error("unknown client option: " + key);
+        }
+    }
+}
+
 }  // namespace
 
 class PyClient {
@@ -157,7 +195,7 @@ public:
     PyClient(const std::string& broker, const std::string& client_id, const std::string& username,
              const std::string& password, const std::optional<py::dict>& tls, double timeout_s, double keepalive_s,
              bool clean_session, double connect_timeout_s, double reconnect_max_s, const std::string& log_level,
-             const py::object& on_link_state)
+             const py::object& on_link_state, const std::optional<py::dict>& advanced)
         : broker_(broker) {
         MqttOptions mqtt;
         mqtt.broker_url = broker;
@@ -181,6 +219,7 @@ public:
         options.ex_cid = client_id;
         options.default_timeout = to_ms(timeout_s);
         options.keepalive_interval = to_ms(keepalive_s);
+        if (advanced) apply_advanced(*advanced, mqtt, options);
         auto level = log_level_from_string(log_level);
         if (!level) throw py::value_error("log_level: trace, debug, info, warn, error or off");
         if (*level != LogLevel::off) options.logger = Logger(stderr_sink(), *level);
@@ -217,12 +256,14 @@ public:
             }
             if (up) break;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-            if (std::chrono::steady_clock::now() >= deadline) {
-                ClientStats stats;
-                {
-                    py::gil_scoped_release nogil;
-                    stats = client_->stats();
-                }
+            ClientStats stats;
+            {
+                py::gil_scoped_release nogil;
+                stats = client_->stats();
+            }
+            // Refused (credentials, a certificate): no use waiting on, as
+            // nclink::Client::connect() does not.
+            if (stats.transport.refused || std::chrono::steady_clock::now() >= deadline) {
                 const std::string why = stats.transport.last_error.empty()
                                             ? "no connection within " + std::to_string(timeout_s) + " s"
                                             : stats.transport.last_error;
@@ -439,6 +480,44 @@ public:
             [] { return py::none(); });
     }
 
+    // ---- model cache (8.2.5.3, 8.2.7.3) -------------------------------------------
+    /// Follows dev's model: probes it now and whenever the adapter announces
+    /// another version; on_model(dev, model) gets each model fetched. Needs a
+    /// started client: before connect() the first fetch could only fail.
+    void follow_model(const std::string& dev, const py::object& on_model) {
+        {
+            std::lock_guard<std::mutex> lock(start_mutex_);
+            if (!started_) raise_error(make_error(ErrorCode::unavailable, "follow_model: connect() first"));
+        }
+        PyCallable cb(on_model);
+        Client::ModelHandler handler;
+        if (!cb.empty()) {
+            handler = [this, cb](const std::string& d, const Json& model) {
+                cb.call(this, [&] { return py::make_tuple(d, to_python(model)); });
+            };
+        }
+        Result<void> r;
+        {
+            py::gil_scoped_release nogil;
+            r = client_->follow_model(dev, std::move(handler));
+        }
+        if (!r) raise_error(r.error());
+    }
+
+    py::object cached_model(const std::string& dev) const {
+        std::optional<Json> model;
+        {
+            py::gil_scoped_release nogil;
+            model = client_->cached_model(dev);
+        }
+        return optional_json(model);
+    }
+
+    std::string cached_model_version(const std::string& dev) const {
+        py::gil_scoped_release nogil;
+        return client_->cached_model_version(dev);
+    }
+
     // ---- subscriptions ----------------------------------------------------------
     SubscriptionId subscribe_samples(const std::string& dev, const std::optional<std::string>& channel,
                                      const py::dict& layouts, const py::object& on_batch) {
@@ -509,7 +588,11 @@ public:
     std::string state() const { return std::string(to_string(client_->state())); }
     std::size_t pending_requests() const { return client_->pending_requests(); }
     std::size_t event_registrations() const { return client_->event_registrations(); }
+    std::uint64_t model_reprobes() const { return client_->model_reprobes(); }
+    std::uint64_t reregistrations() const { return client_->reregistrations(); }
     std::string client_id() const { return client_->ex_cid(); }
+    /// True on this client's dispatch thread, in a callback (a blocking wait there would never end).
+    bool in_callback() const { return dispatching_client == this; }
 
 private:
     void start() {
@@ -604,11 +687,11 @@ void bind_client(py::module_& m) {
     py::class_<PyClient>(m, "Core", "nclink::Client (use nclink.Client)")
         .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&,
                       const std::optional<py::dict>&, double, double, bool, double, double, const std::string&,
-                      const py::object&>(),
+                      const py::object&, const std::optional<py::dict>&>(),
              arg("broker"), arg("client_id"), arg("username") = "", arg("password") = "", arg("tls") = none,
              arg("timeout") = 2.0, arg("keepalive") = 60.0, arg("clean_session") = true,
              arg("connect_timeout") = 5.0, arg("reconnect_max") = 10.0, arg("log_level") = "error",
-             arg("on_link_state") = none)
+             arg("on_link_state") = none, arg("advanced") = none)
         .def("connect", &PyClient::connect, arg("timeout"), arg("register"), arg("register_timeout") = none)
         .def("close", &PyClient::close)
         .def("register", &PyClient::register_terminal, arg("timeout") = none, arg("done") = none)
@@ -636,12 +719,18 @@ void bind_client(py::module_& m) {
         .def("subscribe_method_runs", &PyClient::subscribe_method_runs, arg("dev"), arg("on_run"))
         .def("subscribe_events", &PyClient::subscribe_events, arg("dev"), arg("on_event"))
         .def("unsubscribe", &PyClient::unsubscribe, arg("subscription"))
+        .def("follow_model", &PyClient::follow_model, arg("dev"), arg("on_model") = none)
+        .def("cached_model", &PyClient::cached_model, arg("dev"))
+        .def("cached_model_version", &PyClient::cached_model_version, arg("dev"))
         .def("stats", &PyClient::stats)
         .def_property_readonly("link_state", &PyClient::link_state)
         .def_property_readonly("state", &PyClient::state)
         .def_property_readonly("pending_requests", &PyClient::pending_requests)
         .def_property_readonly("event_registrations", &PyClient::event_registrations)
-        .def_property_readonly("client_id", &PyClient::client_id);
+        .def_property_readonly("model_reprobes", &PyClient::model_reprobes)
+        .def_property_readonly("reregistrations", &PyClient::reregistrations)
+        .def_property_readonly("client_id", &PyClient::client_id)
+        .def_property_readonly("in_callback", &PyClient::in_callback);
 }
 
 }  // namespace nclink::python

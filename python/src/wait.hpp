@@ -50,15 +50,28 @@ struct Pending {
 template <class T, class Start>
 Result<T> wait_for_result(Start&& start) {
     auto pending = std::make_shared<Pending<T>>();
+    const auto ready = [&] { return pending->result.has_value(); };
+    bool done = false;
     {
+        // One release of the GIL for the start and the first wait: a Query
+        // round trip is well under signal_poll, and every GIL hand-over and
+        // thread wake-up shows in it (docs/python.md, "Performance").
         py::gil_scoped_release nogil;
         start([pending](Result<T> result) {
-            std::lock_guard<std::mutex> lock(pending->mutex);
-            pending->result.emplace(std::move(result));
+            {
+                std::lock_guard<std::mutex> lock(pending->mutex);
+                pending->result.emplace(std::move(result));
+            }
+            // Notified after unlocking: the waiter wakes to a free mutex.
             pending->cv.notify_all();
         });
+        std::unique_lock<std::mutex> lock(pending->mutex);
+        done = pending->cv.wait_for(lock, signal_poll, ready);
     }
-    wait_until(pending->mutex, pending->cv, [&] { return pending->result.has_value(); });
+    if (!done) {
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        wait_until(pending->mutex, pending->cv, ready);
+    }
     std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(*pending->result);
 }

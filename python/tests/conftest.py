@@ -149,6 +149,61 @@ class Sim:
         self.start()
 
 
+def agent_binary() -> str:
+    path = os.environ.get("NCLINK_AGENT") or os.path.join(SOURCE_DIR, "build", "bin", "nclink-agent")
+    if not os.access(path, os.X_OK):
+        pytest.fail(f"nclink-agent not found at {path} (build the target nclink-agent)")
+    return path
+
+
+class Agent:
+    """nclink-agent on the broker (registration, discovery, DEV_UNREACHABLE), its state in `directory`."""
+
+    def __init__(self, broker: Broker, directory: str) -> None:
+        self.log = os.path.join(directory, "agent.log")
+        command = [agent_binary(), "--broker", broker.url, "--state-dir", os.path.join(directory, "agent-state")]
+        with open(self.log, "ab") as log:
+            self.process: Optional[subprocess.Popen[bytes]] = subprocess.Popen(
+                command, stdout=log, stderr=subprocess.STDOUT)
+
+    def stop(self) -> None:
+        if self.process and self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        self.process = None
+
+
+class Pki:
+    """The TLS tests' certificates, made by the C++ tests' own helper
+    tests/support/make-test-pki.sh: ca.pem, other-ca.pem, server.pem/.key and,
+    per client name, <name>.pem, <name>.key and <name>-expired.pem."""
+
+    def __init__(self, directory: str, clients: List[str]) -> None:
+        if not shutil.which("openssl"):
+            pytest.skip("openssl not found: the TLS tests need it to make their certificates")
+        self.dir = os.path.join(directory, "pki")
+        os.makedirs(self.dir)
+        made = subprocess.run(["bash", os.path.join(SOURCE_DIR, "tests", "support", "make-test-pki.sh"), self.dir,
+                               *clients], capture_output=True, text=True)
+        if made.returncode != 0:
+            raise RuntimeError(f"make-test-pki.sh failed: {made.stdout}{made.stderr}")
+
+    def file(self, name: str) -> str:
+        return os.path.join(self.dir, name)
+
+    def listener(self, port: int, require_certificate: bool) -> str:
+        """mosquitto lines of a TLS listener on 127.0.0.1:port (mutual TLS: the certificate's CN is the user)."""
+        lines = (f"listener {port} 127.0.0.1\ncafile {self.file('ca.pem')}\n"
+                 f"certfile {self.file('server.pem')}\nkeyfile {self.file('server.key')}\n")
+        if require_certificate:
+            lines += "require_certificate true\nuse_identity_as_username true\n"
+        return lines
+
+
 @pytest.fixture
 def workdir() -> Iterator[str]:
     with tempfile.TemporaryDirectory(prefix="nclink-py-") as d:
