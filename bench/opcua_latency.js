@@ -13,10 +13,13 @@
 //    items at HZ; the delay until the client's monitored item reports it
 //    (publishing interval 10 ms asked, node-opcua revises it to its 50 ms
 //    minimum; sampling interval 0 asked; n = the changes reported), against the floor of the same SSE event reaching a
-//    plain HTTP reader in this process. node-opcua delivers an item whose
-//    MinimumSamplingInterval is 0 on change; any other it samples, at 50 ms
-//    at least: the mapping writes 1 ms for positions and 100 ms for most
-//    items, so one item of each kind is measured.
+//    plain HTTP reader in this process. An item whose
+//    MinimumSamplingInterval is 0 is delivered on change; any other is
+//    sampled at its MinimumSamplingInterval in the values' own time
+//    (docs/opcua.md "Subscriptions and sampling"): the mapping writes 1 ms
+//    for positions and 100 ms for most items, so one item of each kind is
+//    measured. For the whole path from a Sample DTU see
+//    bench/opcua_e2e_latency.js.
 const path = require("node:path");
 const http = require("node:http");
 const { performance } = require("node:perf_hooks");

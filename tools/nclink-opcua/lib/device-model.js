@@ -195,11 +195,26 @@ class DeviceModel {
     if (!link.bridgeUp || !link.live || link.state !== "online") return;
     const cached = this.entry.cache.get(item.id);
     if (!cached || cached.quality === "bad") return;
-    try {
-      this.alarms.update(item.id, cached.value);
-    } catch (e) {
-      this.log.warn(`device ${this.entry.dev}: alarm of ${item.id} not updated: ${e.message}`);
-    }
+    // Raised on the next check phase (setImmediate), not now. node-opcua
+    // schedules a new monitored item's start with setImmediate and answers
+    // CreateMonitoredItems Good at once: an event monitored item listens to
+    // its object only from that check phase on. A stream value read in the
+    // same poll phase as the request (both were waiting when the loop woke:
+    // the client answered on the other core while this process was
+    // preempted) raised events the new item never saw, although it had been
+    // created Good before them; the Server object's older item saw them.
+    // Behind that setImmediate, every item created so far listens.
+    // Immediates run in order, so the alarms keep the order of the values.
+    const value = cached.value;
+    const alarms = this.alarms;
+    setImmediate(() => {
+      if (item.variable.isDisposed && item.variable.isDisposed()) return; // the server was rebuilt since
+      try {
+        alarms.update(item.id, value);
+      } catch (e) {
+        this.log.warn(`device ${this.entry.dev}: alarm of ${item.id} not updated: ${e.message}`);
+      }
+    });
   }
 
   noteProblem(item, problem) {

@@ -20,6 +20,7 @@ const { OPCUACertificateManager } = fromServer("node-opcua-certificate-manager")
 module.exports = {
   debug,
   OPCUAServer: server.OPCUAServer,
+  MonitoredItem: server.MonitoredItem,
   OPCUAClient: client.OPCUAClient,
   OPCUACertificateManager,
   generateAddressSpace,
@@ -30,6 +31,7 @@ module.exports = {
   VariantArrayType: client.VariantArrayType,
   StatusCodes: client.StatusCodes,
   AttributeIds: client.AttributeIds,
+  MonitoringMode: client.MonitoringMode,
   NodeClass: client.NodeClass,
   SecurityPolicy: client.SecurityPolicy,
   MessageSecurityMode: client.MessageSecurityMode,

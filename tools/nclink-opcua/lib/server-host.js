@@ -9,8 +9,20 @@ const crypto = require("node:crypto");
 const fs = require("node:fs");
 const os = require("node:os");
 const path = require("node:path");
+const { StreamSampling } = require("./stream-sampling");
 
 const PRODUCT_URI = "urn:nclink:opcua";
+
+/// The shortest sampling interval a monitored item is given (ms).
+/// node-opcua floors every requested sampling interval at
+/// MonitoredItem.minimumSamplingInterval (50 ms by default), then at the
+/// variable's MinimumSamplingInterval. The mapping writes a SAMPLE_CHANNEL
+/// item's MinimumSamplingInterval as the channel's sampleInterval (table
+/// B.7; 1 ms for a 1 ms channel), so with the library's floor at 1 ms (the
+/// finest sampleInterval NC-Link can state) that attribute alone decides: a
+/// client asking 10 ms of a 1 ms position is sampled every 10 ms, not every
+/// 50 ms, and nobody gets faster than the item's channel.
+const SAMPLING_FLOOR_MS = 1;
 
 function sha256(text) {
   return crypto.createHash("sha256").update(text, "utf8").digest();
@@ -58,7 +70,9 @@ class ServerHost {
   }
 
   createServer() {
-    const { OPCUAServer, OPCUACertificateManager } = this.opcua;
+    const { OPCUAServer, OPCUACertificateManager, MonitoredItem } = this.opcua;
+    // A class-wide setting of node-opcua-server (one server per process here).
+    MonitoredItem.minimumSamplingInterval = SAMPLING_FLOOR_MS;
     const o = this.options;
     fs.mkdirSync(o.pki, { recursive: true, mode: 0o700 });
     const serverCertificateManager = new OPCUACertificateManager({
@@ -104,6 +118,7 @@ class ServerHost {
   async start(beforeListen = async () => {}) {
     const server = this.createServer();
     this.server = server;
+    new StreamSampling({ opcua: this.opcua }).install(server);
     try {
       await server.initialize();
       // Acknowledge, Confirm, ... of the alarms (lib/alarms.js).
@@ -148,4 +163,4 @@ class ServerHost {
   }
 }
 
-module.exports = { ServerHost, PortInUseError, makeUserCheck };
+module.exports = { ServerHost, PortInUseError, makeUserCheck, SAMPLING_FLOOR_MS };

@@ -26,7 +26,8 @@ describe("nclink-opcua alarms", () => {
 
   const asObject = (values) => Object.fromEntries(FIELDS.map((f, i) => [f, values[i] ? values[i].value : undefined]));
   const eventsOf = (where, pred) => seen[where].filter(pred);
-  const waitEvent = (where, pred, what) => waitUntil(() => eventsOf(where, pred).at(-1), { ms: 20000, what });
+  const summary = () => Object.entries(seen).map(([where, events]) => `${where}: ${events.map((e) => `${e.ConditionName}/${e["ActiveState.Id"] ? "active" : "inactive"}`).join(" ") || "nothing"}`).join("; ");
+  const waitEvent = (where, pred, what) => waitUntil(() => eventsOf(where, pred).at(-1), { ms: 20000, what: `${what} (events seen: ${summary()})` });
 
   before(async () => {
     opcua.debug.setWarningLogger(() => {});
@@ -41,6 +42,10 @@ describe("nclink-opcua alarms", () => {
     const subscription = await c.session.createSubscription2({ requestedPublishingInterval: 50, publishingEnabled: true, requestedMaxKeepAliveCount: 20, requestedLifetimeCount: 200 });
     for (const [where, nodeId] of [["server", "i=2253"], ["device", `ns=${ns};s=${DEV}`]]) {
       const item = await subscription.monitor({ nodeId, attributeId: AttributeIds.EventNotifier }, { samplingInterval: 0, queueSize: 1000, filter: constructEventFilter(FIELDS) }, TimestampsToReturn.Neither);
+      // node-opcua's client resolves monitor() even when the server refuses
+      // the item (it only emits "err"): a refused item would otherwise show
+      // up as events that never come.
+      assert.equal(item.statusCode.name, "Good", `event monitored item on ${where} (${nodeId})`);
       item.on("changed", (values) => seen[where].push(asObject(values)));
     }
   });

@@ -14,6 +14,7 @@ const { scanNodeset } = require("../lib/nodeset-info");
 const { backoffDelay } = require("../lib/bridge-stream");
 const { oneLine } = require("../lib/log");
 const { methodsOf, argsOf, callArgs, callAnswerStatus } = require("../lib/methods");
+const { due } = require("../lib/stream-sampling");
 const { makeNodeset, testDevice, itemIds } = require("./support/fake-nodeset");
 
 test("sse: events, data lines joined, comments, CRLF split across chunks", () => {
@@ -239,4 +240,16 @@ test("methods: the METHOD configs of the root and the device, their args, the ca
   assert.equal(callAnswerStatus({ code: "NG", error: 401 }), "BadMethodInvalid");
   assert.equal(callAnswerStatus({ code: "NG", error: 203, reason: "DEV_UNREACHABLE" }), "BadCommunicationError");
   assert.equal(callAnswerStatus({ code: "NG", error: 1 }), "BadUnexpectedError");
+});
+
+test("stream sampling: a value is due one sampling interval after the last in its source time, or with a new status", () => {
+  const dv = (ms, status = 0) => ({ sourceTimestamp: ms === undefined ? null : new Date(ms), statusCode: { value: status } });
+  assert.equal(due(dv(1000), dv(1010), 10), true);
+  assert.equal(due(dv(1000), dv(1009), 10), false);
+  assert.equal(due(dv(1000), dv(1001), 1), true);
+  assert.equal(due(dv(1000), dv(1000), 1), false);
+  assert.equal(due(dv(1000), dv(1001, 0x80050000), 10), true, "a status change is always reported");
+  assert.equal(due(dv(1000), dv(990), 10), true, "a clock that went back starts a new run");
+  assert.equal(due(dv(undefined), dv(1000), 10), true);
+  assert.equal(due(null, dv(1000), 10), true);
 });
