@@ -6,21 +6,13 @@ from __future__ import annotations
 
 import asyncio
 import time
-from typing import Callable, Iterator
+from typing import Iterator
 
 import pytest
 
 import nclink
-from conftest import DEV, Agent, Broker, Pki, Sim, free_port
+from conftest import DEV, Agent, Broker, Pki, Sim, free_port, wait_until
 
-
-def wait_until(condition: Callable[[], bool], timeout: float = 10.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.05)
-    return condition()
 
 
 @pytest.fixture

@@ -8,21 +8,13 @@ import asyncio
 import copy
 import queue
 import time
-from typing import Any, Callable, Dict, List, Tuple
+from typing import Any, Dict, List, Tuple
 
 import pytest
 
 import nclink
-from conftest import DEV, Broker, Sim
+from conftest import DEV, Broker, Sim, wait_until
 
-
-def wait_until(condition: Callable[[], bool], timeout: float = 10.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.02)
-    return condition()
 
 
 def version_of(model: Dict[str, Any]) -> str:

@@ -8,21 +8,13 @@ import signal
 import sys
 import threading
 import time
-from typing import Any, Callable, List
+from typing import Any, List
 
 import pytest
 
 import nclink
-from conftest import DEV, Broker, Sim
+from conftest import DEV, Broker, Sim, wait_until
 
-
-def wait_until(condition: Callable[[], bool], timeout: float = 10.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.02)
-    return condition()
 
 
 def test_sample_callback_rows_with_times_none_lost(sim: Sim, client: nclink.Client) -> None:
