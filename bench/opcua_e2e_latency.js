@@ -32,7 +32,7 @@ const { performance } = require("node:perf_hooks");
 const root = path.join(__dirname, "..");
 const dir = path.join(root, "tools", "nclink-opcua");
 const opcua = require(path.join(dir, "lib", "node-opcua"));
-const { freePort, startServer, connect, tempDir, waitUntil } = require(path.join(dir, "test", "support", "harness"));
+const { freePort, startServer, connect, tempDir, waitUntil, spawnLogged: run, stopProcess } = require(path.join(dir, "test", "support", "harness"));
 const { SseParser } = require(path.join(dir, "lib", "sse"));
 
 const { AttributeIds, DataType } = opcua;
@@ -55,22 +55,6 @@ function percentiles(samples) {
   const s = [...samples].sort((a, b) => a - b);
   const at = (p) => s[Math.min(s.length - 1, Math.floor((p / 100) * s.length))];
   return { p50: at(50), p99: at(99), n: s.length };
-}
-
-function run(file, args, work) {
-  const log = fs.openSync(path.join(work, `${path.basename(file)}.log`), "a");
-  const proc = spawn(file, args, { stdio: ["ignore", log, log] });
-  fs.closeSync(log);
-  return proc;
-}
-
-async function stopProcess(proc) {
-  if (!proc || proc.exitCode !== null || proc.signalCode !== null) return;
-  const exited = new Promise((resolve) => proc.on("exit", resolve));
-  proc.kill("SIGTERM");
-  const timer = setTimeout(() => proc.kill("SIGKILL"), 10000);
-  await exited;
-  clearTimeout(timer);
 }
 
 const listening = (port) =>

@@ -7,7 +7,7 @@
 //   NCLINK_OPCUA_DIR  tools/nclink-opcua (the server and its node_modules)
 const { describe, it, before, after } = require("node:test");
 const assert = require("node:assert/strict");
-const { spawn, execFile } = require("node:child_process");
+const { execFile } = require("node:child_process");
 const fs = require("node:fs");
 const path = require("node:path");
 
@@ -15,29 +15,13 @@ const BIN = process.env.NCLINK_BIN_DIR;
 const OPCUA_DIR = process.env.NCLINK_OPCUA_DIR;
 const opcua = require(path.join(OPCUA_DIR, "lib", "node-opcua"));
 const { scanNodeset } = require(path.join(OPCUA_DIR, "lib", "nodeset-info"));
-const { tempDir, freePort, waitUntil, startServer, connect, browseVariables } = require(path.join(OPCUA_DIR, "test", "support", "harness"));
+const { tempDir, freePort, waitUntil, startServer, connect, browseVariables, spawnLogged: run, stopProcess } = require(path.join(OPCUA_DIR, "test", "support", "harness"));
 
 const { AttributeIds, DataType } = opcua;
 const DEV = "nclink-sim-mill-01";
 const URI = `urn:nclink:device:${DEV}`;
 
 opcua.debug.setWarningLogger(() => {});
-
-function run(name, args, work) {
-  const log = fs.openSync(path.join(work, `${path.basename(name)}.log`), "a");
-  const proc = spawn(name, args, { stdio: ["ignore", log, log] });
-  fs.closeSync(log);
-  return proc;
-}
-
-async function stopProcess(proc) {
-  if (!proc || proc.exitCode !== null || proc.signalCode !== null) return;
-  const exited = new Promise((resolve) => proc.on("exit", resolve));
-  proc.kill("SIGTERM");
-  const timer = setTimeout(() => proc.kill("SIGKILL"), 10000);
-  await exited;
-  clearTimeout(timer);
-}
 
 async function httpJson(url) {
   const res = await fetch(url);

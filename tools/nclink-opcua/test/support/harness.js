@@ -153,4 +153,23 @@ async function browseVariables(opcua, session, start, ns) {
   return found;
 }
 
-module.exports = { SCRIPT, tempDir, freePort, waitUntil, startServer, runToExit, connect, browseVariables };
+/// A program started with its standard output and error appended to
+/// WORK/<its name>.log.
+function spawnLogged(file, args, work) {
+  const log = fs.openSync(path.join(work, `${path.basename(file)}.log`), "a");
+  const proc = spawn(file, args, { stdio: ["ignore", log, log] });
+  fs.closeSync(log);
+  return proc;
+}
+
+/// SIGTERM, SIGKILL after 10 s; resolves when it has exited.
+async function stopProcess(proc) {
+  if (!proc || proc.exitCode !== null || proc.signalCode !== null) return;
+  const exited = new Promise((resolve) => proc.on("exit", resolve));
+  proc.kill("SIGTERM");
+  const timer = setTimeout(() => proc.kill("SIGKILL"), 10000);
+  await exited;
+  clearTimeout(timer);
+}
+
+module.exports = { SCRIPT, tempDir, freePort, waitUntil, startServer, runToExit, connect, browseVariables, spawnLogged, stopProcess };
