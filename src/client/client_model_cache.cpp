@@ -24,8 +24,9 @@ namespace {
 thread_local bool t_reregistering = false;
 
 struct Reregistering {
-    Reregistering() { t_reregistering = true; }
-    ~Reregistering() { t_reregistering = false; }
+    Reregistering() : outer(t_reregistering) { t_reregistering = true; }
+    ~Reregistering() { t_reregistering = outer; }
+    const bool outer;  // a completion may run inside the loop that set it
 };
 
 bool is_once(const std::string& trigger) {
@@ -146,43 +147,52 @@ void Client::Impl::reregister(const std::string& dev) {
             if (c->dev == dev) channels.push_back(c);
     }
     if (events.empty() && channels.empty()) return;
-    log.info("client: {} is back after being offline: registering {} event(s) and {} channel(s) again", dev,
-             events.size(), channels.size());
+    log.info("client: {} is back after being offline: registering {} event(s) and {} channel(s) again", dev, events.size(),
+             channels.size());
     const Reregistering guard;
+    // Each registration is made again only once its unregistration is
+    // answered: the adapter handles requests on more than one worker, so a
+    // Register sent right behind it could be handled first and then be
+    // removed by the Unregister (the same id comes back from a new run).
     for (const auto& e : events) {
-        owner->unregister_event_async(dev, e->id, nullptr);  // after a restart: 401, nothing to remove
-        owner->register_event_async(
-            dev, e->registration, e->handler,
-            [this, e](Result<std::string> id) {
-                std::lock_guard<std::mutex> lock(model_cache.mutex);
-                if (id) {
-                    e->id = id.value();
-                    ++model_cache.reregistrations;
-                    return;
-                }
-                log.warn("client: event on {} at {} not registered again: {}", e->registration.id, e->dev,
-                         id.error().describe());
-                auto& all = model_cache.events;
-                all.erase(std::remove(all.begin(), all.end(), e), all.end());
-            },
-            e->options);
+        // After a restart the Unregister gets 401: nothing to remove.
+        owner->unregister_event_async(dev, e->id, [this, dev, e](Result<void>) {
+            const Reregistering again;  // on the dispatch thread now
+            owner->register_event_async(
+                dev, e->registration, e->handler,
+                [this, e](Result<std::string> id) {
+                    std::lock_guard<std::mutex> lock(model_cache.mutex);
+                    if (id) {
+                        e->id = id.value();
+                        ++model_cache.reregistrations;
+                        return;
+                    }
+                    log.warn("client: event on {} at {} not registered again: {}", e->registration.id, e->dev,
+                             id.error().describe());
+                    auto& all = model_cache.events;
+                    all.erase(std::remove(all.begin(), all.end(), e), all.end());
+                },
+                e->options);
+        });
     }
     for (const auto& c : channels) {
-        owner->unregister_sampling_async(c->channel, nullptr);
-        owner->register_sampling_async(
-            dev, c->ids, c->sample_interval, c->upload_interval, c->handler,
-            [this, c](Result<Client::SamplingChannel> channel) {
-                std::lock_guard<std::mutex> lock(model_cache.mutex);
-                if (channel) {
-                    c->channel = channel.value();
-                    ++model_cache.reregistrations;
-                    return;
-                }
-                log.warn("client: dynamic channel at {} not registered again: {}", c->dev, channel.error().describe());
-                auto& all = model_cache.channels;
-                all.erase(std::remove(all.begin(), all.end(), c), all.end());
-            },
-            c->options);
+        owner->unregister_sampling_async(c->channel, [this, dev, c](Result<void>) {
+            const Reregistering again;  // on the dispatch thread now
+            owner->register_sampling_async(
+                dev, c->ids, c->sample_interval, c->upload_interval, c->handler,
+                [this, c](Result<Client::SamplingChannel> channel) {
+                    std::lock_guard<std::mutex> lock(model_cache.mutex);
+                    if (channel) {
+                        c->channel = channel.value();
+                        ++model_cache.reregistrations;
+                        return;
+                    }
+                    log.warn("client: dynamic channel at {} not registered again: {}", c->dev, channel.error().describe());
+                    auto& all = model_cache.channels;
+                    all.erase(std::remove(all.begin(), all.end(), c), all.end());
+                },
+                c->options);
+        });
     }
 }
 
