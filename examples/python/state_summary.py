@@ -58,6 +58,10 @@ def main() -> int:
             upload_ms = max(args.sample_ms, 1000.0)
             with client.sample(args.device, ["status", "warning", "emergency_stop"], args.sample_ms, upload_ms,
                                on_batch):
+                # Said once the channel is registered: the period starts here
+                # (a script driving the machine waits for this line).
+                print(f"state_summary: watching {args.device} for {args.duration:g} s (Ctrl-C ends early)",
+                      file=sys.stderr, flush=True)
                 time.sleep(args.duration)
     except nclink.Error as e:
         print(f"state_summary: {e}", file=sys.stderr)

@@ -53,6 +53,12 @@ def test_state_summary(sim: Sim, client: nclink.Client) -> None:
     proc = subprocess.Popen([sys.executable, os.path.join(EXAMPLES, "state_summary.py"), "--broker", sim.broker.url,
                              "--device", DEV, "--duration", "6", "--sample-ms", "50", "--json"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
+    # The period starts when the script says its channel is registered, not
+    # when it was started: a loaded machine can take seconds to import and
+    # connect, and the idle stretch would then go unobserved.
+    assert proc.stderr is not None
+    ready = proc.stderr.readline()
+    assert ready.startswith("state_summary: watching"), ready + proc.stderr.read()
     time.sleep(1.5)
     client.call(DEV, "cycle_start")  # running
     time.sleep(1.5)
