@@ -11,7 +11,7 @@ packages=(build-essential cmake pkg-config git
           libssl-dev openssl
           mosquitto mosquitto-clients
           libcpp-httplib-dev libxml2-dev libxml2-utils curl libmodbus-dev abigail-tools
-          tmux clang-format
+          tmux socat clang-format
           python3-dev pybind11-dev python3-pybind11 python3-pytest python3-mypy)
 # libcpp-httplib-dev: the HTTP server of nclink-bridge and of the agent's
 # dashboard and /metrics (src/http); libxml2-dev: the bridge's XPath
@@ -19,7 +19,9 @@ packages=(build-essential cmake pkg-config git
 # MTConnect documents with. curl: the demo asks nclink-bridge for /current as
 # a MTConnect client would. libmodbus-dev: the Modbus TCP driver
 # (drivers/modbus) and its test PLC. tmux: the tests of `nclink top` and of the
-# progress bar run the tool in a real terminal.
+# progress bar run the tool in a real terminal. socat: the Modbus RTU tests
+# (tests/unit/modbus/test_modbus_rtu.cpp) join two pseudo-terminals with it,
+# a serial cable with the driver on one end and simulated slaves on the other.
 # libssl-dev: why a TLS connection failed (src/transport/tls_check.cpp);
 # openssl: the TLS tests make their certificates with it.
 # python3-dev, pybind11-dev, python3-pybind11: the Python package (python/,

@@ -30,9 +30,8 @@ struct NamedType {
     RegType type;
 };
 constexpr NamedType type_names[] = {
-    {"bool", RegType::boolean},   {"int16", RegType::int16},     {"uint16", RegType::uint16},
-    {"int32", RegType::int32},    {"uint32", RegType::uint32},   {"int64", RegType::int64},
-    {"float32", RegType::float32}, {"float64", RegType::float64},
+    {"bool", RegType::boolean},  {"int16", RegType::int16}, {"uint16", RegType::uint16},   {"int32", RegType::int32},
+    {"uint32", RegType::uint32}, {"int64", RegType::int64}, {"float32", RegType::float32}, {"float64", RegType::float64},
 };
 
 bool is_bit_table(Table t) { return t == Table::coil || t == Table::discrete_input; }
@@ -45,7 +44,8 @@ template <typename T>
 Result<T> number_in(const Json& j, const std::string& where, T lo, T hi) {
     if (!j.is_number()) return config_error(where, "must be a number, got " + j.dump());
     const double v = j.get<double>();
-    if (!std::isfinite(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi) || (std::is_integral_v<T> && v != std::floor(v)))
+    if (!std::isfinite(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi) ||
+        (std::is_integral_v<T> && v != std::floor(v)))
         return config_error(where, "must be " + std::string(std::is_integral_v<T> ? "an integer" : "a number") + " in " +
                                        std::to_string(lo) + ".." + std::to_string(hi) + ", got " + j.dump());
     return static_cast<T>(v);
@@ -77,11 +77,14 @@ Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder def
     Point p;
     p.id = id;
     p.word_order = default_order;
-    if (!spec.contains("table") || !spec["table"].is_string()) return config_error(where + "/table", "missing (coil, discrete_input, holding_register or input_register)");
+    if (!spec.contains("table") || !spec["table"].is_string())
+        return config_error(where + "/table", "missing (coil, discrete_input, holding_register or input_register)");
     bool found = false;
     for (const auto& t : table_names)
         if (spec["table"] == t.name) p.table = t.table, found = true;
-    if (!found) return config_error(where + "/table", "unknown table " + spec["table"].dump() + " (coil, discrete_input, holding_register or input_register)");
+    if (!found)
+        return config_error(where + "/table", "unknown table " + spec["table"].dump() +
+                                                  " (coil, discrete_input, holding_register or input_register)");
     if (!spec.contains("address")) return config_error(where + "/address", "missing (0-based protocol address)");
     auto address = number_in<unsigned>(spec["address"], where + "/address", 0, 65535);
     if (!address.ok()) return std::move(address).error();
@@ -91,8 +94,11 @@ Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder def
         found = false;
         for (const auto& t : type_names)
             if (spec["type"] == t.name) p.type = t.type, found = true;
-        if (!found) return config_error(where + "/type", "unknown type " + spec["type"].dump() + " (bool, int16, uint16, int32, uint32, int64, float32, float64)");
-        if (is_bit_table(p.table) && p.type != RegType::boolean) return config_error(where + "/type", "a coil or discrete input is a bool");
+        if (!found)
+            return config_error(where + "/type", "unknown type " + spec["type"].dump() +
+                                                     " (bool, int16, uint16, int32, uint32, int64, float32, float64)");
+        if (is_bit_table(p.table) && p.type != RegType::boolean)
+            return config_error(where + "/type", "a coil or discrete input is a bool");
     }
     if (spec.contains("word_order")) {
         auto order = word_order_of(spec["word_order"], where + "/word_order");
@@ -113,15 +119,18 @@ Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder def
     if (spec.contains("enum")) {
         const Json& e = spec["enum"];
         if (!e.is_object() || e.empty()) return config_error(where + "/enum", "must be an object {\"<raw value>\": \"<word>\"}");
-        if (p.type == RegType::float32 || p.type == RegType::float64) return config_error(where + "/enum", "needs an integer type");
+        if (p.type == RegType::float32 || p.type == RegType::float64)
+            return config_error(where + "/enum", "needs an integer type");
         std::set<std::string> words;
         for (auto it = e.begin(); it != e.end(); ++it) {
             char* end = nullptr;
             errno = 0;
             const long long raw = std::strtoll(it.key().c_str(), &end, 10);
-            if (it.key().empty() || *end != '\0' || errno != 0) return config_error(where + "/enum/" + it.key(), "key must be an integer raw value");
+            if (it.key().empty() || *end != '\0' || errno != 0)
+                return config_error(where + "/enum/" + it.key(), "key must be an integer raw value");
             if (!it.value().is_string()) return config_error(where + "/enum/" + it.key(), "must be a string word");
-            if (!words.insert(it.value().get<std::string>()).second) return config_error(where + "/enum/" + it.key(), "word " + it.value().dump() + " named twice");
+            if (!words.insert(it.value().get<std::string>()).second)
+                return config_error(where + "/enum/" + it.key(), "word " + it.value().dump() + " named twice");
             p.enumeration[raw] = it.value().get<std::string>();
         }
     }
@@ -130,7 +139,8 @@ Result<Point> parse_point(const std::string& id, const Json& spec, WordOrder def
         p.as_text = spec["text"].get<bool>();
         if (p.as_text && !p.enumeration.empty()) return config_error(where + "/text", "cannot be combined with enum");
     }
-    if (static_cast<unsigned>(p.address) + p.width() > 65536u) return config_error(where + "/address", "the value runs past address 65535");
+    if (static_cast<unsigned>(p.address) + p.width() > 65536u)
+        return config_error(where + "/address", "the value runs past address 65535");
     return p;
 }
 
@@ -167,6 +177,60 @@ std::pair<double, double> raw_range(RegType t) {
     }
 }
 
+/// The RTU keys: `device` selects a serial line instead of host:port.
+Result<void> parse_serial(const Json& json, Config& c) {
+    constexpr const char* serial_keys[] = {"baud", "parity", "data_bits", "stop_bits", "byte_timeout_ms", "frame_gap_us"};
+    if (!json.contains("device")) {
+        for (const char* key : serial_keys)
+            if (json.contains(key)) return config_error(key, "only for Modbus RTU: name the serial line with \"device\"");
+        return ok_result();
+    }
+    for (const char* key : {"host", "port"})
+        if (json.contains(key)) return config_error(key, "a map with \"device\" (Modbus RTU) has no host or port (Modbus TCP)");
+    if (!json["device"].is_string() || json["device"].get<std::string>().empty())
+        return config_error("device", "must be the serial device's path, e.g. \"/dev/ttyUSB0\"");
+    SerialLine line;
+    line.device = json["device"].get<std::string>();
+    if (json.contains("baud")) {
+        auto v = number_in<int>(json["baud"], "baud", 50, 4000000);
+        if (!v.ok()) return std::move(v).error();
+        line.baud = v.value();
+    }
+    if (json.contains("parity")) {
+        const Json& p = json["parity"];
+        if (p == "N" || p == "none") line.parity = 'N';
+        else if (p == "E" || p == "even") line.parity = 'E';
+        else if (p == "O" || p == "odd") line.parity = 'O';
+        else return config_error("parity", "must be \"N\", \"E\" or \"O\" (none, even, odd), got " + p.dump());
+    }
+    if (json.contains("data_bits")) {
+        auto v = number_in<int>(json["data_bits"], "data_bits", 5, 8);
+        if (!v.ok()) return std::move(v).error();
+        line.data_bits = v.value();
+    }
+    if (json.contains("stop_bits")) {
+        auto v = number_in<int>(json["stop_bits"], "stop_bits", 1, 2);
+        if (!v.ok()) return std::move(v).error();
+        line.stop_bits = v.value();
+    }
+    if (json.contains("frame_gap_us")) {
+        auto v = number_in<int>(json["frame_gap_us"], "frame_gap_us", 0, 1000000);
+        if (!v.ok()) return std::move(v).error();
+        line.frame_gap = std::chrono::microseconds(v.value());
+        if (v.value() != 0 && line.frame_gap < line.minimum_frame_gap())
+            return config_error("frame_gap_us", "below 3.5 character times at " + std::to_string(line.baud) + " baud (" +
+                                                    std::to_string(line.minimum_frame_gap().count()) +
+                                                    " us, Modbus over Serial Line 2.5.1.1)");
+    }
+    if (json.contains("byte_timeout_ms")) {
+        auto v = number_in<int>(json["byte_timeout_ms"], "byte_timeout_ms", 1, 10000);
+        if (!v.ok()) return std::move(v).error();
+        c.byte_timeout = std::chrono::milliseconds(v.value());
+    }
+    c.serial = std::move(line);
+    return ok_result();
+}
+
 }  // namespace
 
 unsigned Point::width() const {
@@ -180,6 +244,28 @@ unsigned Point::width() const {
     }
 }
 
+std::chrono::microseconds SerialLine::minimum_frame_gap() const {
+    // Modbus over Serial Line 2.5.1.1: a frame ends after 3.5 character times
+    // of silence; above 19200 baud a fixed 1.75 ms. A character is a start
+    // bit, the data bits, the parity bit if any and the stop bits.
+    if (baud > 19200) return std::chrono::microseconds(1750);
+    const int bits = 1 + data_bits + (parity == 'N' ? 0 : 1) + stop_bits;
+    return std::chrono::microseconds(static_cast<long long>(std::ceil(3.5 * bits * 1e6 / baud)));
+}
+
+std::string SerialLine::describe() const {
+    return device + " " + std::to_string(baud) + " " + std::to_string(data_bits) + parity + std::to_string(stop_bits);
+}
+
+bool SerialLine::same_settings(const SerialLine& o) const {
+    return baud == o.baud && parity == o.parity && data_bits == o.data_bits && stop_bits == o.stop_bits && frame_gap == o.frame_gap;
+}
+
+std::string Config::endpoint() const {
+    if (serial) return "rtu " + serial->device + " slave " + std::to_string(unit_id);
+    return host + ":" + std::to_string(port);
+}
+
 const Point* Config::find(const std::string& id) const {
     auto it = by_id.find(id);
     return it == by_id.end() ? nullptr : &points[it->second];
@@ -187,11 +273,16 @@ const Point* Config::find(const std::string& id) const {
 
 Result<Config> parse_config(const Json& json) {
     if (!json.is_object()) return config_error("/", "must be an object with \"host\" and \"points\"");
-    if (auto r = only_keys(json, "", {"host", "port", "unit_id", "timeout_ms", "backoff_ms", "word_order", "max_gap", "points"}); !r.ok())
+    if (auto r = only_keys(json, "",
+                           {"host", "port", "unit_id", "slave_id", "timeout_ms", "backoff_ms", "word_order", "max_gap", "points",
+                            "device", "baud", "parity", "data_bits", "stop_bits", "byte_timeout_ms", "frame_gap_us"});
+        !r.ok())
         return std::move(r).error();
     Config c;
+    if (auto r = parse_serial(json, c); !r.ok()) return std::move(r).error();
     if (json.contains("host")) {
-        if (!json["host"].is_string() || json["host"].get<std::string>().empty()) return config_error("host", "must be a host name or address");
+        if (!json["host"].is_string() || json["host"].get<std::string>().empty())
+            return config_error("host", "must be a host name or address");
         c.host = json["host"].get<std::string>();
     }
     if (json.contains("port")) {
@@ -199,8 +290,13 @@ Result<Config> parse_config(const Json& json) {
         if (!v.ok()) return std::move(v).error();
         c.port = v.value();
     }
-    if (json.contains("unit_id")) {
-        auto v = number_in<int>(json["unit_id"], "unit_id", 0, 255);
+    if (json.contains("unit_id") && json.contains("slave_id"))
+        return config_error("slave_id", "names the same as unit_id: give one of them");
+    for (const char* key : {"unit_id", "slave_id"}) {
+        if (!json.contains(key)) continue;
+        // Modbus over Serial Line 2.2: slave addresses are 1..247 (0 is a
+        // broadcast, which no slave answers; 248..255 are reserved).
+        auto v = c.serial ? number_in<int>(json[key], key, 1, 247) : number_in<int>(json[key], key, 0, 255);
         if (!v.ok()) return std::move(v).error();
         c.unit_id = v.value();
     }
@@ -300,7 +396,8 @@ Result<Json> decode(const Point& p, const std::uint16_t* words) {
         if (!p.enumeration.empty()) {
             auto it = p.enumeration.find(integer);
             if (it == p.enumeration.end())
-                return make_error(ErrorCode::unavailable, "modbus " + p.id + ": raw value " + std::to_string(integer) + " is not in the map's enum");
+                return make_error(ErrorCode::unavailable,
+                                  "modbus " + p.id + ": raw value " + std::to_string(integer) + " is not in the map's enum");
             return Json(it->second);
         }
         if (p.scale == 1.0 && p.offset == 0.0) return p.as_text ? Json(std::to_string(integer)) : Json(integer);
@@ -325,7 +422,9 @@ Result<Encoded> encode(const Point& p, const Json& value) {
     if (!p.enumeration.empty() && value.is_string()) {
         for (const auto& [raw, word] : p.enumeration)
             if (word == value.get<std::string>()) number = static_cast<double>(raw);
-        if (!number) return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": " + value.dump() + " is not one of the map's enum words");
+        if (!number)
+            return make_error(ErrorCode::out_of_range,
+                              "modbus " + p.id + ": " + value.dump() + " is not one of the map's enum words");
     } else if (value.is_boolean()) {
         number = value.get<bool>() ? 1.0 : 0.0;
     } else if (value.is_number()) {
@@ -334,13 +433,15 @@ Result<Encoded> encode(const Point& p, const Json& value) {
         char* end = nullptr;
         const std::string& text = value.get_ref<const std::string&>();
         const double parsed = std::strtod(text.c_str(), &end);
-        if (text.empty() || *end != '\0') return make_error(ErrorCode::value_type, "modbus " + p.id + ": " + value.dump() + " is not a number");
+        if (text.empty() || *end != '\0')
+            return make_error(ErrorCode::value_type, "modbus " + p.id + ": " + value.dump() + " is not a number");
         number = parsed;
     } else {
         return make_error(ErrorCode::value_type, "modbus " + p.id + ": cannot write " + value.dump() + " (a number or bool)");
     }
     if (p.table == Table::coil) {
-        if (*number != 0.0 && *number != 1.0) return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": a coil is 0/1 or false/true");
+        if (*number != 0.0 && *number != 1.0)
+            return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": a coil is 0/1 or false/true");
         out.bit = *number == 1.0;
         return out;
     }
@@ -354,7 +455,8 @@ Result<Encoded> encode(const Point& p, const Json& value) {
     if (!std::isfinite(raw)) return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": value not finite");
     std::uint64_t bits = 0;
     if (p.type == RegType::float32) {
-        if (std::fabs(raw) > std::numeric_limits<float>::max()) return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": out of float32 range");
+        if (std::fabs(raw) > std::numeric_limits<float>::max())
+            return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": out of float32 range");
         const float f = static_cast<float>(raw);
         std::uint32_t b;
         std::memcpy(&b, &f, sizeof b);
@@ -365,8 +467,8 @@ Result<Encoded> encode(const Point& p, const Json& value) {
         const double rounded = std::nearbyint(raw);
         const auto [lo, hi] = raw_range(p.type);
         if (rounded < lo || rounded > hi)
-            return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": " + value.dump() + " is raw " + std::to_string(rounded) +
-                                                           ", outside the register's range");
+            return make_error(ErrorCode::out_of_range, "modbus " + p.id + ": " + value.dump() + " is raw " +
+                                                           std::to_string(rounded) + ", outside the register's range");
         bits = static_cast<std::uint64_t>(static_cast<std::int64_t>(rounded));
     }
     out.words = split(bits, p.width(), p.word_order);

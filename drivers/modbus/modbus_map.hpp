@@ -1,4 +1,4 @@
-// The Modbus map of the Modbus TCP driver (docs/drivers/modbus.md): which
+// The Modbus map of the Modbus driver (docs/drivers/modbus.md): which
 // register or coil holds which NC-Link data item, how its raw words become
 // the item's value (type, word order, scale, offset, enumeration), and how the
 // reads of one call are batched. Pure: no I/O, so every rule is unit tested.
@@ -28,12 +28,12 @@ enum class RegType { boolean, int16, uint16, int32, uint32, int64, float32, floa
 enum class WordOrder { big, little };
 
 struct Point {
-    std::string id;             ///< the NC-Link data item id
+    std::string id;  ///< the NC-Link data item id
     Table table = Table::holding_register;
     std::uint16_t address = 0;  ///< 0-based (the protocol address, not 4xxxx)
     RegType type = RegType::uint16;
     WordOrder word_order = WordOrder::big;
-    double scale = 1.0;         ///< value = raw * scale + offset
+    double scale = 1.0;  ///< value = raw * scale + offset
     double offset = 0.0;
     /// raw value -> NC-Link word (a STATUS item, "free"/"running"/...).
     std::map<std::int64_t, std::string> enumeration;
@@ -45,21 +45,49 @@ struct Point {
     unsigned width() const;
 };
 
+/// A Modbus RTU serial line (Modbus over Serial Line V1.02; libmodbus's RTU
+/// backend). Every machine naming the same device shares the line, so these
+/// settings must agree between them (modbus_bus.hpp).
+struct SerialLine {
+    std::string device;  ///< "/dev/ttyUSB0", "/dev/serial/by-id/..."
+    int baud = 19200;    ///< 2.5.1: 19200 is the required default rate
+    char parity = 'E';   ///< 'N', 'E' or 'O'; 2.5.1: even is the default
+    int data_bits = 8;   ///< 5..8 (RTU frames carry 8)
+    int stop_bits = 1;   ///< 1 or 2
+    /// Silence kept on the line between the end of one transaction and the
+    /// next request (2.5.1.1: at least 3.5 character times, a fixed 1.75 ms
+    /// above 19200 baud). 0 in the map: computed from the line settings.
+    std::chrono::microseconds frame_gap{0};
+
+    /// 3.5 character times at these settings (1750 us above 19200 baud).
+    std::chrono::microseconds minimum_frame_gap() const;
+    /// "/dev/ttyUSB0 19200 8E1".
+    std::string describe() const;
+    /// Same baud, parity, data and stop bits and gap (the device aside).
+    bool same_settings(const SerialLine& other) const;
+};
+
 struct Config {
     std::string host = "127.0.0.1";
     int port = 502;
-    int unit_id = 1;
-    std::chrono::milliseconds timeout{500};       ///< one request's response timeout
-    std::chrono::milliseconds backoff_min{200};   ///< first wait before reconnecting
-    std::chrono::milliseconds backoff_max{10000}; ///< longest wait (doubling)
+    int unit_id = 1;                         ///< TCP unit id, or the RTU slave address
+    std::chrono::milliseconds timeout{500};  ///< one request's response timeout
+    /// RTU: the serial line (`device` in the map); none: Modbus TCP to host:port.
+    std::optional<SerialLine> serial;
+    /// RTU: the longest silence between two bytes of one answer (libmodbus's
+    /// byte timeout) before the answer counts as cut off.
+    std::chrono::milliseconds byte_timeout{100};
+    std::chrono::milliseconds backoff_min{200};    ///< first wait before reconnecting
+    std::chrono::milliseconds backoff_max{10000};  ///< longest wait (doubling)
     /// Unused registers (bits) a batched read may span to cover two points
     /// in one request instead of two.
     unsigned max_gap = 8;
     std::vector<Point> points;
-    std::map<std::string, std::size_t> by_id;     ///< id -> index in points
+    std::map<std::string, std::size_t> by_id;  ///< id -> index in points
 
     const Point* find(const std::string& id) const;
-    std::string endpoint() const { return host + ":" + std::to_string(port); }
+    /// "10.0.0.5:502", or "rtu /dev/ttyUSB0 slave 3" for a serial line.
+    std::string endpoint() const;
 };
 
 /// Reads the driver's configuration (the adapter's `driver.config`); every

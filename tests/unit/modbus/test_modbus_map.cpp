@@ -47,17 +47,27 @@ TEST_CASE("a map with defaults and every table reads back") {
 
 TEST_CASE("configuration mistakes name where they are") {
     CHECK_THAT(parse_error(R"({"points":{}})"), Catch::Contains("points: missing"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holdin","address":0}}})"), Catch::Contains("points/a/table: unknown table \"holdin\""));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holdin","address":0}}})"),
+               Catch::Contains("points/a/table: unknown table \"holdin\""));
     CHECK_THAT(parse_error(R"({"points":{"a":{"table":"coil"}}})"), Catch::Contains("points/a/address: missing"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"coil","address":70000}}})"), Catch::Contains("points/a/address: must be an integer in 0..65535"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"coil","address":1,"type":"int16"}}})"), Catch::Contains("a coil or discrete input is a bool"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"scale":0}}})"), Catch::Contains("points/a/scale: must not be 0"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":65535,"type":"int32"}}})"), Catch::Contains("runs past address 65535"));
-    CHECK_THAT(parse_error(R"({"port":"502","points":{"a":{"table":"coil","address":1}}})"), Catch::Contains("port: must be a number"));
-    CHECK_THAT(parse_error(R"({"hots":"x","points":{"a":{"table":"coil","address":1}}})"), Catch::Contains("/hots: unknown key (known: host"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"enum":{"x":"free"}}}})"), Catch::Contains("points/a/enum/x: key must be an integer"));
-    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"type":"float32","enum":{"1":"free"}}}})"), Catch::Contains("needs an integer type"));
-    CHECK_THAT(parse_error(R"({"backoff_ms":{"min":500,"max":100},"points":{"a":{"table":"coil","address":1}}})"), Catch::Contains("max is smaller than min"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"coil","address":70000}}})"),
+               Catch::Contains("points/a/address: must be an integer in 0..65535"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"coil","address":1,"type":"int16"}}})"),
+               Catch::Contains("a coil or discrete input is a bool"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"scale":0}}})"),
+               Catch::Contains("points/a/scale: must not be 0"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":65535,"type":"int32"}}})"),
+               Catch::Contains("runs past address 65535"));
+    CHECK_THAT(parse_error(R"({"port":"502","points":{"a":{"table":"coil","address":1}}})"),
+               Catch::Contains("port: must be a number"));
+    CHECK_THAT(parse_error(R"({"hots":"x","points":{"a":{"table":"coil","address":1}}})"),
+               Catch::Contains("/hots: unknown key (known: host"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"enum":{"x":"free"}}}})"),
+               Catch::Contains("points/a/enum/x: key must be an integer"));
+    CHECK_THAT(parse_error(R"({"points":{"a":{"table":"holding","address":1,"type":"float32","enum":{"1":"free"}}}})"),
+               Catch::Contains("needs an integer type"));
+    CHECK_THAT(parse_error(R"({"backoff_ms":{"min":500,"max":100},"points":{"a":{"table":"coil","address":1}}})"),
+               Catch::Contains("max is smaller than min"));
     CHECK_THAT(parse_error(R"([1])"), Catch::Contains("must be an object"));
 }
 
@@ -188,4 +198,70 @@ TEST_CASE("reads are batched per table within the gap and the protocol's limits"
     REQUIRE(spans.size() == 2);
     CHECK(spans[0].count == 125);
     CHECK(spans[1].count == 5);
+}
+
+TEST_CASE("an RTU map names a serial line: defaults are Modbus over Serial Line's 19200 8E1") {
+    Config c = parse_ok(R"({"device":"/dev/ttyUSB0","slave_id":7,"points":{"a":{"table":"holding","address":0}}})");
+    REQUIRE(c.serial);
+    CHECK(c.serial->device == "/dev/ttyUSB0");
+    CHECK(c.serial->baud == 19200);
+    CHECK(c.serial->parity == 'E');
+    CHECK(c.serial->data_bits == 8);
+    CHECK(c.serial->stop_bits == 1);
+    CHECK(c.serial->frame_gap.count() == 0);
+    CHECK(c.unit_id == 7);
+    CHECK(c.byte_timeout.count() == 100);
+    CHECK(c.endpoint() == "rtu /dev/ttyUSB0 slave 7");
+    CHECK(c.serial->describe() == "/dev/ttyUSB0 19200 8E1");
+
+    c = parse_ok(R"({"device":"/dev/ttyS1","baud":9600,"parity":"N","data_bits":8,"stop_bits":2,"unit_id":3,
+                     "byte_timeout_ms":20,"frame_gap_us":5000,"points":{"a":{"table":"coil","address":0}}})");
+    CHECK(c.serial->baud == 9600);
+    CHECK(c.serial->parity == 'N');
+    CHECK(c.serial->stop_bits == 2);
+    CHECK(c.serial->frame_gap.count() == 5000);
+    CHECK(c.byte_timeout.count() == 20);
+    CHECK(c.unit_id == 3);
+    CHECK(parse_ok(R"({"device":"/dev/x","parity":"odd","points":{"a":{"table":"coil","address":0}}})").serial->parity == 'O');
+
+    // A TCP map stays TCP.
+    CHECK_FALSE(parse_ok(R"({"host":"10.0.0.5","points":{"a":{"table":"coil","address":0}}})").serial);
+}
+
+TEST_CASE("the silence between RTU frames is 3.5 characters, 1.75 ms above 19200 baud") {
+    SerialLine line;
+    line.baud = 19200;  // 8E1: 11 bits a character
+    CHECK(line.minimum_frame_gap().count() == 2006);
+    line.baud = 9600;
+    line.parity = 'N';  // 8N1: 10 bits
+    CHECK(line.minimum_frame_gap().count() == 3646);
+    line.baud = 115200;
+    CHECK(line.minimum_frame_gap().count() == 1750);
+}
+
+TEST_CASE("RTU configuration mistakes are located") {
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","host":"h","points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("host: a map with \"device\" (Modbus RTU) has no host or port"));
+    CHECK_THAT(parse_error(R"({"baud":9600,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("baud: only for Modbus RTU"));
+    CHECK_THAT(parse_error(R"({"device":"","points":{"a":{"table":"coil","address":0}}})"), Catch::Contains("device: must be"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","parity":"X","points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("parity: must be \"N\", \"E\" or \"O\""));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","data_bits":9,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("data_bits: must be an integer in 5..8"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","stop_bits":3,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("stop_bits"));
+    // Slave address 0 is a broadcast no slave answers; 248..255 are reserved.
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","slave_id":0,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("slave_id: must be an integer in 1..247"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","unit_id":248,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("unit_id: must be an integer in 1..247"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","unit_id":1,"slave_id":2,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("slave_id: names the same as unit_id"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","frame_gap_us":100,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("frame_gap_us: below 3.5 character times at 19200 baud (2006 us"));
+    CHECK_THAT(parse_error(R"({"device":"/dev/x","byte_timeout_ms":0,"points":{"a":{"table":"coil","address":0}}})"),
+               Catch::Contains("byte_timeout_ms"));
+    // TCP keeps its unit id range.
+    CHECK(parse_ok(R"({"host":"h","unit_id":0,"points":{"a":{"table":"coil","address":0}}})").unit_id == 0);
 }
