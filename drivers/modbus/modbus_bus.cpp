@@ -116,6 +116,11 @@ Bus::Reply Bus::transact(const SlaveSettings& slave, const std::function<int(mod
     // between one slave's answer and the request to the next slave.
     const auto quiet_until = quiet_since_ + gap_;
     if (std::chrono::steady_clock::now() < quiet_until) std::this_thread::sleep_until(quiet_until);
+    // Between transactions no slave may speak (2.1: a slave answers only
+    // the request addressed to it), so whatever waits in the input now is a
+    // late answer to an earlier request that timed out: drop it, or it would
+    // be read as this request's answer.
+    modbus_flush(ctx_);
     {
         std::lock_guard lock(queue_mutex_);
         ++stats_.transactions;

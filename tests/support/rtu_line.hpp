@@ -13,6 +13,7 @@
 
 #include <fcntl.h>
 #include <modbus.h>
+#include <sys/ioctl.h>
 #include <poll.h>
 #include <termios.h>
 #include <unistd.h>
@@ -87,6 +88,13 @@ public:
     }
     PtyLine(const PtyLine&) = delete;
     PtyLine& operator=(const PtyLine&) = delete;
+
+    /// Bytes that arrived at the driver's end and wait to be read (a tty's
+    /// input queue is one for every descriptor open on it).
+    int waiting_at_driver_end() const {
+        int n = 0;
+        return keep_open_ >= 0 && ::ioctl(keep_open_, FIONREAD, &n) == 0 ? n : -1;
+    }
 
     std::string driver_end() const { return dir_ + "/master"; }
     std::string slave_end() const { return dir_ + "/slaves"; }
@@ -163,6 +171,17 @@ public:
         std::lock_guard lock(mutex_);
         slaves_.at(slave).silent = silent;
     }
+    /// The slave answers only after `delay` (a slow slave: past the
+    /// driver's timeout, its answer arrives late). answers() counts them.
+    void set_delay(int slave, std::chrono::milliseconds delay) {
+        std::lock_guard lock(mutex_);
+        slaves_.at(slave).delay = delay;
+    }
+    /// Answers the slave sent.
+    int answers(int slave) {
+        std::lock_guard lock(mutex_);
+        return slaves_.at(slave).answers;
+    }
     /// The slave's next answer goes out with its CRC damaged.
     void damage_next_answer(int slave) {
         std::lock_guard lock(mutex_);
@@ -184,7 +203,9 @@ private:
         modbus_mapping_t* map = nullptr;
         bool silent = false;
         bool damage_next = false;
+        std::chrono::milliseconds delay{0};
         int requests = 0;
+        int answers = 0;
     };
 
     /// The length of the request at the start of `buf` (0: not known yet,
@@ -230,6 +251,13 @@ private:
 
     void answer(const std::vector<std::uint8_t>& frame) {
         const std::uint16_t crc = modbus_crc(frame.data(), frame.size() - 2);
+        std::chrono::milliseconds delay{0};
+        {
+            std::lock_guard lock(mutex_);
+            auto it = slaves_.find(frame[0]);
+            if (it != slaves_.end()) delay = it->second.delay;
+        }
+        if (delay.count() > 0) std::this_thread::sleep_for(delay);
         std::lock_guard lock(mutex_);
         if (frame[frame.size() - 2] != (crc & 0xFF) || frame[frame.size() - 1] != (crc >> 8)) {
             ++bad_frames_;  // a real slave ignores a damaged request
@@ -254,6 +282,7 @@ private:
             if (w <= 0) break;
             sent += w;
         }
+        ++slave.answers;
     }
 
     int fd_ = -1;

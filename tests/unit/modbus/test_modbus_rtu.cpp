@@ -1,7 +1,8 @@
 // The Modbus driver on an RTU serial line, end to end over a pseudo-terminal
 // pair (socat) against simulated slaves (support/rtu_line.hpp): reads and
 // writes, two machines sharing one line, a slave that stops answering (203,
-// backoff, recovery), an answer with a bad CRC, the line's turns in order,
+// backoff, recovery), an answer with a bad CRC, a slow slave's late answer,
+// the line's turns in order,
 // and the plugin's drivers sharing a line.
 #include <catch2/catch.hpp>
 
@@ -264,6 +265,26 @@ TEST_CASE("RTU: an answer with a bad CRC is an error for that request only, and 
     CHECK(line.slaves.holding(1, 12) == 90);
     REQUIRE(m.write("feed_override", Json(91)).ok());
     CHECK(line.slaves.holding(1, 12) == 91);
+}
+
+TEST_CASE("RTU: a slow slave's late answer is not taken for the next slave's answer") {
+    Line line;
+    line.slaves.set_holding(1, 12, 11);
+    line.slaves.set_holding(2, 12, 22);
+    Machine a(line.pty.driver_end(), 1, line.buses);
+    Machine b(line.pty.driver_end(), 2, line.buses);
+    // Slave 2 answers after the driver's 300 ms: its read times out (203) ...
+    line.slaves.set_delay(2, std::chrono::milliseconds(400));
+    CHECK(b.read({"feed_override"})[0].error().code == ErrorCode::timeout);
+    // ... and its answer reaches the line afterwards, before slave 1 is asked.
+    REQUIRE(nclink::test::eventually([&] { return line.slaves.answers(2) == 1 && line.pty.waiting_at_driver_end() > 0; }));
+    // Slave 1's read gets slave 1's answer, not the stale one (which would
+    // be refused as another slave's, 202).
+    auto r = a.read({"feed_override"});
+    INFO((r[0].ok() ? std::string() : r[0].error().message));
+    REQUIRE(r[0].ok());
+    CHECK(r[0].value() == 11);
+    CHECK(a.read({"feed_override"})[0].value() == 11);
 }
 
 TEST_CASE("RTU: the line's turns are given in the order they were asked for") {
