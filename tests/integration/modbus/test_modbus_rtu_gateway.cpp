@@ -1,7 +1,7 @@
 // Modbus RTU in a gateway, end to end: two gateway machines (two slave
 // addresses) on one serial line (a socat pty pair, support/rtu_line.hpp),
-// configured as docs/gateway.md shows (the plugin, the line in `defaults`,
-// each machine its slave_id), served through a real mosquitto to an NC-Link
+// configured from examples/modbus/gateway-rtu.json (the plugin, the line and
+// the map in `defaults`, each machine its slave_id), served through a real mosquitto to an NC-Link
 // application: Query and Set per machine, a slave that goes silent (203, then
 // recovery) while the other keeps answering, and an answer with a bad CRC.
 #include <catch2/catch.hpp>
@@ -24,29 +24,21 @@ namespace {
 
 std::string example(const std::string& name) { return std::string(NCLINK_MODELS_DIR) + "/../examples/modbus/" + name; }
 
-/// The gateway file of docs/gateway.md ("Modbus RTU"), with the example's
-/// model and map, this broker and this line. Sampling is off so that only
-/// the test's Queries and Sets ask the slaves: the Query that meets a
-/// silent slave or a damaged answer is then known.
+/// examples/modbus/gateway-rtu.json (the file docs/gateway.md shows) with
+/// this broker, this line, its paths made absolute and quick backoffs.
+/// Sampling is off so that only the test's Queries and Sets ask the slaves:
+/// the Query that meets a silent slave or a damaged answer is then known.
 std::string write_gateway_file(const std::string& dir, const std::string& broker, const std::string& device) {
-    std::ifstream in(example("adapter.json"));
-    const Json points = Json::parse(in)["driver"]["config"]["points"];
-    Json file = Json::parse(R"({"defaults": {"driver": {"config": {"baud": 19200, "parity": "E", "timeout_ms": 300,
-                                 "backoff_ms": {"min": 50, "max": 200}}},
-                                 "driver_timeout_ms": 2000, "register_timeout_ms": 500,
-                                 "sampling": {"enabled": false}}, "machines": []})");
-    file["defaults"]["broker"]["url"] = broker;
-    file["defaults"]["driver"]["plugin"] = std::string(NCLINK_BINARY_DIR) + "/lib/nclink-modbus.so";
-    file["defaults"]["driver"]["config"]["device"] = device;
-    for (int slave : {1, 2}) {
-        Json m;
-        m["id"] = "press-" + std::to_string(slave);
-        m["model"] = example("plc-lathe.json");
-        m["dev_uuid"] = "rtu-press-" + std::to_string(slave);
-        m["driver"]["config"]["slave_id"] = slave;
-        m["driver"]["config"]["points"] = points;
-        file["machines"].push_back(m);
-    }
+    std::ifstream in(example("gateway-rtu.json"));
+    Json file = Json::parse(in);
+    Json& defaults = file["defaults"];
+    defaults["broker"]["url"] = broker;
+    defaults["model"] = example("plc-lathe.json");
+    defaults["driver"]["plugin"] = std::string(NCLINK_BINARY_DIR) + "/lib/nclink-modbus.so";
+    defaults["driver"]["config"]["device"] = device;
+    defaults["driver"]["config"]["backoff_ms"] = Json{{"min", 50}, {"max", 200}};
+    defaults["register_timeout_ms"] = 500;
+    defaults["sampling"]["enabled"] = false;
     const std::string path = dir + "/gateway.json";
     std::ofstream(path) << file.dump(2);
     return path;
@@ -101,38 +93,38 @@ struct RtuGatewayRig {
 
 TEST_CASE("two gateway machines on one RTU line answer Query and Set as their own slaves") {
     RtuGatewayRig rig;
-    CHECK(rig.query("rtu-press-1", "feed_override").first == 101);
-    CHECK(rig.query("rtu-press-2", "feed_override").first == 102);
-    CHECK(rig.query("rtu-press-1", "status").first == "running");
-    CHECK(rig.query("rtu-press-2", "spindle_speed").first.get<double>() == Approx(200.0));
+    CHECK(rig.query("plc-lathe-rtu-1", "feed_override").first == 101);
+    CHECK(rig.query("plc-lathe-rtu-2", "feed_override").first == 102);
+    CHECK(rig.query("plc-lathe-rtu-1", "status").first == "running");
+    CHECK(rig.query("plc-lathe-rtu-2", "spindle_speed").first.get<double>() == Approx(200.0));
 
-    auto set = rig.client->set("rtu-press-2", {SetItem{"feed_override", Json{{"value", 77}}, std::nullopt, std::nullopt}});
+    auto set = rig.client->set("plc-lathe-rtu-2", {SetItem{"feed_override", Json{{"value", 77}}, std::nullopt, std::nullopt}});
     REQUIRE(set.ok());
     REQUIRE(set->at(0).status.ok);
     CHECK(rig.slaves.holding(2, 3) == 77);
     CHECK(rig.slaves.holding(1, 3) == 101);
-    CHECK(rig.query("rtu-press-2", "feed_override").first == 77);
+    CHECK(rig.query("plc-lathe-rtu-2", "feed_override").first == 77);
     CHECK(rig.slaves.bad_frames() == 0);
 }
 
 TEST_CASE("a silent RTU slave answers 203 and comes back, the other machine on its line keeps answering") {
     RtuGatewayRig rig;
-    REQUIRE(rig.query("rtu-press-2", "feed_override").first == 102);
+    REQUIRE(rig.query("plc-lathe-rtu-2", "feed_override").first == 102);
     rig.slaves.set_silent(2, true);
     // The Query that meets the silent slave: Timeout (203) from the driver.
-    CHECK(rig.query("rtu-press-2", "feed_override").second == 203);
-    CHECK(rig.query("rtu-press-1", "feed_override").first == 101);
+    CHECK(rig.query("plc-lathe-rtu-2", "feed_override").second == 203);
+    CHECK(rig.query("plc-lathe-rtu-1", "feed_override").first == 101);
 
     rig.slaves.set_silent(2, false);
     rig.slaves.set_holding(2, 3, 103);
-    CHECK(eventually([&] { return rig.query("rtu-press-2", "feed_override").first == 103; }, 20s));
+    CHECK(eventually([&] { return rig.query("plc-lathe-rtu-2", "feed_override").first == 103; }, 20s));
 }
 
 TEST_CASE("an RTU answer with a bad CRC fails that Query alone, and the next one is answered") {
     RtuGatewayRig rig;
-    REQUIRE(rig.query("rtu-press-1", "feed_override").first == 101);
+    REQUIRE(rig.query("plc-lathe-rtu-1", "feed_override").first == 101);
     rig.slaves.damage_next_answer(1);
-    CHECK(rig.query("rtu-press-1", "feed_override").second == 202);
-    CHECK(rig.query("rtu-press-1", "feed_override").first == 101);
-    CHECK(rig.query("rtu-press-2", "feed_override").first == 102);
+    CHECK(rig.query("plc-lathe-rtu-1", "feed_override").second == 202);
+    CHECK(rig.query("plc-lathe-rtu-1", "feed_override").first == 101);
+    CHECK(rig.query("plc-lathe-rtu-2", "feed_override").first == 102);
 }
