@@ -182,6 +182,12 @@ public:
         std::lock_guard lock(mutex_);
         return slaves_.at(slave).answers;
     }
+    /// The slave's next answer pauses for `pause` after its first half (a
+    /// slave or converter that stalls mid-frame).
+    void pause_next_answer(int slave, std::chrono::milliseconds pause) {
+        std::lock_guard lock(mutex_);
+        slaves_.at(slave).pause_next = pause;
+    }
     /// The slave's next answer goes out with its CRC damaged.
     void damage_next_answer(int slave) {
         std::lock_guard lock(mutex_);
@@ -204,6 +210,7 @@ private:
         bool silent = false;
         bool damage_next = false;
         std::chrono::milliseconds delay{0};
+        std::chrono::milliseconds pause_next{0};
         int requests = 0;
         int answers = 0;
     };
@@ -276,9 +283,13 @@ private:
             out[n - 1] ^= 0xA5;
             slave.damage_next = false;
         }
+        const std::chrono::milliseconds pause = slave.pause_next;
+        slave.pause_next = std::chrono::milliseconds(0);
+        const ssize_t half = pause.count() > 0 ? n / 2 : n;
         ssize_t sent = 0;
         while (sent < n) {
-            const ssize_t w = ::write(fd_, out + sent, static_cast<std::size_t>(n - sent));
+            if (sent == half) std::this_thread::sleep_for(pause);
+            const ssize_t w = ::write(fd_, out + sent, static_cast<std::size_t>((sent < half ? half : n) - sent));
             if (w <= 0) break;
             sent += w;
         }

@@ -2,6 +2,7 @@
 // pair (socat) against simulated slaves (support/rtu_line.hpp): reads and
 // writes, two machines sharing one line, a slave that stops answering (203,
 // backoff, recovery), an answer with a bad CRC, a slow slave's late answer,
+// an answer that stalls mid-frame (byte timeout),
 // the line's turns in order,
 // and the plugin's drivers sharing a line.
 #include <catch2/catch.hpp>
@@ -285,6 +286,34 @@ TEST_CASE("RTU: a slow slave's late answer is not taken for the next slave's ans
     REQUIRE(r[0].ok());
     CHECK(r[0].value() == 11);
     CHECK(a.read({"feed_override"})[0].value() == 11);
+}
+
+TEST_CASE("RTU: an answer that stalls longer than byte_timeout_ms is cut off, a longer byte_timeout_ms waits for it") {
+    Line line;
+    line.slaves.set_holding(1, 12, 80);
+    Machine strict(line.pty.driver_end(), 1, line.buses);  // byte_timeout_ms 50
+    line.slaves.pause_next_answer(1, std::chrono::milliseconds(150));
+    const int answered = line.slaves.answers(1);
+    auto r = strict.read({"feed_override"});
+    REQUIRE_FALSE(r[0].ok());
+    CHECK(r[0].error().code == ErrorCode::timeout);
+    // The rest of the cut-off answer arrives afterwards (dropped before the next request).
+    REQUIRE(
+        nclink::test::eventually([&] { return line.slaves.answers(1) == answered + 1 && line.pty.waiting_at_driver_end() > 0; }));
+
+    ModbusDriver patient(std::nullopt, {}, line.buses);
+    DriverContext ctx;
+    ctx.config = rtu_map(line.pty.driver_end(), 1);
+    ctx.config["byte_timeout_ms"] = 1000;
+    REQUIRE(patient.open(ctx).ok());
+    line.slaves.pause_next_answer(1, std::chrono::milliseconds(150));
+    std::vector<PointRef> points{PointRef{"feed_override", DataKind::single}};
+    std::vector<Result<Json>> results(1, make_error(ErrorCode::unavailable, "not read"));
+    patient.read(points, results);
+    INFO((results[0].ok() ? std::string() : results[0].error().message));
+    REQUIRE(results[0].ok());
+    CHECK(results[0].value() == 80);
+    patient.close();
 }
 
 TEST_CASE("RTU: the line's turns are given in the order they were asked for") {
