@@ -48,7 +48,7 @@ Result<void> Agent::Impl::start() {
         std::lock_guard<std::mutex> lock(mutex);
         registrar = std::make_unique<Registrar>(std::move(rule).value(), config.registration);
         if (auto read = store.load(*registrar, presence, models, log); !read) return read;
-        loaded = true;
+        saves.loaded();
         for (const auto& [tid, entry] : config.registration.terminals)
             presence.set_kind(tid, kind_from_string(entry.kind));
         log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id,
@@ -73,7 +73,8 @@ Result<void> Agent::Impl::start() {
     });
     if (auto r = transport->subscribe(answer_filters(), 1); !r) return r;
     if (auto r = transport->subscribe(observe_filters(), 1); !r) return r;
-    housekeeping = std::thread([this] { housekeep(); });
+    last_save = clock->now();
+    housekeeping.start(config.tick, [this] { housekeep(); }, "nclink-agent-hk");
     return transport->start();
 }
 
@@ -83,12 +84,7 @@ void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
         if (!started || stopped) return;
         stopped = true;
     }
-    {
-        std::lock_guard<std::mutex> lock(hk_mutex);
-        hk_stopping = true;
-    }
-    hk_wake.notify_all();
-    if (housekeeping.joinable()) housekeeping.join();
+    housekeeping.stop();
     if (transport) transport->stop(flush_timeout);  // no handler calls after this
     persist(true);
     log.info("agent {} stopped", config.agent_id);

@@ -71,7 +71,7 @@ void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& o
         if (response && response->status.ok && response->probe && response->probe->is_object()) {
             if (models.store(topic.dev, std::move(*response->probe), wall_s())) {
                 ++counters.fetched;
-                models_dirty.insert(topic.dev);
+                saves.model_changed(topic.dev);
                 log.info("agent: cached the model of {} (version {})", topic.dev, models.find(topic.dev)->version);
             }
         } else if (topic.ex && *topic.ex == config.agent_id && models.is_fetch(topic.dev, id)) {

@@ -6,24 +6,16 @@ namespace nclink {
 
 using namespace agent_detail;
 
-// Thread: housekeeping. Polls the injected clock every tick.
 void Agent::Impl::housekeep() {
-    auto last_save = clock->now();
-    std::unique_lock<std::mutex> lock(hk_mutex);
-    while (!hk_stopping) {
-        lock.unlock();
-        Out out;
-        {
-            std::lock_guard<std::mutex> state(mutex);
-            tick(out);
-        }
-        publish(out);
-        if (clock->now() - last_save >= std::chrono::seconds(1)) {
-            persist(false);
-            last_save = clock->now();
-        }
-        lock.lock();
-        hk_wake.wait_for(lock, config.tick, [this] { return hk_stopping; });
+    Out out;
+    {
+        std::lock_guard<std::mutex> state(mutex);
+        tick(out);
+    }
+    publish(out);
+    if (clock->now() - last_save >= std::chrono::seconds(1)) {
+        persist(false);
+        last_save = clock->now();
     }
 }
 
@@ -40,7 +32,7 @@ void Agent::Impl::tick(Out& out) {
     for (const auto& tid : presence.expire(now)) {
         log.info("agent: {} {} is offline (no DTU for its liveness time)", to_string(presence.kind(tid)), tid);
         announce_state(tid, Status::offline, out);
-        registry_dirty = true;
+        saves.registry_changed();
         unreachable_for(tid, out);
     }
     models.expire_fetches(now);
@@ -53,12 +45,10 @@ void Agent::Impl::persist(bool all) {
     std::vector<std::pair<std::string, CachedModel>> dirty_models;
     {
         std::lock_guard<std::mutex> lock(mutex);
-        if (!loaded) return;  // never overwrite a file that could not be read
-        if (registry_dirty || all) registry.emplace(*registrar, presence);
-        registry_dirty = false;
-        for (const auto& dev : models_dirty)
+        auto batch = saves.take(all);  // nothing before the files were read
+        if (batch.registry) registry.emplace(*registrar, presence);
+        for (const auto& dev : batch.models)
             if (const auto* entry = models.find(dev)) dirty_models.emplace_back(dev, *entry);
-        models_dirty.clear();
     }
     if (registry)
         if (auto r = store.save_registry(registry->first, registry->second); !r)

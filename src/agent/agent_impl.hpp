@@ -20,10 +20,12 @@
 #include "agent/access.hpp"
 #include "agent/model_cache.hpp"
 #include "agent/pending_forwards.hpp"
+#include "agent/pending_saves.hpp"
 #include "agent/presence.hpp"
 #include "agent/registrar.hpp"
 #include "agent/state_store.hpp"
 #include "agent/terminal_id.hpp"
+#include "core/periodic_thread.hpp"
 #include "transport/dtu_counting_transport.hpp"
 
 #include <nclink/agent.hpp>
@@ -34,12 +36,10 @@
 #include <fmt/format.h>
 
 #include <atomic>
-#include <condition_variable>
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace nclink {
@@ -81,19 +81,14 @@ struct NCLINK_LOCAL Agent::Impl {
     ModelCache models;
     PendingForwards pending;
     std::map<std::string, int> expected_echo;  // "tid\nstate" -> our own Notify/State still to come back
-    bool loaded = false;  // the state files were read: only then may they be written
-    bool registry_dirty = false;
-    std::set<std::string> models_dirty;
+    agent_detail::PendingSaves saves;  // what the housekeeping thread writes next
     std::uint64_t msg_counter = 0;
     std::set<std::string> kind_probes;  // online terminals of unknown kind asked with a Probe/Query
 
     std::mutex lifecycle;
     bool started = false;
     bool stopped = false;
-    std::mutex hk_mutex;
-    std::condition_variable hk_wake;
-    bool hk_stopping = false;
-    std::thread housekeeping;
+    detail::PeriodicThread housekeeping;  // housekeep() every config.tick
 
     Impl(AgentConfig c, Logger l)
         : config(std::move(c)),
@@ -196,8 +191,10 @@ struct NCLINK_LOCAL Agent::Impl {
 
     // ------------------------------------------------------------ housekeeping
 
-    // Thread: housekeeping. Polls the injected clock every tick.
+    // Thread: housekeeping, every tick: timeouts and liveness on the
+    // injected clock, the state files once a second.
     void housekeep();
+    Clock::Steady last_save{};  // housekeeping thread only
 
     void tick(Out& out);
 

@@ -105,7 +105,7 @@ void Agent::Impl::alive(const std::string& tid, Kind kind, Out& out) {
     if (presence.saw_dtu(tid, clock->now(), wall_s())) {
         log.info("agent: {} {} is online (it sent a DTU)", to_string(presence.kind(tid)), tid);
         announce_state(tid, Status::online, out);
-        registry_dirty = true;
+        saves.registry_changed();
     }
 }
 

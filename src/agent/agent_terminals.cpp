@@ -40,7 +40,7 @@ void Agent::Impl::on_register(const Message& m, Out& out) {
     response.status = decision.status;
     if (decision.status.ok) {
         ++counters.registrations;
-        registry_dirty = true;
+        saves.registry_changed();
         log.info("agent: registered {} {}", to_string(presence.kind(cli)), cli);
     } else {
         ++counters.refused;
@@ -54,7 +54,7 @@ void Agent::Impl::on_register(const Message& m, Out& out) {
 void Agent::Impl::on_register_response(const ParsedTopic& topic, const Message& m) {
     auto response = decode<RegisterResponse>(m.payload);
     if (!response || !response->status.ok || response->cli_uuid != topic.dev) return;
-    if (!registrar->registered(topic.dev)) registry_dirty = true;
+    if (!registrar->registered(topic.dev)) saves.registry_changed();
     registrar->record(topic.dev, presence.kind(topic.dev), wall_s(), presence.online_periods(topic.dev));
 }
 
@@ -159,7 +159,7 @@ void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out
     }
     const Status status = notify->state == "online" ? Status::online : Status::offline;
     if (presence.set_state(tid, status, clock->now(), wall_s())) {
-        registry_dirty = true;
+        saves.registry_changed();
         log.info("agent: {} is {}{}", tid, notify->state, m.retained ? " (retained state)" : "");
     }
     if (status == Status::offline) {

@@ -65,8 +65,7 @@ Client::~Client() {
 Result<void> Client::start() { return impl_->start(); }
 
 bool Client::wait_connected(std::chrono::milliseconds timeout) {
-    std::unique_lock<std::mutex> lock(impl_->link_mutex);
-    return impl_->link_changed.wait_for(lock, timeout, [&] { return impl_->link == LinkState::connected; });
+    return impl_->link.wait_connected(timeout);
 }
 
 Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
@@ -79,11 +78,11 @@ Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
         if (auto r = start(); !r) return std::move(r).error();
     // Connected, or refused (credentials, a certificate: no use waiting on).
     const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (!wait_connected(std::chrono::milliseconds(20)) && !impl_->transport->stats().refused &&
+    while (!wait_connected(std::chrono::milliseconds(20)) && !impl_->link.transport().stats().refused &&
            std::chrono::steady_clock::now() < deadline) {
     }
     if (!wait_connected(std::chrono::milliseconds(0))) {
-        const TransportStats link = impl_->transport->stats();
+        const TransportStats link = impl_->link.transport().stats();
         if (link.refused) return make_error(ErrorCode::permission_denied, "cannot connect to the broker: " + link.last_error);
         return make_error(ErrorCode::timeout, "no connection to the broker within " + std::to_string(timeout.count()) +
                                                   " ms" + (link.last_error.empty() ? "" : ": " + link.last_error));
@@ -173,33 +172,33 @@ Result<SubscriptionId> Client::subscribe_samples(const std::string& dev, SampleH
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_samples: bad device id");
     if (channel && !valid_topic_level(*channel))
         return make_error(ErrorCode::value_type, "subscribe_samples: bad channel id");
-    return impl_->subscribe(topics::sample(dev, channel ? std::string_view(*channel) : std::string_view("+")),
+    return impl_->link.subscribe(topics::sample(dev, channel ? std::string_view(*channel) : std::string_view("+")),
                             std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_state(const std::string& tid, StateHandler handler) {
     if (!valid_topic_level(tid)) return make_error(ErrorCode::value_type, "subscribe_state: bad terminal id");
-    return impl_->subscribe(topics::notify_state(tid), std::move(handler));
+    return impl_->link.subscribe(topics::notify_state(tid), std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_all_states(StateHandler handler) {
-    return impl_->subscribe(topics::notify_state("+"), std::move(handler));
+    return impl_->link.subscribe(topics::notify_state("+"), std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_version(const std::string& dev, VersionHandler handler) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_version: bad device id");
-    return impl_->subscribe(topics::probe_version(dev), std::move(handler));
+    return impl_->link.subscribe(topics::probe_version(dev), std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_method_runs(const std::string& dev, MethodRunHandler handler) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_method_runs: bad device id");
-    return impl_->subscribe(std::vector<std::string>{topics::method_status(dev, "+"), topics::method_result(dev, "+")},
+    return impl_->link.subscribe(std::vector<std::string>{topics::method_status(dev, "+"), topics::method_result(dev, "+")},
                             std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_events(const std::string& dev, WatchedEventHandler handler) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_events: bad device id");
-    return impl_->subscribe(topics::event(dev, "+"), std::move(handler));
+    return impl_->link.subscribe(topics::event(dev, "+"), std::move(handler));
 }
 
 std::string_view to_string(MethodRun::Kind kind) noexcept {
@@ -211,19 +210,13 @@ std::string_view to_string(MethodRun::Kind kind) noexcept {
 }
 
 Result<void> Client::unsubscribe(SubscriptionId id) {
-    std::lock_guard<std::mutex> lock(impl_->subscribe_mutex);
-    bool found = false;
-    auto last = impl_->subscriptions.remove(id, found);
-    if (!found) return make_error(ErrorCode::node_not_exists, "no subscription " + std::to_string(id));
-    if (!last.empty()) return impl_->transport->unsubscribe(std::move(last));
-    return ok_result();
+    return impl_->link.unsubscribe(id);
 }
 
 const std::string& Client::ex_cid() const noexcept { return impl_->options.ex_cid; }
 
 LinkState Client::link_state() const {
-    std::lock_guard<std::mutex> lock(impl_->link_mutex);
-    return impl_->link;
+    return impl_->link.state();
 }
 
 ClientState Client::state() const { return impl_->machine.state(); }
@@ -241,7 +234,7 @@ ClientStats Client::stats() const {
     s.samples = c.samples;
     s.notifications = c.notifications;
     s.queued = c.queued;
-    if (impl_->transport) s.transport = impl_->transport->stats();
+    s.transport = impl_->link.transport().stats();
     s.events = c.events;
     s.duplicates = c.duplicates;
     s.keepalives = c.keepalives;
@@ -251,7 +244,7 @@ ClientStats Client::stats() const {
 
 std::size_t Client::pending_requests() const { return impl_->pending.size(); }
 
-const Transport& Client::transport() const noexcept { return *impl_->transport; }
+const Transport& Client::transport() const noexcept { return impl_->link.transport(); }
 
 
 }  // namespace nclink

@@ -48,15 +48,16 @@ Result<void> Client::Impl::start() {
     std::lock_guard<std::mutex> lock(lifecycle_mutex);
     if (started) return make_error(ErrorCode::unavailable, "client already started");
     started = true;
-    transport->set_message_handler([this](const Message& m) { on_message(m); });
-    transport->set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
+    Transport& transport = link.transport();
+    transport.set_message_handler([this](const Message& m) { on_message(m); });
+    transport.set_state_handler([this](LinkState s, std::string_view detail) { on_link(s, detail); });
     dispatcher.start();
     // Before the first request can go out: responses must find us subscribed.
-    if (auto r = transport->subscribe(response_filters(), 1); !r) {
+    if (auto r = transport.subscribe(response_filters(), 1); !r) {
         dispatcher.stop();
         return r;
     }
-    if (auto r = transport->start(); !r) {
+    if (auto r = transport.start(); !r) {
         dispatcher.stop();
         return r;
     }
@@ -74,7 +75,7 @@ void Client::Impl::stop() {
         stopped = true;
         if (!started) return;
     }
-    transport->stop(options.stop_flush_timeout);  // no transport callbacks after this
+    link.transport().stop(options.stop_flush_timeout);  // no transport callbacks after this
     dispatcher.stop();                             // runs what is queued, then fails what is pending
 }
 
@@ -91,12 +92,7 @@ void Client::Impl::on_link(LinkState state, std::string_view detail) {
     } else if (state == LinkState::disconnected) {
         machine.link_lost();
     }
-    {
-        std::lock_guard<std::mutex> lock(link_mutex);
-        link = state;
-        if (state == LinkState::connected) ever_connected = true;
-    }
-    link_changed.notify_all();
+    link.note(state);
     if (state == LinkState::connected) {
         keep_alive.all_due(Clock::now());  // the outage may have eaten most of the adapter's lease
         dispatcher.poke();
@@ -143,7 +139,7 @@ void Client::Impl::handle_event(const ParsedTopic& topic, const Message& m) {
            : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
                                                                          : counters.unmatched);
     }
-    const auto subs = subscriptions.matching(m.topic);
+    const auto subs = link.matching(m.topic);
     if (subs.empty()) return;
     auto dtu = decode<EventData>(std::string_view(m.payload));
     if (!dtu) {
@@ -174,7 +170,7 @@ void Client::Impl::handle_method_run(const ParsedTopic& topic, const Message& m)
         else
             client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
     }
-    const auto subs = subscriptions.matching(m.topic);
+    const auto subs = link.matching(m.topic);
     if (subs.empty()) return;
     MethodRun run;
     run.dev = topic.dev;
@@ -245,7 +241,7 @@ void Client::Impl::handle_response(const ParsedTopic& topic, const std::string& 
 }
 
 void Client::Impl::handle_notification(const ParsedTopic& topic, const Message& m) {
-    const auto subs = subscriptions.matching(m.topic);
+    const auto subs = link.matching(m.topic);
     if (subs.empty()) return;
     switch (topic.kind) {
         case TopicKind::sample:

@@ -6,15 +6,19 @@
 //                        dispatch thread, response matching by @id,
 //                        notifications, deadlines
 //   client_methods.cpp, client_sampling.cpp, client_events.cpp: one feature each
+// and the objects it composes, each owning its state and lock: ClientLink
+// (the transport, the link's state, the subscriptions), PendingRequests and
+// ClientStateMachine (the send path), Dispatcher (the dispatch thread),
+// ModelCacheState, EventRoutes, KeepAlive, DuplicateFilter.
 // Nothing outside src/client/ includes this.
 #pragma once
 
+#include "client/client_link.hpp"
 #include "client/client_state_machine.hpp"
 #include "client/dispatcher.hpp"
 #include "client/pending_requests.hpp"
 #include "client/request_ids.hpp"
 #include "client/responders.hpp"
-#include "client/subscriptions.hpp"
 #include "client/client_events.hpp"
 #include "client/client_model_cache.hpp"
 #include "client/duplicate_filter.hpp"
@@ -24,7 +28,6 @@
 #include <nclink/topics.hpp>
 
 #include <atomic>
-#include <condition_variable>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -61,23 +64,13 @@ struct NCLINK_LOCAL Client::Impl {
 
     ClientOptions options;
     Logger log;
-    std::unique_ptr<Transport> transport;
+    client_detail::ClientLink link;  // the transport, the link's state, the subscriptions
     client_detail::RequestIds ids;
     client_detail::PendingRequests pending;
-    client_detail::SubscriptionRegistry subscriptions;
     Counters counters;
     std::mutex lifecycle_mutex;
     bool started = false;
     bool stopped = false;
-    std::mutex subscribe_mutex;  // keeps registry and broker subscriptions in step
-    std::mutex link_mutex;
-    std::condition_variable link_changed;
-    LinkState link = LinkState::disconnected;
-    LinkState current_link() {
-        std::lock_guard<std::mutex> lock(link_mutex);
-        return link;
-    }
-    bool ever_connected = false;
     client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
     client_detail::EventRoutes event_routes;  // client_events.cpp
     client_detail::ModelCacheState model_cache;  // client_model_cache.cpp
@@ -93,12 +86,12 @@ struct NCLINK_LOCAL Client::Impl {
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
         : options(std::move(o)),
           log(options.logger),
-          transport(std::move(t)),
+          link(std::move(t)),
           ids(options.ex_cid),
           machine(client_detail::ClientStateMachine::Hooks{
                       [this](const std::string& id) { return (pending.peek(id, nullptr) != nullptr); },
                       [this] { return pending.size() > 0; },
-                      [this](Message m) { return transport->publish(std::move(m)); }},
+                      [this](Message m) { return link.transport().publish(std::move(m)); }},
                   options.max_queued_requests),
           keep_alive(options.keepalive_interval),
           duplicates(options.duplicate_memory),
@@ -184,7 +177,7 @@ struct NCLINK_LOCAL Client::Impl {
         // Probe/Version is then what says to send it again (8.3.6,
         // ClientStateMachine::resend). Subscribed before it is queued, so the
         // subscription is on the broker before the queue goes out.
-        if (!dev.empty() && dev != options.ex_cid && current_link() != LinkState::connected)
+        if (!dev.empty() && dev != options.ex_cid && !link.connected())
             (void)watch_device(dev);  // (Discovery's topic level is the application itself)
         auto submitted = machine.submit(id, dev, Message{std::move(topic), encode(request), 1, false}, [&] {
             return pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout,
@@ -229,22 +222,6 @@ struct NCLINK_LOCAL Client::Impl {
     // Fails a pending request whose publish failed; on the dispatch thread when it runs.
     void fail_request(const std::string& id, Error error);
 
-
-    Result<SubscriptionId> subscribe(std::string filter, client_detail::AnyHandler handler) {
-        return subscribe(std::vector<std::string>{std::move(filter)}, std::move(handler));
-    }
-    Result<SubscriptionId> subscribe(std::vector<std::string> filters, client_detail::AnyHandler handler) {
-        std::lock_guard<std::mutex> lock(subscribe_mutex);
-        auto sub = subscriptions.add(filters, std::move(handler));
-        // Subscribing again even when the filter is known: the broker then
-        // re-sends retained messages (the current state) for the new handler.
-        if (auto r = transport->subscribe(std::move(filters), 1); !r) {
-            bool found = false;
-            (void)subscriptions.remove(sub->id, found);
-            return std::move(r).error();
-        }
-        return sub->id;
-    }
 };
 
 

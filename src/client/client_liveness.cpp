@@ -18,10 +18,7 @@ std::optional<Client::Impl::Clock::time_point> Client::Impl::next_wake() const {
 // while connected (queued ones would pile up); after a reconnect all are due
 // at once (on_link).
 void Client::Impl::send_keepalives(Clock::time_point now) {
-    {
-        std::lock_guard<std::mutex> lock(link_mutex);
-        if (link != LinkState::connected) return;
-    }
+    if (!link.connected()) return;
     for (auto& [dev, item] : keep_alive.due(now)) {
         QueryRequest request;
         request.guid = dev;

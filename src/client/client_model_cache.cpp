@@ -44,8 +44,8 @@ Result<void> Client::Impl::watch_device(const std::string& dev) {
         if (d.watched) return ok_result();
         d.watched = true;
     }
-    auto state = subscribe(topics::notify_state(dev), StateHandler([this, dev](const NotifyState& n) { on_device_state(dev, n); }));
-    auto version = subscribe(topics::probe_version(dev),
+    auto state = link.subscribe(topics::notify_state(dev), StateHandler([this, dev](const NotifyState& n) { on_device_state(dev, n); }));
+    auto version = link.subscribe(topics::probe_version(dev),
                              VersionHandler([this, dev](const ProbeVersionRequest& v) { on_device_version(dev, v); }));
     if (!state || !version) {
         std::lock_guard<std::mutex> lock(model_cache.mutex);

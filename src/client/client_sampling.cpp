@@ -96,7 +96,7 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
         if (!channel->empty() && dtu.id == *channel && handler) handler(dtu);
     };
     auto subscribed =
-        impl_->subscribe(topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
+        impl_->link.subscribe(topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
     if (!subscribed) {
         if (done) done(std::move(subscribed).error());
         return;

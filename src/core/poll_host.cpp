@@ -14,7 +14,8 @@ struct PollHost::Entry {
     std::thread::id runner;        // the thread running the poll, while `running`
 };
 
-PollHost::PollHost(std::size_t threads, std::string name) : name_(std::move(name)) {
+PollHost::PollHost(std::size_t threads, std::string name, std::chrono::milliseconds backstop)
+    : name_(std::move(name)), backstop_(backstop) {
     if (threads == 0) threads = 1;
     watching_.assign(threads, Time::max());
     for (std::size_t i = 0; i < threads; ++i) threads_.emplace_back([this, i] { work(i); });
@@ -114,13 +115,13 @@ void PollHost::work(std::size_t index) {
         const auto now = std::chrono::steady_clock::now();
         if (top.at > now) {
             // One thread watches the next deadline; the others only back it
-            // up (kBackstop later), in case its watcher is then stuck in a
+            // up (backstop_ later), in case its watcher is then stuck in a
             // long poll. All of them waiting for the same deadline woke
             // together and all but one went back to sleep: at 1,000
             // machines tens of thousands of futile wake-ups a second, each
             // a futex call and a fight for this mutex.
             if (watched_locked(top.at)) {
-                wake_.wait_until(lock, top.at + kBackstop);
+                wake_.wait_until(lock, top.at + backstop_);
             } else {
                 watching_[index] = top.at;
                 wake_.wait_until(lock, top.at);  // an earlier item, or stop, notifies

@@ -46,8 +46,10 @@ public:
     struct Entry;
     using Handle = std::shared_ptr<Entry>;
 
-    /// `threads` (at least 1) serving threads; `name` shows in `top -H`.
-    PollHost(std::size_t threads, std::string name);
+    /// `threads` (at least 1) serving threads; `name` shows in `top -H`;
+    /// `backstop`: see kBackstop (tests that must not depend on the box's
+    /// scheduling give a long one).
+    PollHost(std::size_t threads, std::string name, std::chrono::milliseconds backstop = kBackstop);
     ~PollHost();  ///< stop()s
     PollHost(const PollHost&) = delete;
     PollHost& operator=(const PollHost&) = delete;
@@ -70,6 +72,7 @@ public:
     /// take it over from a watcher still busy in a poll: the most a stuck or
     /// slow poll delays the others.
     static constexpr std::chrono::milliseconds kBackstop{5};
+    std::chrono::milliseconds backstop() const { return backstop_; }
 
 private:
     struct Due {
@@ -93,6 +96,7 @@ private:
     std::vector<Time> watching_;  // per serving thread: the deadline it waits for (max: none)
     bool stopping_ = false;
     const std::string name_;
+    const std::chrono::milliseconds backstop_;
     std::vector<std::thread> threads_;
 };
 

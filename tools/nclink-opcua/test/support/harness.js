@@ -69,7 +69,7 @@ function startServer(args, { home = tempDir("nclink-opcua-home-") } = {}) {
     home,
     exited,
     /// The first log line (from line `from` on) matching `re`.
-    async waitForLine(re, { ms = 60000, from = 0 } = {}) {
+    async waitForLine(re, { ms = 120000, from = 0 } = {}) {
       return waitUntil(() => lines.slice(from).find((l) => re.test(l)), { ms, what: `log line ${re}\n${lines.join("\n")}` });
     },
     async stop() {
