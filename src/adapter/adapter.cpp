@@ -7,6 +7,7 @@
 #include "adapter/adapter_reload.hpp"
 #include "adapter/request_handlers.hpp"
 #include "sampling/sampling_service.hpp"
+#include "transport/broker_settings.hpp"
 #include "transport/mosquitto_transport.hpp"
 #include "transport/mqtt_loop.hpp"
 
@@ -122,14 +123,8 @@ Result<void> Adapter::Impl::start() {
 
 MqttOptions Adapter::Impl::mqtt_options() const {
     MqttOptions o;
-    o.broker_url = config.broker_url;
-    o.client_id = config.client_id.empty() ? "nclink-adapter-" + dev : config.client_id;
-    o.username = config.username;
-    o.password = config.password;
-    o.tls = config.tls;
-    o.mqtt_version = config.mqtt_version;
-    o.keep_alive = config.keep_alive;
-    o.clean_session = config.clean_session;
+    transport_detail::BrokerSettings::of(config).apply_to(o);
+    if (o.client_id.empty()) o.client_id = "nclink-adapter-" + dev;
     o.outbox.max_bytes = config.offline_buffer_bytes;
     o.outbox.max_in_flight = config.max_in_flight;
     o.last_will = detail::state_message(dev, "offline");
