@@ -1,10 +1,13 @@
 #include "adapter/adapter_features.hpp"
 
 #include "events/events_config.hpp"
+#include "events/events_metrics.hpp"
 #include "events/events_service.hpp"
 #include "methods/methods_config.hpp"
+#include "methods/methods_metrics.hpp"
 #include "methods/methods_service.hpp"
 #include "sampling/sampling_config.hpp"
+#include "sampling/sampling_metrics.hpp"
 #include "sampling/sampling_service.hpp"
 
 #include <fmt/format.h>
@@ -33,14 +36,15 @@ std::vector<std::unique_ptr<Feature>> make_features(FeatureHost& host, const Ada
 }
 
 void feature_drops_from_stats(const Json& features, DropCounts& out) {
-    static const Json none;
-    const auto of = [&](const char* name) -> const Json& {
-        if (!features.is_object()) return none;
-        const auto it = features.find(name);
-        return it == features.end() ? none : *it;
-    };
-    sampling_drops_from_stats(of("sampling"), out);
-    events_drops_from_stats(of("events"), out);
+    sampling_drops_from_stats(json_member(features, "sampling"), out);
+    events_drops_from_stats(json_member(features, "events"), out);
+}
+
+void feature_metrics_from_stats(PrometheusText& out, const MetricLabels& device, const Json& features,
+                                const SamplingStats& sampling) {
+    add_sampling_metrics(out, {device, json_member(features, "sampling"), sampling});
+    add_events_metrics(out, {device, json_member(features, "events"), sampling});
+    add_methods_metrics(out, {device, json_member(features, "methods"), sampling});
 }
 
 Result<void> FeatureSet::start(FeatureHost host, const AdapterConfig& config) {

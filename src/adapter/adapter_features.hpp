@@ -14,6 +14,7 @@
 
 #include "core/config_reader.hpp"
 #include "feature/feature.hpp"
+#include "feature/feature_metrics.hpp"
 
 #include <nclink/adapter_config.hpp>
 
@@ -36,6 +37,12 @@ std::vector<std::unique_ptr<Feature>> make_features(FeatureHost& host, const Ada
 /// Every feature's drop causes read from a statistics snapshot's "features"
 /// object (AdapterStats::features): what their add_drops() count live.
 void feature_drops_from_stats(const Json& features, DropCounts& out);
+
+/// Every feature's families of the adapter's exposition (docs/metrics.md),
+/// written by the feature's module from a statistics snapshot's "features"
+/// object and the sample channels.
+void feature_metrics_from_stats(PrometheusText& out, const MetricLabels& device, const Json& features,
+                                const SamplingStats& sampling);
 
 /// The running features and their host.
 class FeatureSet {
