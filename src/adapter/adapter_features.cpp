@@ -42,9 +42,9 @@ void feature_drops_from_stats(const Json& features, DropCounts& out) {
 
 void feature_metrics_from_stats(PrometheusText& out, const MetricLabels& device, const Json& features,
                                 const SamplingStats& sampling) {
-    add_sampling_metrics(out, {device, json_member(features, "sampling"), sampling});
-    add_events_metrics(out, {device, json_member(features, "events"), sampling});
-    add_methods_metrics(out, {device, json_member(features, "methods"), sampling});
+    add_sampling_metrics(out, {device, json_member(features, "sampling")}, sampling);
+    add_events_metrics(out, {device, json_member(features, "events")});
+    add_methods_metrics(out, {device, json_member(features, "methods")});
 }
 
 Result<void> FeatureSet::start(FeatureHost host, const AdapterConfig& config) {

@@ -17,6 +17,7 @@
 #include "feature/feature_metrics.hpp"
 
 #include <nclink/adapter_config.hpp>
+#include <nclink/sampling.hpp>
 
 #include <atomic>
 #include <memory>

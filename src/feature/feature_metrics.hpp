@@ -1,6 +1,6 @@
 // How a feature shows in the adapter's Prometheus exposition (docs/metrics.md):
 // each feature's module writes its own families from what it reports, its
-// object in AdapterStats::features (and, for sampling, SamplingStats), so the
+// object in AdapterStats::features (sampling also reads its channels), so the
 // adapter's metrics name no feature. adapter_features.cpp lists the writers
 // beside the features.
 #pragma once
@@ -8,7 +8,6 @@
 #include "core/prometheus_text.hpp"
 
 #include <nclink/json.hpp>
-#include <nclink/sampling.hpp>
 
 #include <cstdint>
 
@@ -16,9 +15,8 @@ namespace nclink::detail {
 
 /// What a feature's metrics are written from: one statistics snapshot.
 struct FeatureMetricsInput {
-    const MetricLabels& device;    ///< {"dev", <device>}
-    const Json& stats;             ///< the feature's object in AdapterStats::features; null when absent
-    const SamplingStats& sampling;  ///< the sample channels (Adapter::sampling_stats())
+    const MetricLabels& device;  ///< {"dev", <device>}
+    const Json& stats;           ///< the feature's object in AdapterStats::features; null when absent
 };
 
 /// One sample of the family every cause of lost data is counted in:

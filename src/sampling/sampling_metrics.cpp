@@ -19,11 +19,11 @@ HistogramSnapshot lateness_histogram(const ChannelStats& c) {
 
 }  // namespace
 
-void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in) {
+void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, const SamplingStats& channels) {
     const MetricLabels& d = in.device;
     const Json& spool = json_member(in.stats, "spool");
     std::uint64_t ring_drops = 0;
-    for (const auto& c : in.sampling.channels) ring_drops += c.drops;
+    for (const auto& c : channels.channels) ring_drops += c.drops;
     add_drop_metric(out, d, "ring_full", ring_drops);
     add_drop_metric(out, d, "spool_full", json_count(spool, "dropped"));
 
@@ -38,8 +38,8 @@ void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in) {
                 json_count(spool, "replayed"));
 
     // ---- per channel
-    out.gauge("nclink_adapter_sampling_running", "1 while the sample channels run", d, in.sampling.running ? 1 : 0);
-    for (const auto& c : in.sampling.channels) {
+    out.gauge("nclink_adapter_sampling_running", "1 while the sample channels run", d, channels.running ? 1 : 0);
+    for (const auto& c : channels.channels) {
         MetricLabels l = d;
         l.emplace_back("channel", c.id);
         out.gauge("nclink_adapter_sampling_interval_seconds", "The channel's sampleInterval", l, c.sample_interval_ms / 1e3);

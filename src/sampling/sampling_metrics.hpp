@@ -5,8 +5,11 @@
 
 #include "feature/feature_metrics.hpp"
 
+#include <nclink/sampling.hpp>
+
 namespace nclink::detail {
 
-void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in);
+/// `channels`: the sample channels (Adapter::sampling_stats()).
+void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, const SamplingStats& channels);
 
 }  // namespace nclink::detail
