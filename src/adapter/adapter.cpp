@@ -38,18 +38,17 @@ Result<void> Adapter::Impl::start() {
         auto plugin = load_driver_plugin(config.driver_plugin, config.driver_config, logger);
         if (!plugin) return std::move(plugin).error();
         driver = std::move(plugin).value();
-        logger.info("driver plugin {} {} loaded from {}", driver->info().name, driver->info().version,
-                    config.driver_plugin);
+        logger.info("driver plugin {} {} loaded from {}", driver->info().name, driver->info().version, config.driver_plugin);
     }
-    if (!driver)
-        return make_error(ErrorCode::parameter_missing, "no driver: link one or set driver.plugin in the configuration");
+    if (!driver) return make_error(ErrorCode::parameter_missing, "no driver: link one or set driver.plugin in the configuration");
     if (auto opened = driver->open(DriverContext{config.driver_config, logger}); !opened)
         return make_error(opened.error().code, "driver failed to open: " + opened.error().message);
 
     // Before the uploader's first DTU; process-wide (nclink/heap.hpp).
     if (config.heap_keep_bytes > 0 && !keep_freed_heap(config.heap_keep_bytes))
-        logger.debug("heap_keep_bytes: the allocator does not take glibc's mallopt settings (another C library, or a "
-                     "sanitizer's allocator); left as it is");
+        logger.debug(
+            "heap_keep_bytes: the allocator does not take glibc's mallopt settings (another C library, or a "
+            "sanitizer's allocator); left as it is");
     DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
     if (shared_threads) runner_options.pool = &shared_threads->impl().drivers;
@@ -88,11 +87,11 @@ Result<void> Adapter::Impl::start() {
     });
     applications = std::make_unique<detail::ApplicationWatch>(
         *transport, dev, config.application_lease, logger, [this](const std::string& ex) { features.on_application_gone(ex); });
-    model_change = std::make_unique<detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features,
-                                                         listeners, [this] { return running(); });
-    requests = std::make_unique<detail::RequestIntake>(detail::RequestIntake::Parts{
-        config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features, *applications, *model_change,
-        [this] { return to_json(self->stats()); }, shared});
+    model_change = std::make_unique<detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features, listeners,
+                                                         [this] { return running(); });
+    requests = std::make_unique<detail::RequestIntake>(
+        detail::RequestIntake::Parts{config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features,
+                                     *applications, *model_change, [this] { return to_json(self->stats()); }, shared});
     housekeeping = std::make_unique<detail::Housekeeping>(
         *link, *applications, [this] { return features.ready() ? drops_now() : Json(); }, clock, logger,
         shared ? &shared->timers : nullptr);
@@ -116,7 +115,8 @@ Result<void> Adapter::Impl::start() {
         !begun)
         return begun;
     link->fire(AdapterEvent::initialized);
-    link->fire(AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
+    link->fire(
+        AdapterEvent::link_lost);  // not connected yet (logged at debug: initial -> disconnected): requests' answers wait for the link
     housekeeping->start();
     return transport->start();
 }
@@ -130,7 +130,6 @@ MqttOptions Adapter::Impl::mqtt_options() const {
     o.last_will = detail::state_message(dev, "offline");
     return o;
 }
-
 
 bool Adapter::Impl::running() {
     {
@@ -163,7 +162,6 @@ void Adapter::Impl::on_link(LinkState state) {
     features.on_link(state);
 }
 
-
 void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
     {
         std::lock_guard<std::mutex> lock(mutex);
@@ -186,7 +184,6 @@ void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
     if (requests) requests->release_driver_tasks();
     logger.info("adapter {} stopped", dev);
 }
-
 
 Adapter::Adapter(AdapterConfig config, std::shared_ptr<Driver> driver, Logger logger)
     : impl_(std::make_unique<Impl>(std::move(config), std::move(driver), std::move(logger))) {
@@ -234,8 +231,7 @@ AdapterState Adapter::state() const {
 void Adapter::notify_value(const std::string& id, Json value) {
     if (!impl_->features.ready()) return;
     // Chapter 7: a pushed value breaking its item's rule reaches no event.
-    if (const auto state = impl_->host.current(); state && !impl_->value_guard->admit(*state, id, value, "notify_value"))
-        return;
+    if (const auto state = impl_->host.current(); state && !impl_->value_guard->admit(*state, id, value, "notify_value")) return;
     impl_->features.on_value(id, value);
 }
 

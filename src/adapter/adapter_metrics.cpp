@@ -44,17 +44,15 @@ void add_adapter_metrics(PrometheusText& out, const std::string& dev, const Adap
     out.counter("nclink_adapter_requests_malformed_total", "Requests answered NG as a whole (undecodable)", d, s.rejected);
     out.counter("nclink_adapter_driver_timeouts_total", "Driver calls past their deadline", d, s.driver_timeouts);
     out.counter("nclink_adapter_values_refused_total",
-                "Driver values refused for breaking their item's chapter-7 rule (docs/porting-guide.md)", d,
-                s.values_refused);
+                "Driver values refused for breaking their item's chapter-7 rule (docs/porting-guide.md)", d, s.values_refused);
     out.counter("nclink_adapter_applications_released_total",
-                "Applications judged offline (3.22) whose events and dynamic channels were released", d,
-                s.applications_released);
+                "Applications judged offline (3.22) whose events and dynamic channels were released", d, s.applications_released);
     out.declare("nclink_adapter_request_duration_seconds", "histogram",
                 "Requests from receipt to the answer (Method/Call: to its acceptance), by request kind");
     for (const auto& [kind, h] : traffic.request_seconds)
         out.histogram("nclink_adapter_request_duration_seconds",
-                      "Requests from receipt to the answer (Method/Call: to its acceptance), by request kind",
-                      with("kind", kind), h);
+                      "Requests from receipt to the answer (Method/Call: to its acceptance), by request kind", with("kind", kind),
+                      h);
 
     // ---- DTUs by kind
     out.declare("nclink_adapter_dtus_received_total", "counter", "DTUs received, by topic kind");
@@ -62,20 +60,18 @@ void add_adapter_metrics(PrometheusText& out, const std::string& dev, const Adap
         out.counter("nclink_adapter_dtus_received_total", "DTUs received, by topic kind", with("kind", kind), n);
     out.declare("nclink_adapter_dtus_sent_total", "counter", "DTUs handed to the MQTT connection, by topic kind");
     for (const auto& [kind, n] : traffic.dtus_out)
-        out.counter("nclink_adapter_dtus_sent_total", "DTUs handed to the MQTT connection, by topic kind",
-                    with("kind", kind), n);
+        out.counter("nclink_adapter_dtus_sent_total", "DTUs handed to the MQTT connection, by topic kind", with("kind", kind), n);
 
     // ---- MQTT
     const auto& t = s.transport;
     out.counter("nclink_adapter_mqtt_connects_total", "Successful (re)connections to the broker", d, t.connects);
-    out.gauge("nclink_adapter_mqtt_buffered_messages", "Messages waiting to go to the broker", d,
-              static_cast<double>(t.buffered));
+    out.gauge("nclink_adapter_mqtt_buffered_messages", "Messages waiting to go to the broker", d, static_cast<double>(t.buffered));
     out.gauge("nclink_adapter_mqtt_buffered_bytes", "Bytes of the messages waiting to go to the broker", d,
               static_cast<double>(t.buffered_bytes));
     out.gauge("nclink_adapter_mqtt_in_flight_messages", "Messages handed to the broker, not yet acknowledged", d,
               static_cast<double>(t.in_flight));
-    out.counter("nclink_adapter_mqtt_dropped_bytes_total", "Bytes of messages dropped because the offline buffer was full",
-                d, t.dropped_bytes);
+    out.counter("nclink_adapter_mqtt_dropped_bytes_total", "Bytes of messages dropped because the offline buffer was full", d,
+                t.dropped_bytes);
 
     // ---- drops by cause (each in its own unit: see docs/metrics.md); the
     // features add theirs with their own families (adapter_features.hpp)

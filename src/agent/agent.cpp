@@ -49,17 +49,14 @@ Result<void> Agent::Impl::start() {
         registrar = std::make_unique<Registrar>(std::move(rule).value(), config.registration);
         if (auto read = store.load(*registrar, presence, models, log); !read) return read;
         saves.loaded();
-        for (const auto& [tid, entry] : config.registration.terminals)
-            presence.set_kind(tid, kind_from_string(entry.kind));
-        log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id,
-                 registrar->all().size(), models.all().size(),
-                 store.enabled() ? config.state_dir : std::string("(not persisted)"));
+        for (const auto& [tid, entry] : config.registration.terminals) presence.set_kind(tid, kind_from_string(entry.kind));
+        log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id, registrar->all().size(),
+                 models.all().size(), store.enabled() ? config.state_dir : std::string("(not persisted)"));
         // Seed 004 item 31: the registrations were checked (read) above; the
         // pairs leave `initial` and follow who is online from now on.
         const auto row = agent_transition(AgentState::initial, AgentEvent::initialized);
         started_serving = row.next != AgentState::initial;
-        log.info("agent {}: state {} -> {} (initialized)", config.agent_id, to_string(AgentState::initial),
-                 to_string(row.next));
+        log.info("agent {}: state {} -> {} (initialized)", config.agent_id, to_string(AgentState::initial), to_string(row.next));
     }
     if (!transport) {
         auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
@@ -74,7 +71,8 @@ Result<void> Agent::Impl::start() {
     if (auto r = transport->subscribe(answer_filters(), 1); !r) return r;
     if (auto r = transport->subscribe(observe_filters(), 1); !r) return r;
     last_save = clock->now();
-    housekeeping.start(config.tick, [this] { housekeep(); }, "nclink-agent-hk");
+    housekeeping.start(
+        config.tick, [this] { housekeep(); }, "nclink-agent-hk");
     return transport->start();
 }
 
@@ -103,9 +101,8 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     auto reloadable = [&](bool same, const char* key) {
         if (!same) report.applied.push_back(key);
     };
-    for (const std::string& key :
-         transport_detail::broker_reload_keys(transport_detail::BrokerSettings::of(config),
-                                               transport_detail::BrokerSettings::of(next)))
+    for (const std::string& key : transport_detail::broker_reload_keys(transport_detail::BrokerSettings::of(config),
+                                                                       transport_detail::BrokerSettings::of(next)))
         restart_only(false, key.c_str());
     restart_only(config.agent_id == next.agent_id, "agent_id");
     restart_only(config.share_group == next.share_group, "share_group");
@@ -128,8 +125,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     }
     if (registration_changed) {
         registrar->set_policy(std::move(rule).value(), next.registration);
-        for (const auto& [tid, entry] : next.registration.terminals)
-            presence.set_kind(tid, kind_from_string(entry.kind));
+        for (const auto& [tid, entry] : next.registration.terminals) presence.set_kind(tid, kind_from_string(entry.kind));
     }
     config.registration = next.registration;
     config.access = next.access;
@@ -152,8 +148,7 @@ MqttOptions Agent::Impl::mqtt_options() const {
 // Requests the agent answers: with several agents, exactly one of them
 // gets each (MQTT shared subscription).
 std::vector<std::string> Agent::Impl::answer_filters() const {
-    std::vector<std::string> filters = {topics::register_request(), topics::discovery_request("+"),
-                                        topics::probe_version("+")};
+    std::vector<std::string> filters = {topics::register_request(), topics::discovery_request("+"), topics::probe_version("+")};
     for (TopicKind kind : adapter_request_kinds())
         for (Spelling s : {Spelling::standard, Spelling::typo}) {
             if (s == Spelling::typo && !has_typo_spelling(kind)) continue;
@@ -167,10 +162,9 @@ std::vector<std::string> Agent::Impl::answer_filters() const {
 
 // What every agent instance must see to keep its own picture complete.
 std::vector<std::string> Agent::Impl::observe_filters() const {
-    std::vector<std::string> filters = {topics::register_response("+"), topics::notify_state("+"),
-                                        topics::probe_version_response("+"),
-                                        topics::probe_version_response("+", "+"), topics::event("+"),
-                                        topics::event("+", "+")};
+    std::vector<std::string> filters = {
+        topics::register_response("+"),           topics::notify_state("+"), topics::probe_version_response("+"),
+        topics::probe_version_response("+", "+"), topics::event("+"),        topics::event("+", "+")};
     for (TopicKind kind : adapter_request_kinds()) {
         std::vector<TopicKind> answers = {*response_kind(kind)};
         if (kind == TopicKind::method_call) answers.push_back(TopicKind::method_status);

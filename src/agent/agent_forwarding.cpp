@@ -24,26 +24,24 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
         ++counters.denied;
         log.info("agent: {} from '{}' to {} denied (301{})", to_string(topic.kind), ex, dev,
                  unregistered ? ", not registered" : "");
-        if (auto answer = make_error_reply(topic.kind, msg_id, dev,
-                                           make_error(ErrorCode::permission_denied,
-                                                      unregistered ? "not registered" : "access control")))
+        if (auto answer =
+                make_error_reply(topic.kind, msg_id, dev,
+                                 make_error(ErrorCode::permission_denied, unregistered ? "not registered" : "access control")))
             reply_all(out, topic, marked(*answer));
         return;
     }
     const AgentState pair = pair_state(topic.ex, dev);
     const auto row = agent_transition(pair, AgentEvent::request_received);
     if (row.actions & agent_action_hold_request) {
-        log.debug("agent: {} -> {} is {}: {} answered in the adapter's place", ex, dev, to_string(pair),
-                  to_string(topic.kind));
+        log.debug("agent: {} -> {} is {}: {} answered in the adapter's place", ex, dev, to_string(pair), to_string(topic.kind));
         const CachedModel* cached = models.find(dev);
         if (topic.kind == TopicKind::probe_query_request && cached && cached->model) {
             ProbeQueryResponse response;
             response.msg_id = msg_id;
             response.guid = dev;
             response.probe = *cached->model;
-            response.private_info = Json{{"cached", true},
-                                         {"version", cached->model_version},
-                                         {"fetchedAt", std::to_string(cached->fetched_at_s)}};
+            response.private_info =
+                Json{{"cached", true}, {"version", cached->model_version}, {"fetchedAt", std::to_string(cached->fetched_at_s)}};
             ++counters.cached;
             reply_all(out, topic, marked(to_json(response)));
             return;
@@ -85,8 +83,8 @@ void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& o
         // The broker keeps it in the application's session (QoS 1) until it
         // is back (the state-machine text 42, 58; 8.3.2): counted, nothing to send now.
         ++counters.held;
-        log.debug("agent: {} -> {} is {}: {} held for the application", topic.ex.value_or(""), topic.dev,
-                  to_string(pair), to_string(topic.kind));
+        log.debug("agent: {} -> {} is {}: {} held for the application", topic.ex.value_or(""), topic.dev, to_string(pair),
+                  to_string(topic.kind));
     }
     if (!id.empty()) (void)pending.answered(topic.kind, topic.dev, topic.ex, id);
 }

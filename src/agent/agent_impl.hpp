@@ -81,7 +81,7 @@ struct NCLINK_LOCAL Agent::Impl {
     ModelCache models;
     PendingForwards pending;
     std::map<std::string, int> expected_echo;  // "tid\nstate" -> our own Notify/State still to come back
-    agent_detail::PendingSaves saves;  // what the housekeeping thread writes next
+    agent_detail::PendingSaves saves;          // what the housekeeping thread writes next
     std::uint64_t msg_counter = 0;
     std::set<std::string> kind_probes;  // online terminals of unknown kind asked with a Probe/Query
 
@@ -201,6 +201,5 @@ struct NCLINK_LOCAL Agent::Impl {
     // Writes what changed; the text is built under the lock, written outside it.
     void persist(bool all);
 };
-
 
 }  // namespace nclink

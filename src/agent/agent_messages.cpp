@@ -52,8 +52,7 @@ void Agent::Impl::on_message(const Message& m) {
 
 void Agent::Impl::publish(Out& out) {
     for (auto& message : out)
-        if (auto r = transport->publish(std::move(message)); !r)
-            log.warn("agent: publish failed: {}", r.error().describe());
+        if (auto r = transport->publish(std::move(message)); !r) log.warn("agent: publish failed: {}", r.error().describe());
 }
 
 void Agent::Impl::dispatch(const ParsedTopic& topic, const Message& m, Out& out) {

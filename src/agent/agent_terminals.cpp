@@ -21,8 +21,7 @@ void Agent::Impl::on_register(const Message& m, Out& out) {
         if (raw.is_object() && raw.contains("cli_uuid") && raw["cli_uuid"].is_string()) {
             const std::string cli = raw["cli_uuid"].get<std::string>();
             if (publishable_level(cli))
-                if (auto answer = make_error_reply(TopicKind::register_request, peek_message_id(m.payload), cli,
-                                                   request.error()))
+                if (auto answer = make_error_reply(TopicKind::register_request, peek_message_id(m.payload), cli, request.error()))
                     reply(out, topics::register_response(cli), *answer);
         }
         log.warn("agent: malformed Register/Request: {}", request.error().describe());
@@ -68,8 +67,7 @@ void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& 
     auto request = decode<DiscoveryRequest>(m.payload);
     if (!request) {
         ++counters.malformed;
-        if (auto answer = make_error_reply(TopicKind::discovery_request, peek_message_id(m.payload), ex,
-                                           request.error()))
+        if (auto answer = make_error_reply(TopicKind::discovery_request, peek_message_id(m.payload), ex, request.error()))
             reply(out, topics::discovery_response(ex), *answer);
         return;
     }
@@ -193,8 +191,8 @@ void Agent::Impl::learn_kind(const std::string& tid, Out& out) {
 
 // 8.3.5: the adapter went away while requests to it were waiting.
 void Agent::Impl::unreachable_for(const std::string& dev, Out& out) {
-    for (auto& request : pending.take_for(dev)) answer_unreachable(request.kind, request.topic, dev, request.ex,
-                                                                    request.msg_id, out);
+    for (auto& request : pending.take_for(dev))
+        answer_unreachable(request.kind, request.topic, dev, request.ex, request.msg_id, out);
 }
 
 }  // namespace nclink

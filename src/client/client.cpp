@@ -37,7 +37,6 @@ bool valid_topic_level(std::string_view level) {
 
 }  // namespace
 
-
 Result<std::unique_ptr<Client>> Client::create(std::unique_ptr<Transport> transport, ClientOptions options) {
     if (!transport) return make_error(ErrorCode::parameter_missing, "client: no transport");
     if (options.ex_cid.empty()) return make_error(ErrorCode::parameter_missing, "client: ex_cid is required");
@@ -64,9 +63,7 @@ Client::~Client() {
 
 Result<void> Client::start() { return impl_->start(); }
 
-bool Client::wait_connected(std::chrono::milliseconds timeout) {
-    return impl_->link.wait_connected(timeout);
-}
+bool Client::wait_connected(std::chrono::milliseconds timeout) { return impl_->link.wait_connected(timeout); }
 
 Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
     bool need_start = false;
@@ -84,8 +81,8 @@ Result<RegisterOutcome> Client::connect(std::chrono::milliseconds timeout) {
     if (!wait_connected(std::chrono::milliseconds(0))) {
         const TransportStats link = impl_->link.transport().stats();
         if (link.refused) return make_error(ErrorCode::permission_denied, "cannot connect to the broker: " + link.last_error);
-        return make_error(ErrorCode::timeout, "no connection to the broker within " + std::to_string(timeout.count()) +
-                                                  " ms" + (link.last_error.empty() ? "" : ": " + link.last_error));
+        return make_error(ErrorCode::timeout, "no connection to the broker within " + std::to_string(timeout.count()) + " ms" +
+                                                  (link.last_error.empty() ? "" : ": " + link.last_error));
     }
     return register_terminal();
 }
@@ -102,20 +99,20 @@ void Client::register_async(Completion<RegisterOutcome> done, RequestOptions opt
 void Client::probe_async(const std::string& dev, Completion<Json> done, RequestOptions options) {
     ProbeQueryRequest request;
     request.guid = dev;
-    impl_->send(TopicKind::probe_query_response, topics::probe_query_request(dev, impl_->options.ex_cid),
-                std::move(request), client_detail::probe_responder(std::move(done)), options);
+    impl_->send(TopicKind::probe_query_response, topics::probe_query_request(dev, impl_->options.ex_cid), std::move(request),
+                client_detail::probe_responder(std::move(done)), options);
 }
 
 void Client::probe_set_async(const std::string& dev, Json model, Completion<void> done, RequestOptions options) {
     ProbeSetRequest request;
     request.guid = dev;
     request.probe = std::move(model);
-    impl_->send(TopicKind::probe_set_response, topics::probe_set_request(dev, impl_->options.ex_cid),
-                std::move(request), client_detail::probe_set_responder(std::move(done)), options);
+    impl_->send(TopicKind::probe_set_response, topics::probe_set_request(dev, impl_->options.ex_cid), std::move(request),
+                client_detail::probe_set_responder(std::move(done)), options);
 }
 
-void Client::query_async(const std::string& dev, std::vector<QueryItem> items,
-                         Completion<std::vector<QueryResult>> done, RequestOptions options) {
+void Client::query_async(const std::string& dev, std::vector<QueryItem> items, Completion<std::vector<QueryResult>> done,
+                         RequestOptions options) {
     QueryRequest request;
     request.guid = dev;
     request.ids = std::move(items);
@@ -140,7 +137,8 @@ void Client::discover_async(Completion<std::vector<DeviceListEntry>> done, Reque
 }
 
 Result<std::vector<DeviceListEntry>> Client::discover(RequestOptions options) {
-    return client_detail::wait_for<std::vector<DeviceListEntry>>(*impl_, [&](auto done) { discover_async(std::move(done), options); });
+    return client_detail::wait_for<std::vector<DeviceListEntry>>(*impl_,
+                                                                 [&](auto done) { discover_async(std::move(done), options); });
 }
 
 Result<RegisterOutcome> Client::register_terminal(RequestOptions options) {
@@ -152,28 +150,25 @@ Result<Json> Client::probe(const std::string& dev, RequestOptions options) {
 }
 
 Result<void> Client::probe_set(const std::string& dev, Json model, RequestOptions options) {
-    return client_detail::wait_for<void>(*impl_, [&](auto done) { probe_set_async(dev, std::move(model), std::move(done), options); });
+    return client_detail::wait_for<void>(*impl_,
+                                         [&](auto done) { probe_set_async(dev, std::move(model), std::move(done), options); });
 }
 
-Result<std::vector<QueryResult>> Client::query(const std::string& dev, std::vector<QueryItem> items,
-                                               RequestOptions options) {
-    return client_detail::wait_for<std::vector<QueryResult>>(*impl_, 
-        [&](auto done) { query_async(dev, std::move(items), std::move(done), options); });
+Result<std::vector<QueryResult>> Client::query(const std::string& dev, std::vector<QueryItem> items, RequestOptions options) {
+    return client_detail::wait_for<std::vector<QueryResult>>(
+        *impl_, [&](auto done) { query_async(dev, std::move(items), std::move(done), options); });
 }
 
-Result<std::vector<SetResult>> Client::set(const std::string& dev, std::vector<SetItem> items,
-                                           RequestOptions options) {
-    return client_detail::wait_for<std::vector<SetResult>>(*impl_, 
-        [&](auto done) { set_async(dev, std::move(items), std::move(done), options); });
+Result<std::vector<SetResult>> Client::set(const std::string& dev, std::vector<SetItem> items, RequestOptions options) {
+    return client_detail::wait_for<std::vector<SetResult>>(
+        *impl_, [&](auto done) { set_async(dev, std::move(items), std::move(done), options); });
 }
 
-Result<SubscriptionId> Client::subscribe_samples(const std::string& dev, SampleHandler handler,
-                                                 std::optional<std::string> channel) {
+Result<SubscriptionId> Client::subscribe_samples(const std::string& dev, SampleHandler handler, std::optional<std::string> channel) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_samples: bad device id");
-    if (channel && !valid_topic_level(*channel))
-        return make_error(ErrorCode::value_type, "subscribe_samples: bad channel id");
+    if (channel && !valid_topic_level(*channel)) return make_error(ErrorCode::value_type, "subscribe_samples: bad channel id");
     return impl_->link.subscribe(topics::sample(dev, channel ? std::string_view(*channel) : std::string_view("+")),
-                            std::move(handler));
+                                 std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_state(const std::string& tid, StateHandler handler) {
@@ -193,7 +188,7 @@ Result<SubscriptionId> Client::subscribe_version(const std::string& dev, Version
 Result<SubscriptionId> Client::subscribe_method_runs(const std::string& dev, MethodRunHandler handler) {
     if (!valid_topic_level(dev)) return make_error(ErrorCode::value_type, "subscribe_method_runs: bad device id");
     return impl_->link.subscribe(std::vector<std::string>{topics::method_status(dev, "+"), topics::method_result(dev, "+")},
-                            std::move(handler));
+                                 std::move(handler));
 }
 
 Result<SubscriptionId> Client::subscribe_events(const std::string& dev, WatchedEventHandler handler) {
@@ -209,15 +204,11 @@ std::string_view to_string(MethodRun::Kind kind) noexcept {
     return "?";
 }
 
-Result<void> Client::unsubscribe(SubscriptionId id) {
-    return impl_->link.unsubscribe(id);
-}
+Result<void> Client::unsubscribe(SubscriptionId id) { return impl_->link.unsubscribe(id); }
 
 const std::string& Client::ex_cid() const noexcept { return impl_->options.ex_cid; }
 
-LinkState Client::link_state() const {
-    return impl_->link.state();
-}
+LinkState Client::link_state() const { return impl_->link.state(); }
 
 ClientState Client::state() const { return impl_->machine.state(); }
 
@@ -245,6 +236,5 @@ ClientStats Client::stats() const {
 std::size_t Client::pending_requests() const { return impl_->pending.size(); }
 
 const Transport& Client::transport() const noexcept { return impl_->link.transport(); }
-
 
 }  // namespace nclink

@@ -19,12 +19,12 @@ bool is_client_response(TopicKind kind) {
         case TopicKind::probe_query_response:
         case TopicKind::probe_set_response:
         case TopicKind::query_response:
-        case TopicKind::method_result:            // client_methods.cpp
-        case TopicKind::method_control_response:  // client_methods.cpp
+        case TopicKind::method_result:               // client_methods.cpp
+        case TopicKind::method_control_response:     // client_methods.cpp
         case TopicKind::sample_register_response:    // client_sampling.cpp
         case TopicKind::sample_unregister_response:  // client_sampling.cpp
-        case TopicKind::event_register_response:    // client_events.cpp
-        case TopicKind::event_unregister_response:  // client_events.cpp
+        case TopicKind::event_register_response:     // client_events.cpp
+        case TopicKind::event_unregister_response:   // client_events.cpp
         case TopicKind::set_response: return true;
         default: return false;
     }
@@ -34,13 +34,19 @@ bool is_client_response(TopicKind kind) {
 
 std::vector<std::string> Client::Impl::response_filters() const {
     const std::string& ex = options.ex_cid;
-    return {topics::register_response(ex), topics::discovery_response(ex), topics::probe_query_response("+", ex),
-            topics::probe_set_response("+", ex), topics::query_response("+", ex),
+    return {topics::register_response(ex),
+            topics::discovery_response(ex),
+            topics::probe_query_response("+", ex),
+            topics::probe_set_response("+", ex),
+            topics::query_response("+", ex),
             topics::set_response("+", ex),
-            topics::method_result("+", ex), topics::method_status("+", ex),  // client_methods.cpp
+            topics::method_result("+", ex),
+            topics::method_status("+", ex),  // client_methods.cpp
             topics::method_control_response("+", ex),
-            topics::sample_register_response("+", ex), topics::sample_unregister_response("+", ex),  // client_sampling.cpp
-            topics::event_register_response("+", ex), topics::event_unregister_response("+", ex),  // client_events.cpp
+            topics::sample_register_response("+", ex),
+            topics::sample_unregister_response("+", ex),  // client_sampling.cpp
+            topics::event_register_response("+", ex),
+            topics::event_unregister_response("+", ex),  // client_events.cpp
             topics::event("+", ex)};
 }
 
@@ -76,13 +82,12 @@ void Client::Impl::stop() {
         if (!started) return;
     }
     link.transport().stop(options.stop_flush_timeout);  // no transport callbacks after this
-    dispatcher.stop();                             // runs what is queued, then fails what is pending
+    dispatcher.stop();                                  // runs what is queued, then fails what is pending
 }
 
 // ---- transport callback thread: copy and hand over, never block ----
 void Client::Impl::on_message(const Message& m) {
-    if (!dispatcher.post([this, m] { handle_message(m); }))
-        log.debug("client: message on {} after stop dropped", m.topic);
+    if (!dispatcher.post([this, m] { handle_message(m); })) log.debug("client: message on {} after stop dropped", m.topic);
 }
 
 void Client::Impl::on_link(LinkState state, std::string_view detail) {
@@ -98,8 +103,7 @@ void Client::Impl::on_link(LinkState state, std::string_view detail) {
         dispatcher.poke();
     }
     log.debug("client {}: link {} ({})", options.ex_cid, to_string(state), detail);
-    if (options.on_link_state)
-        dispatcher.post([this, state] { safely(log, [&] { options.on_link_state(state); }); });
+    if (options.on_link_state) dispatcher.post([this, state] { safely(log, [&] { options.on_link_state(state); }); });
 }
 
 // ---- dispatch thread ----
@@ -117,10 +121,8 @@ void Client::Impl::handle_message(const Message& m) {
         handle_method_run(*parsed, m);
         return;
     }
-    if (is_client_response(parsed->kind))
-        handle_response(*parsed, m.payload);
-    else
-        handle_notification(*parsed, m);
+    if (is_client_response(parsed->kind)) handle_response(*parsed, m.payload);
+    else handle_notification(*parsed, m);
 }
 
 void Client::Impl::handle_event(const ParsedTopic& topic, const Message& m) {
@@ -135,7 +137,7 @@ void Client::Impl::handle_event(const ParsedTopic& topic, const Message& m) {
         return;
     if (own) {  // client_events.cpp
         const auto delivery = event_routes.deliver(topic.dev, m.payload, log);
-        ++(delivery == client_detail::EventRoutes::Delivery::delivered  ? counters.events
+        ++(delivery == client_detail::EventRoutes::Delivery::delivered   ? counters.events
            : delivery == client_detail::EventRoutes::Delivery::malformed ? counters.malformed
                                                                          : counters.unmatched);
     }
@@ -165,10 +167,8 @@ void Client::Impl::handle_method_run(const ParsedTopic& topic, const Message& m)
         if (const MessageId id = peek_message_id(m.payload); id && !first_delivery("R/" + m.topic, id->dump())) return;
     }
     if (own) {
-        if (is_result)
-            handle_response(topic, m.payload);
-        else
-            client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
+        if (is_result) handle_response(topic, m.payload);
+        else client_detail::handle_method_status(pending, m.payload, log);  // client_methods.cpp
     }
     const auto subs = link.matching(m.topic);
     if (subs.empty()) return;
@@ -294,8 +294,8 @@ void Client::Impl::expire(Clock::time_point now) {
             std::string message = "no response to " + request.id + " in time";
             // What the broker retained of the terminal says why, when known.
             if (const auto it = known_states.find(request.dev); it != known_states.end() && it->second != "online")
-                message += fmt::format(" (device {} is {}: its retained Notify/State/{} says so)", request.dev,
-                                       it->second, request.dev);
+                message +=
+                    fmt::format(" (device {} is {}: its retained Notify/State/{} says so)", request.dev, it->second, request.dev);
             request.responder->fail(make_error(ErrorCode::timeout, message));
         });
     }
@@ -309,9 +309,7 @@ void Client::Impl::fail_all() {
 // Fails a pending request whose publish failed; on the dispatch thread when it runs.
 void Client::Impl::fail_request(const std::string& id, Error error) {
     if (auto taken = pending.take(id)) {
-        auto task = [this, r = std::move(taken->responder), error]() mutable {
-            safely(log, [&] { r->fail(std::move(error)); });
-        };
+        auto task = [this, r = std::move(taken->responder), error]() mutable { safely(log, [&] { r->fail(std::move(error)); }); };
         if (!dispatcher.post(task)) task();
     }
 }

@@ -52,14 +52,13 @@ void safely(const Logger& log, F&& f) noexcept {
     }
 }
 
-
 }  // namespace client_detail
 
 struct NCLINK_LOCAL Client::Impl {
     using Clock = client_detail::Clock;
     struct Counters {
-        std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0},
-            unreachable{0}, samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0}, resent{0};
+        std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0}, unreachable{0},
+            samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0}, resent{0};
     };
 
     ClientOptions options;
@@ -71,17 +70,17 @@ struct NCLINK_LOCAL Client::Impl {
     std::mutex lifecycle_mutex;
     bool started = false;
     bool stopped = false;
-    client_detail::ClientStateMachine machine;  // docs/state-machines.md; the send path goes through it
-    client_detail::EventRoutes event_routes;  // client_events.cpp
+    client_detail::ClientStateMachine machine;   // docs/state-machines.md; the send path goes through it
+    client_detail::EventRoutes event_routes;     // client_events.cpp
     client_detail::ModelCacheState model_cache;  // client_model_cache.cpp
-    Client* owner = nullptr;  // the facade, for the cache's own requests (set once, by Client's constructor)
-    client_detail::KeepAlive keep_alive;       // client_liveness.cpp
-    client_detail::DuplicateFilter duplicates;  // dispatch thread only
+    Client* owner = nullptr;                     // the facade, for the cache's own requests (set once, by Client's constructor)
+    client_detail::KeepAlive keep_alive;         // client_liveness.cpp
+    client_detail::DuplicateFilter duplicates;   // dispatch thread only
     // The last Notify/State seen per terminal (on the dispatch thread, from
     // any state subscription), so a request that times out can name a
     // retained "offline" (8.2.16) instead of only "no response".
     std::map<std::string, std::string> known_states;  // dispatch thread only
-    client_detail::Dispatcher dispatcher;  // last: its thread uses everything above
+    client_detail::Dispatcher dispatcher;             // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
         : options(std::move(o)),
@@ -90,8 +89,7 @@ struct NCLINK_LOCAL Client::Impl {
           ids(options.ex_cid),
           machine(client_detail::ClientStateMachine::Hooks{
                       [this](const std::string& id) { return (pending.peek(id, nullptr) != nullptr); },
-                      [this] { return pending.size() > 0; },
-                      [this](Message m) { return link.transport().publish(std::move(m)); }},
+                      [this] { return pending.size() > 0; }, [this](Message m) { return link.transport().publish(std::move(m)); }},
                   options.max_queued_requests),
           keep_alive(options.keepalive_interval),
           duplicates(options.duplicate_memory),
@@ -180,9 +178,9 @@ struct NCLINK_LOCAL Client::Impl {
         if (!dev.empty() && dev != options.ex_cid && !link.connected())
             (void)watch_device(dev);  // (Discovery's topic level is the application itself)
         auto submitted = machine.submit(id, dev, Message{std::move(topic), encode(request), 1, false}, [&] {
-            return pending.add(client_detail::PendingRequest{id, response_kind, Clock::now() + timeout,
-                                              client_detail::track_completion(responder, [this] { machine.completed(); }),
-                                              dev});
+            return pending.add(
+                client_detail::PendingRequest{id, response_kind, Clock::now() + timeout,
+                                              client_detail::track_completion(responder, [this] { machine.completed(); }), dev});
         });
         if (submitted) {
             ++(*submitted == client_detail::ClientStateMachine::Outcome::queued ? counters.queued : counters.requests);
@@ -203,8 +201,8 @@ struct NCLINK_LOCAL Client::Impl {
                                         Completion<std::string> done);
     Completion<Client::SamplingChannel> stand_channel(const std::string& dev, const std::vector<std::string>& item_ids,
                                                       std::chrono::milliseconds sample_interval,
-                                                      std::chrono::milliseconds upload_interval,
-                                                      const SampleHandler& handler, const RequestOptions& request_options,
+                                                      std::chrono::milliseconds upload_interval, const SampleHandler& handler,
+                                                      const RequestOptions& request_options,
                                                       Completion<Client::SamplingChannel> done);
     /// The application unregisters: forgets the record; returns the id (or
     /// channel) the adapter knows now.
@@ -213,7 +211,7 @@ struct NCLINK_LOCAL Client::Impl {
     /// Subscribes the device's Notify/State and Probe/Version once.
     Result<void> watch_device(const std::string& dev);
     void on_device_version(const std::string& dev, const ProbeVersionRequest& version);  ///< dispatch thread
-    void on_device_state(const std::string& dev, const NotifyState& state);            ///< dispatch thread
+    void on_device_state(const std::string& dev, const NotifyState& state);              ///< dispatch thread
     /// Records the adapter run a registration answer names (privateInfo.instance); dispatch thread.
     void note_instance(const std::string& dev, const std::string& payload);
     void reprobe(const std::string& dev);
@@ -221,8 +219,6 @@ struct NCLINK_LOCAL Client::Impl {
 
     // Fails a pending request whose publish failed; on the dispatch thread when it runs.
     void fail_request(const std::string& id, Error error);
-
 };
-
 
 }  // namespace nclink

@@ -43,9 +43,7 @@ public:
     /// subscription uses go.
     Result<void> unsubscribe(SubscriptionId id);
     /// Live subscriptions whose filters match `topic`, in subscription order.
-    std::vector<std::shared_ptr<Subscription>> matching(std::string_view topic) const {
-        return subscriptions_.matching(topic);
-    }
+    std::vector<std::shared_ptr<Subscription>> matching(std::string_view topic) const { return subscriptions_.matching(topic); }
 
 private:
     std::unique_ptr<Transport> transport_;

@@ -31,8 +31,8 @@ void Client::Impl::send_keepalives(Clock::time_point now) {
         ++counters.keepalives;
         RequestOptions request_options;
         request_options.timeout = options.default_timeout;
-        send(TopicKind::query_response, topics::query_request(dev, options.ex_cid), std::move(request),
-             std::move(responder), request_options);
+        send(TopicKind::query_response, topics::query_request(dev, options.ex_cid), std::move(request), std::move(responder),
+             request_options);
     }
 }
 

@@ -44,9 +44,10 @@ Result<void> Client::Impl::watch_device(const std::string& dev) {
         if (d.watched) return ok_result();
         d.watched = true;
     }
-    auto state = link.subscribe(topics::notify_state(dev), StateHandler([this, dev](const NotifyState& n) { on_device_state(dev, n); }));
+    auto state =
+        link.subscribe(topics::notify_state(dev), StateHandler([this, dev](const NotifyState& n) { on_device_state(dev, n); }));
     auto version = link.subscribe(topics::probe_version(dev),
-                             VersionHandler([this, dev](const ProbeVersionRequest& v) { on_device_version(dev, v); }));
+                                  VersionHandler([this, dev](const ProbeVersionRequest& v) { on_device_version(dev, v); }));
     if (!state || !version) {
         std::lock_guard<std::mutex> lock(model_cache.mutex);
         model_cache.devices[dev].watched = false;

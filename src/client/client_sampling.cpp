@@ -6,7 +6,7 @@
 #include "client/blocking_call.hpp"
 #include "client/client_impl.hpp"
 
-#include "client/responders.hpp"      // error_from_status
+#include "client/responders.hpp"  // error_from_status
 
 #include <nclink/topics.hpp>
 
@@ -55,10 +55,8 @@ public:
     }
     void complete() override {
         if (!done_ || !response_) return;
-        if (response_->status.ok)
-            done_(ok_result());
-        else
-            done_(error_from_status(response_->status));
+        if (response_->status.ok) done_(ok_result());
+        else done_(error_from_status(response_->status));
     }
     void fail(Error error) override {
         if (done_) done_(std::move(error));
@@ -80,9 +78,8 @@ bool valid_level(std::string_view level) {
 }  // namespace client_detail
 
 void Client::register_sampling_async(const std::string& dev, std::vector<std::string> ids,
-                                     std::chrono::milliseconds sample_interval,
-                                     std::chrono::milliseconds upload_interval, SampleHandler handler,
-                                     Completion<SamplingChannel> done, RequestOptions options) {
+                                     std::chrono::milliseconds sample_interval, std::chrono::milliseconds upload_interval,
+                                     SampleHandler handler, Completion<SamplingChannel> done, RequestOptions options) {
     done = impl_->stand_channel(dev, ids, sample_interval, upload_interval, handler, options,
                                 std::move(done));  // client_model_cache.cpp
     if (!client_detail::valid_level(dev)) {
@@ -95,8 +92,7 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
     SampleHandler filtered = [channel, handler = std::move(handler)](const SampleDtu& dtu) {
         if (!channel->empty() && dtu.id == *channel && handler) handler(dtu);
     };
-    auto subscribed =
-        impl_->link.subscribe(topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
+    auto subscribed = impl_->link.subscribe(topics::dynamic_sample(dev, ex_cid(), "+"), std::move(filtered));
     if (!subscribed) {
         if (done) done(std::move(subscribed).error());
         return;
@@ -124,16 +120,16 @@ void Client::register_sampling_async(const std::string& dev, std::vector<std::st
             if (done) done(SamplingChannel{dev, std::move(id).value(), subscription});
         });
     impl_->send(TopicKind::sample_register_response, topics::sample_register_request(dev, ex_cid()), std::move(request),
-                                        std::move(responder), options);
+                std::move(responder), options);
 }
 
 Result<Client::SamplingChannel> Client::register_sampling(const std::string& dev, std::vector<std::string> ids,
                                                           std::chrono::milliseconds sample_interval,
-                                                          std::chrono::milliseconds upload_interval,
-                                                          SampleHandler handler, RequestOptions options) {
+                                                          std::chrono::milliseconds upload_interval, SampleHandler handler,
+                                                          RequestOptions options) {
     return client_detail::wait_for<SamplingChannel>(*impl_, [&](auto done) {
-        register_sampling_async(dev, std::move(ids), sample_interval, upload_interval, std::move(handler),
-                                std::move(done), options);
+        register_sampling_async(dev, std::move(ids), sample_interval, upload_interval, std::move(handler), std::move(done),
+                                options);
     });
 }
 
@@ -149,14 +145,11 @@ void Client::unregister_sampling_async(const SamplingChannel& given, Completion<
     request.guid = channel.dev;
     request.id = channel.id;
     impl_->send(TopicKind::sample_unregister_response, topics::sample_unregister_request(channel.dev, ex_cid()),
-                                          std::move(request),
-                                          std::make_shared<client_detail::UnregisterSamplingResponder>(std::move(done)),
-                                          options);
+                std::move(request), std::make_shared<client_detail::UnregisterSamplingResponder>(std::move(done)), options);
 }
 
 Result<void> Client::unregister_sampling(const SamplingChannel& channel, RequestOptions options) {
-    return client_detail::wait_for<void>(
-        *impl_, [&](auto done) { unregister_sampling_async(channel, std::move(done), options); });
+    return client_detail::wait_for<void>(*impl_, [&](auto done) { unregister_sampling_async(channel, std::move(done), options); });
 }
 
 bool Client::is_replayed(const SampleDtu& dtu) noexcept {

@@ -1,7 +1,6 @@
 #include "core/poll_host.hpp"
 #include "core/thread_name.hpp"
 
-
 namespace nclink::detail {
 
 struct PollHost::Entry {
@@ -9,9 +8,9 @@ struct PollHost::Entry {
     // All under the host's mutex:
     std::uint64_t generation = 0;  // bumped on every (re)schedule: older heap items are stale
     bool running = false;
-    bool woken = false;            // wake() while running: poll again at once
+    bool woken = false;  // wake() while running: poll again at once
     bool removed = false;
-    std::thread::id runner;        // the thread running the poll, while `running`
+    std::thread::id runner;  // the thread running the poll, while `running`
 };
 
 PollHost::PollHost(std::size_t threads, std::string name, std::chrono::milliseconds backstop)

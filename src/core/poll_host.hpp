@@ -87,8 +87,8 @@ private:
     bool watched_locked(Time at) const;
 
     mutable std::mutex mutex_;
-    std::condition_variable wake_;       // serving threads: earlier work, or stop
-    std::condition_variable finished_;   // remove(): a poll finished
+    std::condition_variable wake_;      // serving threads: earlier work, or stop
+    std::condition_variable finished_;  // remove(): a poll finished
     std::priority_queue<Due, std::vector<Due>, std::greater<Due>> due_;
     std::size_t entries_ = 0;
     std::uint64_t polls_ = 0;

@@ -8,8 +8,7 @@ void add_events_metrics(PrometheusText& out, const FeatureMetricsInput& in) {
     if (!in.stats.is_object()) return;
     out.gauge("nclink_adapter_events_registered", "Event registrations in place (8.2.27)", in.device,
               static_cast<double>(json_count(in.stats, "registered")));
-    out.counter("nclink_adapter_events_fired_total", "Event DTUs triggered (8.2.31)", in.device,
-                json_count(in.stats, "fired"));
+    out.counter("nclink_adapter_events_fired_total", "Event DTUs triggered (8.2.31)", in.device, json_count(in.stats, "fired"));
 }
 
 }  // namespace nclink::detail

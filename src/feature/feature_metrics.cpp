@@ -18,8 +18,7 @@ std::uint64_t json_count(const Json& object, const char* key) {
     if (!object.is_object()) return 0;
     auto it = object.find(key);
     if (it == object.end() || !it->is_number()) return 0;
-    return it->is_number_unsigned() ? it->get<std::uint64_t>()
-                                    : static_cast<std::uint64_t>(std::max<double>(0, it->get<double>()));
+    return it->is_number_unsigned() ? it->get<std::uint64_t>() : static_cast<std::uint64_t>(std::max<double>(0, it->get<double>()));
 }
 
 const Json& json_member(const Json& object, const char* key) {

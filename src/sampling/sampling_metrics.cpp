@@ -43,13 +43,13 @@ void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, co
         MetricLabels l = d;
         l.emplace_back("channel", c.id);
         out.gauge("nclink_adapter_sampling_interval_seconds", "The channel's sampleInterval", l, c.sample_interval_ms / 1e3);
-        out.counter("nclink_adapter_sampling_rows_total", "Rows sampled into the channel's ring (rows of missed ticks too)",
-                    l, c.rows_sampled);
+        out.counter("nclink_adapter_sampling_rows_total", "Rows sampled into the channel's ring (rows of missed ticks too)", l,
+                    c.rows_sampled);
         out.counter("nclink_adapter_sampling_rows_published_total", "Rows handed to the transport in Sample DTUs", l,
                     c.rows_published);
         out.counter("nclink_adapter_sampling_dtus_total", "Sample DTUs published by the channel", l, c.dtus_published);
-        out.counter("nclink_adapter_sampling_overruns_total", "Ticks whose read could not start before the next was due",
-                    l, c.overruns);
+        out.counter("nclink_adapter_sampling_overruns_total", "Ticks whose read could not start before the next was due", l,
+                    c.overruns);
         out.counter("nclink_adapter_sampling_skipped_ticks_total", "Ticks not produced at all after a long stall", l,
                     c.skipped_ticks);
         out.counter("nclink_adapter_sampling_null_values_total", "Values sent as null (failed reads, missed ticks)", l,

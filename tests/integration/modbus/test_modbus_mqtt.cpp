@@ -15,9 +15,7 @@ using nclink::test::TestPlc;
 
 namespace {
 
-std::string example(const std::string& name) {
-    return std::string(NCLINK_MODELS_DIR) + "/../examples/modbus/" + name;
-}
+std::string example(const std::string& name) { return std::string(NCLINK_MODELS_DIR) + "/../examples/modbus/" + name; }
 
 Json example_map(int port) {
     std::ifstream in(example("adapter.json"));
@@ -36,15 +34,15 @@ struct ModbusRig : nclink::test::SimMillRig {
         config.model_path = example("plc-lathe.json");
         config.driver_config = example_map(port);
         driver = std::make_shared<modbus::ModbusDriver>();
-        plc.set_holding(0, 1);          // status running
+        plc.set_holding(0, 1);  // status running
         plc.set_holding(1, 0);
-        plc.set_holding(2, 17);         // part_count 17 (uint32, big word order)
-        plc.set_holding(3, 100);        // feed_override
-        plc.set_input(0, 0x42C8);       // x_position 100.0f
+        plc.set_holding(2, 17);    // part_count 17 (uint32, big word order)
+        plc.set_holding(3, 100);   // feed_override
+        plc.set_input(0, 0x42C8);  // x_position 100.0f
         plc.set_input(1, 0x0000);
         plc.set_input(4, 0);
-        plc.set_input(5, 12000);        // spindle_speed 1200.0 (scale 0.1)
-        plc.set_discrete(0, true);      // door_closed
+        plc.set_input(5, 12000);    // spindle_speed 1200.0 (scale 0.1)
+        plc.set_discrete(0, true);  // door_closed
         start();
         client = make_client("mes-modbus");
     }
@@ -74,10 +72,12 @@ TEST_CASE("a PLC that goes away answers Unavailable, and its values return with 
     ModbusRig rig;
     // The PLC answers first (a loaded box may stretch one read past the map's
     // 500 ms timeout: that is a 203, not what this test is about).
-    REQUIRE(nclink::test::eventually([&] {
-        auto first = rig.client->query(rig.device(), {QueryItem{"feed_override", std::nullopt}});
-        return first.ok() && first->at(0).status.ok && (*first->at(0).values)[0] == 100;
-    }, std::chrono::seconds(20)));
+    REQUIRE(nclink::test::eventually(
+        [&] {
+            auto first = rig.client->query(rig.device(), {QueryItem{"feed_override", std::nullopt}});
+            return first.ok() && first->at(0).status.ok && (*first->at(0).values)[0] == 100;
+        },
+        std::chrono::seconds(20)));
     rig.plc.stop();
     auto gone = rig.client->query(rig.device(), {QueryItem{"feed_override", std::nullopt}});
     REQUIRE(gone.ok());
@@ -85,8 +85,10 @@ TEST_CASE("a PLC that goes away answers Unavailable, and its values return with 
     CHECK(gone->at(0).status.error == 202);
     rig.plc.start();
     rig.plc.set_holding(3, 90);
-    CHECK(nclink::test::eventually([&] {
-        auto back = rig.client->query(rig.device(), {QueryItem{"feed_override", std::nullopt}});
-        return back.ok() && back->at(0).status.ok && (*back->at(0).values)[0] == 90;
-    }, std::chrono::seconds(20)));
+    CHECK(nclink::test::eventually(
+        [&] {
+            auto back = rig.client->query(rig.device(), {QueryItem{"feed_override", std::nullopt}});
+            return back.ok() && back->at(0).status.ok && (*back->at(0).values)[0] == 90;
+        },
+        std::chrono::seconds(20)));
 }
