@@ -1,0 +1,130 @@
+// The driver's configuration, and an agent that is absent, broken or answers
+// HTTP errors: open() fails with a clear error naming it, never a crash.
+#include "mtconnect/agent_source.hpp"
+#include "mtconnect/mtconnect_driver.hpp"
+
+#include <catch2/catch.hpp>
+#include <httplib.h>
+
+#include <thread>
+
+using namespace nclink;
+using namespace nclink::mtconnect;
+
+namespace {
+
+/// A local HTTP server answering /probe with what the test says.
+struct FakeAgent {
+    explicit FakeAgent(std::function<void(const httplib::Request&, httplib::Response&)> probe) {
+        server.Get("/probe", std::move(probe));
+        port = server.bind_to_any_port("127.0.0.1");
+        thread = std::thread([this] { server.listen_after_bind(); });
+        // stop() before the listen loop runs would be lost (and join() hang).
+        while (!server.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ~FakeAgent() {
+        server.stop();
+        thread.join();
+    }
+    std::string url() const { return "http://127.0.0.1:" + std::to_string(port); }
+    httplib::Server server;
+    int port = 0;
+    std::thread thread;
+};
+
+Error open_error(const Json& config) {
+    MtConnectDriver driver;
+    auto r = driver.open(DriverContext{config, Logger{}});
+    REQUIRE_FALSE(r.ok());
+    return r.error();
+}
+
+}  // namespace
+
+TEST_CASE("driver configuration: one source, known keys, sane numbers") {
+    auto ok = parse_driver_config(Json{{"agent", "http://127.0.0.1:5000"}, {"interval_ms", 200}, {"count", 50}});
+    REQUIRE(ok.ok());
+    CHECK(ok->interval == std::chrono::milliseconds(200));
+    CHECK(ok->count == 50);
+    CHECK(parse_driver_config(Json{{"shdr", "127.0.0.1:7878"}, {"probe_file", "d.xml"}}).ok());
+    CHECK(parse_driver_config(nullptr).error().code == ErrorCode::parameter_missing);
+    CHECK(parse_driver_config(Json::object()).error().code == ErrorCode::parameter_missing);
+    CHECK(parse_driver_config(Json{{"agent", "http://a"}, {"shdr", "b:1"}}).error().code == ErrorCode::parameter_missing);
+    CHECK(parse_driver_config(Json{{"shdr", "b:1"}}).error().message.find("probe_file") != std::string::npos);
+    CHECK(parse_driver_config(Json{{"agent", "http://a"}, {"intervall_ms", 5}}).error().code == ErrorCode::keys_of_arguments);
+    CHECK(parse_driver_config(Json{{"agent", "http://a"}, {"interval_ms", "fast"}}).error().code == ErrorCode::value_type);
+    CHECK(parse_driver_config(Json{{"agent", "http://a"}, {"count", 0}}).error().code == ErrorCode::value_type);
+    CHECK(parse_driver_config(Json{{"agent", 5}}).error().code == ErrorCode::value_type);
+}
+
+TEST_CASE("agent URLs") {
+    auto u = parse_agent_url("http://10.0.0.7:5000/agent/");
+    REQUIRE(u.ok());
+    CHECK(u->host == "10.0.0.7");
+    CHECK(u->port == 5000);
+    CHECK(u->prefix == "/agent");
+    CHECK(parse_agent_url("http://agent").value().port == 80);
+    CHECK(parse_agent_url("http://[::1]:5000").value().host == "::1");
+    CHECK_FALSE(parse_agent_url("https://agent").ok());
+    CHECK_FALSE(parse_agent_url("http://agent:99999").ok());
+    CHECK_FALSE(parse_agent_url("http://:5000").ok());
+}
+
+TEST_CASE("an absent, failing or broken agent fails open() with a clear error") {
+    SECTION("nothing listens") {
+        int port = 0;
+        {
+            FakeAgent gone([](const httplib::Request&, httplib::Response&) {});
+            port = gone.port;
+        }
+        const Error e = open_error(Json{{"agent", "http://127.0.0.1:" + std::to_string(port)}, {"timeout_ms", 500}});
+        CHECK(e.code == ErrorCode::unavailable);
+        CHECK(e.message.find("GET http://127.0.0.1:" + std::to_string(port) + "/probe") != std::string::npos);
+    }
+    SECTION("HTTP 500") {
+        FakeAgent agent([](const httplib::Request&, httplib::Response& res) {
+            res.status = 500;
+            res.set_content("boom", "text/plain");
+        });
+        const Error e = open_error(Json{{"agent", agent.url()}});
+        CHECK(e.message.find("HTTP 500") != std::string::npos);
+    }
+    SECTION("not XML") {
+        FakeAgent agent([](const httplib::Request&, httplib::Response& res) { res.set_content("{\"json\": 1}", "application/json"); });
+        const Error e = open_error(Json{{"agent", agent.url()}});
+        CHECK(e.code == ErrorCode::syntax_error);
+        CHECK(e.message.find("not well-formed") != std::string::npos);
+    }
+    SECTION("an Error document") {
+        FakeAgent agent([](const httplib::Request&, httplib::Response& res) {
+            res.status = 404;
+            res.set_content("<MTConnectError><Errors><Error errorCode=\"NO_DEVICE\">none</Error></Errors></MTConnectError>",
+                            "text/xml");
+        });
+        const Error e = open_error(Json{{"agent", agent.url()}});
+        CHECK(e.message.find("NO_DEVICE: none") != std::string::npos);
+    }
+    SECTION("a device the probe does not have") {
+        FakeAgent agent([](const httplib::Request&, httplib::Response& res) {
+            res.set_content("<MTConnectDevices><Header instanceId='1'/><Devices><Device id='d' name='m' uuid='u'/></Devices>"
+                            "</MTConnectDevices>",
+                            "text/xml");
+        });
+        const Error e = open_error(Json{{"agent", agent.url()}, {"device", "lathe"}});
+        CHECK(e.code == ErrorCode::node_not_exists);
+    }
+    SECTION("an SHDR probe file that is not there") {
+        const Error e = open_error(Json{{"shdr", "127.0.0.1:1"}, {"probe_file", "/nonexistent/devices.xml"}});
+        CHECK(e.message.find("/nonexistent/devices.xml") != std::string::npos);
+    }
+}
+
+TEST_CASE("writes are refused with 301: MTConnect is read-only") {
+    MtConnectDriver driver;
+    WriteRequest w;
+    w.id = "x_position";
+    auto r = driver.write(w);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.error().code == ErrorCode::permission_denied);
+    CHECK(r.error().message.find("read-only") != std::string::npos);
+}
