@@ -26,8 +26,8 @@ Result<AgentUrl> parse_agent_url(const std::string& url) {
     const std::size_t colon = rest.rfind(':');
     if (colon != std::string::npos && (bracket == std::string::npos ? rest.find(':') == colon : colon > bracket)) {
         const std::string port = rest.substr(colon + 1);
-        if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
-            std::stoi(port) < 1 || std::stoi(port) > 65535)
+        if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) < 1 ||
+            std::stoi(port) > 65535)
             return make_error(ErrorCode::syntax_error, "agent URL '" + url + "': bad port '" + port + "'");
         out.port = std::stoi(port);
         rest = rest.substr(0, colon);
@@ -146,8 +146,8 @@ bool AgentSource::step() {
         need_current_ = true;
     }
     const bool current = need_current_;
-    auto body = current ? get("/current")
-                        : get("/sample?from=" + std::to_string(next_) + "&count=" + std::to_string(options_.count));
+    auto body =
+        current ? get("/current") : get("/sample?from=" + std::to_string(next_) + "&count=" + std::to_string(options_.count));
     if (!body.ok()) {
         status_.disconnected(body.error().message);
         logger_.debug("MTConnect source: {}", body.error().message);
@@ -166,8 +166,8 @@ bool AgentSource::step() {
         if (!current && std::find(codes.begin(), codes.end(), "OUT_OF_RANGE") != codes.end()) {
             // `from` fell out of the agent's buffer: observations were lost;
             // /current is the whole state again (part 1, 8.3.4).
-            logger_.info("MTConnect source: sample from {} is out of the agent's buffer ({}); reading /current",
-                         next_, reply->error_text);
+            logger_.info("MTConnect source: sample from {} is out of the agent's buffer ({}); reading /current", next_,
+                         reply->error_text);
             status_.count([](SourceCounters& c) { ++c.out_of_range; });
             need_current_ = true;
             return true;
@@ -181,8 +181,8 @@ bool AgentSource::step() {
     if (!instance_.empty() && doc.instance_id != instance_) {
         // A restarted agent: its sequence numbers start again and its device
         // may have changed. Probe, then the whole state.
-        logger_.info("MTConnect source: the agent restarted (instanceId {} -> {}); reading /probe and /current",
-                     instance_, doc.instance_id);
+        logger_.info("MTConnect source: the agent restarted (instanceId {} -> {}); reading /probe and /current", instance_,
+                     doc.instance_id);
         status_.count([](SourceCounters& c) { ++c.restarts; });
         instance_ = doc.instance_id;
         need_probe_ = true;
@@ -201,8 +201,7 @@ bool AgentSource::step() {
     });
     if (values_.available() == std::optional<bool>(false))
         status_.disconnected("the MTConnect agent reports the device UNAVAILABLE");
-    else
-        status_.connected();
+    else status_.connected();
     return true;
 }
 

@@ -34,8 +34,8 @@
 namespace nclink::mtconnect {
 
 struct AgentOptions {
-    std::string url;                  ///< "http://host:port[/prefix]"
-    std::string device;               ///< uuid, name or id of the Device ("" = the first)
+    std::string url;     ///< "http://host:port[/prefix]"
+    std::string device;  ///< uuid, name or id of the Device ("" = the first)
     std::chrono::milliseconds interval{500};
     std::chrono::milliseconds retry{1000};
     std::chrono::milliseconds timeout{3000};  ///< connect and read timeout of each request

@@ -25,8 +25,8 @@ void LiveValues::reset() {
 
 void LiveValues::all_unavailable() { reset(); }
 
-bool LiveValues::apply_at(std::size_t index, const std::string& element, const std::string& native_code,
-                          const std::string& text, bool condition) {
+bool LiveValues::apply_at(std::size_t index, const std::string& element, const std::string& native_code, const std::string& text,
+                          bool condition) {
     const ItemBinding& item = model_->items[index];
     if (item.rule == ValueRule::availability) {
         available_ = text == "AVAILABLE";

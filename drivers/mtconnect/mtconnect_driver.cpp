@@ -30,13 +30,13 @@ Result<DriverConfig> parse_driver_config(const Json& json) {
     if (!json.is_object())
         return config_error("/", R"(must be an object with "agent": "http://host:port" or "shdr": "host:port")",
                             ErrorCode::parameter_missing);
-    static const std::set<std::string> known = {"agent", "shdr", "probe_file", "device", "interval_ms", "retry_ms",
-                                                "timeout_ms", "ping_ms", "count"};
+    static const std::set<std::string> known = {"agent",    "shdr",       "probe_file", "device", "interval_ms",
+                                                "retry_ms", "timeout_ms", "ping_ms",    "count"};
     for (const auto& [key, value] : json.items())
         if (!known.count(key)) return config_error(key, "unknown key", ErrorCode::keys_of_arguments);
     DriverConfig c;
-    for (auto [key, field] : {std::pair{"agent", &c.agent}, std::pair{"shdr", &c.shdr},
-                              std::pair{"probe_file", &c.probe_file}, std::pair{"device", &c.device}}) {
+    for (auto [key, field] : {std::pair{"agent", &c.agent}, std::pair{"shdr", &c.shdr}, std::pair{"probe_file", &c.probe_file},
+                              std::pair{"device", &c.device}}) {
         if (!json.contains(key)) continue;
         auto v = text(json[key], key);
         if (!v.ok()) return std::move(v).error();
@@ -118,20 +118,16 @@ void MtConnectDriver::close() {
 void MtConnectDriver::read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
     for (std::size_t i = 0; i < points.size(); ++i) {
         const std::optional<Json> v = values_.get(points[i].id);
-        if (!v)
-            results[i] = make_error(ErrorCode::unavailable, points[i].id + ": the MTConnect probe has no such item");
-        else if (v->is_null())
-            results[i] = make_error(ErrorCode::unavailable, points[i].id + ": UNAVAILABLE in MTConnect");
-        else
-            results[i] = *v;
+        if (!v) results[i] = make_error(ErrorCode::unavailable, points[i].id + ": the MTConnect probe has no such item");
+        else if (v->is_null()) results[i] = make_error(ErrorCode::unavailable, points[i].id + ": UNAVAILABLE in MTConnect");
+        else results[i] = *v;
     }
 }
 
 Result<void> MtConnectDriver::write(const WriteRequest& request) {
     // MTConnect agents and adapters are read-only (MTConnect 1.4 part 1, 5:
     // an agent answers requests for data; nothing is written back).
-    return make_error(ErrorCode::permission_denied,
-                      request.id + ": the machine is read through MTConnect, which is read-only");
+    return make_error(ErrorCode::permission_denied, request.id + ": the machine is read through MTConnect, which is read-only");
 }
 
 MachineLinkStatus MtConnectDriver::link() const { return status_.link(); }

@@ -40,10 +40,10 @@ class AgentSource;
 class ShdrSource;
 
 struct DriverConfig {
-    std::string agent;        ///< "http://host:port[/prefix]" (an agent), or
-    std::string shdr;         ///< "host:port" (an SHDR adapter)
-    std::string probe_file;   ///< SHDR: the Devices document that describes the adapter's keys
-    std::string device;       ///< uuid, name or id of the Device ("" = the first)
+    std::string agent;       ///< "http://host:port[/prefix]" (an agent), or
+    std::string shdr;        ///< "host:port" (an SHDR adapter)
+    std::string probe_file;  ///< SHDR: the Devices document that describes the adapter's keys
+    std::string device;      ///< uuid, name or id of the Device ("" = the first)
     std::chrono::milliseconds interval{500};
     std::chrono::milliseconds retry{1000};
     std::chrono::milliseconds timeout{3000};

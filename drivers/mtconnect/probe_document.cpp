@@ -17,9 +17,9 @@ Result<ProbeItem> read_item(const xmlNode* node) {
     item.native_units = attribute(node, "nativeUnits");
     item.representation = attribute(node, "representation");
     if (item.id.empty() || item.category.empty() || item.type.empty())
-        return make_error(ErrorCode::syntax_error,
-                          "probe: a DataItem (line " + std::to_string(xmlGetLineNo(const_cast<xmlNode*>(node))) +
-                              ") lacks id, category or type");
+        return make_error(ErrorCode::syntax_error, "probe: a DataItem (line " +
+                                                       std::to_string(xmlGetLineNo(const_cast<xmlNode*>(node))) +
+                                                       ") lacks id, category or type");
     if (const xmlNode* source = child(node, "Source")) item.source = text_of(source);
     if (const xmlNode* constraints = child(node, "Constraints"))
         for (const xmlNode* v : children(constraints, "Value")) item.constraint_values.push_back(text_of(v));
@@ -35,8 +35,7 @@ Result<ProbeComponent> read_component(const xmlNode* node) {
     if (const xmlNode* d = child(node, "Description")) {
         c.description = text_of(d);
         for (const xmlAttr* a = d->properties; a; a = a->next)
-            c.description_attributes[reinterpret_cast<const char*>(a->name)] =
-                attribute(d, reinterpret_cast<const char*>(a->name));
+            c.description_attributes[reinterpret_cast<const char*>(a->name)] = attribute(d, reinterpret_cast<const char*>(a->name));
     }
     for (const xmlNode* items : children(node, "DataItems"))
         for (const xmlNode* i : children(items, "DataItem")) {

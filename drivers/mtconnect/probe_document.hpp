@@ -16,13 +16,13 @@ namespace nclink::mtconnect {
 struct ProbeItem {
     std::string id;
     std::string name;
-    std::string category;      ///< "SAMPLE", "EVENT", "CONDITION"
-    std::string type;          ///< "POSITION"
-    std::string sub_type;      ///< "ACTUAL", "x:TOOL", or ""
+    std::string category;  ///< "SAMPLE", "EVENT", "CONDITION"
+    std::string type;      ///< "POSITION"
+    std::string sub_type;  ///< "ACTUAL", "x:TOOL", or ""
     std::string units;
     std::string native_units;
-    std::string representation;  ///< "" (VALUE), "TIME_SERIES", ...
-    std::string source;          ///< <Source> text: the SHDR key when set (part 2, 7.2.2.4)
+    std::string representation;                  ///< "" (VALUE), "TIME_SERIES", ...
+    std::string source;                          ///< <Source> text: the SHDR key when set (part 2, 7.2.2.4)
     std::vector<std::string> constraint_values;  ///< <Constraints><Value>s
 };
 
@@ -31,8 +31,8 @@ struct ProbeComponent {
     std::string element;  ///< "Device", "Linear", "Controller", "Axes", ...
     std::string id;
     std::string name;
-    std::string uuid;     ///< Device only
-    std::string description;                         ///< <Description> text
+    std::string uuid;                                           ///< Device only
+    std::string description;                                    ///< <Description> text
     std::map<std::string, std::string> description_attributes;  ///< manufacturer, model, serialNumber
     std::vector<ProbeItem> items;
     std::vector<ProbeComponent> components;

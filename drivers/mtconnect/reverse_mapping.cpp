@@ -42,8 +42,7 @@ const md::DataTypeRow* reverse_row(const ProbeItem& item, Place place, bool rota
         const std::string_view type = md::data_row(i).type;
         if (!tried.insert(type).second) continue;
         const md::DataTypeRow* row = md::find_data_row(type, p);  // the row the forward direction uses here
-        if (!row || row->mt_fallback || to_category(row->category) != item.category || row->mt_type != item.type)
-            continue;
+        if (!row || row->mt_fallback || to_category(row->category) != item.category || row->mt_type != item.type) continue;
         if (row->mt_sub_type == item.sub_type) {
             if (rotary && type.substr(0, 8) == "SPINDLE_") {
                 exact = true;
@@ -63,8 +62,7 @@ const md::DataTypeRow* reverse_row(const ProbeItem& item, Place place, bool rota
 const md::UnitRow* reverse_unit(const std::string& units, const std::string& native_units, std::string_view preferred) {
     auto fits = [&](const md::UnitRow& u) {
         if (md::mtconnect_units(u.dimension) != units) return false;
-        if (native_units.empty() || native_units == units)
-            return u.native_units.empty() && u.scale == 1 && u.offset == 0;
+        if (native_units.empty() || native_units == units) return u.native_units.empty() && u.scale == 1 && u.offset == 0;
         return u.native_units == native_units;
     };
     if (!preferred.empty())
@@ -81,8 +79,8 @@ const md::UnitRow* reverse_unit(const std::string& units, const std::string& nat
 struct Builder {
     const ProbeComponent& device;
     ReverseModel& out;
-    std::string prefix;           ///< "<uuid>." when every id carries it (nclink-bridge)
-    std::set<std::string> ids;    ///< NC-Link ids taken
+    std::string prefix;         ///< "<uuid>." when every id carries it (nclink-bridge)
+    std::set<std::string> ids;  ///< NC-Link ids taken
 
     std::string nclink_id(const std::string& mt_id) const {
         std::string rest = mt_id;
@@ -171,9 +169,8 @@ struct Builder {
                     if (!seen) b.words.emplace_back(mt, std::string(row->values[i].nclink));  // the first word wins
                 }
             } else if (item.category == "SAMPLE" || (row && row->value_form == MtValueForm::number)) {
-                b.rule = item.units.size() > 3 && item.units.compare(item.units.size() - 3, 3, "_3D") == 0
-                             ? ValueRule::number_3d
-                             : ValueRule::number;
+                b.rule = item.units.size() > 3 && item.units.compare(item.units.size() - 3, 3, "_3D") == 0 ? ValueRule::number_3d
+                                                                                                           : ValueRule::number;
             } else if (row) {
                 switch (row->value_type) {
                     case md::ValueType::number: b.rule = ValueRule::number; break;
@@ -200,8 +197,8 @@ struct Builder {
             } else {
                 b.units = item.native_units.empty() ? item.units : item.native_units;
                 if (!item.native_units.empty() && item.native_units != item.units)
-                    out.notes.push_back(item.id + ": nativeUnits " + item.native_units + " unknown; values are in " +
-                                        item.units + " as the agent sends them, units say " + b.units);
+                    out.notes.push_back(item.id + ": nativeUnits " + item.native_units + " unknown; values are in " + item.units +
+                                        " as the agent sends them, units say " + b.units);
                 if (!item.native_units.empty()) b.units = item.units;
             }
         }
@@ -246,8 +243,8 @@ struct Builder {
         for (const auto& sub : c.components) {
             // Organizers (Axes, Systems: MTConnect 1.4 part 2, 4.4) and a
             // Controller's Path hold nothing of their own in NC-Link terms.
-            const bool fold = sub.element == "Axes" || sub.element == "Systems" ||
-                              (sub.element == "Path" && place == Place::controller);
+            const bool fold =
+                sub.element == "Axes" || sub.element == "Systems" || (sub.element == "Path" && place == Place::controller);
             if (fold) {
                 // A container (Axes) or a Controller's Path: its content belongs to the parent.
                 Json folded = {{"dataItems", data_items}, {"configs", configs}, {"components", components}};
@@ -296,7 +293,9 @@ struct Builder {
         if (!description.empty()) j["description"] = description;
         Json configs = Json::array();
         if (type == "AXIS")
-            configs.push_back(Json{{"id", unique(id + "_category")}, {"name", "axis kind"}, {"type", "CATAGORY"},
+            configs.push_back(Json{{"id", unique(id + "_category")},
+                                   {"name", "axis kind"},
+                                   {"type", "CATAGORY"},
                                    {"value", rotary ? "rotary" : "linear"}});
         description_configs(c, id, configs);
         if (!configs.empty()) j["configs"] = configs;

@@ -43,32 +43,32 @@ namespace nclink::mtconnect {
 
 /// How an observation's text becomes the NC-Link value.
 enum class ValueRule {
-    number,     ///< a float, converted: (v - offset) / scale
-    number_3d,  ///< "x y z" -> [x, y, z], each converted
-    integer,    ///< an integer
-    text,       ///< the text as is
-    json,       ///< JSON text (nclink's fallback of objects and lists) parsed, else the text
-    words,      ///< through `words` (MTConnect word -> NC-Link word)
-    boolean,    ///< "true"/"false" (or words mapping to them) -> a JSON boolean
-    condition,  ///< a CONDITION: the active alarms as a list
+    number,        ///< a float, converted: (v - offset) / scale
+    number_3d,     ///< "x y z" -> [x, y, z], each converted
+    integer,       ///< an integer
+    text,          ///< the text as is
+    json,          ///< JSON text (nclink's fallback of objects and lists) parsed, else the text
+    words,         ///< through `words` (MTConnect word -> NC-Link word)
+    boolean,       ///< "true"/"false" (or words mapping to them) -> a JSON boolean
+    condition,     ///< a CONDITION: the active alarms as a list
     availability,  ///< AVAILABILITY: the machine link, no item
 };
 
 /// One DataItem and the NC-Link item it feeds.
 struct ItemBinding {
-    std::string mt_id;         ///< DataItem id
-    std::string shdr_key;      ///< <Source>, else name, else id: the key of an SHDR line
-    std::string name;          ///< DataItem name
-    std::string nclink_id;     ///< "" for availability
+    std::string mt_id;      ///< DataItem id
+    std::string shdr_key;   ///< <Source>, else name, else id: the key of an SHDR line
+    std::string name;       ///< DataItem name
+    std::string nclink_id;  ///< "" for availability
     std::string nclink_type;
-    std::string category;      ///< SAMPLE, EVENT, CONDITION
-    std::string mt_type;       ///< POSITION
-    std::string units;         ///< the NC-Link unit spelling, "" for none
+    std::string category;  ///< SAMPLE, EVENT, CONDITION
+    std::string mt_type;   ///< POSITION
+    std::string units;     ///< the NC-Link unit spelling, "" for none
     ValueRule rule = ValueRule::text;
     double scale = 1;
     double offset = 0;
     std::vector<std::pair<std::string, std::string>> words;  ///< MTConnect word -> NC-Link word
-    bool fixed = false;        ///< a single Constraints/Value: the model holds the value
+    bool fixed = false;                                      ///< a single Constraints/Value: the model holds the value
 };
 
 /// A DataItem or component with no NC-Link counterpart.
@@ -79,15 +79,15 @@ struct NoCounterpart {
 };
 
 struct ReverseModel {
-    Json model;             ///< the NC-Link model document (NC_LINK_ROOT)
-    std::string dev_uuid;   ///< the device's guid (the MTConnect uuid)
-    std::string mt_device;  ///< the MTConnect Device's name or id
+    Json model;                      ///< the NC-Link model document (NC_LINK_ROOT)
+    std::string dev_uuid;            ///< the device's guid (the MTConnect uuid)
+    std::string mt_device;           ///< the MTConnect Device's name or id
     std::vector<ItemBinding> items;  ///< every DataItem of the device, in document order
     std::vector<NoCounterpart> unmatched;
-    std::vector<std::string> notes;  ///< assumptions a reader should know
-    std::unordered_map<std::string, std::size_t> by_mt_id;     ///< DataItem id -> items
-    std::unordered_map<std::string, std::size_t> by_shdr_key;  ///< SHDR key -> items
-    std::unordered_map<std::string, std::size_t> by_nclink_id; ///< NC-Link id -> items
+    std::vector<std::string> notes;                             ///< assumptions a reader should know
+    std::unordered_map<std::string, std::size_t> by_mt_id;      ///< DataItem id -> items
+    std::unordered_map<std::string, std::size_t> by_shdr_key;   ///< SHDR key -> items
+    std::unordered_map<std::string, std::size_t> by_nclink_id;  ///< NC-Link id -> items
 
     const ItemBinding* find_mt(std::string_view id) const;
     const ItemBinding* find_shdr(std::string_view key) const;

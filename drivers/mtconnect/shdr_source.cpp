@@ -44,8 +44,8 @@ int connect_to(const std::string& host, int port, std::chrono::milliseconds time
         pollfd p{fd, POLLOUT, 0};
         int err = 0;
         socklen_t len = sizeof err;
-        if (::poll(&p, 1, static_cast<int>(timeout.count())) != 1 ||
-            ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len) != 0 || err != 0) {
+        if (::poll(&p, 1, static_cast<int>(timeout.count())) != 1 || ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &len) != 0 ||
+            err != 0) {
             why = err ? std::strerror(err) : "connect timed out";
             ::close(fd);
             fd = -1;
@@ -215,9 +215,10 @@ void ShdrSource::follow(int fd) {
             break;
         }
         auto until = next_ping;
-        if (heartbeat > 0) until = std::min(until, last_heard + std::chrono::milliseconds(2 * heartbeat) + std::chrono::milliseconds(1));
-        const auto wait_ms = std::max<long long>(
-            1, std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count());
+        if (heartbeat > 0)
+            until = std::min(until, last_heard + std::chrono::milliseconds(2 * heartbeat) + std::chrono::milliseconds(1));
+        const auto wait_ms =
+            std::max<long long>(1, std::chrono::duration_cast<std::chrono::milliseconds>(until - Clock::now()).count());
         pollfd p[2] = {{fd, POLLIN, 0}, {wake_pipe_[0], POLLIN, 0}};
         const int rc = ::poll(p, 2, static_cast<int>(std::min<long long>(wait_ms, 1000)));
         if (rc < 0 && errno != EINTR) {
@@ -259,8 +260,7 @@ void ShdrSource::follow(int fd) {
         buffer.erase(0, start);
         if (values_.available() == std::optional<bool>(false))
             status_.disconnected("the SHDR adapter reports the device UNAVAILABLE");
-        else
-            status_.connected();
+        else status_.connected();
     }
     logger_.info("SHDR source: {}; reconnecting every {} ms", reason, options_.retry.count());
     status_.disconnected(reason);

@@ -13,15 +13,15 @@
 namespace nclink::mtconnect {
 
 struct SourceCounters {
-    std::uint64_t probes = 0;         ///< probes read (agent) / loaded (SHDR)
-    std::uint64_t currents = 0;       ///< /current documents applied
-    std::uint64_t samples = 0;        ///< /sample documents applied
-    std::uint64_t observations = 0;   ///< observations (or SHDR values) applied
-    std::uint64_t restarts = 0;       ///< agent instanceId changes seen
-    std::uint64_t out_of_range = 0;   ///< /sample answered OUT_OF_RANGE (from fell out of the buffer)
-    std::uint64_t failures = 0;       ///< requests or connections that failed
-    std::uint64_t connects = 0;       ///< SHDR connections made
-    std::uint64_t pongs = 0;          ///< SHDR "* PONG" answers received
+    std::uint64_t probes = 0;        ///< probes read (agent) / loaded (SHDR)
+    std::uint64_t currents = 0;      ///< /current documents applied
+    std::uint64_t samples = 0;       ///< /sample documents applied
+    std::uint64_t observations = 0;  ///< observations (or SHDR values) applied
+    std::uint64_t restarts = 0;      ///< agent instanceId changes seen
+    std::uint64_t out_of_range = 0;  ///< /sample answered OUT_OF_RANGE (from fell out of the buffer)
+    std::uint64_t failures = 0;      ///< requests or connections that failed
+    std::uint64_t connects = 0;      ///< SHDR connections made
+    std::uint64_t pongs = 0;         ///< SHDR "* PONG" answers received
 };
 
 class SourceStatus {

@@ -14,12 +14,12 @@ namespace nclink::mtconnect {
 
 /// One observation: a Sample, an Event, or one state of a Condition.
 struct StreamObservation {
-    std::string item_id;       ///< dataItemId
+    std::string item_id;  ///< dataItemId
     std::uint64_t sequence = 0;
-    std::string element;       ///< "Position", "Execution"; conditions: "Normal", "Warning", "Fault", "Unavailable"
-    std::string text;          ///< the element's text (a value, "UNAVAILABLE", or a condition's message)
-    bool condition = false;    ///< inside <Condition>
-    std::string native_code;   ///< conditions (and MESSAGE events): nativeCode
+    std::string element;      ///< "Position", "Execution"; conditions: "Normal", "Warning", "Fault", "Unavailable"
+    std::string text;         ///< the element's text (a value, "UNAVAILABLE", or a condition's message)
+    bool condition = false;   ///< inside <Condition>
+    std::string native_code;  ///< conditions (and MESSAGE events): nativeCode
 };
 
 struct StreamsDocument {

@@ -80,8 +80,7 @@ int run_map_from_mtconnect(const std::string& probe, const std::string& device, 
         std::fprintf(stderr, "nclink map: cannot write %s\n", output.c_str());
         return 1;
     }
-    std::fprintf(stderr, "nclink map: wrote %s (%zu item(s) without counterpart)\n", output.c_str(),
-                 reversed->unmatched.size());
+    std::fprintf(stderr, "nclink map: wrote %s (%zu item(s) without counterpart)\n", output.c_str(), reversed->unmatched.size());
     return 0;
 #else
     (void)probe;

@@ -65,10 +65,12 @@ struct Rig : nclink::test::SimMillRig {
         the_bridge = std::make_unique<bridge::Bridge>(bridge_config, Logger{});
         REQUIRE(the_bridge->start().ok());
         const mtconnect::AgentUrl url{"127.0.0.1", the_bridge->http_port(), ""};
-        REQUIRE(eventually([&] {
-            auto r = mtconnect::agent_get(url, "/current", 2s);
-            return r.ok() && r->find(">AVAILABLE</Availability>") != std::string::npos;
-        }, 20s));
+        REQUIRE(eventually(
+            [&] {
+                auto r = mtconnect::agent_get(url, "/current", 2s);
+                return r.ok() && r->find(">AVAILABLE</Availability>") != std::string::npos;
+            },
+            20s));
     }
     std::string agent_url() const { return "http://127.0.0.1:" + std::to_string(the_bridge->http_port()); }
 
@@ -115,8 +117,11 @@ struct Rig : nclink::test::SimMillRig {
 // the device it follows (else, after a restart, the first of the probe's
 // devices could be the copy itself).
 Json fast_agent(const Rig& rig) {
-    return Json{{"agent", rig.agent_url()}, {"device", nclink::test::kSimMillDevice}, {"interval_ms", 100},
-                {"retry_ms", 100}, {"timeout_ms", 2000}};
+    return Json{{"agent", rig.agent_url()},
+                {"device", nclink::test::kSimMillDevice},
+                {"interval_ms", 100},
+                {"retry_ms", 100},
+                {"timeout_ms", 2000}};
 }
 
 }  // namespace
@@ -144,15 +149,17 @@ TEST_CASE("round trip: the copy has the sim's types, units and values, follows c
     CHECK(compared > 30);
 
     // Values nothing changes meanwhile: equal on both terminals.
-    for (const char* id : {"spindle_override", "feed_override", "work_mode", "emergency_stop", "door_closed",
-                           "tool_number", "machine_category", "spindle_max_speed", "cnc_version", "parameters"}) {
+    for (const char* id : {"spindle_override", "feed_override", "work_mode", "emergency_stop", "door_closed", "tool_number",
+                           "machine_category", "spindle_max_speed", "cnc_version", "parameters"}) {
         INFO(id);
         const Json want = rig.query_one(id);
         Json got;
-        CHECK(eventually([&] {
-            got = rig.copy_value(id);
-            return got == want;
-        }, 10s));
+        CHECK(eventually(
+            [&] {
+                got = rig.copy_value(id);
+                return got == want;
+            },
+            10s));
         CHECK(got == want);
     }
     // A number in a converted unit (mm/min, sent as MILLIMETER/SECOND): a number again.
@@ -195,14 +202,16 @@ TEST_CASE("the copy recovers from a dropped agent and from its restart with a ne
     rig.set_one("spindle_override", Json{{"value", 73}});
     rig.start_bridge();
     std::string seen;
-    const bool recovered = eventually([&] {
-        const Json v = rig.copy_value("spindle_override");
-        const auto st = rig.mt->stats();
-        seen = "value " + v.dump() + ", link '" + rig.mt->link().reason + "', restarts " + std::to_string(st.restarts) +
-               ", failures " + std::to_string(st.failures) + ", currents " + std::to_string(st.currents) + ", samples " +
-               std::to_string(st.samples);
-        return v == Json(73);
-    }, 20s);
+    const bool recovered = eventually(
+        [&] {
+            const Json v = rig.copy_value("spindle_override");
+            const auto st = rig.mt->stats();
+            seen = "value " + v.dump() + ", link '" + rig.mt->link().reason + "', restarts " + std::to_string(st.restarts) +
+                   ", failures " + std::to_string(st.failures) + ", currents " + std::to_string(st.currents) + ", samples " +
+                   std::to_string(st.samples);
+            return v == Json(73);
+        },
+        20s);
     if (!recovered) {
         auto cur = mtconnect::agent_get({"127.0.0.1", rig.the_bridge->http_port(), ""}, "/current", 2s);
         const std::string body = cur.ok() ? cur.value() : cur.error().message;
@@ -221,8 +230,11 @@ TEST_CASE("the copy recovers from a dropped agent and from its restart with a ne
 
 TEST_CASE("a sample `from` that fell out of the agent's buffer: /current again, values still current") {
     Rig rig(256);  // a small buffer the 1 ms axis channel overruns between two polls
-    rig.start_copy(Json{{"agent", rig.agent_url()}, {"device", nclink::test::kSimMillDevice}, {"interval_ms", 1500},
-                        {"count", 10}, {"retry_ms", 100}});
+    rig.start_copy(Json{{"agent", rig.agent_url()},
+                        {"device", nclink::test::kSimMillDevice},
+                        {"interval_ms", 1500},
+                        {"count", 10},
+                        {"retry_ms", 100}});
     CHECK(eventually([&] { return rig.mt->stats().out_of_range > 0; }, 30s));
     rig.set_one("spindle_override", Json{{"value", 64}});
     CHECK(eventually([&] { return rig.copy_value("spindle_override") == Json(64); }, 20s));

@@ -76,7 +76,9 @@ struct ShdrPeer {
         pending.clear();
         return conn >= 0;
     }
-    void send(const std::string& text) const { REQUIRE(::send(conn, text.data(), text.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(text.size())); }
+    void send(const std::string& text) const {
+        REQUIRE(::send(conn, text.data(), text.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(text.size()));
+    }
     /// The next line the reader sent, "" when none came within `within`.
     std::string line(std::chrono::milliseconds within = 5s) {
         const auto end = std::chrono::steady_clock::now() + within;
@@ -136,11 +138,12 @@ TEST_CASE("SHDR source: values, a condition, PING/PONG, a dropped connection and
     std::ofstream(devices) << kDevices;
     ShdrPeer adapter;
     mtconnect::MtConnectDriver driver;
-    REQUIRE(driver.open(DriverContext{Json{{"shdr", "127.0.0.1:" + std::to_string(adapter.port)},
-                                           {"probe_file", devices.string()},
-                                           {"retry_ms", 100},
-                                           {"ping_ms", 200}},
-                                      Logger{}})
+    REQUIRE(driver
+                .open(DriverContext{Json{{"shdr", "127.0.0.1:" + std::to_string(adapter.port)},
+                                         {"probe_file", devices.string()},
+                                         {"retry_ms", 100},
+                                         {"ping_ms", 200}},
+                                    Logger{}})
                 .ok());
 
     REQUIRE(adapter.accept_one());
@@ -155,8 +158,7 @@ TEST_CASE("SHDR source: values, a condition, PING/PONG, a dropped connection and
     CHECK(read_one(driver, "Xact") == Json(12.5));
     CHECK(read_one(driver, "Srpm") == Json(1200.0));
     CHECK(read_one(driver, "execution").is_string());
-    CHECK(read_one(driver, "system") ==
-          Json::array({Json{{"number", 1001}, {"text", "Spindle overload"}, {"level", "FAULT"}}}));
+    CHECK(read_one(driver, "system") == Json::array({Json{{"number", 1001}, {"text", "Spindle overload"}, {"level", "FAULT"}}}));
     CHECK(driver.link().state == MachineLink::connected);
     CHECK(eventually([&] { return driver.stats().pongs >= 1; }));
 

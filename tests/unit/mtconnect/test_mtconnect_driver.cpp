@@ -90,7 +90,8 @@ TEST_CASE("an absent, failing or broken agent fails open() with a clear error") 
         CHECK(e.message.find("HTTP 500") != std::string::npos);
     }
     SECTION("not XML") {
-        FakeAgent agent([](const httplib::Request&, httplib::Response& res) { res.set_content("{\"json\": 1}", "application/json"); });
+        FakeAgent agent(
+            [](const httplib::Request&, httplib::Response& res) { res.set_content("{\"json\": 1}", "application/json"); });
         const Error e = open_error(Json{{"agent", agent.url()}});
         CHECK(e.code == ErrorCode::syntax_error);
         CHECK(e.message.find("not well-formed") != std::string::npos);
@@ -106,9 +107,10 @@ TEST_CASE("an absent, failing or broken agent fails open() with a clear error") 
     }
     SECTION("a device the probe does not have") {
         FakeAgent agent([](const httplib::Request&, httplib::Response& res) {
-            res.set_content("<MTConnectDevices><Header instanceId='1'/><Devices><Device id='d' name='m' uuid='u'/></Devices>"
-                            "</MTConnectDevices>",
-                            "text/xml");
+            res.set_content(
+                "<MTConnectDevices><Header instanceId='1'/><Devices><Device id='d' name='m' uuid='u'/></Devices>"
+                "</MTConnectDevices>",
+                "text/xml");
         });
         const Error e = open_error(Json{{"agent", agent.url()}, {"device", "lathe"}});
         CHECK(e.code == ErrorCode::node_not_exists);

@@ -97,7 +97,8 @@ TEST_CASE("malformed or unexpected documents give clear errors") {
          "lacks id, category or type"},
         // An entity expansion bomb is not expanded (no DTD processing).
         {"<?xml version='1.0'?><!DOCTYPE a [<!ENTITY x 'xxxxxxxxxx'><!ENTITY y '&x;&x;&x;&x;&x;'>]>"
-         "<MTConnectDevices>&y;</MTConnectDevices>", "without a Header"},
+         "<MTConnectDevices>&y;</MTConnectDevices>",
+         "without a Header"},
     };
     for (const auto& c : probes) {
         INFO(c.text);

@@ -40,7 +40,7 @@ ReverseModel model() {
 TEST_CASE("observation text becomes the NC-Link value by the item's rule") {
     const ReverseModel m = model();
     const ItemBinding& xs = *m.find_mt("xs");
-    CHECK(xs.units == "MILLIMETER/MINUTE");  // outside an axis AXIS_FEEDRATE has no row: the unit as spelt
+    CHECK(xs.units == "MILLIMETER/MINUTE");                  // outside an axis AXIS_FEEDRATE has no row: the unit as spelt
     CHECK(value_of(xs, "10").get<double>() == Approx(600));  // 10 mm/s is 600 mm/min
     CHECK(value_of(xs, "UNAVAILABLE").is_null());
     CHECK(value_of(xs, "unavailable").is_null());
