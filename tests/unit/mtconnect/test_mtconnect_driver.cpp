@@ -3,6 +3,10 @@
 #include "mtconnect/agent_source.hpp"
 #include "mtconnect/mtconnect_driver.hpp"
 
+#include <nclink/driver_plugin_loader.hpp>
+
+#include "support/wait.hpp"
+
 #include <catch2/catch.hpp>
 #include <httplib.h>
 
@@ -15,8 +19,10 @@ namespace {
 
 /// A local HTTP server answering /probe with what the test says.
 struct FakeAgent {
-    explicit FakeAgent(std::function<void(const httplib::Request&, httplib::Response&)> probe) {
+    explicit FakeAgent(std::function<void(const httplib::Request&, httplib::Response&)> probe,
+                       const std::function<void(httplib::Server&)>& more = {}) {
         server.Get("/probe", std::move(probe));
+        if (more) more(server);  // every route before the server runs
         port = server.bind_to_any_port("127.0.0.1");
         thread = std::thread([this] { server.listen_after_bind(); });
         // stop() before the listen loop runs would be lost (and join() hang).
@@ -129,4 +135,48 @@ TEST_CASE("writes are refused with 301: MTConnect is read-only") {
     REQUIRE_FALSE(r.ok());
     CHECK(r.error().code == ErrorCode::permission_denied);
     CHECK(r.error().message.find("read-only") != std::string::npos);
+}
+
+TEST_CASE("nclink-mtconnect.so loads through the plugin ABI, answers from the agent and refuses Sets") {
+    const std::string streams = R"(<MTConnectStreams><Header instanceId="7" nextSequence="3" firstSequence="1" lastSequence="2"/>
+<Streams><DeviceStream name="m" uuid="u"><ComponentStream component="Device" componentId="d"><Events>
+<Availability dataItemId="avail" sequence="1">AVAILABLE</Availability><Program dataItemId="prog" sequence="2">O1234</Program>
+</Events></ComponentStream></DeviceStream></Streams></MTConnectStreams>)";
+    FakeAgent agent(
+        [](const httplib::Request&, httplib::Response& res) {
+            res.set_content(R"(<MTConnectDevices><Header instanceId="7"/><Devices><Device id="d" name="m" uuid="u">
+<DataItems><DataItem category="EVENT" id="avail" type="AVAILABILITY"/>
+<DataItem category="EVENT" id="prog" type="PROGRAM"/></DataItems></Device></Devices></MTConnectDevices>)",
+                            "text/xml");
+        },
+        [&](httplib::Server& server) {
+            server.Get("/current", [&](const httplib::Request&, httplib::Response& res) { res.set_content(streams, "text/xml"); });
+            server.Get("/sample", [&](const httplib::Request&, httplib::Response& res) {
+                res.set_content(
+                    R"(<MTConnectStreams><Header instanceId="7" nextSequence="3" firstSequence="1" lastSequence="2"/><Streams/></MTConnectStreams>)",
+                    "text/xml");
+            });
+        });
+    const std::string path = std::string(NCLINK_BINARY_DIR) + "/lib/nclink-mtconnect.so";
+    auto loaded = load_driver_plugin(path, Json{{"agent", agent.url()}, {"interval_ms", 50}});
+    REQUIRE(loaded.ok());
+    std::shared_ptr<Driver> driver = loaded.value();
+    CHECK(driver->info().name == "mtconnect");
+    std::vector<PointRef> points{PointRef{"prog", DataKind::single, no_handle}};
+    std::vector<Result<Json>> results(1, make_error(ErrorCode::unavailable));
+    CHECK(nclink::test::eventually([&] {
+        driver->read(points, results);
+        return results[0].ok() && results[0].value() == Json("O1234");
+    }));
+    CHECK(driver->link().state == MachineLink::connected);
+    WriteRequest w;
+    w.id = "prog";
+    auto written = driver->write(w);
+    REQUIRE_FALSE(written.ok());
+    CHECK(written.error().code == ErrorCode::permission_denied);
+    driver->close();
+
+    auto refused = load_driver_plugin(path, Json{{"agent", "ftp://x"}});
+    REQUIRE_FALSE(refused.ok());
+    CHECK(refused.error().message.find("only http://") != std::string::npos);
 }
