@@ -2,6 +2,8 @@
 
 #include "mtconnect/xml_read.hpp"
 
+#include <cstdlib>
+
 namespace nclink::mtconnect {
 
 namespace {
@@ -16,6 +18,11 @@ Result<ProbeItem> read_item(const xmlNode* node) {
     item.units = attribute(node, "units");
     item.native_units = attribute(node, "nativeUnits");
     item.representation = attribute(node, "representation");
+    if (const std::string rate = attribute(node, "sampleRate"); !rate.empty()) {
+        char* end = nullptr;
+        const double r = std::strtod(rate.c_str(), &end);
+        if (end && *end == '\0' && r > 0 && r < 1e9) item.sample_rate = r;
+    }
     if (item.id.empty() || item.category.empty() || item.type.empty())
         return make_error(ErrorCode::syntax_error, "probe: a DataItem (line " +
                                                        std::to_string(xmlGetLineNo(const_cast<xmlNode*>(node))) +

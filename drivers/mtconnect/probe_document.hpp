@@ -22,6 +22,7 @@ struct ProbeItem {
     std::string units;
     std::string native_units;
     std::string representation;                  ///< "" (VALUE), "TIME_SERIES", ...
+    double sample_rate = 0;                      ///< @sampleRate (samples per second), 0 when absent
     std::string source;                          ///< <Source> text: the SHDR key when set (part 2, 7.2.2.4)
     std::vector<std::string> constraint_values;  ///< <Constraints><Value>s
 };

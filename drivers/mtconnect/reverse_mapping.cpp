@@ -4,7 +4,10 @@
 
 #include <nclink/mapping.hpp>
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
+#include <map>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -14,6 +17,12 @@ namespace nclink::mtconnect {
 namespace md = nclink::mapping_detail;
 
 namespace {
+
+std::string number_text(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
 
 /// Where a component sits, as the appendix A rows ask it (mapping_table.hpp).
 enum class Place { device, controller, axis, in_axis, other };
@@ -81,6 +90,8 @@ struct Builder {
     ReverseModel& out;
     std::string prefix;         ///< "<uuid>." when every id carries it (nclink-bridge)
     std::set<std::string> ids;  ///< NC-Link ids taken
+    int min_interval = 100;
+    std::map<int, std::vector<std::string>> by_interval;  ///< sampleInterval ms -> NC-Link ids (sample channels)
 
     std::string nclink_id(const std::string& mt_id) const {
         std::string rest = mt_id;
@@ -208,6 +219,14 @@ struct Builder {
         if (!description.empty()) j["description"] = description;
         if (row && row->value_type == md::ValueType::list) j["datatype"] = "list";
         if (row && row->value_type == md::ValueType::dict) j["datatype"] = "dict";
+        if (item.sample_rate > 0 && item.constraint_values.size() != 1) {
+            const int exact = std::max(1, static_cast<int>(std::lround(1000.0 / item.sample_rate)));
+            const int interval = std::max(min_interval, exact);
+            by_interval[interval].push_back(b.nclink_id);
+            if (interval != exact)
+                out.notes.push_back(item.id + ": sampleRate " + number_text(item.sample_rate) + " sampled every " +
+                                    std::to_string(interval) + " ms (values change no faster than the source is read)");
+        }
         if (item.constraint_values.size() == 1) {
             b.fixed = true;
             j["value"] = fixed_value(b, item.constraint_values.front());
@@ -352,7 +371,7 @@ Result<ReverseModel> reverse_map(const ProbeDocument& probe, const ReverseOption
     const ProbeComponent* device = find_device(probe, options.device);
     if (!device) return make_error(ErrorCode::node_not_exists, "probe: no Device with uuid, name or id '" + options.device + "'");
     ReverseModel out;
-    Builder b{*device, out, {}, {}};
+    Builder b{*device, out, {}, {}, options.min_sample_interval_ms, {}};
     // nclink-bridge prefixes every id of a device with its uuid (docs/mapping.md
     // "Identifier contract"): taken off again when every DataItem carries it.
     if (!device->uuid.empty()) {
@@ -378,6 +397,18 @@ Result<ReverseModel> reverse_map(const ProbeDocument& probe, const ReverseOption
     b.description_configs(*device, device_id, configs);
     if (!configs.empty()) dev["configs"] = configs;
     if (auto r = b.fill(*device, Place::device, false, dev); !r) return std::move(r).error();
+    // Sample channels from the sampleRates (A.4 h read back), fastest first.
+    for (const auto& [interval, members] : b.by_interval) {
+        Json ids = Json::array();
+        for (const auto& id : members) ids.push_back(Json{{"id", id}});
+        const std::string ms = std::to_string(interval);
+        dev["configs"].push_back(Json{{"id", b.unique("mt_sample_" + ms + "ms")},
+                                      {"name", "MTConnect samples every " + ms + " ms"},
+                                      {"type", "SAMPLE_CHANNEL"},
+                                      {"sampleInterval", interval},
+                                      {"uploadInterval", std::max(1000, interval)},
+                                      {"ids", ids}});
+    }
     out.model = Json{{"id", options.root_id},
                      {"name", "MTConnect agent " + (probe.instance_id.empty() ? std::string() : "instance " + probe.instance_id)},
                      {"type", "NC_LINK_ROOT"},

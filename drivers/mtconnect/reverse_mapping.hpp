@@ -25,7 +25,12 @@
 //  - AVAILABILITY -> no item: it is the machine link (Driver::link());
 //  - a DataItem with a single Constraints/Value is a fixed value (a config
 //    object with "value"); Description@manufacturer/model/serialNumber ->
-//    MANUFACTURER/MODEL/SERIAL_NUMBER configs.
+//    MANUFACTURER/MODEL/SERIAL_NUMBER configs;
+//  - DataItems with a sampleRate (A.4 h: the rate of their sample channel)
+//    are grouped by rate into SAMPLE_CHANNELs of the device, sampleInterval
+//    1000/rate ms but at least ReverseOptions::min_sample_interval_ms (the
+//    values change no faster than the source is read), uploadInterval the
+//    larger of 1000 ms and sampleInterval.
 #pragma once
 
 #include "mtconnect/probe_document.hpp"
@@ -98,6 +103,7 @@ struct ReverseOptions {
     std::string device;                 ///< the Device's uuid, name or id; "" = the first
     std::string root_id = "mtconnect";  ///< the model's root id
     std::string version = "1.0.0";      ///< the device's model version
+    int min_sample_interval_ms = 100;   ///< the shortest sampleInterval of a generated channel
 };
 
 /// The NC-Link model of one device of `probe`. Errors: node_not_exists (204)

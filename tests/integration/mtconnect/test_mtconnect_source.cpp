@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <thread>
 
 using namespace nclink;
@@ -165,9 +166,36 @@ TEST_CASE("round trip: the copy has the sim's types, units and values, follows c
     // A number in a converted unit (mm/min, sent as MILLIMETER/SECOND): a number again.
     CHECK(eventually([&] { return rig.copy_value("x_speed").is_number(); }, 10s));
 
+    // The copy's sample channel (from the probe's sampleRates) publishes
+    // what it observes.
+    std::size_t column = 0;
+    std::string channel;
+    for (const auto& c : rig.generated["devices"][0]["configs"])
+        if (c["type"] == "SAMPLE_CHANNEL")
+            for (std::size_t i = 0; i < c["ids"].size(); ++i)
+                if (c["ids"][i]["id"] == "spindle_override") {
+                    channel = c["id"].get<std::string>();
+                    column = i;
+                }
+    REQUIRE_FALSE(channel.empty());
+    std::mutex seen_mutex;
+    bool sampled_87 = false;
+    auto subscribed = rig.client->subscribe_samples(kCopy, [&](const SampleDtu& dtu) {
+        if (dtu.id != channel || dtu.data.size() <= column) return;
+        std::lock_guard lock(seen_mutex);
+        for (const auto& v : dtu.data[column]) sampled_87 = sampled_87 || v == Json(87);
+    });
+    REQUIRE(subscribed.ok());
+
     // A change on the sim reaches the copy through /sample.
     rig.set_one("spindle_override", Json{{"value", 87}});
     CHECK(eventually([&] { return rig.copy_value("spindle_override") == Json(87); }, 10s));
+    CHECK(eventually(
+        [&] {
+            std::lock_guard lock(seen_mutex);
+            return sampled_87;
+        },
+        10s));
     const Json tools = Json::parse(R"([{"id":"T9","len":12.5}])");
     rig.set_one("tools", Json{{"value", tools}});
     CHECK(eventually([&] { return rig.copy_value("tools") == tools; }, 10s));

@@ -125,6 +125,20 @@ TEST_CASE("reverse mapping gives back the types, units and ids nclink's own forw
         ++compared;
     }
     CHECK(compared > 30);
+    // The sample channels' items come back in channels (sampleRate, A.4 h),
+    // at no less than 100 ms: the sim's 1 ms and 100 ms channels are one.
+    const Json& configs = reversed->model["devices"][0]["configs"];
+    const Json* channel = nullptr;
+    for (const auto& c : configs)
+        if (c["type"] == "SAMPLE_CHANNEL") channel = &c;
+    REQUIRE(channel);
+    CHECK((*channel)["sampleInterval"] == 100);
+    CHECK((*channel)["uploadInterval"] == 1000);
+    std::set<std::string> sampled;
+    for (const auto& i : (*channel)["ids"]) sampled.insert(i["id"].get<std::string>());
+    CHECK(sampled.count("x_position"));
+    CHECK(sampled.count("spindle_speed"));
+    CHECK(sampled.count("status"));
     // AVAILABILITY is the machine link, not an item; nothing else lacks a counterpart.
     REQUIRE(reversed->unmatched.size() == 1);
     CHECK(reversed->unmatched[0].mtconnect == "EVENT AVAILABILITY");
