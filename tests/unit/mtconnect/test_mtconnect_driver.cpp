@@ -10,6 +10,8 @@
 #include <catch2/catch.hpp>
 #include <httplib.h>
 
+#include <algorithm>
+#include <mutex>
 #include <thread>
 
 using namespace nclink;
@@ -179,4 +181,91 @@ TEST_CASE("nclink-mtconnect.so loads through the plugin ABI, answers from the ag
     auto refused = load_driver_plugin(path, Json{{"agent", "ftp://x"}});
     REQUIRE_FALSE(refused.ok());
     CHECK(refused.error().message.find("only http://") != std::string::npos);
+}
+
+namespace {
+
+std::string probe_of(const std::string& instance, const std::string& extra_item) {
+    return R"(<MTConnectDevices><Header instanceId=")" + instance +
+           R"("/><Devices><Device id="d" name="m" uuid="u"><DataItems>
+<DataItem category="EVENT" id="prog" type="PROGRAM"/>)" +
+           extra_item + "</DataItems></Device></Devices></MTConnectDevices>";
+}
+
+std::string streams_of(const std::string& instance, int next, const std::string& events) {
+    return R"(<MTConnectStreams><Header instanceId=")" + instance + R"(" nextSequence=")" + std::to_string(next) +
+           R"(" firstSequence="1" lastSequence=")" + std::to_string(next - 1) +
+           R"("/><Streams><DeviceStream name="m" uuid="u"><ComponentStream component="Device" componentId="d"><Events>)" +
+           events + "</Events></ComponentStream></DeviceStream></Streams></MTConnectStreams>";
+}
+
+}  // namespace
+
+TEST_CASE("an agent that restarts between two polls (new instanceId) is probed and read again; OUT_OF_RANGE reads /current") {
+    // A scripted agent: instance 7 until `restarted`, then instance 8 with
+    // one DataItem more; its /sample answers OUT_OF_RANGE once when asked.
+    std::mutex m;
+    bool restarted = false, out_of_range_once = false;
+    std::vector<std::string> requests;
+    FakeAgent agent(
+        [&](const httplib::Request&, httplib::Response& res) {
+            std::lock_guard lock(m);
+            requests.push_back("probe");
+            res.set_content(
+                restarted ? probe_of("8", R"(<DataItem category="EVENT" id="tool" type="TOOL_NUMBER"/>)") : probe_of("7", ""),
+                "text/xml");
+        },
+        [&](httplib::Server& server) {
+            server.Get("/current", [&](const httplib::Request&, httplib::Response& res) {
+                std::lock_guard lock(m);
+                requests.push_back("current");
+                res.set_content(restarted ? streams_of("8", 3,
+                                                       R"(<Program dataItemId="prog" sequence="1">O8</Program>)"
+                                                       R"(<ToolNumber dataItemId="tool" sequence="2">12</ToolNumber>)")
+                                          : streams_of("7", 2, R"(<Program dataItemId="prog" sequence="1">O7</Program>)"),
+                                "text/xml");
+            });
+            server.Get("/sample", [&](const httplib::Request& req, httplib::Response& res) {
+                std::lock_guard lock(m);
+                requests.push_back("sample " + req.get_param_value("from"));
+                if (out_of_range_once) {
+                    out_of_range_once = false;
+                    res.status = 404;
+                    res.set_content(
+                        R"(<MTConnectError><Errors><Error errorCode="OUT_OF_RANGE">'from' is too small</Error></Errors></MTConnectError>)",
+                        "text/xml");
+                    return;
+                }
+                res.set_content(restarted ? streams_of("8", 3, "") : streams_of("7", 2, ""), "text/xml");
+            });
+        });
+    mtconnect::MtConnectDriver driver;
+    REQUIRE(driver.open(DriverContext{Json{{"agent", agent.url()}, {"interval_ms", 20}}, Logger{}}).ok());
+    auto read = [&](const std::string& id) {
+        std::vector<PointRef> points{PointRef{id, DataKind::single, no_handle}};
+        std::vector<Result<Json>> results(1, make_error(ErrorCode::unavailable));
+        driver.read(points, results);
+        return results[0].ok() ? results[0].value() : Json(nullptr);
+    };
+    CHECK(nclink::test::eventually([&] { return read("prog") == Json("O7"); }));
+    CHECK(nclink::test::eventually([&] { return driver.stats().samples >= 2; }));
+    {
+        std::lock_guard lock(m);
+        CHECK(std::find(requests.begin(), requests.end(), "sample 2") != requests.end());  // from = nextSequence
+        out_of_range_once = true;
+    }
+    CHECK(nclink::test::eventually([&] { return driver.stats().out_of_range == 1 && driver.stats().currents >= 2; }));
+    CHECK(read("tool").is_null());  // not in instance 7's probe
+    {
+        std::lock_guard lock(m);
+        restarted = true;
+    }
+    CHECK(nclink::test::eventually([&] { return read("prog") == Json("O8"); }));
+    CHECK(read("tool") == Json(12));  // the new probe's item, read from the new /current
+    const auto stats = driver.stats();
+    CHECK(stats.restarts == 1);
+    CHECK(stats.probes == 2);
+    CHECK(stats.failures == 0);  // no request failed: the restart was seen by its instanceId alone
+    CHECK(driver.link().state == MachineLink::connected);
+    driver.close();
 }
