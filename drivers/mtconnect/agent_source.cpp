@@ -78,6 +78,8 @@ Result<void> AgentSource::start() {
     url_ = std::move(url).value();
     auto model = read_model();
     if (!model.ok()) return std::move(model).error();
+    // The probe's instance: a restart before the first /current is seen too.
+    instance_ = model->instance_id;
     values_.install(std::make_shared<const ReverseModel>(std::move(model).value()));
     status_.count([](SourceCounters& c) { ++c.probes; });
     {
@@ -140,6 +142,7 @@ bool AgentSource::step() {
             logger_.warn("MTConnect source: {}", model.error().message);
             return false;
         }
+        instance_ = model->instance_id;
         values_.install(std::make_shared<const ReverseModel>(std::move(model).value()));
         status_.count([](SourceCounters& c) { ++c.probes; });
         need_probe_ = false;

@@ -386,6 +386,7 @@ Result<ReverseModel> reverse_map(const ProbeDocument& probe, const ReverseOption
     }
     out.dev_uuid = device->uuid.empty() ? device->id : device->uuid;
     out.mt_device = device->name.empty() ? device->id : device->name;
+    out.instance_id = probe.instance_id;
     const std::string device_id = b.unique(b.nclink_id(device->id));
     Json dev = {{"id", device_id},
                 {"name", device->name.empty() ? device_id : device->name},

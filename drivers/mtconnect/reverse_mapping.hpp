@@ -87,6 +87,7 @@ struct ReverseModel {
     Json model;                      ///< the NC-Link model document (NC_LINK_ROOT)
     std::string dev_uuid;            ///< the device's guid (the MTConnect uuid)
     std::string mt_device;           ///< the MTConnect Device's name or id
+    std::string instance_id;         ///< the probe's Header@instanceId
     std::vector<ItemBinding> items;  ///< every DataItem of the device, in document order
     std::vector<NoCounterpart> unmatched;
     std::vector<std::string> notes;                             ///< assumptions a reader should know
