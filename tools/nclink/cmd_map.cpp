@@ -3,6 +3,8 @@
 // OPC UA NodeSet2 document (GB/T 39561.3), on stdout or into FILE. Every
 // object that went out under the fallback rule, and every note, is listed on
 // stderr. Exit 0 written, 1 model or mapping failed, 2 usage error.
+// `nclink map --from-mtconnect PROBE.xml|http://agent [--device D] [-o FILE]`:
+// the reverse, an MTConnect device as an NC-Link model (cmd_map_mtconnect.cpp).
 #include "commands.hpp"
 
 #include <nclink/mapping.hpp>
@@ -16,6 +18,7 @@ namespace nclink::cli {
 
 const char* const map_usage =
     "usage: nclink map mtconnect|opcua MODEL.json [options]\n"
+    "       nclink map --from-mtconnect PROBE.xml|http://agent:port [--device D] [-o FILE]\n"
     "  Writes the model as an MTConnect 1.4 Devices document (mtconnect) or an\n"
     "  OPC UA NodeSet2 document (opcua), GB/T 39561.3 appendices A and B.\n"
     "  Objects without a standard mapping go out under the fallback rule and\n"
@@ -25,6 +28,10 @@ const char* const map_usage =
     "  --device ID          map one device (NC-Link id or terminal id); default all\n"
     "  --dev-uuid UUID      terminal id override (one device only)\n"
     "  -o FILE              write to FILE instead of stdout\n"
+    "  --from-mtconnect P   the reverse: the NC-Link model of an MTConnect device,\n"
+    "                       from a Devices document (a file, or an agent's /probe);\n"
+    "                       what has no NC-Link counterpart is listed on stderr;\n"
+    "                       --device picks the Device (uuid, name or id)\n"
     "  exit status: 0 written, 1 the model or the mapping failed, 2 usage error\n";
 
 namespace {
@@ -34,6 +41,7 @@ struct MapArgs {
     std::string model;
     std::string output;
     std::optional<std::string> profile;
+    std::string from_mtconnect;
     MappingOptions options;
 };
 
@@ -62,7 +70,7 @@ MapArgs parse(const Args& args, bool& help) {
             value = arg.substr(eq + 1);
         }
         if (name != "--profile" && name != "--device" && name != "--dev-uuid" && name != "-o" &&
-            name != "--output")
+            name != "--output" && name != "--from-mtconnect")
             throw UsageError{"unknown option " + arg};
         if (!value) {
             if (i + 1 >= args.size()) throw UsageError{name + " needs a value"};
@@ -73,10 +81,17 @@ MapArgs parse(const Args& args, bool& help) {
             out.profile = *value;
         else if (name == "--device")
             out.options.device = *value;
+        else if (name == "--from-mtconnect")
+            out.from_mtconnect = *value;
         else if (name == "--dev-uuid")
             out.options.dev_uuid = *value;
         else
             out.output = *value;
+    }
+    if (!out.from_mtconnect.empty()) {
+        if (!positionals.empty()) throw UsageError{"--from-mtconnect takes no format or MODEL.json"};
+        if (out.profile || !out.options.dev_uuid.empty()) throw UsageError{"--from-mtconnect takes --device and -o only"};
+        return out;
     }
     if (positionals.empty()) throw UsageError{"no format (mtconnect or opcua) given"};
     out.format = positionals[0];
@@ -103,6 +118,7 @@ int run_map(const Args& args) {
         std::fputs(map_usage, stdout);
         return 0;
     }
+    if (!a.from_mtconnect.empty()) return run_map_from_mtconnect(a.from_mtconnect, a.options.device, a.output);
     const LoadResult loaded = load_model_file(a.model);
     if (!loaded.ok()) {
         for (const auto& p : loaded.problems)

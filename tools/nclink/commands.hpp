@@ -28,6 +28,8 @@ int run_config(const Args& args);  // cmd_config.cpp
 extern const char* const config_usage;
 int run_map(const Args& args);  // cmd_map.cpp
 extern const char* const map_usage;
+/// `nclink map --from-mtconnect PROBE` (cmd_map_mtconnect.cpp).
+int run_map_from_mtconnect(const std::string& probe, const std::string& device, const std::string& output);
 int run_model(const Args& args);  // cmd_model.cpp
 extern const char* const model_usage;
 int run_vocabulary(const Args& args);  // cmd_model.cpp
