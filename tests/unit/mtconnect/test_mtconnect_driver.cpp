@@ -201,7 +201,7 @@ std::string streams_of(const std::string& instance, int next, const std::string&
 
 }  // namespace
 
-TEST_CASE("an agent that restarts between two polls (new instanceId) is probed and read again; OUT_OF_RANGE reads /current") {
+TEST_CASE("an agent that restarts between two polls (new instanceId) is probed and read again, OUT_OF_RANGE reads /current") {
     // A scripted agent: instance 7 until `restarted`, then instance 8 with
     // one DataItem more; its /sample answers OUT_OF_RANGE once when asked.
     std::mutex m;
