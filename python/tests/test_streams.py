@@ -169,7 +169,8 @@ def test_method_call_with_progress_and_control(broker: Broker, workdir: str) -> 
             statuses: List[nclink.MethodStatus] = []
             runs: List[nclink.MethodRun] = []
             c.on_method_runs(DEV, runs.append)
-            done = c.call(DEV, "program_transfer", {"source": g_code(workdir, 24 * 1024)}, on_status=statuses.append)
+            done = c.call(DEV, "program_transfer", {"source": g_code(workdir, 24 * 1024)}, on_status=statuses.append,
+                          timeout=30)  # a 3 s transfer: the result comes at its end
             assert done.result == "finished" and done.method == "program_transfer"
             progress = [s.progress for s in statuses if s.progress is not None]
             assert progress == sorted(progress) and progress[-1] > progress[0]
