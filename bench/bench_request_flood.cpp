@@ -16,7 +16,9 @@
 // a burst in 2 of 5 runs) and prints, per intake, the share of runs in which
 // a clean Query from a fresh client was answered within 1 s of the burst,
 // the null-row share during the burst and the time to the first clean
-// answer. --plain-broker runs mosquitto with its own defaults (no shipped
+// answer. "stalls" counts the adapter's MQTT links dropped and remade because
+// nothing in flight was acknowledged (TransportStats::stalled_links,
+// docs/delivery.md). --plain-broker runs mosquitto with its own defaults (no shipped
 // settings, default queue limits), as a plant might. --trace prints the
 // adapter's counters every 100 ms through the burst (received, handled,
 // shed, malformed, repeats, pending, outbox depth, in flight, published,
@@ -274,13 +276,14 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     sampler.join();
     const auto after = adapter.stats();
     const double send_ms = std::chrono::duration<double, std::milli>(sent - t0).count();
-    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10s %9llu %9llu %9llu %9ld\n", label.c_str(),
+    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10s %9llu %9llu %9llu %9ld %7llu\n", label.c_str(),
                 static_cast<double>(opt.requests) / (send_ms / 1000.0), 100.0 * null_row_share(quiet_start, quiet_end),
                 100.0 * result.null_share_flood, 100.0 * missed_row_share(flood_start, flood_end),
                 result.answer_ms ? std::to_string(static_cast<long>(*result.answer_ms)).c_str() : "DEAF",
                 static_cast<unsigned long long>(after.requests - before.requests),
                 static_cast<unsigned long long>(after.shed - before.shed),
-                static_cast<unsigned long long>(after.rejected - before.rejected), rss_flood);
+                static_cast<unsigned long long>(after.rejected - before.rejected), rss_flood,
+                static_cast<unsigned long long>(after.transport.stalled_links));
     if (opt.trace || !result.answer_ms) {
         std::printf("  trace (ms from burst start; burst sent at %.0f ms; flooder received %llu):\n", send_ms,
                     static_cast<unsigned long long>(flooder_got.load()));
@@ -336,8 +339,8 @@ int main(int argc, char** argv) {
     std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s\n",
                 opt.requests, opt.rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling",
                 opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf");
-    std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
-                "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB");
+    std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s %7s\n", "intake", "sent/s", "null% quiet", "null% flood",
+                "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB", "stalls");
     std::vector<RunResult> bounded, unbounded;
     for (int i = 0; i < opt.runs; ++i) {
         bounded.push_back(run("bounded", 256, opt));
