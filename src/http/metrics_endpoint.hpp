@@ -12,6 +12,8 @@
 
 #include <nclink/result.hpp>
 
+#include <chrono>
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -23,13 +25,28 @@ namespace nclink::http {
 /// "HOST:PORT" or "[V6]:PORT" -> host, port (0..65535).
 Result<std::pair<std::string, int>> parse_listen_address(const std::string& text);
 
+/// The HTTP limits of a metrics endpoint: the bridge's `http_*` settings
+/// that matter for a GET-only server (docs/metrics.md "Security and limits";
+/// the programs read them as `metrics_*` keys). Defaults as HttpOptions, with
+/// two workers.
+struct EndpointLimits {
+    std::size_t workers = 2;  ///< 0 is taken as 1
+    std::chrono::milliseconds header_timeout{3000};
+    std::chrono::milliseconds keep_alive_timeout{5000};
+    std::chrono::milliseconds write_timeout{5000};
+    std::size_t max_connections = 512;
+    std::size_t max_connections_per_peer = 64;  ///< 0: no cap per peer
+};
+
 class MetricsEndpoint {
 public:
     /// Binds `listen` ("HOST:PORT"; loopback unless `auth` is given, as
-    /// HttpServer requires) and serves `<prefix>_http_*` besides `text()`.
+    /// HttpServer requires) and serves `<prefix>_http_*` besides `text()`:
+    /// the endpoint's own requests and its connection counters
+    /// (HttpMetrics::render).
     static Result<std::unique_ptr<MetricsEndpoint>> start(const std::string& listen, std::function<std::string()> text,
                                                           const std::string& prefix, std::optional<BasicAuth> auth,
-                                                          Logger logger);
+                                                          Logger logger, EndpointLimits limits = {});
     ~MetricsEndpoint();
     int port() const noexcept { return server_->port(); }
     const std::string& host() const noexcept { return host_; }
