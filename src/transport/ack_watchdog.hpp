@@ -4,7 +4,8 @@
 // looks only for *some* packet from the broker, and a broker that keeps
 // delivering requests while our window never drains looks alive to it. The
 // adapter then answers nothing while it still receives every request
-// (issue #46: 64 answers unacknowledged, ~1,400 queued behind them, for good).
+// (docs/performance.md "Request bursts": 64 answers unacknowledged, ~1,400
+// queued behind them, for good).
 // The transport treats such a link as dead: it drops the connection,
 // reconnects and sends every unacknowledged message again (QoS 1 is at least
 // once, 4.3.2), counted in TransportStats::stalled_links and logged.

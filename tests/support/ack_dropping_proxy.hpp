@@ -3,7 +3,7 @@
 // every PUBACK (MQTT packet type 4, 3.4) from the broker is swallowed while
 // everything else (CONNACK, PUBLISH, PINGRESP, ...) still passes. The client
 // then sees a broker that is alive (keep-alive is answered, messages come
-// in) but never drains its in-flight window: the stall of issue #46.
+// in) but never drains its in-flight window: the stall of docs/performance.md "Request bursts".
 // Connections made later pass everything.
 //
 // Threading: one thread of its own pumps every connection; the public

@@ -320,10 +320,11 @@ TEST_CASE("a transport destroyed with QoS 1 messages unacknowledged by a hung br
     again->stop();
 }
 
-// Issue #46: a link whose broker keeps talking (requests come in, keep-alive
-// is answered) but whose in-flight window is never acknowledged again. Keep-
-// alive cannot see it; the ack watchdog (transport/ack_watchdog.hpp) takes
-// the link for dead, reconnects and sends the unacknowledged messages again.
+// docs/delivery.md "A link that stops acknowledging": a link whose broker
+// keeps talking (requests come in, keep-alive is answered) but whose
+// in-flight window is never acknowledged again. Keep-alive cannot see it;
+// the ack watchdog (transport/ack_watchdog.hpp) takes the link for dead,
+// reconnects and sends the unacknowledged messages again.
 // libmosquitto only (the paho transport has no such watchdog).
 TEST_CASE("a link that stops acknowledging while it still delivers is dropped, remade, and nothing is lost") {
     g_client = GENERATE(Client::own_loop, Client::shared_loop);
