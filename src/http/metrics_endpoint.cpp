@@ -30,9 +30,9 @@ Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::strin
     HttpOptions options;
     options.host = address->first;
     options.port = address->second;
-    options.workers = limits.workers;
+    options.workers = limits.workers;  // HttpServer takes 0 as 1
     options.header_timeout = limits.header_timeout;
-    options.keep_alive_timeout = limits.keep_alive_timeout;
+    options.keep_alive_timeout = limits.keep_alive;
     options.write_timeout = limits.write_timeout;
     options.max_connections = limits.max_connections;
     options.max_connections_per_peer = limits.max_connections_per_peer;

@@ -10,10 +10,9 @@
 #include "http/http_metrics.hpp"
 #include "http/http_server.hpp"
 
+#include <nclink/http_limits.hpp>
 #include <nclink/result.hpp>
 
-#include <chrono>
-#include <cstddef>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -25,18 +24,9 @@ namespace nclink::http {
 /// "HOST:PORT" or "[V6]:PORT" -> host, port (0..65535).
 Result<std::pair<std::string, int>> parse_listen_address(const std::string& text);
 
-/// The HTTP limits of a metrics endpoint: the bridge's `http_*` settings
-/// that matter for a GET-only server (docs/metrics.md "Security and limits";
-/// the programs read them as `metrics_*` keys). Defaults as HttpOptions, with
-/// two workers.
-struct EndpointLimits {
-    std::size_t workers = 2;  ///< 0 is taken as 1
-    std::chrono::milliseconds header_timeout{3000};
-    std::chrono::milliseconds keep_alive_timeout{5000};
-    std::chrono::milliseconds write_timeout{5000};
-    std::size_t max_connections = 512;
-    std::size_t max_connections_per_peer = 64;  ///< 0: no cap per peer
-};
+/// The HTTP limits of a metrics endpoint: the "metrics" section of the
+/// agent's and the adapter's configuration (include/nclink/http_limits.hpp).
+using EndpointLimits = HttpLimits;
 
 class MetricsEndpoint {
 public:

@@ -54,7 +54,7 @@ TEST_CASE("every connection counter of a program's /metrics is provoked and read
     EndpointLimits limits;
     // Long enough for the held connections below to do their part first.
     limits.header_timeout = 1500ms;
-    limits.keep_alive_timeout = 300ms;
+    limits.keep_alive = 300ms;
     limits.max_connections_per_peer = 2;
     limits.max_connections = 5;
     auto made = MetricsEndpoint::start(
