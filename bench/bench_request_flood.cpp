@@ -7,8 +7,12 @@
 // RSS. Each run is done twice: with the bounded intake (max_pending_requests
 // 256, the default) and with it effectively unbounded, in the same run.
 //
-//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace]
+//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace] [--paho]
 //                       [requests=20000] [quiet_ms=2000]
+//
+// --paho runs the adapter on the paho transport of libnclink-plant (what it
+// ran on when the stall of docs/performance.md was captured; that transport
+// has no ack watchdog) instead of libmosquitto.
 //
 // --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
 // needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
@@ -29,6 +33,9 @@
 #include <nclink/adapter.hpp>
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
+#if NCLINK_BENCH_PAHO
+#include <nclink/paho_transport.hpp>
+#endif
 
 #include "sim/sim_driver.hpp"
 #include "support/mosquitto_broker.hpp"
@@ -111,6 +118,7 @@ struct Options {
     int runs = 1;
     bool plain_broker = false;
     bool trace = false;
+    bool paho = false;
 };
 
 struct RunResult {
@@ -183,6 +191,16 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     auto created = SimDriver::create(loaded.model, SimOptions{});
     std::shared_ptr<SimDriver> sim = std::move(created).value();
     Adapter adapter(config, sim, Logger(stderr_sink(), LogLevel::error));
+#if NCLINK_BENCH_PAHO
+    if (opt.paho) {
+        MqttOptions m;
+        m.broker_url = broker.url();
+        m.client_id = "bench-adapter-paho";
+        m.outbox.max_in_flight = config.max_in_flight;
+        m.outbox.max_bytes = config.offline_buffer_bytes;
+        adapter.use_transport(make_paho_transport(m, Logger(stderr_sink(), LogLevel::error)).value());
+    }
+#endif
     if (!adapter.start().ok()) std::abort();
     while (adapter.stats().transport.connects == 0) std::this_thread::sleep_for(10ms);
     SysWatch sys(broker.url());
@@ -332,13 +350,21 @@ int main(int argc, char** argv) {
         else if (a == "--runs" && i + 1 < argc) opt.runs = std::max(1, std::atoi(argv[++i]));
         else if (a == "--plain-broker") opt.plain_broker = true;
         else if (a == "--trace") opt.trace = true;
+        else if (a == "--paho") opt.paho = true;
         else args.push_back(a);
     }
     if (!args.empty()) opt.requests = std::strtoull(args[0].c_str(), nullptr, 10);
     if (args.size() > 1) opt.quiet = std::chrono::milliseconds(std::atoi(args[1].c_str()));
-    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s\n",
+#if !NCLINK_BENCH_PAHO
+    if (opt.paho) {
+        std::fprintf(stderr, "bench_request_flood: --paho needs libnclink-plant (NCLINK_BUILD_PLANT)\n");
+        return 2;
+    }
+#endif
+    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s%s\n",
                 opt.requests, opt.rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling",
-                opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf");
+                opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf",
+                opt.paho ? ", adapter on paho" : ", adapter on libmosquitto");
     std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s %7s\n", "intake", "sent/s", "null% quiet", "null% flood",
                 "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB", "stalls");
     std::vector<RunResult> bounded, unbounded;
