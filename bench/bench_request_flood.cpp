@@ -7,8 +7,12 @@
 // RSS. Each run is done twice: with the bounded intake (max_pending_requests
 // 256, the default) and with it effectively unbounded, in the same run.
 //
-//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace]
+//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace] [--paho]
 //                       [requests=20000] [quiet_ms=2000]
+//
+// --paho runs the adapter on the paho transport of libnclink-plant (what it
+// ran on when the stall of docs/performance.md was captured; that transport
+// has no ack watchdog) instead of libmosquitto.
 //
 // --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
 // needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
@@ -16,7 +20,9 @@
 // a burst in 2 of 5 runs) and prints, per intake, the share of runs in which
 // a clean Query from a fresh client was answered within 1 s of the burst,
 // the null-row share during the burst and the time to the first clean
-// answer. --plain-broker runs mosquitto with its own defaults (no shipped
+// answer. "stalls" counts the adapter's MQTT links dropped and remade because
+// nothing in flight was acknowledged (TransportStats::stalled_links,
+// docs/delivery.md). --plain-broker runs mosquitto with its own defaults (no shipped
 // settings, default queue limits), as a plant might. --trace prints the
 // adapter's counters every 100 ms through the burst (received, handled,
 // shed, malformed, repeats, pending, outbox depth, in flight, published,
@@ -27,6 +33,9 @@
 #include <nclink/adapter.hpp>
 #include <nclink/client.hpp>
 #include <nclink/model.hpp>
+#if NCLINK_BENCH_PAHO
+#include <nclink/paho_transport.hpp>
+#endif
 
 #include "sim/sim_driver.hpp"
 #include "support/mosquitto_broker.hpp"
@@ -109,6 +118,7 @@ struct Options {
     int runs = 1;
     bool plain_broker = false;
     bool trace = false;
+    bool paho = false;
 };
 
 struct RunResult {
@@ -181,6 +191,16 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     auto created = SimDriver::create(loaded.model, SimOptions{});
     std::shared_ptr<SimDriver> sim = std::move(created).value();
     Adapter adapter(config, sim, Logger(stderr_sink(), LogLevel::error));
+#if NCLINK_BENCH_PAHO
+    if (opt.paho) {
+        MqttOptions m;
+        m.broker_url = broker.url();
+        m.client_id = "bench-adapter-paho";
+        m.outbox.max_in_flight = config.max_in_flight;
+        m.outbox.max_bytes = config.offline_buffer_bytes;
+        adapter.use_transport(make_paho_transport(m, Logger(stderr_sink(), LogLevel::error)).value());
+    }
+#endif
     if (!adapter.start().ok()) std::abort();
     while (adapter.stats().transport.connects == 0) std::this_thread::sleep_for(10ms);
     SysWatch sys(broker.url());
@@ -274,13 +294,14 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     sampler.join();
     const auto after = adapter.stats();
     const double send_ms = std::chrono::duration<double, std::milli>(sent - t0).count();
-    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10s %9llu %9llu %9llu %9ld\n", label.c_str(),
+    std::printf("%-10s %10.0f %10.2f %10.2f %10.2f %10s %9llu %9llu %9llu %9ld %7llu\n", label.c_str(),
                 static_cast<double>(opt.requests) / (send_ms / 1000.0), 100.0 * null_row_share(quiet_start, quiet_end),
                 100.0 * result.null_share_flood, 100.0 * missed_row_share(flood_start, flood_end),
                 result.answer_ms ? std::to_string(static_cast<long>(*result.answer_ms)).c_str() : "DEAF",
                 static_cast<unsigned long long>(after.requests - before.requests),
                 static_cast<unsigned long long>(after.shed - before.shed),
-                static_cast<unsigned long long>(after.rejected - before.rejected), rss_flood);
+                static_cast<unsigned long long>(after.rejected - before.rejected), rss_flood,
+                static_cast<unsigned long long>(after.transport.stalled_links));
     if (opt.trace || !result.answer_ms) {
         std::printf("  trace (ms from burst start; burst sent at %.0f ms; flooder received %llu):\n", send_ms,
                     static_cast<unsigned long long>(flooder_got.load()));
@@ -329,15 +350,23 @@ int main(int argc, char** argv) {
         else if (a == "--runs" && i + 1 < argc) opt.runs = std::max(1, std::atoi(argv[++i]));
         else if (a == "--plain-broker") opt.plain_broker = true;
         else if (a == "--trace") opt.trace = true;
+        else if (a == "--paho") opt.paho = true;
         else args.push_back(a);
     }
     if (!args.empty()) opt.requests = std::strtoull(args[0].c_str(), nullptr, 10);
     if (args.size() > 1) opt.quiet = std::chrono::milliseconds(std::atoi(args[1].c_str()));
-    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s\n",
+#if !NCLINK_BENCH_PAHO
+    if (opt.paho) {
+        std::fprintf(stderr, "bench_request_flood: --paho needs libnclink-plant (NCLINK_BUILD_PLANT)\n");
+        return 2;
+    }
+#endif
+    std::printf("request flood: %zu requests (1/2 valid Query, 1/8 each malformed, 1000-item, 300-deep, bad Set), QoS 0%s%s%s\n",
                 opt.requests, opt.rt_priority > 0 ? ", sampler SCHED_FIFO" : ", normal scheduling",
-                opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf");
-    std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s\n", "intake", "sent/s", "null% quiet", "null% flood",
-                "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB");
+                opt.plain_broker ? ", mosquitto with its defaults" : ", mosquitto with tools/mosquitto/nclink.conf",
+                opt.paho ? ", adapter on paho" : ", adapter on libmosquitto");
+    std::printf("%-10s %10s %10s %10s %10s %10s %9s %9s %9s %9s %7s\n", "intake", "sent/s", "null% quiet", "null% flood",
+                "of it late", "answer ms", "handled", "shed", "rejected", "RSS KiB", "stalls");
     std::vector<RunResult> bounded, unbounded;
     for (int i = 0; i < opt.runs; ++i) {
         bounded.push_back(run("bounded", 256, opt));

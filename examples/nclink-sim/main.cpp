@@ -200,7 +200,9 @@ int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const ncl
             for (const auto& a : held) adapters.push_back(a.get());
             return nclink::prometheus_metrics(adapters);
         };
-        auto made = nclink::http::MetricsEndpoint::start(o.metrics, scrape, "nclink_adapter", std::nullopt, logger);
+        // The HTTP limits of --config's "metrics" section (the machines' own are not read: one endpoint).
+        auto made = nclink::http::MetricsEndpoint::start(o.metrics, scrape, "nclink_adapter", std::nullopt, logger,
+                                                         shared.metrics);
         if (!made) {
             logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
             gw.stop();
@@ -310,7 +312,8 @@ int main(int argc, char** argv) {
     std::unique_ptr<nclink::http::MetricsEndpoint> metrics;
     if (!o.metrics.empty()) {
         auto made = nclink::http::MetricsEndpoint::start(
-            o.metrics, [&adapter] { return nclink::prometheus_metrics(adapter); }, "nclink_adapter", std::nullopt, logger);
+            o.metrics, [&adapter] { return nclink::prometheus_metrics(adapter); }, "nclink_adapter", std::nullopt, logger,
+            config.metrics);
         if (!made) {
             logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
             adapter.stop();

@@ -6,6 +6,7 @@
 #include <nclink/export.hpp>
 #include <nclink/feature_config.hpp>
 #include <nclink/heap.hpp>
+#include <nclink/http_limits.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -81,6 +82,10 @@ struct NCLINK_API AdapterConfig {
     Json driver_config;                  ///< handed to the driver's open()
 
     LogLevel log_level = LogLevel::info; ///< "log_level": trace/debug/info/warn/error/off
+    /// "metrics": {"http_workers", "http_header_timeout_ms", ...}: the HTTP
+    /// limits of `nclink-sim --metrics` (the Adapter itself serves no HTTP;
+    /// docs/metrics.md). A change takes a restart.
+    HttpLimits metrics;
 };
 
 /// Reads a configuration object. Unknown keys are errors (typos must not pass

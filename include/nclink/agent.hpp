@@ -21,6 +21,7 @@
 #include <nclink/clock.hpp>
 #include <nclink/config_reload.hpp>
 #include <nclink/export.hpp>
+#include <nclink/http_limits.hpp>
 #include <nclink/json.hpp>
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
@@ -105,6 +106,10 @@ struct NCLINK_API AgentConfig {
     std::string acl_agent_user = "nclink-agent";  ///< "acl": {"agent_user"}: broker user of the agents in the ACL file
 
     LogLevel log_level = LogLevel::info; ///< "log_level"
+    /// "metrics": {"http_workers", "http_header_timeout_ms", ...}: the HTTP
+    /// limits of `nclink-agent --metrics` (the Agent itself serves no HTTP;
+    /// docs/metrics.md). A change takes a restart.
+    HttpLimits metrics;
 };
 
 /// Reads a configuration object; unknown keys 413, wrong types 405, a bad

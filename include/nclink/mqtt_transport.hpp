@@ -46,6 +46,13 @@ struct NCLINK_API MqttOptions {
     /// (libmosquitto sets it on its socket; the paho transport finds paho's,
     /// src/transport/tcp_nodelay.cpp).
     bool tcp_nodelay = true;
+    /// A connection with messages in flight of which none is acknowledged
+    /// (PUBACK; at QoS 0: written) for this long is taken for dead although
+    /// keep-alive still sees the broker: it is dropped and made again, and
+    /// every unacknowledged message is sent again (TransportStats::
+    /// stalled_links). 0 = two keep-alive periods (keep_alive, at least 5 s).
+    /// Negative: never. libmosquitto transport (make_mqtt_transport()) only.
+    std::chrono::milliseconds ack_timeout{0};
 };
 
 /// Round trips through the broker, measured on two short-lived connections

@@ -55,6 +55,11 @@ struct NCLINK_API TransportStats {
     /// certificate): retrying will not help until the configuration changes.
     /// Programs exit on it at start (docs/security.md).
     bool refused = false;
+    /// Connections dropped (and made again, every unacknowledged message sent
+    /// again) because messages were in flight and the broker acknowledged
+    /// none of them within MqttOptions::ack_timeout while the link otherwise
+    /// looked alive. Logged as a warning each time (docs/delivery.md).
+    std::uint64_t stalled_links = 0;
 };
 
 /// Called for every message matching a subscription.

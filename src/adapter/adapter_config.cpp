@@ -40,6 +40,7 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(detail::read_feature_sections(top, c));  // "sampling", "events", "methods"
 
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(detail::read_http_limits(top, "metrics", c.metrics));
 
     if (const Json* driver = top.object("driver")) {
         if (!driver->is_object()) return top.fail(ErrorCode::value_type, "driver", "must be an object");

@@ -72,6 +72,9 @@ void add_adapter_metrics(PrometheusText& out, const std::string& dev, const Adap
               static_cast<double>(t.in_flight));
     out.counter("nclink_adapter_mqtt_dropped_bytes_total", "Bytes of messages dropped because the offline buffer was full", d,
                 t.dropped_bytes);
+    out.counter("nclink_adapter_mqtt_stalled_links_total",
+                "Connections dropped and made again because nothing in flight was acknowledged within the ack timeout", d,
+                t.stalled_links);
 
     // ---- drops by cause (each in its own unit: see docs/metrics.md); the
     // features add theirs with their own families (adapter_features.hpp)

@@ -35,6 +35,7 @@ std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const Ad
     key(a.driver_plugin == b.driver_plugin, "driver.plugin");
     key(a.driver_config == b.driver_config, "driver.config");
     key(a.log_level == b.log_level, "log_level");
+    key(a.metrics == b.metrics, "metrics");  // the program's /metrics server, bound once
     return out;
 }
 

@@ -85,7 +85,8 @@ Json to_json(const AdapterStats& s) {
                 {"state", std::string(to_string(s.state))},
                 {"transport", {{"published", t.published}, {"received", t.received}, {"dropped", t.dropped},
                                {"dropped_bytes", t.dropped_bytes}, {"connects", t.connects}, {"buffered", t.buffered},
-                               {"buffered_bytes", t.buffered_bytes}, {"in_flight", t.in_flight}, {"sessions_lost", t.sessions_lost}}},
+                               {"buffered_bytes", t.buffered_bytes}, {"in_flight", t.in_flight}, {"sessions_lost", t.sessions_lost},
+                               {"stalled_links", t.stalled_links}}},
                 {"values", {{"refused", s.values_refused}, {"refused_items", s.values_refused_items}}},
                 {"features", s.features}};
 }

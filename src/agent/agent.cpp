@@ -109,6 +109,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     restart_only(config.state_dir == next.state_dir, "state_dir");
     restart_only(config.observe_samples == next.observe_samples, "observe_samples");
     restart_only(config.tick == next.tick, "tick_ms");
+    restart_only(config.metrics == next.metrics, "metrics");  // the program's /metrics server, bound once
     const bool registration_changed = !same_registration(config.registration, next.registration);
     reloadable(!registration_changed, "registration");
     reloadable(same_access(config.access, next.access), "access");

@@ -102,6 +102,7 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
         NCLINK_TRY(a.no_unknown_keys());
     }
     NCLINK_TRY(detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(detail::read_http_limits(top, "metrics", c.metrics));
     NCLINK_TRY(top.no_unknown_keys());
     if (c.request_timeout.count() <= 0) return top.fail(ErrorCode::out_of_range, "request_timeout_ms", "must be positive");
     if (c.tick.count() <= 0) c.tick = std::chrono::milliseconds(1);

@@ -59,8 +59,6 @@ std::string OpsApi::metrics() const {
               static_cast<double>(f.buffered));
     out.gauge("nclink_bridge_buffer_capacity_observations", "The MTConnect bufferSize", {},
               static_cast<double>(store_.buffer_size()));
-    out.gauge("nclink_bridge_http_streams", "Streaming answers running now (SSE, MTConnect interval=)", {},
-              static_cast<double>(server_.active_streams()));
     out.gauge("nclink_bridge_pending_requests", "NC-Link requests waiting for their answer", {},
               static_cast<double>(client_.pending_requests()));
 
@@ -85,6 +83,7 @@ std::string OpsApi::metrics() const {
     out.gauge("nclink_bridge_mqtt_buffered_messages", "Messages waiting to go to the broker", {},
               static_cast<double>(t.buffered));
     http_metrics_.render(out, "nclink_bridge");
+    http::HttpMetrics::render(out, "nclink_bridge", server_.connection_counters());
     return out.str();
 }
 

@@ -77,4 +77,27 @@ Result<void> read_log_level(ConfigReader& top, LogLevel& out) {
     return ok_result();
 }
 
+Result<void> read_http_limits(ConfigReader& top, const char* section, HttpLimits& out) {
+    const Json* json = top.object(section);
+    if (json == nullptr) return ok_result();
+    if (!json->is_object()) return top.fail(ErrorCode::value_type, section, "must be an object");
+    ConfigReader r(*json, top.where() + section + ".", pointer_append(top.pointer(), section));
+    NCLINK_TRY(r.count("http_workers", out.workers));
+    NCLINK_TRY(r.duration("http_header_timeout_ms", out.header_timeout));
+    NCLINK_TRY(r.duration("http_keep_alive_ms", out.keep_alive));
+    NCLINK_TRY(r.duration("http_write_timeout_ms", out.write_timeout));
+    NCLINK_TRY(r.count("http_max_connections", out.max_connections));
+    NCLINK_TRY(r.count("http_max_connections_per_peer", out.max_connections_per_peer));
+    NCLINK_TRY(r.no_unknown_keys());
+    // As the bridge's http_* keys: a server needs a worker and a connection,
+    // and a deadline under 10 ms would close every client.
+    if (out.workers < 1) return r.fail(ErrorCode::out_of_range, "http_workers", "must be at least 1");
+    if (out.max_connections < 1) return r.fail(ErrorCode::out_of_range, "http_max_connections", "must be at least 1");
+    for (const auto& [key, value] : {std::pair{"http_header_timeout_ms", out.header_timeout},
+                                     std::pair{"http_keep_alive_ms", out.keep_alive},
+                                     std::pair{"http_write_timeout_ms", out.write_timeout}})
+        if (value.count() < 10) return r.fail(ErrorCode::out_of_range, key, "must be at least 10");
+    return ok_result();
+}
+
 }  // namespace nclink::detail

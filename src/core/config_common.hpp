@@ -6,6 +6,7 @@
 
 #include "core/config_reader.hpp"
 
+#include <nclink/http_limits.hpp>
 #include <nclink/log.hpp>
 
 #include <optional>
@@ -35,5 +36,9 @@ Error located(const ConfigDocument& doc, Error error);
 void resolve_against(const std::string& config_path, std::string& p);
 /// "log_level": trace/debug/info/warn/error/off.
 Result<void> read_log_level(ConfigReader& top, LogLevel& out);
+/// The "metrics" section (include/nclink/http_limits.hpp): the bridge's
+/// http_* keys for a program's /metrics endpoint. Unknown keys 413; a worker
+/// or connection count of 0 or a deadline of 0 is refused (out of range).
+Result<void> read_http_limits(ConfigReader& top, const char* section, HttpLimits& out);
 
 }  // namespace nclink::detail

@@ -28,4 +28,26 @@ void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix)
         out.histogram(duration, duration_help, {{"route", route}}, histogram->snapshot());
 }
 
+void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& c) {
+    // What the connection gate did with slow, idle and surplus clients
+    // (docs/bridge.md "Slow and idle clients"): the counters say whether the
+    // limits bite, and which.
+    out.counter(prefix + "_http_connections_accepted_total", "HTTP connections accepted", {}, c.accepted);
+    const std::string refused = prefix + "_http_connections_refused_total";
+    const char* refused_help = "HTTP connections closed at once because a connection cap was reached, by cap";
+    out.counter(refused, refused_help, {{"cap", "total"}}, c.refused_total);
+    out.counter(refused, refused_help, {{"cap", "per_peer"}}, c.refused_per_peer);
+    const std::string closed = prefix + "_http_connections_closed_total";
+    const char* closed_help = "HTTP connections the server closed for a deadline, by reason";
+    out.counter(closed, closed_help, {{"reason", "header_timeout"}}, c.header_timeouts);
+    out.counter(closed, closed_help, {{"reason", "idle"}}, c.idle_closed);
+    out.gauge(prefix + "_http_connections_open", "HTTP connections open now", {}, static_cast<double>(c.open));
+    out.gauge(prefix + "_http_connections_waiting", "HTTP connections open now that wait for a whole request head, without a worker",
+              {}, static_cast<double>(c.waiting));
+    out.counter(prefix + "_http_streams_total", "Streaming answers begun (SSE, MTConnect interval=)", {}, c.streams_started);
+    out.counter(prefix + "_http_streams_refused_total", "Streaming answers refused with 503: the stream cap was reached", {},
+                c.streams_refused);
+    out.gauge(prefix + "_http_streams", "Streaming answers running now", {}, static_cast<double>(c.streams));
+}
+
 }  // namespace nclink::http

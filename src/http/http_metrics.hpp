@@ -29,6 +29,14 @@ public:
     /// Adds `<prefix>_http_requests_total` and
     /// `<prefix>_http_request_duration_seconds` (e.g. prefix "nclink_bridge").
     void render(detail::PrometheusText& out, const std::string& prefix) const;
+    /// Adds the server's connection counters (HttpServer::connection_counters()):
+    /// `<prefix>_http_connections_accepted_total`,
+    /// `<prefix>_http_connections_refused_total{cap="total"|"per_peer"}`,
+    /// `<prefix>_http_connections_closed_total{reason="header_timeout"|"idle"}`,
+    /// `<prefix>_http_connections_open`, `<prefix>_http_connections_waiting`,
+    /// `<prefix>_http_streams_total`, `<prefix>_http_streams_refused_total` and
+    /// `<prefix>_http_streams`. Static: the counters are the server's.
+    static void render(detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& counters);
 
 private:
     mutable std::mutex mutex_;

@@ -250,6 +250,8 @@ struct HttpServer::Impl {
     std::atomic<bool> started{false};
     std::atomic<bool> stopped{false};
     std::atomic<std::size_t> streams{0};
+    std::atomic<std::uint64_t> streams_started{0};
+    std::atomic<std::uint64_t> streams_refused{0};
     std::mutex stop_mutex;
     std::condition_variable stop_cv;
 
@@ -440,9 +442,11 @@ struct HttpServer::Impl {
                 response = error_response(503, request, "the server is stopping");
             } else if (++streams > options.max_streams) {
                 --streams;
+                ++streams_refused;
                 response = error_response(503, request, "too many streams at once (" +
                                                             std::to_string(options.max_streams) + ")");
             } else {
+                ++streams_started;
                 // The stream keeps this thread; a new worker takes its place.
                 if (current_stream) current_stream->streaming();
                 if (pool) pool->lend_current();
@@ -541,6 +545,12 @@ void HttpServer::stop() {
     if (impl.pool) impl.pool->shutdown();
 }
 
-ConnectionCounters HttpServer::connection_counters() const { return impl_->gate.counters(); }
+ConnectionCounters HttpServer::connection_counters() const {
+    ConnectionCounters c = impl_->gate.counters();
+    c.streams_started = impl_->streams_started;
+    c.streams_refused = impl_->streams_refused;
+    c.streams = impl_->streams;
+    return c;
+}
 
 }  // namespace nclink::http

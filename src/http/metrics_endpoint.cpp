@@ -22,14 +22,20 @@ Result<std::pair<std::string, int>> parse_listen_address(const std::string& text
 Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::string& listen,
                                                                  std::function<std::string()> text,
                                                                  const std::string& prefix,
-                                                                 std::optional<BasicAuth> auth, Logger logger) {
+                                                                 std::optional<BasicAuth> auth, Logger logger,
+                                                                 EndpointLimits limits) {
     auto address = parse_listen_address(listen);
     if (!address) return std::move(address).error();
     std::unique_ptr<MetricsEndpoint> endpoint(new MetricsEndpoint());
     HttpOptions options;
     options.host = address->first;
     options.port = address->second;
-    options.workers = 2;
+    options.workers = limits.workers;  // HttpServer takes 0 as 1
+    options.header_timeout = limits.header_timeout;
+    options.keep_alive_timeout = limits.keep_alive;
+    options.write_timeout = limits.write_timeout;
+    options.max_connections = limits.max_connections;
+    options.max_connections_per_peer = limits.max_connections_per_peer;
     options.max_streams = 1;
     options.max_body_bytes = 1024;  // GET only: no body is wanted
     options.auth = std::move(auth);
@@ -37,10 +43,12 @@ Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::strin
     endpoint->host_ = options.host;
     endpoint->server_ = std::make_unique<HttpServer>(options);
     HttpMetrics& metrics = endpoint->metrics_;
+    HttpServer& server = *endpoint->server_;
     endpoint->server_->set_observer(metrics.observer());
-    endpoint->server_->get("/metrics", [text = std::move(text), &metrics, prefix](const HttpRequest&) {
+    endpoint->server_->get("/metrics", [text = std::move(text), &metrics, &server, prefix](const HttpRequest&) {
         detail::PrometheusText own;
         metrics.render(own, prefix);
+        HttpMetrics::render(own, prefix, server.connection_counters());
         return text_response(text() + own.str(), std::string(detail::prometheus_content_type));
     });
     if (auto started = endpoint->server_->start(); !started) return std::move(started).error();

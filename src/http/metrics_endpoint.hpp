@@ -10,6 +10,7 @@
 #include "http/http_metrics.hpp"
 #include "http/http_server.hpp"
 
+#include <nclink/http_limits.hpp>
 #include <nclink/result.hpp>
 
 #include <functional>
@@ -23,13 +24,19 @@ namespace nclink::http {
 /// "HOST:PORT" or "[V6]:PORT" -> host, port (0..65535).
 Result<std::pair<std::string, int>> parse_listen_address(const std::string& text);
 
+/// The HTTP limits of a metrics endpoint: the "metrics" section of the
+/// agent's and the adapter's configuration (include/nclink/http_limits.hpp).
+using EndpointLimits = HttpLimits;
+
 class MetricsEndpoint {
 public:
     /// Binds `listen` ("HOST:PORT"; loopback unless `auth` is given, as
-    /// HttpServer requires) and serves `<prefix>_http_*` besides `text()`.
+    /// HttpServer requires) and serves `<prefix>_http_*` besides `text()`:
+    /// the endpoint's own requests and its connection counters
+    /// (HttpMetrics::render).
     static Result<std::unique_ptr<MetricsEndpoint>> start(const std::string& listen, std::function<std::string()> text,
                                                           const std::string& prefix, std::optional<BasicAuth> auth,
-                                                          Logger logger);
+                                                          Logger logger, EndpointLimits limits = {});
     ~MetricsEndpoint();
     int port() const noexcept { return server_->port(); }
     const std::string& host() const noexcept { return host_; }

@@ -63,6 +63,13 @@ public:
                      client_id_);
     }
     void received() { ++received_; }
+    /// The link was dropped as dead: nothing in flight acknowledged for `waited`.
+    void stalled(std::chrono::milliseconds waited, std::size_t in_flight) {
+        ++stalled_links_;
+        logger_.warn("mqtt: {} message(s) in flight to {} and none acknowledged for {} ms although the link is up: "
+                     "taking it for dead, reconnecting and sending them again",
+                     in_flight, broker_url_, waited.count());
+    }
     void nodelay_sockets(int n) { nodelay_sockets_ = n; }
 
     /// Everything but the outbox's part.
@@ -71,6 +78,7 @@ public:
         s.connects = connects_;
         s.tcp_nodelay_sockets = nodelay_sockets_;
         s.sessions_lost = sessions_lost_;
+        s.stalled_links = stalled_links_;
         s.connect_failures = connect_failures_;
         std::lock_guard<std::mutex> lock(failure_mutex_);
         s.last_error = last_error_;
@@ -88,6 +96,7 @@ private:
     std::atomic<int> nodelay_sockets_{0};
     std::atomic<std::uint64_t> connect_failures_{0};
     std::atomic<std::uint64_t> sessions_lost_{0};
+    std::atomic<std::uint64_t> stalled_links_{0};
     mutable std::mutex failure_mutex_;  // last_error_, refused_
     std::string last_error_;
     bool refused_ = false;

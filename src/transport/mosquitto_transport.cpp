@@ -1,5 +1,6 @@
 #include "transport/mosquitto_transport.hpp"
 
+#include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
 #include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
@@ -55,7 +56,8 @@ public:
           logger_(std::move(logger)),
           loop_(std::move(loop)),
           link_(logger_, options_.broker_url, options_.client_id),
-          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_) {}
+          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_),
+          watchdog_(ack_limit(options_)) {}
 
     ~MosquittoTransport() override {
         stop(milliseconds(0));
@@ -134,6 +136,15 @@ public:
     bool flush(milliseconds timeout) override { return outbox_.wait_drained(timeout); }
 
 private:
+    // The keep-alive libmosquitto is given (begin_connect()).
+    static std::chrono::seconds effective_keep_alive(const MqttOptions& o) {
+        return std::max<std::chrono::seconds>(std::chrono::seconds(5), o.keep_alive);
+    }
+    static milliseconds ack_limit(const MqttOptions& o) {
+        if (o.ack_timeout.count() != 0) return o.ack_timeout;
+        return 2 * std::chrono::duration_cast<milliseconds>(effective_keep_alive(o));
+    }
+
     // ---- any thread -------------------------------------------------------
 
     // Outbox sender or a publishing thread. The acknowledgement (or, at QoS
@@ -261,6 +272,9 @@ private:
         } else if (!connected_ && now >= attempt_deadline_) {
             connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()), false);
             drop_connection("connect failed");
+        } else if (connected_ && watchdog_.stalled(now, outbox_.in_flight())) {
+            link_.stalled(watchdog_.waited(now), outbox_.in_flight());
+            drop_connection("nothing acknowledged");
         } else if (now >= next_misc_) {
             // Keep-alive: PINGREQ when due, and a broker that stopped answering is noticed.
             next_misc_ = now + std::chrono::seconds(1);
@@ -336,7 +350,7 @@ private:
         lost_ = false;
         attempt_deadline_ = Steady::now() + options_.connect_timeout;
         next_misc_ = Steady::now() + std::chrono::seconds(1);
-        const int keep_alive = static_cast<int>(std::max<std::chrono::seconds::rep>(5, options_.keep_alive.count()));
+        const int keep_alive = static_cast<int>(effective_keep_alive(options_).count());
         const int rc = mosquitto_connect_async(m, host_.c_str(), port_, keep_alive);
         if (rc != MOSQ_ERR_SUCCESS) {
             // On loopback the TCP connection, and so the TLS handshake, can fail right here.
@@ -414,6 +428,7 @@ private:
             session_established_ = true;
         }
         connected_ = true;
+        watchdog_.connected(Steady::now());
         tls_verdict_.reset();
         delay_ = options_.reconnect_min;
         link_.nodelay_sockets(options_.tcp_nodelay ? 1 : 0);
@@ -437,6 +452,7 @@ private:
 
     static void on_published(mosquitto*, void* self, int mid) { static_cast<MosquittoTransport*>(self)->published(mid); }
     void published(int mid) {
+        watchdog_.progress(Steady::now());
         std::uint64_t attempt = 0;
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
@@ -511,6 +527,7 @@ private:
     Steady::time_point next_misc_{};
     bool lost_ = false;
     std::string lost_reason_;
+    AckWatchdog watchdog_;
     bool session_established_ = false;
     std::atomic<bool> connected_{false};
     std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way

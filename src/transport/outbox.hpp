@@ -56,6 +56,11 @@ public:
     void stop();
 
     void fill_stats(TransportStats& stats) const;
+    /// Messages handed to the link and not yet delivered().
+    std::size_t in_flight() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return in_flight_;
+    }
     /// How often the sender thread woke up (tests: no futile wake-ups).
     std::uint64_t sender_wakeups() const {
         std::lock_guard<std::mutex> lock(mutex_);

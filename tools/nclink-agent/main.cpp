@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
             auth = nclink::http::BasicAuth{*o.metrics_user, password ? password : "", "nclink-agent", {}};
         }
         auto made = nclink::http::MetricsEndpoint::start(
-            *o.metrics, [&agent] { return nclink::prometheus_metrics(agent); }, "nclink_agent", std::move(auth), logger);
+            *o.metrics, [&agent] { return nclink::prometheus_metrics(agent); }, "nclink_agent", std::move(auth), logger,
+            config.metrics);
         if (!made) {
             logger.error("nclink-agent: --metrics {}: {}", *o.metrics, made.error().describe());
             return kExitCannotRun;

@@ -92,6 +92,11 @@ TEST_CASE("bridge ops: the dashboard page, health and metrics that follow the ma
                            {{"method", "GET"}, {"route", "/dashboard"}, {"code", "200"}}) == 2.0);
     CHECK(test::prom_value(samples, "nclink_bridge_http_requests_total",
                            {{"method", "POST"}, {"route", ""}, {"code", "405"}}) == 1.0);
+    // The connection gate's counters (docs/metrics.md "HTTP connections").
+    CHECK(test::prom_value(samples, "nclink_bridge_http_connections_accepted_total").value_or(0) >= 1.0);
+    CHECK(test::prom_value(samples, "nclink_bridge_http_connections_refused_total", {{"cap", "per_peer"}}) == 0.0);
+    CHECK(test::prom_value(samples, "nclink_bridge_http_connections_closed_total", {{"reason", "header_timeout"}}) == 0.0);
+    CHECK(test::prom_value(samples, "nclink_bridge_http_streams") == 0.0);
 }
 
 TEST_CASE("bridge ops: beyond loopback only with credentials, and then every request needs them") {

@@ -2,6 +2,7 @@
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/paho_transport.hpp>
 
+#include "support/ack_dropping_proxy.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/test_pki.hpp"
 #include "support/inbox.hpp"
@@ -15,6 +16,8 @@
 #include <sys/socket.h>
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -315,6 +318,113 @@ TEST_CASE("a transport destroyed with QoS 1 messages unacknowledged by a hung br
     REQUIRE(again->publish({"x/hung", "after", 1, false}).ok());
     CHECK(again->flush(std::chrono::seconds(5)));
     again->stop();
+}
+
+// docs/delivery.md "A link that stops acknowledging": a link whose broker
+// keeps talking (requests come in, keep-alive is answered) but whose
+// in-flight window is never acknowledged again. Keep-alive cannot see it;
+// the ack watchdog (transport/ack_watchdog.hpp) takes the link for dead,
+// reconnects and sends the unacknowledged messages again.
+// libmosquitto only (the paho transport has no such watchdog).
+TEST_CASE("a link that stops acknowledging while it still delivers is dropped, remade, and nothing is lost") {
+    g_client = GENERATE(Client::own_loop, Client::shared_loop);
+    INFO(client_name(g_client));
+    MosquittoBroker broker;
+    test::AckDroppingProxy proxy(broker.port());
+
+    auto watcher = connect(options_for(broker, "nclink-test-watcher"));
+    Inbox seen;
+    seen.attach(*watcher);
+    REQUIRE(watcher->start().ok());
+    REQUIRE(watcher->subscribe({"x/acked/#"}, 1).ok());
+    REQUIRE(eventually([&] { return watcher->state() == LinkState::connected; }));
+
+    auto o = options_for(broker, "nclink-test-unacked");
+    o.broker_url = proxy.url();
+    o.ack_timeout = std::chrono::milliseconds(1500);
+    auto t = connect(o);
+    Inbox in;
+    in.attach(*t);
+    REQUIRE(t->start().ok());
+    REQUIRE(t->subscribe({"x/in"}, 0).ok());
+    REQUIRE(eventually([&] { return t->state() == LinkState::connected; }));
+    REQUIRE(t->publish({"x/acked/first", "0", 1, false}).ok());
+    REQUIRE(t->flush(std::chrono::seconds(5)));
+
+    proxy.drop_acks_now();
+    // The broker goes on delivering to the client: the link looks alive.
+    struct Talker {  // joined however the test ends
+        std::atomic<bool> talking{true};
+        std::thread thread;
+        ~Talker() {
+            talking = false;
+            if (thread.joinable()) thread.join();
+        }
+    } talker;
+    talker.thread = std::thread([&] {
+        while (talker.talking) {
+            (void)watcher->publish({"x/in", "ping", 0, false});
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+    });
+    for (int i = 1; i <= 20; ++i) REQUIRE(t->publish({"x/acked/" + std::to_string(i), std::to_string(i), 1, false}).ok());
+    REQUIRE(eventually([&] { return proxy.acks_dropped() >= 20; }));
+    CHECK(t->stats().in_flight == 20);
+    const auto received_before = t->stats().received;
+
+    // Without the watchdog the window stays full for good (keep-alive is answered).
+    REQUIRE(eventually([&] { return t->stats().published == 21 && t->stats().in_flight == 0; }, std::chrono::seconds(15)));
+    CHECK(t->stats().stalled_links == 1);
+    CHECK(t->stats().connects == 2);
+    CHECK(t->stats().received > received_before);  // it was never deaf
+    CHECK(proxy.connections() == 2);
+    // Everything reached the broker (at least once: sent twice when its first PUBACK was lost).
+    REQUIRE(eventually([&] {
+        auto p = seen.payloads();
+        std::set<std::string> got(p.begin(), p.end());
+        return got.size() == 21;
+    }));
+    t->stop();
+    watcher->stop();
+}
+
+TEST_CASE("a broker frozen longer than the ack timeout: the link is remade after it resumes and nothing is lost") {
+    g_client = GENERATE(Client::own_loop, Client::shared_loop);
+    INFO(client_name(g_client));
+    MosquittoBroker broker;
+    auto watcher = connect(options_for(broker, "nclink-test-frozen-watcher"));
+    Inbox seen;
+    seen.attach(*watcher);
+    REQUIRE(watcher->start().ok());
+    REQUIRE(watcher->subscribe({"x/frozen/#"}, 1).ok());
+    REQUIRE(eventually([&] { return watcher->state() == LinkState::connected; }));
+    auto o = options_for(broker, "nclink-test-frozen");
+    o.ack_timeout = std::chrono::milliseconds(1500);
+    o.connect_timeout = std::chrono::milliseconds(1000);
+    auto t = connect(o);
+    REQUIRE(t->start().ok());
+    REQUIRE(eventually([&] { return t->state() == LinkState::connected; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the watcher's SUBACK has landed
+
+    broker.freeze();
+    for (int i = 0; i < 30; ++i) REQUIRE(t->publish({"x/frozen/" + std::to_string(i), std::to_string(i), 1, false}).ok());
+    REQUIRE(eventually([&] { return t->stats().stalled_links >= 1; }));
+    CHECK(t->stats().published == 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // reconnection attempts meet the frozen broker too
+    broker.thaw();
+
+    REQUIRE(eventually([&] { return t->state() == LinkState::connected && t->stats().connects >= 2; }, std::chrono::seconds(20)));
+    CHECK(t->flush(std::chrono::seconds(10)));
+    CHECK(t->stats().published == 30);
+    CHECK(t->stats().in_flight == 0);
+    // Every message reached the subscriber (some perhaps twice: the broker
+    // read the first copies from the dropped connection after it resumed).
+    REQUIRE(eventually([&] {
+        auto p = seen.payloads();
+        return std::set<std::string>(p.begin(), p.end()).size() == 30;
+    }));
+    t->stop();
+    watcher->stop();
 }
 
 TEST_CASE("a transport started before its broker connects when the broker comes up") {

@@ -5,6 +5,7 @@
 #include "support/child_process.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/prometheus_check.hpp"
+#include "support/raw_peer.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
 
@@ -16,6 +17,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <memory>
 #include <regex>
 
 using namespace nclink;
@@ -46,7 +49,48 @@ void check_exposition(const std::string& text) {
     }
 }
 
+// The "metrics" section of a program's --config reaches its /metrics server:
+// with a per-peer cap of 2 the third connection from one address is closed
+// at once, and the program's own /metrics counts it.
+void per_peer_cap_applies(int port, const std::string& prefix) {
+    std::vector<std::unique_ptr<RawPeer>> peers;
+    for (int i = 0; i < 3; ++i) peers.push_back(std::make_unique<RawPeer>(port, "127.0.7.1"));
+    CHECK(peers[2]->closed_within(5s));
+    CHECK_FALSE(peers[0]->closed_within(200ms));
+    httplib::Client http("127.0.0.1", port);
+    auto r = http.Get("/metrics");
+    REQUIRE(r);
+    REQUIRE(r->status == 200);
+    std::vector<PromSample> samples;
+    (void)exposition_problems(r->body, &samples);
+    CHECK(prom_value(samples, prefix + "_http_connections_refused_total", {{"cap", "per_peer"}}) == 1.0);
+    CHECK(prom_value(samples, prefix + "_http_connections_accepted_total").value_or(0) >= 3.0);
+}
+
 }  // namespace
+
+TEST_CASE("the metrics section of --config sets the HTTP limits of nclink-agent's and nclink-sim's /metrics") {
+    MosquittoBroker broker;
+    ScratchDir dir("nclink-itest-ops-metrics-");
+    fs::create_directories(dir.path);
+    const std::string config = (dir.path / "config.json").string();
+    std::ofstream(config) << R"({"metrics": {"http_max_connections_per_peer": 2}})";
+
+    ChildProcess agent({binary_path("nclink-agent"), "--broker", broker.url(), "--config", config, "--state-dir",
+                        (dir.path / "state").string(), "--metrics", "127.0.0.1:0"},
+                       (dir.path / "agent.log").string());
+    REQUIRE(eventually([&] { return logged_port(agent) > 0; }, 30s));
+    per_peer_cap_applies(logged_port(agent), "nclink_agent");
+    agent.signal(SIGTERM);
+    CHECK(agent.wait_exit(10s) == std::optional<int>(0));
+
+    ChildProcess sim({binary_path("nclink-sim"), "--broker", broker.url(), "--config", config, "--metrics", "127.0.0.1:0"},
+                     (dir.path / "sim.log").string());
+    REQUIRE(eventually([&] { return logged_port(sim) > 0; }, 30s));
+    per_peer_cap_applies(logged_port(sim), "nclink_adapter");
+    sim.signal(SIGTERM);
+    CHECK(sim.wait_exit(10s) == std::optional<int>(0));
+}
 
 TEST_CASE("nclink-agent --metrics serves its counters as Prometheus text on loopback") {
     MosquittoBroker broker;

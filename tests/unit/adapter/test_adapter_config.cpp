@@ -161,3 +161,31 @@ TEST_CASE("events qos is read and checked, default 1") {
     CHECK_FALSE(adapter_config_from_json(Json{{"events", {{"qos", "1"}}}}).ok());
     CHECK(AdapterConfig{}.events.qos == 1);
 }
+
+TEST_CASE("the metrics section sets the HTTP limits of nclink-sim --metrics, and refuses unusable ones") {
+    auto c = adapter_config_from_json(Json::parse(R"({"metrics": {"http_workers": 3, "http_header_timeout_ms": 700,
+        "http_keep_alive_ms": 800, "http_write_timeout_ms": 900, "http_max_connections": 20,
+        "http_max_connections_per_peer": 2}})"));
+    INFO((c.ok() ? "" : c.error().describe()));
+    REQUIRE(c.ok());
+    CHECK(c->metrics.workers == 3);
+    CHECK(c->metrics.header_timeout == std::chrono::milliseconds(700));
+    CHECK(c->metrics.keep_alive == std::chrono::milliseconds(800));
+    CHECK(c->metrics.write_timeout == std::chrono::milliseconds(900));
+    CHECK(c->metrics.max_connections == 20);
+    CHECK(c->metrics.max_connections_per_peer == 2);
+    // The defaults are the bridge's, with two workers.
+    const AdapterConfig d;
+    CHECK(d.metrics.workers == 2);
+    CHECK(d.metrics.header_timeout == std::chrono::milliseconds(3000));
+    CHECK(d.metrics.max_connections_per_peer == 64);
+
+    for (const char* bad : {R"({"metrics": {"http_workers": 0}})", R"({"metrics": {"http_max_connections": 0}})",
+                            R"({"metrics": {"http_header_timeout_ms": 5}})", R"({"metrics": {"http_max_streams": 2}})",
+                            R"({"metrics": 3})"}) {
+        INFO(bad);
+        auto r = adapter_config_from_json(Json::parse(bad));
+        REQUIRE_FALSE(r.ok());
+        CHECK(r.error().message.find("metrics") != std::string::npos);
+    }
+}

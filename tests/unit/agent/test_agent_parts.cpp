@@ -422,3 +422,16 @@ TEST_CASE("mosquitto ACL: a default watch is a pattern only when no listed appli
         CHECK_FALSE(acl_lets_read(acl, "stranger", "Method/Status/mill-1/mes"));
     }
 }
+
+TEST_CASE("the agent's metrics section sets the HTTP limits of nclink-agent --metrics") {
+    auto c = agent_config_from_json(Json::parse(R"({"metrics": {"http_max_connections_per_peer": 2, "http_keep_alive_ms": 50}})"));
+    INFO((c.ok() ? "" : c.error().describe()));
+    REQUIRE(c.ok());
+    CHECK(c->metrics.max_connections_per_peer == 2);
+    CHECK(c->metrics.keep_alive == std::chrono::milliseconds(50));
+    CHECK(c->metrics.workers == 2);  // the rest keep their defaults
+    auto typo = agent_config_from_json(Json::parse(R"({"metrics": {"http_max_conections": 2}})"));
+    REQUIRE_FALSE(typo.ok());
+    CHECK(typo.error().code == ErrorCode::keys_of_arguments);
+    CHECK(typo.error().message.find("http_max_connections") != std::string::npos);  // the nearest key is named
+}

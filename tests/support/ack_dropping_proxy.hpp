@@ -1,0 +1,180 @@
+// A TCP proxy in front of a broker that can make a connection lose the
+// broker's acknowledgements: on a connection marked with drop_acks_now(),
+// every PUBACK (MQTT packet type 4, 3.4) from the broker is swallowed while
+// everything else (CONNACK, PUBLISH, PINGRESP, ...) still passes. The client
+// then sees a broker that is alive (keep-alive is answered, messages come
+// in) but never drains its in-flight window: the stall of docs/performance.md "Request bursts".
+// Connections made later pass everything.
+//
+// Threading: one thread of its own pumps every connection; the public
+// methods are thread-safe.
+#pragma once
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nclink::test {
+
+class AckDroppingProxy {
+public:
+    explicit AckDroppingProxy(int broker_port) : broker_port_(broker_port) {
+        listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        const int one = 1;
+        ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+        if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || ::listen(listen_fd_, 16) != 0)
+            throw std::runtime_error("proxy: cannot listen");
+        socklen_t len = sizeof a;
+        ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&a), &len);
+        port_ = ntohs(a.sin_port);
+        thread_ = std::thread([this] { run(); });
+    }
+    ~AckDroppingProxy() {
+        stopping_ = true;
+        thread_.join();
+        for (auto& p : pairs_) {
+            ::close(p->client);
+            ::close(p->broker);
+        }
+        ::close(listen_fd_);
+    }
+    AckDroppingProxy(const AckDroppingProxy&) = delete;
+    AckDroppingProxy& operator=(const AckDroppingProxy&) = delete;
+
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+    /// From now on the connections open now lose every PUBACK from the broker.
+    void drop_acks_now() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& p : pairs_) p->drop_acks = true;
+    }
+    std::uint64_t acks_dropped() const { return acks_dropped_; }
+    std::uint64_t connections() const { return connections_; }
+
+private:
+    struct Pair {
+        int client = -1, broker = -1;
+        bool drop_acks = false;
+        std::string from_broker;  // bytes of a packet not yet whole
+        bool closed = false;
+    };
+
+    void run() {
+        while (!stopping_) {
+            std::vector<pollfd> fds{{listen_fd_, POLLIN, 0}};
+            std::vector<Pair*> polled;  // pairs are erased on this thread only
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                for (auto& p : pairs_) {
+                    fds.push_back({p->client, POLLIN, 0});
+                    fds.push_back({p->broker, POLLIN, 0});
+                    polled.push_back(p.get());
+                }
+            }
+            if (::poll(fds.data(), fds.size(), 50) <= 0) continue;
+            if (fds[0].revents & POLLIN) accept_one();
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (std::size_t i = 0; i < polled.size(); ++i) {
+                Pair& p = *polled[i];
+                if (fds[1 + 2 * i].revents && !p.closed) pump(p, p.client, p.broker, false);
+                if (fds[2 + 2 * i].revents && !p.closed) pump(p, p.broker, p.client, true);
+            }
+            for (auto it = pairs_.begin(); it != pairs_.end();) {
+                if ((*it)->closed) {
+                    ::close((*it)->client);
+                    ::close((*it)->broker);
+                    it = pairs_.erase(it);
+                } else {
+                    ++it;
+                }
+            }
+        }
+    }
+
+    void accept_one() {
+        const int c = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+        if (c < 0) return;
+        const int b = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        a.sin_port = htons(static_cast<std::uint16_t>(broker_port_));
+        ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+        if (::connect(b, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+            ::close(c);
+            ::close(b);
+            return;
+        }
+        auto p = std::make_unique<Pair>();
+        p->client = c;
+        p->broker = b;
+        std::lock_guard<std::mutex> lock(mutex_);
+        pairs_.push_back(std::move(p));
+        ++connections_;
+    }
+
+    void pump(Pair& p, int from, int to, bool from_broker) {
+        char buf[65536];
+        const ssize_t n = ::recv(from, buf, sizeof buf, 0);
+        if (n <= 0) {
+            p.closed = true;
+            return;
+        }
+        if (!from_broker) return send_all(to, buf, static_cast<std::size_t>(n));
+        p.from_broker.append(buf, static_cast<std::size_t>(n));
+        // Whole packets only: fixed header byte, Remaining Length (2.2.3), body.
+        for (;;) {
+            const std::string& s = p.from_broker;
+            std::size_t length = 0, pos = 1;
+            int shift = 0;
+            bool whole_length = false;
+            while (pos < s.size() && pos <= 4) {
+                const auto byte = static_cast<unsigned char>(s[pos++]);
+                length |= static_cast<std::size_t>(byte & 0x7f) << shift;
+                shift += 7;
+                if ((byte & 0x80) == 0) {
+                    whole_length = true;
+                    break;
+                }
+            }
+            if (!whole_length || s.size() < pos + length) return;
+            const bool puback = (static_cast<unsigned char>(s[0]) >> 4) == 4;
+            if (puback && p.drop_acks) ++acks_dropped_;
+            else send_all(to, s.data(), pos + length);
+            p.from_broker.erase(0, pos + length);
+        }
+    }
+
+    static void send_all(int fd, const char* data, std::size_t size) {
+        while (size > 0) {
+            const ssize_t n = ::send(fd, data, size, MSG_NOSIGNAL);
+            if (n <= 0) return;
+            data += n;
+            size -= static_cast<std::size_t>(n);
+        }
+    }
+
+    const int broker_port_;
+    int listen_fd_ = -1;
+    int port_ = 0;
+    std::atomic<bool> stopping_{false};
+    std::atomic<std::uint64_t> acks_dropped_{0};
+    std::atomic<std::uint64_t> connections_{0};
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<Pair>> pairs_;
+    std::thread thread_;
+};
+
+}  // namespace nclink::test
