@@ -3,6 +3,7 @@
 // units and values of the first, follow changes, refuse Sets with 301, and
 // recover from a restarted agent (new instanceId), a dropped connection and
 // a `from` that fell out of the agent's buffer.
+#include "support/model_items.hpp"
 #include "bridge/bridge.hpp"
 #include "mtconnect/agent_source.hpp"
 #include "mtconnect/mtconnect_driver.hpp"
@@ -29,20 +30,7 @@ namespace {
 
 const std::string kCopy = "mt-copy-01";
 
-/// Every data object of a model document (dataItems and configs), by id.
-void collect(const Json& o, std::map<std::string, Json>& out) {
-    for (const char* k : {"dataItems", "configs"})
-        if (o.contains(k))
-            for (const auto& i : o[k]) out[i["id"].get<std::string>()] = i;
-    if (o.contains("components"))
-        for (const auto& c : o["components"]) collect(c, out);
-}
-
-std::map<std::string, Json> items_of(const Json& model) {
-    std::map<std::string, Json> out;
-    for (const auto& d : model["devices"]) collect(d, out);
-    return out;
-}
+using nclink::test::model_items;
 
 struct Rig : nclink::test::SimMillRig {
     explicit Rig(std::size_t buffer_size = 4096) {
@@ -134,8 +122,8 @@ TEST_CASE("round trip: the copy has the sim's types, units and values, follows c
     // Types and units: every data item of the sim that is an MTConnect DataItem.
     const LoadResult sim = load_model_file(rig.config.model_path);
     REQUIRE(sim.ok());
-    const auto original = items_of(model_to_json(*sim.model));
-    const auto copied = items_of(rig.generated);
+    const auto original = model_items(model_to_json(*sim.model));
+    const auto copied = model_items(rig.generated);
     auto mapping = mtconnect_mapping(*sim.model);
     REQUIRE(mapping.ok());
     int compared = 0;

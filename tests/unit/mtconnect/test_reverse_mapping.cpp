@@ -1,4 +1,5 @@
 // GB/T 39561.3 appendix A read in reverse (drivers/mtconnect/reverse_mapping.hpp).
+#include "support/model_items.hpp"
 #include "mtconnect/probe_document.hpp"
 #include "mtconnect/reverse_mapping.hpp"
 
@@ -72,20 +73,7 @@ const char* const kForeignProbe = R"(<?xml version="1.0" encoding="UTF-8"?>
   </Devices>
 </MTConnectDevices>)";
 
-/// Every data object of `o` and its components, by id.
-void collect(const Json& o, std::map<std::string, Json>& out) {
-    for (const char* k : {"dataItems", "configs"})
-        if (o.contains(k))
-            for (const auto& i : o[k]) out[i["id"].get<std::string>()] = i;
-    if (o.contains("components"))
-        for (const auto& c : o["components"]) collect(c, out);
-}
-
-std::map<std::string, Json> items_of(const Json& model) {
-    std::map<std::string, Json> out;
-    for (const auto& d : model["devices"]) collect(d, out);
-    return out;
-}
+using nclink::test::model_items;
 
 }  // namespace
 
@@ -110,8 +98,8 @@ TEST_CASE("reverse mapping gives back the types, units and ids nclink's own forw
 
     auto original = mtconnect_mapping(*loaded.model);
     REQUIRE(original.ok());
-    const auto back = items_of(reversed->model);
-    const auto before = items_of(model_to_json(*loaded.model));
+    const auto back = model_items(reversed->model);
+    const auto before = model_items(model_to_json(*loaded.model));
     int compared = 0;
     for (const MtDataItem& mt : original->items()) {
         if (mt.target != MtTarget::data_item && mt.target != MtTarget::fallback) continue;
@@ -150,7 +138,7 @@ TEST_CASE("reverse mapping of a third-party agent's device: rows in reverse, the
     CHECK(probe->instance_id == "1700000000");
     auto r = reverse_map(probe.value());
     REQUIRE(r.ok());
-    const auto items = items_of(r->model);
+    const auto items = model_items(r->model);
     const Json& device = r->model["devices"][0];
     CHECK(device["guid"] == "vmc-3axis-001");
     CHECK(device["type"] == "MACHINE");
