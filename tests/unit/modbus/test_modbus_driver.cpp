@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "modbus/modbus_driver.hpp"
+#include "support/driver_calls.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/test_plc.hpp"
 
@@ -34,20 +35,9 @@ struct Fixture {
     }
     ~Fixture() { driver.close(); }
 
-    std::vector<Result<Json>> read(const std::vector<std::string>& ids) {
-        std::vector<PointRef> points;
-        for (const auto& id : ids) points.push_back(PointRef{id, DataKind::single});
-        std::vector<Result<Json>> results(points.size(), make_error(ErrorCode::unavailable, "not read"));
-        driver.read(points, results);
-        return results;
-    }
+    std::vector<Result<Json>> read(const std::vector<std::string>& ids) { return test::read_points(driver, ids); }
 
-    Result<void> write(const std::string& id, Json value) {
-        WriteRequest w;
-        w.id = id;
-        w.new_value = std::move(value);
-        return driver.write(w);
-    }
+    Result<void> write(const std::string& id, Json value) { return test::write_point(driver, id, std::move(value)); }
 };
 
 }  // namespace
