@@ -2,7 +2,6 @@
 // errors that carry a JSON pointer, and locating a pointer (or a syntax
 // error) by line and column in the file's text.
 #include <nclink/adapter_config.hpp>
-#include <nclink/agent.hpp>
 #include <nclink/log.hpp>
 
 #include "core/config_common.hpp"
@@ -52,11 +51,6 @@ TEST_CASE("config reader: an unknown key is refused with a suggestion the valid 
     CHECK_THAT(r.error().message, Catch::Contains("valid keys: url, client_id"));
     CHECK(r.error().pointer == "/broker/uri");
 
-    auto top = agent_config_from_json(Json{{"request_timout_ms", 5}});
-    REQUIRE_FALSE(top.ok());
-    CHECK_THAT(top.error().message, Catch::Contains("did you mean \"request_timeout_ms\"?"));
-    CHECK(top.error().pointer == "/request_timout_ms");
-
     auto none = adapter_config_from_json(Json{{"zzzzzz", 1}});
     REQUIRE_FALSE(none.ok());
     CHECK_THAT(none.error().message, !Catch::Contains("did you mean"));
@@ -69,14 +63,6 @@ TEST_CASE("config reader: wrong types and values point at their key, also in nes
     CHECK(adapter_config_from_json(Json{{"log_level", "loud"}}).error().pointer == "/log_level");
     CHECK(adapter_config_from_json(Json{{"methods", 5}}).error().pointer == "/methods");
     CHECK(adapter_config_from_json(Json{{"methods", 5}}).error().message == "configuration: methods must be an object");
-    // A terminal id with a dot and a slash: the pointer is built from the keys.
-    auto t = agent_config_from_json(Json{{"registration", {{"terminals", {{"line.3/mill", {{"kind", "robot"}}}}}}}});
-    REQUIRE_FALSE(t.ok());
-    CHECK(t.error().pointer == "/registration/terminals/line.3~1mill/kind");
-    auto rights = agent_config_from_json(Json{{"access", {{"applications", {{"mes", {{"*", "write"}}}}}}}});
-    REQUIRE_FALSE(rights.ok());
-    CHECK(rights.error().pointer == "/access/applications/mes/*");
-    CHECK(agent_config_from_json(Json{{"request_timeout_ms", 0}}).error().pointer == "/request_timeout_ms");
 }
 
 TEST_CASE("config reader: a count past the range of its type is refused, never cut") {
@@ -144,7 +130,7 @@ TEST_CASE("configuration files: syntax errors and reader errors are located as p
     CHECK_THAT(syntax.error().message, Catch::StartsWith(broken + ":3:1: not valid JSON"));
 
     const auto typo = scratch_file("typo.json", "{\n  \"broker\": {\n    \"uri\": \"tcp://x:1\"\n  }\n}\n");
-    auto located = load_agent_config(typo);
+    auto located = load_adapter_config(typo);
     REQUIRE_FALSE(located.ok());
     CHECK_THAT(located.error().message, Catch::StartsWith(typo + ":3:5: configuration: broker.uri: unknown key"));
     CHECK(located.error().pointer == "/broker/uri");
