@@ -8,6 +8,8 @@
 #   plant_dev  libnclink-plant-dev its headers, static library, CMake targets, pkg-config
 #   tools      nclink-tools     nclink, nclink-conform, nclink-sim and its plugin,
 #                               models, configuration schemas
+#   driver_modbus     nclink-driver-modbus     the Modbus TCP/RTU driver plugin
+#   driver_mtconnect  nclink-driver-mtconnect  the MTConnect/SHDR source driver plugin
 #   <service>  nclink-<service> a program run by systemd: the table at the end
 #                               (agent now; bridge and the OPC UA server when
 #                               their programs are in the tree)
@@ -152,6 +154,27 @@ send models, check configuration files. nclink-conform: the chapter-9
 conformance tester. nclink-sim: a simulated machine (a 3-axis mill, or any
 model) with its driver plugin. Also the configuration JSON Schemas under
 /usr/share/nclink/schema.")
+
+# The drivers a plant installs for the machines it has (docs/drivers/), each
+# in a package of its own so that one machine's protocol library (libmodbus,
+# libxml2) is only on the boxes that serve such machines.
+if(TARGET nclink_modbus_plugin)
+  nclink_package(driver_modbus NAME nclink-driver-modbus SECTION net
+    SUMMARY "NC-Link (GB/T 41970-2022) driver for Modbus TCP and RTU machines"
+    DESCRIPTION "nclink: the driver plugin nclink/drivers/nclink-modbus.so that serves a PLC
+or machine speaking Modbus TCP, or Modbus RTU on a serial line shared by
+several machines, as an NC-Link terminal. Its map (the driver's
+configuration) names each model item's registers; see nclink-tools for
+nclink-sim --plugin and the gateway for serving many machines.")
+endif()
+if(TARGET nclink_mtconnect_plugin)
+  nclink_package(driver_mtconnect NAME nclink-driver-mtconnect SECTION net
+    SUMMARY "NC-Link (GB/T 41970-2022) driver for MTConnect agents and SHDR adapters"
+    DESCRIPTION "nclink: the driver plugin nclink/drivers/nclink-mtconnect.so that serves a
+machine already reachable through an MTConnect agent (HTTP) or an SHDR
+adapter (TCP) as an NC-Link terminal, its model generated from the agent's
+probe document (nclink map --from-mtconnect).")
+endif()
 
 # ---------------------------------------------------------------- services
 # nclink_service(SERVICE ...): a program run by systemd, packaged as

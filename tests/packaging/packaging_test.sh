@@ -26,6 +26,16 @@ for p in "libnclink$soversion" libnclink-dev "libnclink-plant$soversion" libncli
   deb[$p]=$work/packages/${p}_${version}-${release}_${arch}.deb
   [[ -f ${deb[$p]} ]] || { ls "$work/packages"; fail "no package ${deb[$p]##*/}"; }
 done
+# The driver packages, when the build has their plugins (libmodbus found; the
+# bridge's libxml2 and cpp-httplib for MTConnect).
+declare -A driver_lib=([modbus]=libmodbus5 [mtconnect]=libxml2)
+drivers=()
+for d in modbus mtconnect; do
+  [[ -f $build/lib/nclink-$d.so ]] || continue
+  drivers+=("$d")
+  deb[nclink-driver-$d]=$work/packages/nclink-driver-${d}_${version}-${release}_${arch}.deb
+  [[ -f ${deb[nclink-driver-$d]} ]] || { ls "$work/packages"; fail "no package nclink-driver-$d for lib/nclink-$d.so"; }
+done
 
 # lintian is the slowest part: it runs beside the other checks.
 lint_pid=""
@@ -60,6 +70,12 @@ dpkg-deb --ctrl-tarfile "${deb[nclink-agent]}" | tar -xO ./conffiles | grep -x >
 dpkg-deb --ctrl-tarfile "${deb[nclink-bridge]}" | tar -xO ./conffiles | grep -x >/dev/null /etc/nclink/bridge.json ||
   fail "nclink-bridge: /etc/nclink/bridge.json is not a conffile"
 [[ $(field nclink-bridge Depends) == *libcpp-httplib* ]] || fail "nclink-bridge: Depends $(field nclink-bridge Depends)"
+# dpkg-shlibdeps found each driver's protocol library; nothing of nclink's
+# own (the plugin carries its static copy).
+for d in "${drivers[@]}"; do
+  dep=$(field "nclink-driver-$d" Depends)
+  [[ $dep == *"${driver_lib[$d]}"* && $dep != *libnclink* ]] || fail "nclink-driver-$d: Depends $dep"
+done
 dpkg-deb --ctrl-tarfile "${deb[libnclink$soversion]}" | tar -xO ./shlibs | grep "^libnclink $soversion libnclink$soversion" >/dev/null ||
   fail "libnclink$soversion: no shlibs"
 dpkg-deb --ctrl-tarfile "${deb[libnclink-plant$soversion]}" | tar -xO ./shlibs | grep "^libnclink-plant $soversion libnclink-plant$soversion" >/dev/null ||
@@ -78,6 +94,14 @@ done
 [[ -n $(find "$root" -name 'libnclink.so.*' -print -quit) ]] || fail "no libnclink.so.*"
 [[ -n $(find "$root" -name 'libnclink-plant.so.*' -print -quit) ]] || fail "no libnclink-plant.so.*"
 [[ -n $(find "$root" -path '*/nclink/drivers/nclink-sim.so' -print -quit) ]] || fail "no sim plugin"
+# Each driver plugin is where nclink looks for plugins, and its entry point is
+# the only function it exports (its static nclink stays local).
+for d in "${drivers[@]}"; do
+  plugin=$(find "$root" -path "*/nclink/drivers/nclink-$d.so" -print -quit)
+  [[ -n $plugin ]] || fail "nclink-driver-$d: no nclink/drivers/nclink-$d.so"
+  exports=$(nm -D --defined-only "$plugin" | awk '$2 == "T" {print $3}' | sort -u)
+  [[ $exports == nclink_driver_entry ]] || fail "nclink-$d.so exports: $(echo $exports)"
+done
 pcdir=$(dirname "$(find "$root" -name nclink.pc -print -quit)")
 libdir=$(dirname "$pcdir")
 
