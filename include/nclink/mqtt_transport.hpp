@@ -51,7 +51,7 @@ struct NCLINK_API MqttOptions {
     /// keep-alive still sees the broker: it is dropped and made again, and
     /// every unacknowledged message is sent again (TransportStats::
     /// stalled_links). 0 = two keep-alive periods (keep_alive, at least 5 s).
-    /// Negative: never. libmosquitto transport (make_mqtt_transport()) only.
+    /// Negative: never. Both transports (libmosquitto and paho).
     std::chrono::milliseconds ack_timeout{0};
 };
 

@@ -3,6 +3,7 @@
 
 #include "transport/outbox.hpp"
 #include "core/thread_name.hpp"
+#include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
 #include "transport/link_record.hpp"
 #include "transport/subscription_set.hpp"
@@ -13,6 +14,7 @@
 
 #include <mqtt/async_client.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <map>
@@ -38,7 +40,8 @@ public:
               mqtt::create_options(options_.mqtt_version, static_cast<int>(options_.outbox.max_in_flight) + 16),
               nullptr)),
           outbox_(options_.outbox,
-                  [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_) {}
+                  [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
+          watchdog_(detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {}
 
     ~MqttTransport() override {
         stop(milliseconds(0));
@@ -153,6 +156,10 @@ private:
     }
 
     void on_success(const mqtt::token& tok) override {
+        {
+            std::lock_guard<std::mutex> lock(watchdog_mutex_);
+            watchdog_.progress(detail::AckWatchdog::Clock::now());
+        }
         outbox_.delivered(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
     }
     void on_failure(const mqtt::token& tok) override {
@@ -176,6 +183,10 @@ private:
             if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
         for (const auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(filters, qos);
+        {
+            std::lock_guard<std::mutex> lock(watchdog_mutex_);
+            watchdog_.connected(detail::AckWatchdog::Clock::now());
+        }
         link_.connected();
         link_.set_state(LinkState::connected, options_.broker_url, on_state_);
         // MQTT 5: the supervisor opens the outbox once it has read the
@@ -281,11 +292,51 @@ private:
 
     void connect_failed(const std::string& why, bool refused, milliseconds delay) { link_.attempt_failed(why, refused, delay); }
 
+    // Thread: supervisor. Whether the link is up but has acknowledged none of
+    // the messages in flight for the watchdog's limit (transport/
+    // ack_watchdog.hpp): a link keep-alive cannot see is dead, e.g. paho
+    // holding a partial write under backpressure (docs/delivery.md).
+    bool ack_stalled() {
+        const std::size_t in_flight = outbox_.in_flight();
+        std::lock_guard<std::mutex> lock(watchdog_mutex_);
+        return watchdog_.stalled(detail::AckWatchdog::Clock::now(), in_flight);
+    }
+
+    // Thread: supervisor, without mutex_. Drops the stalled connection; the
+    // supervisor then connects again and the outbox sends every message
+    // still unacknowledged again, in order (QoS 1 is at least once, 4.3.2).
+    // paho's late answers for the old attempts are ignored by the outbox.
+    void drop_stalled_link() {
+        std::chrono::milliseconds waited{0};
+        {
+            std::lock_guard<std::mutex> lock(watchdog_mutex_);
+            waited = watchdog_.waited(detail::AckWatchdog::Clock::now());
+        }
+        link_.stalled(waited, outbox_.in_flight());
+        outbox_.link_down();
+        try {
+            // A DISCONNECT that cannot be written (the fault itself) must not
+            // hold the supervisor: paho closes the socket after the timeout.
+            client_->disconnect(0)->wait_for(milliseconds(2000));
+        } catch (const mqtt::exception& e) {
+            logger_.debug("mqtt: disconnect of a stalled link: {}", e.what());
+        }
+        link_.set_state(LinkState::disconnected, "nothing acknowledged", on_state_);
+    }
+
+    // How often the supervisor looks at the watchdog while connected: a tenth
+    // of its limit, between 100 ms and 1 s; never when it is off.
+    std::optional<milliseconds> ack_check_period() const {
+        if (watchdog_.limit().count() <= 0) return std::nullopt;
+        return std::clamp(watchdog_.limit() / 10, milliseconds(100), milliseconds(1000));
+    }
+
     // Thread: supervisor. Connects, and reconnects with exponential backoff
-    // whenever the link is lost, until stop().
+    // whenever the link is lost (or found stalled), until stop().
     void supervise() {
         milliseconds delay = options_.reconnect_min;
         const auto opts = connect_options();
+        const auto check_period = ack_check_period();
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
             if (link_.state() == LinkState::disconnected) {
@@ -329,7 +380,15 @@ private:
                 }
                 delay = options_.reconnect_min;
             }
-            wake_.wait(lock, [this] { return stopping_ || link_.state() == LinkState::disconnected; });
+            const auto lost = [this] { return stopping_ || link_.state() == LinkState::disconnected; };
+            if (!check_period) {
+                wake_.wait(lock, lost);
+                continue;
+            }
+            if (wake_.wait_for(lock, *check_period, lost)) continue;
+            lock.unlock();
+            if (link_.state() == LinkState::connected && ack_stalled()) drop_stalled_link();
+            lock.lock();
         }
     }
 
@@ -352,6 +411,9 @@ private:
     std::thread supervisor_;
 
     bool session_established_ = false;  // supervisor only: a connection has had a session
+
+    std::mutex watchdog_mutex_;  // watchdog_: progress on paho's thread, checks on the supervisor
+    detail::AckWatchdog watchdog_;
 };
 
 }  // namespace

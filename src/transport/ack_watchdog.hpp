@@ -11,13 +11,22 @@
 // once, 4.3.2), counted in TransportStats::stalled_links and logged.
 //
 // No clock of its own: every call is given the time, so tests drive it.
-// Threading: one thread (the transport's loop thread).
+// Threading: not thread-safe; the libmosquitto transport calls it on its loop
+// thread only, the paho transport under a mutex of its own (progress comes on
+// paho's callback thread, the check on the supervisor).
 #pragma once
 
 #include <chrono>
 #include <cstddef>
 
 namespace nclink::detail {
+
+/// The limit a transport's watchdog uses: MqttOptions::ack_timeout when set,
+/// else two keep-alive periods of the keep-alive the client really uses.
+inline std::chrono::milliseconds ack_limit(std::chrono::milliseconds ack_timeout, std::chrono::seconds keep_alive) {
+    if (ack_timeout.count() != 0) return ack_timeout;
+    return 2 * std::chrono::duration_cast<std::chrono::milliseconds>(keep_alive);
+}
 
 class AckWatchdog {
 public:

@@ -140,10 +140,7 @@ private:
     static std::chrono::seconds effective_keep_alive(const MqttOptions& o) {
         return std::max<std::chrono::seconds>(std::chrono::seconds(5), o.keep_alive);
     }
-    static milliseconds ack_limit(const MqttOptions& o) {
-        if (o.ack_timeout.count() != 0) return o.ack_timeout;
-        return 2 * std::chrono::duration_cast<milliseconds>(effective_keep_alive(o));
-    }
+    static milliseconds ack_limit(const MqttOptions& o) { return detail::ack_limit(o.ack_timeout, effective_keep_alive(o)); }
 
     // ---- any thread -------------------------------------------------------
 

@@ -327,8 +327,7 @@ TEST_CASE("a transport destroyed with QoS 1 messages unacknowledged by a hung br
 // reconnects and sends the unacknowledged messages again.
 // libmosquitto only (the paho transport has no such watchdog).
 TEST_CASE("a link that stops acknowledging while it still delivers is dropped, remade, and nothing is lost") {
-    g_client = GENERATE(Client::own_loop, Client::shared_loop);
-    INFO(client_name(g_client));
+    GENERATE_CLIENT();
     MosquittoBroker broker;
     test::AckDroppingProxy proxy(broker.port());
 
@@ -389,8 +388,7 @@ TEST_CASE("a link that stops acknowledging while it still delivers is dropped, r
 }
 
 TEST_CASE("a broker frozen longer than the ack timeout: the link is remade after it resumes and nothing is lost") {
-    g_client = GENERATE(Client::own_loop, Client::shared_loop);
-    INFO(client_name(g_client));
+    GENERATE_CLIENT();
     MosquittoBroker broker;
     auto watcher = connect(options_for(broker, "nclink-test-frozen-watcher"));
     Inbox seen;
