@@ -27,6 +27,25 @@ TEST_CASE("RabbitMQ cluster: an adapter on node 1 answers a Query from a client 
     Adapter adapter(config, driver, probe_logger());
     REQUIRE(adapter.start());
     REQUIRE(eventually([&] { return adapter.state() == AdapterState::normal; }, 60s));
+    // The MQTT 5 attempt that came first failed; 3.1.1 connected.
+    CHECK(adapter.stats().transport.connect_failures >= 1);
+    CHECK(adapter.stats().transport.connects == 1);
+
+    // Without "auto" an adapter asking for MQTT 5 never gets in.
+    {
+        AdapterConfig five = config;
+        five.client_id = "cluster-adapter-5";
+        five.device_id.clear();
+        five.mqtt_version = 5;
+        five.persistence_dir = scratch_dir("cluster-adapter-5");
+        Adapter refused(five, std::make_shared<FakeDriver>(), probe_logger());
+        REQUIRE(refused.start());
+        CHECK(eventually([&] { return refused.stats().transport.connect_failures >= 3; }, 30s));
+        CHECK(refused.stats().transport.connects == 0);
+        refused.stop();
+        std::error_code ignored;
+        std::filesystem::remove_all(five.persistence_dir, ignored);
+    }
 
     MqttOptions mqtt;
     mqtt.broker_url = rabbit.url(1);
