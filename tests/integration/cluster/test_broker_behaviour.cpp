@@ -7,6 +7,7 @@
 
 #include "support/mosquitto_broker.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 using namespace nclink;
@@ -120,6 +121,22 @@ TEST_CASE("RabbitMQ cluster: retained messages, last wills, $share and MQTT 5, n
     const ConnectAnswer r4 = try_connect(rabbit.mqtt_port(0), 4, "r-v4");
     CHECK(r4.connack);
     CHECK(r4.reason == 0);
+
+    // Round trips (printed, not asserted: a figure of a shared, noisy box):
+    // nclink's own measurement, both connections on one node.
+    auto round_trip_ms = [](const std::string& url) {
+        MqttOptions o;
+        o.broker_url = url;
+        o.client_id = "rtt";
+        auto measured = measure_broker_round_trip(o, 20, 10s);
+        REQUIRE(measured);
+        auto relayed = measured->relayed;
+        REQUIRE(!relayed.empty());
+        std::sort(relayed.begin(), relayed.end());
+        return relayed[relayed.size() / 2].count() / 1000.0;
+    };
+    std::printf("cluster round trip (QoS 1 request answered, median of 20): mosquitto %.2f ms, RabbitMQ node %.2f ms\n",
+                round_trip_ms(m), round_trip_ms(rabbit.url(0)));
 
     std::printf(
         "cluster matrix: $share mosquitto %zu+%zu of 20, RabbitMQ %zu+%zu of 20; "
