@@ -42,10 +42,18 @@ packages=(build-essential cmake pkg-config git
 #     dashboard's test in a real headless browser.
 #   NCLINK_WITH_CROSS=1      cross compiler, qemu-user and the arm64 libraries
 #     (tools/cross-test.sh; below).
+#   NCLINK_WITH_RABBITMQ=1   rabbitmq-server (3.10, with its MQTT plugin; about
+#     60 MB with Erlang): the cluster tests (tests/integration/cluster, label
+#     `cluster`, docs/scaling.md) start a 3-node RabbitMQ cluster on loopback.
+#     Opt-in because each of those tests boots a cluster (30-60 s on 2 cores)
+#     and the whole suite must stay within its time; without it they skip.
+#     The system RabbitMQ Debian may start (5672, epmd 4369) is left alone:
+#     the tests' nodes have their own ports, epmd and cookie.
 if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
 if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
 if [[ "${NCLINK_WITH_PANDAS:-0}" == 1 ]]; then packages+=(python3-pandas); fi
 if [[ "${NCLINK_WITH_BROWSER:-0}" == 1 ]]; then packages+=(chromium chromium-driver python3-selenium); fi
+if [[ "${NCLINK_WITH_RABBITMQ:-0}" == 1 ]]; then packages+=(rabbitmq-server); fi
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 # Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.

@@ -28,7 +28,7 @@ struct NCLINK_API AdapterConfig {
     std::string username;                ///< "username"
     std::string password;                ///< "password"
     std::optional<MqttTlsOptions> tls;   ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
-    int mqtt_version = 4;                ///< "mqtt_version": 4 (3.1.1) or 5
+    int mqtt_version = 4;                ///< "mqtt_version": 4 (3.1.1), 5, or "auto" (0; MqttOptions::mqtt_version)
     std::chrono::seconds keep_alive{20}; ///< "keep_alive_s"
     bool clean_session = true;           ///< "clean_session"
 

@@ -33,7 +33,12 @@ struct NCLINK_API MqttOptions {
     std::string username;                  ///< empty = anonymous
     std::string password;
     std::optional<MqttTlsOptions> tls;     ///< used for ssl:// and wss:// URLs
-    int mqtt_version = 4;                  ///< 4 = MQTT 3.1.1, 5 = MQTT 5
+    /// 4 = MQTT 3.1.1, 5 = MQTT 5, 0 = auto: MQTT 5, and 3.1.1 when the
+    /// broker refuses a 5 CONNECT (closes the connection or answers
+    /// "unsupported protocol version"; RabbitMQ 3.10, docs/scaling.md); the
+    /// level a CONNACK accepted is kept for every reconnection. The paho
+    /// transport (make_paho_transport()) speaks 3.1.1 for 0.
+    int mqtt_version = 4;
     bool clean_session = true;
     std::chrono::seconds keep_alive{20};
     std::chrono::milliseconds connect_timeout{5000};

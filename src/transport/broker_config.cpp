@@ -30,11 +30,20 @@ Result<void> read_broker_settings(ConfigReader& broker, transport_detail::Broker
     NCLINK_TRY(broker.str("client_id", s.client_id));
     NCLINK_TRY(broker.str("username", s.username));
     NCLINK_TRY(broker.str("password", s.password));
-    NCLINK_TRY(broker.count("mqtt_version", s.mqtt_version));
+    // "auto" (0 in MqttOptions): MQTT 5, or 3.1.1 where the broker refuses 5
+    // (a RabbitMQ 3.10 cluster, docs/scaling.md).
+    const Json* version = broker.object("mqtt_version");
+    if (version && version->is_string() && *version == "auto") {
+        s.mqtt_version = 0;
+    } else if (version) {
+        int given = 0;
+        NCLINK_TRY(broker.count("mqtt_version", given));
+        if (given != 4 && given != 5)
+            return broker.fail(ErrorCode::value_type, "mqtt_version", "must be 4 (MQTT 3.1.1), 5 or \"auto\"");
+        s.mqtt_version = given;
+    }
     NCLINK_TRY(broker.duration("keep_alive_s", s.keep_alive));
     NCLINK_TRY(read_tls(broker, s.tls));
-    if (s.mqtt_version != 4 && s.mqtt_version != 5)
-        return broker.fail(ErrorCode::value_type, "mqtt_version", "must be 4 (MQTT 3.1.1) or 5");
     return ok_result();
 }
 

@@ -179,6 +179,16 @@ private:
 
     void set_state(LinkState next, std::string_view detail) { link_.set_state(next, detail, on_state_); }
 
+    // mqtt_version 0 ("auto"): until a CONNACK settles it, an attempt the
+    // broker refused for its protocol level (or closed without answering)
+    // is followed by one at the other level, 5 first. Once connected the
+    // level is kept for every reconnection. True when it switched.
+    bool try_other_protocol() {
+        if (options_.mqtt_version != 0 || protocol_settled_) return false;
+        protocol_ = protocol_ >= 5 ? 4 : 5;
+        return true;
+    }
+
     void connect_failed(const std::string& why, bool refused) {
         const milliseconds retry = jittered(delay_, rng_);
         link_.attempt_failed(why, refused, retry);
@@ -305,7 +315,7 @@ private:
         mosquitto* m = mosquitto_new(options_.client_id.c_str(), options_.clean_session, this);
         if (m == nullptr) return connect_failed("libmosquitto could not create a client", false);
         mosquitto_threaded_set(m, true);
-        mosquitto_int_option(m, MOSQ_OPT_PROTOCOL_VERSION, options_.mqtt_version >= 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
+        mosquitto_int_option(m, MOSQ_OPT_PROTOCOL_VERSION, protocol_ >= 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
         mosquitto_int_option(m, MOSQ_OPT_TCP_NODELAY, options_.tcp_nodelay ? 1 : 0);
         mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM, static_cast<int>(std::min<std::size_t>(options_.outbox.max_in_flight, 65535)));
         mosquitto_connect_v5_callback_set(m, &MosquittoTransport::on_connack);
@@ -405,6 +415,12 @@ private:
     }
     void connack(int rc, int flags) {
         if (rc != 0) {
+            // "Unacceptable protocol version" (3.1.1: 3.2.2.3 code 1; 5: 3.2.2.2 0x84).
+            if ((rc == 1 || rc == 0x84) && try_other_protocol()) {
+                connect_failed(fmt::format("the broker refused MQTT {}", protocol_ == 4 ? "5" : "3.1.1"), false);
+                lose("protocol version refused");
+                return;
+            }
             // 3.1.1 return codes (3.2.2.3) and MQTT 5 reason codes (3.2.2.2).
             if (rc == 4 || rc == 0x86)
                 connect_failed("the broker refused the user name or password", true);
@@ -414,12 +430,15 @@ private:
                 connect_failed("the broker refused the client id", true);
             else
                 connect_failed(fmt::format("the broker refused the connection: {}",
-                                           options_.mqtt_version >= 5 ? mosquitto_reason_string(rc) : mosquitto_connack_string(rc)),
+                                           protocol_ >= 5 ? mosquitto_reason_string(rc) : mosquitto_connack_string(rc)),
                                false);
             lose("refused by the broker");
             return;
         }
         const bool session_present = (flags & 1) != 0;
+        if (options_.mqtt_version == 0 && !protocol_settled_)
+            logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", options_.broker_url, protocol_ >= 5 ? "5" : "3.1.1");
+        protocol_settled_ = true;
         if (!options_.clean_session) {
             if (session_established_ && !session_present) link_.session_lost();
             session_established_ = true;
@@ -437,7 +456,12 @@ private:
 
     static void on_disconnected(mosquitto*, void* self, int rc) {
         auto* t = static_cast<MosquittoTransport*>(self);
-        if (!t->connected_ && !t->lost_) t->attempt_failed(rc);  // never got a CONNACK: refused TCP, TLS, ...
+        if (!t->connected_ && !t->lost_) {
+            // Closed by the broker after the CONNECT, without a CONNACK: how
+            // RabbitMQ 3.10 refuses an MQTT 5 CONNECT (docs/scaling.md).
+            if (rc == MOSQ_ERR_CONN_LOST || rc == MOSQ_ERR_PROTOCOL) t->try_other_protocol();
+            t->attempt_failed(rc);  // never got a CONNACK: refused TCP, TLS, ...
+        }
         t->lose(rc == MOSQ_ERR_SUCCESS ? "disconnected" : mosquitto_strerror(rc));
     }
     // The client cannot be destroyed inside its own callback: after_io() drops it.
@@ -526,6 +550,10 @@ private:
     std::string lost_reason_;
     AckWatchdog watchdog_;
     bool session_established_ = false;
+    /// The protocol level of the next CONNECT: mqtt_version, or for 0
+    /// ("auto") 5 until the broker refuses it (try_other_protocol()).
+    int protocol_ = options_.mqtt_version == 0 ? 5 : options_.mqtt_version;
+    bool protocol_settled_ = false;  ///< a CONNACK accepted protocol_
     std::atomic<bool> connected_{false};
     std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way
     std::optional<std::string> tls_verdict_;              // what it found

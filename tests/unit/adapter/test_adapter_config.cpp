@@ -67,6 +67,12 @@ TEST_CASE("configuration mistakes are reported, not ignored") {
     CHECK_FALSE(adapter_config_from_json(Json{{"log_level", "loud"}}).ok());
     CHECK(adapter_config_from_json(Json{{"heap_keep_bytes", -1}}).error().code == ErrorCode::value_type);
     CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 3}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 0}}}}).ok());  // "auto" is spelt out
+    CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", "automatic"}}}}).ok());
+    // "auto": MQTT 5, or 3.1.1 where the broker refuses 5 (MqttOptions::mqtt_version 0).
+    auto automatic = adapter_config_from_json(Json{{"broker", {{"mqtt_version", "auto"}}}});
+    REQUIRE(automatic.ok());
+    CHECK(automatic.value().mqtt_version == 0);
     CHECK_FALSE(adapter_config_from_json(Json::array()).ok());
     CHECK_FALSE(load_adapter_config("/nonexistent/adapter.json").ok());
 }

@@ -1,0 +1,299 @@
+#include "support/rabbitmq_cluster.hpp"
+
+#include "support/mosquitto_broker.hpp"  // free_loopback_port()
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+extern char** environ;
+
+namespace nclink::test {
+namespace {
+
+// The scripts themselves, not the /usr/sbin wrappers: those switch to the
+// rabbitmq user when run as root and drop the environment that points the
+// node at its own directory.
+constexpr const char* server_script = "/usr/lib/rabbitmq/bin/rabbitmq-server";
+constexpr const char* ctl_script = "/usr/lib/rabbitmq/bin/rabbitmqctl";
+constexpr const char* epmd_binary = "/usr/bin/epmd";
+
+bool port_accepts(int port) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) return false;
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const bool ok = ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    ::close(fd);
+    return ok;
+}
+
+// Spawns argv in a process group of its own (so kill -9 of the group takes
+// the shell script, the Erlang VM and its helper processes together), stdin
+// from /dev/null, stdout and stderr appended to `output`.
+pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>& env, const std::string& output) {
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    std::vector<char*> envp;
+    for (const auto& e : env) envp.push_back(const_cast<char*>(e.c_str()));
+    envp.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, output.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    pid_t pid = -1;
+    const int rc = ::posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+    if (rc != 0) throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(rc));
+    return pid;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// Alive: not gone and not a zombie nobody reaped (state Z in /proc/PID/stat).
+bool owner_alive(pid_t pid) {
+    if (::kill(pid, 0) != 0 && errno != EPERM) return false;
+    const std::string stat = read_file("/proc/" + std::to_string(pid) + "/stat");
+    const auto paren = stat.rfind(')');
+    return paren == std::string::npos || paren + 2 >= stat.size() || stat[paren + 2] != 'Z';
+}
+
+// A test that died without running the destructor (a crash, the SIGKILL of
+// ctest's timeout) leaves its nodes running: each cluster writes its owner
+// and its process groups into its directory, and the next one ends those
+// whose owner is gone. A group whose leader still exists is killed only if
+// that leader is RabbitMQ's script or epmd (the number was not reused).
+void end_orphaned_clusters() {
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator("/tmp", error)) {
+        const std::string dir = entry.path().string();
+        if (entry.path().filename().string().rfind("nclink-rabbitmq-", 0) != 0) continue;
+        const pid_t owner = std::atoi(read_file(dir + "/owner").c_str());
+        if (owner <= 0 || owner_alive(owner)) continue;
+        std::istringstream groups(read_file(dir + "/groups"));
+        for (pid_t group = 0; groups >> group;) {
+            if (group <= 0) continue;
+            const std::string leader = read_file("/proc/" + std::to_string(group) + "/cmdline");
+            if (!leader.empty() && leader.find("rabbitmq") == std::string::npos && leader.find("epmd") == std::string::npos)
+                continue;
+            ::kill(-group, SIGKILL);
+        }
+        std::filesystem::remove_all(dir, error);
+    }
+}
+
+void kill_group(pid_t& pid) {
+    if (pid <= 0) return;
+    ::kill(-pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    pid = -1;
+}
+
+}  // namespace
+
+std::string RabbitCluster::unavailable_reason() {
+    for (const char* path : {server_script, ctl_script, epmd_binary})
+        if (::access(path, X_OK) != 0)
+            return std::string("RabbitMQ is not installed (") + path +
+                   " missing): the cluster tests are skipped; NCLINK_WITH_RABBITMQ=1 tools/install-deps.sh installs it";
+    return "";
+}
+
+RabbitCluster::RabbitCluster(int nodes) {
+    const std::string reason = unavailable_reason();
+    if (!reason.empty()) throw std::runtime_error(reason);
+    end_orphaned_clusters();
+    char pattern[] = "/tmp/nclink-rabbitmq-XXXXXX";
+    if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
+    dir_ = pattern;
+    std::ofstream(dir_ + "/owner") << ::getpid() << "\n";
+    try {
+        // The cookie every node and rabbitmqctl read from $HOME: this
+        // cluster's own, so no other Erlang node on the machine can join it.
+        {
+            std::ofstream cookie(dir_ + "/.erlang.cookie");
+            cookie << "NCLINKTEST" << ::getpid() << "X" << free_loopback_port();
+        }
+        ::chmod((dir_ + "/.erlang.cookie").c_str(), 0400);
+        std::ofstream(dir_ + "/enabled_plugins") << "[rabbitmq_mqtt].\n";
+        std::ofstream(dir_ + "/rabbitmq-env.conf") << "";  // not /etc/rabbitmq's
+
+        // An epmd of its own, on loopback only: node names need be unique
+        // only within this cluster, and nothing outside it sees them.
+        epmd_port_ = free_loopback_port();
+        epmd_pid_ = spawn({epmd_binary, "-port", std::to_string(epmd_port_), "-address", "127.0.0.1"}, environment(nullptr),
+                          dir_ + "/epmd.out");
+        std::ofstream(dir_ + "/groups", std::ios::app) << epmd_pid_ << "\n";
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!port_accepts(epmd_port_)) {
+            if (std::chrono::steady_clock::now() > deadline) throw std::runtime_error("epmd did not start");
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+
+        for (int i = 0; i < nodes; ++i) {
+            Node node;
+            node.name = "nclink" + std::to_string(i + 1) + "@localhost";
+            node.mqtt_port = free_loopback_port();
+            node.amqp_port = free_loopback_port();
+            node.dist_port = free_loopback_port();
+            nodes_.push_back(node);
+            write_node_config(node);
+        }
+        // All nodes boot at once (the boot is most of the time), then 2..N join 1.
+        for (auto& node : nodes_) spawn_node(node);
+        for (const auto& node : nodes_) wait_node_up(node);
+        for (int i = 1; i < nodes; ++i) {
+            ctl(i, {"stop_app"});
+            ctl(i, {"join_cluster", nodes_[0].name});
+            ctl(i, {"start_app"});
+            wait_node_up(nodes_[static_cast<std::size_t>(i)]);
+        }
+    } catch (...) {
+        for (auto& node : nodes_) kill_group(node.pid);
+        kill_group(epmd_pid_);
+        std::error_code ignored;
+        std::filesystem::remove_all(dir_, ignored);
+        throw;
+    }
+}
+
+RabbitCluster::~RabbitCluster() {
+    // The data is thrown away with the directory: no clean shutdown needed.
+    for (auto& node : nodes_) kill_group(node.pid);
+    kill_group(epmd_pid_);
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+}
+
+void RabbitCluster::write_node_config(const Node& node) const {
+    // RabbitMQ's own configuration format (rabbitmq.conf): every listener on
+    // loopback; anonymous MQTT clients as the guest user, which may connect
+    // from loopback only by default (loopback_users none lifts even that).
+    std::ofstream conf(dir_ + "/" + node.name + ".conf");
+    conf << "listeners.tcp.1 = 127.0.0.1:" << node.amqp_port << "\n"
+         << "mqtt.listeners.tcp.1 = 127.0.0.1:" << node.mqtt_port << "\n"
+         << "mqtt.allow_anonymous = true\n"
+         << "loopback_users = none\n";
+}
+
+std::vector<std::string> RabbitCluster::environment(const Node* node) const {
+    std::vector<std::string> env;
+    for (char** e = environ; *e; ++e) {
+        const std::string entry = *e;
+        // Whatever the caller's environment says about RabbitMQ or Erlang
+        // would point the nodes elsewhere.
+        if (entry.rfind("RABBITMQ_", 0) == 0 || entry.rfind("ERL_", 0) == 0 || entry.rfind("HOME=", 0) == 0) continue;
+        env.push_back(entry);
+    }
+    env.push_back("HOME=" + dir_);
+    env.push_back("ERL_EPMD_PORT=" + std::to_string(epmd_port_));
+    env.push_back("ERL_EPMD_ADDRESS=127.0.0.1");
+    env.push_back("RABBITMQ_CONF_ENV_FILE=" + dir_ + "/rabbitmq-env.conf");
+    if (node) {
+        env.push_back("RABBITMQ_NODENAME=" + node->name);
+        env.push_back("RABBITMQ_NODE_IP_ADDRESS=127.0.0.1");
+        env.push_back("RABBITMQ_NODE_PORT=" + std::to_string(node->amqp_port));
+        env.push_back("RABBITMQ_DIST_PORT=" + std::to_string(node->dist_port));
+        env.push_back("RABBITMQ_MNESIA_BASE=" + dir_ + "/mnesia");
+        env.push_back("RABBITMQ_LOG_BASE=" + dir_ + "/log");
+        env.push_back("RABBITMQ_ENABLED_PLUGINS_FILE=" + dir_ + "/enabled_plugins");
+        env.push_back("RABBITMQ_CONFIG_FILE=" + dir_ + "/" + node->name + ".conf");
+        env.push_back("RABBITMQ_ADVANCED_CONFIG_FILE=" + dir_ + "/" + node->name + "-advanced.config");
+        // The distribution listener on loopback too.
+        env.push_back("RABBITMQ_SERVER_ADDITIONAL_ERL_ARGS=-kernel inet_dist_use_interface {127,0,0,1}");
+    }
+    return env;
+}
+
+void RabbitCluster::spawn_node(Node& node) {
+    node.pid = spawn({server_script}, environment(&node), dir_ + "/" + node.name + ".out");
+    std::ofstream(dir_ + "/groups", std::ios::app) << node.pid << "\n";
+}
+
+std::string RabbitCluster::tail_of(const std::string& path) const {
+    const std::string all = read_file(path);
+    return all.size() > 2000 ? all.substr(all.size() - 2000) : all;
+}
+
+void RabbitCluster::wait_node_up(const Node& node) const {
+    // The MQTT listener opens last, once the plugin has started.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(180);
+    while (!port_accepts(node.mqtt_port)) {
+        int status = 0;
+        if (node.pid > 0 && ::waitpid(node.pid, &status, WNOHANG) == node.pid)
+            throw std::runtime_error("RabbitMQ node " + node.name + " exited at start:\n" +
+                                     tail_of(dir_ + "/" + node.name + ".out"));
+        if (std::chrono::steady_clock::now() > deadline)
+            throw std::runtime_error("RabbitMQ node " + node.name + " did not open its MQTT port:\n" +
+                                     tail_of(dir_ + "/" + node.name + ".out"));
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+}
+
+std::string RabbitCluster::ctl(int i, const std::vector<std::string>& args) const {
+    const Node& node = nodes_.at(static_cast<std::size_t>(i));
+    std::vector<std::string> argv{ctl_script, "-q", "-n", node.name};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const std::string output = dir_ + "/ctl.out";
+    std::remove(output.c_str());
+    pid_t pid = spawn(argv, environment(nullptr), output);
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (::waitpid(pid, &status, WNOHANG) != pid) {
+        if (std::chrono::steady_clock::now() > deadline) {
+            kill_group(pid);
+            throw std::runtime_error("rabbitmqctl " + args.at(0) + " on " + node.name + " did not finish");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    const std::string said = tail_of(output);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw std::runtime_error("rabbitmqctl " + args.at(0) + " on " + node.name + " failed:\n" + said);
+    return said;
+}
+
+void RabbitCluster::kill_node(int i) {
+    Node& node = nodes_.at(static_cast<std::size_t>(i));
+    kill_group(node.pid);
+    while (port_accepts(node.mqtt_port)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+}
+
+void RabbitCluster::start_node(int i) {
+    Node& node = nodes_.at(static_cast<std::size_t>(i));
+    if (node.pid > 0) return;
+    spawn_node(node);
+    wait_node_up(node);
+}
+
+}  // namespace nclink::test
