@@ -52,8 +52,12 @@ public:
     // woken by the inbox; one turn at a time, so values are evaluated in the
     // order they were queued, as on a thread of its own.
     Result<void> start() override {
-        inbox_->set_waker([this] { engine_work_.wake(); });
+        // Started before the inbox may wake it (a driver's push can come
+        // from any thread at any time); what was queued before the waker
+        // was set is taken by the wake-up after it.
         engine_work_.start(host_.work, "nclink-events", [this](PollHost::Time) { return turn(); });
+        inbox_->set_waker([this] { engine_work_.wake(); });
+        engine_work_.wake();
         return ok_result();
     }
 

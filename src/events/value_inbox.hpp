@@ -66,9 +66,12 @@ public:
     /// Called after every push, under the inbox's lock (so once close()
     /// returned it is never called again and may dangle): a consumer run as
     /// serial work (core/serial_work.hpp) is woken instead of sleeping in
-    /// wait(). It must not call back into the inbox. Set before anything is
-    /// pushed.
-    void set_waker(std::function<void()> waker) { waker_ = std::move(waker); }
+    /// wait(). It must not call back into the inbox. Pushes before it is set
+    /// wake nobody: the consumer looks once after setting it.
+    void set_waker(std::function<void()> waker) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        waker_ = std::move(waker);
+    }
     /// Wakes the consumer for good; later pushes are ignored.
     void close();
 
@@ -76,7 +79,7 @@ public:
 
 private:
     bool accept_locked();
-    std::function<void()> waker_;
+    std::function<void()> waker_;  // mutex_
 
     const std::size_t capacity_;
     mutable std::mutex mutex_;
