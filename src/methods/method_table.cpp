@@ -189,7 +189,9 @@ void MethodTable::start_ticker() {
     std::lock_guard<std::mutex> lock(mutex_);
     if (ticker_started_) return;
     ticker_started_ = true;
-    ticker_.start(work_, "nclink-methods", [this](PollHost::Time) { return tick(); });
+    // "nclink-method-0" on a host of its own: 15 characters, the most a
+    // thread's name keeps.
+    ticker_.start(work_, "nclink-method", [this](PollHost::Time) { return tick(); });
 }
 
 PollHost::Time MethodTable::tick() {
