@@ -1,5 +1,6 @@
 // The fleet benchmark: N simulated machines x 10 points sampled every 100 ms
-// and uploaded every second (bench/fleet-machine.json), in ONE gateway
+// and uploaded every second (bench/fleet-machine.json; --points and
+// --interval change both, see below), in ONE gateway
 // process (nclink-sim --machines N), one mosquitto with the settings nclink
 // ships, nclink-agent, and an application subscribed to every channel.
 // Reports, per N: points/s delivered against produced, gateway and agent
@@ -15,6 +16,14 @@
 // floor shows what a round trip costs there without nclink's gateway in it.
 //
 //   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 30] [--queries 1000] [--config FILE]
+//                           [--points 10] [--interval 100]
+//
+// --points N: points per machine in its one channel (the model's first 10,
+// then axes added to the model, four points each); --interval MS: how often
+// they are sampled (uploaded every second, or every interval if longer).
+// Other than 10 x 100 ms the machines run a model written to /tmp from
+// bench/fleet-machine.json. The threads and RSS columns are the gateway's
+// at the end of the measured window.
 //
 // --config FILE: adapter settings every machine of the gateway shares
 // (nclink-sim --config), e.g. {"heap_keep_bytes": 0} to measure a setting.
@@ -22,6 +31,7 @@
 // A program, not a test: the figures depend on the box (docs/performance.md).
 #include <nclink/client.hpp>
 #include <nclink/dtu.hpp>
+#include <nclink/json.hpp>
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/topics.hpp>
 
@@ -35,6 +45,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <fstream>
@@ -170,8 +181,46 @@ struct Row {
     std::size_t discovered = 0, query_failures = 0;
 };
 
+// bench/fleet-machine.json with `points` points sampled every `interval_ms`
+// in its channel; the model's own path when that is what it has already.
+std::string fleet_model(const std::string& src, std::size_t points, int interval_ms) {
+    const std::string original = src + "/bench/fleet-machine.json";
+    if (points == 10 && interval_ms == 100) return original;
+    std::ifstream in(original);
+    Json model = Json::parse(in);
+    Json& device = model["devices"][0];
+    Json* channel = nullptr;
+    for (auto& config : device["configs"])
+        if (config.value("type", "") == "SAMPLE_CHANNEL") channel = &config;
+    Json ids = Json::array();
+    for (const auto& id : (*channel)["ids"]) {
+        if (ids.size() == points) break;
+        ids.push_back(id);
+    }
+    // Axes of four points each until there are enough.
+    for (std::size_t axis = 0; ids.size() < points; ++axis) {
+        const std::string name = fmt::format("b{}", axis);
+        Json items = Json::array();
+        for (const auto& [type, suffix] : std::vector<std::pair<std::string, std::string>>{
+                 {"POSITION", "position"}, {"SPEED", "speed"}, {"AXIS_LOAD", "load"}, {"CURRENT", "current"}}) {
+            const std::string id = name + "_" + suffix;
+            items.push_back(Json{{"id", id}, {"name", id}, {"type", type}});
+            if (ids.size() < points) ids.push_back(Json{{"id", id}});
+        }
+        device["components"].push_back(
+            Json{{"id", "axis_" + name}, {"name", "axis " + name}, {"type", "AXIS"}, {"number", name}, {"dataItems", items}});
+    }
+    (*channel)["ids"] = ids;
+    (*channel)["sampleInterval"] = interval_ms;
+    (*channel)["uploadInterval"] = std::max(1000, interval_ms);
+    (*channel)["description"] = fmt::format("{} points every {} ms (bench_fleet)", points, interval_ms);
+    const std::string path = fmt::format("/tmp/bench_fleet_model_{}x{}ms.json", points, interval_ms);
+    std::ofstream(path) << model.dump(1);
+    return path;
+}
+
 Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src,
-        const std::string& config) {
+        const std::string& config, std::size_t points, int interval_ms) {
     Row row;
     row.machines = machines;
     nclink::test::MosquittoBroker broker;
@@ -182,7 +231,7 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     std::this_thread::sleep_for(500ms);
     const auto t0 = Clock::now();
     std::vector<std::string> gateway{bin + "/bin/nclink-sim", "--machines", std::to_string(machines), "--model",
-                                     src + "/bench/fleet-machine.json", "--guid", prefix, "--broker", url, "--log-level", "warn"};
+                                     fleet_model(src, points, interval_ms), "--guid", prefix, "--broker", url, "--log-level", "warn"};
     if (!config.empty()) gateway.insert(gateway.end(), {"--config", config});
     const pid_t gw = spawn(gateway, "/tmp/bench_fleet_gateway.log");
     while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600)
@@ -251,7 +300,7 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     row.gw_cpu = (row.gw.cpu_s - gw0.cpu_s) / window * 100;
     row.agent_cpu = (row.agent.cpu_s - agent0.cpu_s) / window * 100;
     row.delivered = static_cast<double>(points1 - points0) / window;
-    row.produced = static_cast<double>(machines) * 10 * 10;  // 10 points every 100 ms
+    row.produced = static_cast<double>(machines) * static_cast<double>(points) * 1000.0 / interval_ms;
     row.query_p50 = bench::percentile(query_ms, 50);
     row.query_p99 = bench::percentile(query_ms, 99);
     row.floor_p50 = bench::percentile(floor_ms, 50);
@@ -305,6 +354,8 @@ int main(int argc, char** argv) {
     double seconds = 30;
     std::size_t queries = 1000;  // the p99 of 200 would be their second slowest
     std::string config;
+    std::size_t points = 10;
+    int interval_ms = 100;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string arg = argv[i], value = argv[i + 1];
         if (arg == "--machines") {
@@ -317,14 +368,19 @@ int main(int argc, char** argv) {
             queries = std::stoul(value);
         } else if (arg == "--config") {
             config = value;
+        } else if (arg == "--points") {
+            points = std::max<std::size_t>(1, std::stoul(value));
+        } else if (arg == "--interval") {
+            interval_ms = std::max(1, std::stoi(value));
         }
     }
+    std::printf("%zu point(s) per machine every %d ms\n\n", points, interval_ms);
     std::printf("| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
                 "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
                 "| floor p50 / p99 ms | online again after broker restart s |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t n : sizes) {
-        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config);
+        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config, points, interval_ms);
         std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.2f / %.2f | %.1f |\n",
                     r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
                     r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb,

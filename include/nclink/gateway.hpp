@@ -65,6 +65,11 @@ struct NCLINK_API GatewayConfig {
     /// at a time per driver unless it is concurrent). 0 = the box's cores
     /// (at least 2).
     std::size_t driver_threads = 0;
+    /// "work_threads": threads running every machine's serial background
+    /// work: its MQTT publishing (outbox), events engine, method status
+    /// ticker and sample spool, each still in order per machine. 0 = the
+    /// box's cores (at least 2).
+    std::size_t work_threads = 0;
     /// "mqtt_client": "mosquitto" (default): every machine's broker
     /// connection is served by one epoll thread of the gateway over
     /// libmosquitto, so a packet costs the same at 10 or 1,000 machines;

@@ -9,9 +9,11 @@
 //   nclink::Adapter a(config_a, driver_a, logger, threads);
 //   nclink::Adapter b(config_b, driver_b, logger, threads);
 //
-// What stays per adapter: its MQTT connection (the terminal's own last will)
-// with its supervisor and publishing thread, the events engine, the method
-// status ticker and method runs. A single adapter is better off without SharedThreads: its sampling
+// Each adapter's serial background work (its MQTT outbox's sender, events
+// engine, method status ticker and sample spool) runs on the shared work
+// threads too, each still in order per adapter. What stays per adapter: its
+// MQTT connection (the terminal's own last will) and a thread per method run
+// under way. A single adapter is better off without SharedThreads: its sampling
 // thread then sleeps in clock_nanosleep on absolute deadlines and may run at
 // real-time priority (docs/sampling.md); shared timer threads wait on a
 // condition variable, which is precise to tens of microseconds, enough for
@@ -41,6 +43,11 @@ struct NCLINK_API SharedThreadsOptions {
     /// another thread, so one stuck driver never holds up the others.
     std::size_t driver_threads = 0;
     std::size_t driver_stuck_ms = 1000;
+    /// Threads running every adapter's serial background work: its MQTT
+    /// publishing (outbox), events engine, method status ticker and sample
+    /// spool, each still one at a time and in order per adapter. 0 = the
+    /// box's cores (at least 2).
+    std::size_t work_threads = 0;
     /// The adapters' broker connections (each still its own, with its own
     /// last will) served by one I/O thread over libmosquitto and epoll
     /// instead of one I/O thread per connection (a single adapter's
@@ -57,6 +64,7 @@ public:
 
     std::size_t timer_threads() const;
     std::size_t request_threads() const;
+    std::size_t work_threads() const;
     /// Driver threads now: driver_threads plus replacements of stuck ones.
     std::size_t driver_threads() const;
 

@@ -71,10 +71,14 @@ Result<void> Adapter::Impl::start() {
 
     if (!transport) {
         auto options = mqtt_options();
+        // Gateway mode: the outbox's sender on the shared work threads,
+        // with the connection's I/O on the shared loop ("mosquitto") or on a
+        // loop of its own ("paho", docs/gateway.md).
+        auto* work = shared_threads ? &shared_threads->impl().work : nullptr;
         auto made = shared_threads && shared_threads->impl().multiplexed_mqtt && detail::mosquitto_supports(options.broker_url)
                         ? detail::make_mosquitto_transport(std::move(options), logger,
-                                                           detail::shared_mqtt_loop(shared_threads->impl(), logger))
-                        : make_mqtt_transport(std::move(options), logger);
+                                                           detail::shared_mqtt_loop(shared_threads->impl(), logger), work)
+                        : detail::make_own_loop_transport(std::move(options), logger, work);
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
@@ -110,7 +114,8 @@ Result<void> Adapter::Impl::start() {
             detail::FeatureHost{dev, logger, clock, *transport, *runner, host, features.sample_tap(), *value_guard,
                                 [this](const ParsedTopic& topic, const Json& reply) { link->respond(topic, reply); },
                                 [this] { return link->next_msg_id(); }, config.persistence_dir, config.driver_timeout,
-                                shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0},
+                                shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0,
+                                shared ? &shared->work : nullptr},
             config);
         !begun)
         return begun;

@@ -14,6 +14,7 @@ std::size_t sized_to_box(std::size_t asked) {
 
 SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
     : timers(sized_to_box(options.timer_threads), "nclink-timer"),
+      work(sized_to_box(options.work_threads), "nclink-work"),
       requests(std::make_shared<detail::Executor>(sized_to_box(options.request_threads))),
       drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
       request_threads(sized_to_box(options.request_threads)),
@@ -23,6 +24,7 @@ SharedThreads::SharedThreads(SharedThreadsOptions options) : impl_(std::make_uni
 
 SharedThreads::~SharedThreads() {
     impl_->timers.stop();
+    impl_->work.stop();
     impl_->watchdog.stop();
     impl_->requests->stop();
     impl_->drivers.stop();
@@ -38,6 +40,7 @@ double SharedThreads::Impl::next_sampling_phase() {
 
 std::size_t SharedThreads::timer_threads() const { return impl_->timers.threads(); }
 std::size_t SharedThreads::request_threads() const { return impl_->request_threads; }
+std::size_t SharedThreads::work_threads() const { return impl_->work.threads(); }
 std::size_t SharedThreads::driver_threads() const { return impl_->drivers.threads(); }
 
 }  // namespace nclink

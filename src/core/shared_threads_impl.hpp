@@ -23,6 +23,10 @@ namespace nclink {
 struct NCLINK_LOCAL SharedThreads::Impl {
     explicit Impl(const SharedThreadsOptions& options);
     detail::PollHost timers;
+    /// Every adapter's serial background work (core/serial_work.hpp): not
+    /// on `timers`, so a burst of publishing or a spool's disk write never
+    /// holds up a sampling deadline.
+    detail::PollHost work;
     std::shared_ptr<detail::Executor> requests;
     detail::DeadlineWatchdog watchdog;
     detail::WorkerPool drivers;

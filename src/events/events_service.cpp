@@ -1,5 +1,5 @@
 #include "events/events_service.hpp"
-#include "core/thread_name.hpp"
+#include "core/serial_work.hpp"
 
 #include "events/event_engine.hpp"
 #include "events/value_inbox.hpp"
@@ -17,7 +17,7 @@
 namespace nclink::detail {
 namespace {
 
-// While only the manual test clock moves, the events thread must look at it
+// While only the manual test clock moves, the events engine must look at it
 // again now and then: this bounds how long it sleeps while polling is due.
 constexpr std::chrono::milliseconds kMaxSleep{20};
 
@@ -47,17 +47,23 @@ public:
             unregister_event(topic, payload);
     }
 
+    // The engine is serial work (core/serial_work.hpp): a pollable of the
+    // gateway's shared work threads, or of a host of one thread of its own,
+    // woken by the inbox; one turn at a time, so values are evaluated in the
+    // order they were queued, as on a thread of its own.
     Result<void> start() override {
-        thread_ = std::thread([this] {
-            name_this_thread("nclink-events");
-            run();
-        });
+        // Started before the inbox may wake it (a driver's push can come
+        // from any thread at any time); what was queued before the waker
+        // was set is taken by the wake-up after it.
+        engine_work_.start(host_.work, "nclink-events", [this](PollHost::Time) { return turn(); });
+        inbox_->set_waker([this] { engine_work_.wake(); });
+        engine_work_.wake();
         return ok_result();
     }
 
     void stop() override {
         inbox_->close();
-        if (thread_.joinable()) thread_.join();
+        engine_work_.stop();
         std::lock_guard<std::mutex> lock(engine_mutex_);
         set_tap(false);
     }
@@ -178,7 +184,7 @@ private:
         // pushed by anyone who has seen the response (notify_value from the
         // application's side, a sample row) queues behind it and is
         // evaluated, where queued the other way round it came before the
-        // activation and was not seen (a change lost). The events thread
+        // activation and was not seen (a change lost). The events engine
         // holds this registration's events until the response is published,
         // so the application knows the event id first. A response that throws
         // breaks the promise, which releases the wait too.
@@ -233,41 +239,32 @@ private:
         return std::nullopt;
     }
 
-    // ------------------------------------------------------- events thread
+    // ------------------------------------------------------- the engine's turns
 
     // Polls run on a grid of poll_interval that starts one interval after
-    // the registration that ended an idle spell (not after the moment this
-    // thread noticed it), so a test's manual clock and a real one agree.
-    // While no event exists the thread sleeps until something is queued.
-    void run() {
+    // the registration that ended an idle spell (not after the moment a
+    // turn noticed it), so a test's manual clock and a real one agree.
+    // While no event exists nothing is due: the next push wakes it.
+    PollHost::Time turn() {
+        auto work = inbox_->take();
+        if (work.closed) return PollHost::Time::max();
         const bool poll_enabled = config_.poll_interval.count() > 0;
-        // (A flag beside the time rather than std::optional: g++ 12 -O2 warns
-        // maybe-uninitialized on optional<time_point> here.)
-        bool polling = false;  // false while idle
-        Clock::Steady next_poll{};
-        while (true) {
-            auto work = inbox_->wait(polling ? std::optional<std::chrono::milliseconds>(sleep_until(next_poll))
-                                             : std::nullopt);
-            if (work.closed) return;
-            for (auto& item : work.items) {
-                process(item);
-                if (item.activation && poll_enabled && !polling) {
-                    polling = true;
-                    next_poll = item.at + config_.poll_interval;
-                }
-            }
-            if (!polling) continue;
-            if (!has_active()) {
-                polling = false;
-                continue;
-            }
-            const auto now = host_.clock->now();
-            if (now >= next_poll) {
-                poll();
-                next_poll += config_.poll_interval;
-                if (next_poll <= now) next_poll = now + config_.poll_interval;  // fell behind: skip, do not burst
+        for (auto& item : work.items) {
+            process(item);
+            if (item.activation && poll_enabled && !polling_) {
+                polling_ = true;
+                next_poll_ = item.at + config_.poll_interval;
             }
         }
+        if (polling_ && !has_active()) polling_ = false;
+        if (!polling_) return PollHost::Time::max();
+        const auto now = host_.clock->now();
+        if (now >= next_poll_) {
+            poll();
+            next_poll_ += config_.poll_interval;
+            if (next_poll_ <= now) next_poll_ = now + config_.poll_interval;  // fell behind: skip, do not burst
+        }
+        return std::chrono::steady_clock::now() + sleep_until(next_poll_);
     }
 
     std::chrono::milliseconds sleep_until(Clock::Steady deadline) const {
@@ -418,8 +415,12 @@ private:
     std::atomic<std::uint64_t> publish_errors_{0};
     std::atomic<std::uint64_t> publish_errors_at_last_success_{0};  // refused by the transport (after stop, larger than its buffer)
     std::atomic<std::uint64_t> watched_version_{1};  // bumped by watched_changed()
-    PollPlan plan_;                                   // events thread only
-    std::thread thread_;
+    PollPlan plan_;                                   // the engine's turns only
+    // (A flag beside the time rather than std::optional: g++ 12 -O2 warns
+    // maybe-uninitialized on optional<time_point> here.)
+    bool polling_ = false;                            // the engine's turns only; false while idle
+    Clock::Steady next_poll_{};                       // the engine's turns only
+    SerialWork engine_work_;                          // last: stopped before the rest goes
 };
 
 }  // namespace

@@ -44,6 +44,7 @@ void ValueInbox::push_value(const std::string& id, const Json& value, std::int64
         if (watched_.count(id) == 0 || !accept_locked()) return;
         items_.push_back(Item{id, value, time_ms, false, {}, {}});
         ++values_;
+        if (waker_) waker_();
     }
     wake_.notify_one();
 }
@@ -61,6 +62,7 @@ void ValueInbox::push_row(const std::vector<std::string>& ids, const SampleValue
             ++values_;
             pushed = true;
         }
+        if (pushed && waker_) waker_();
     }
     if (pushed) wake_.notify_one();
 }
@@ -71,6 +73,7 @@ void ValueInbox::push_activation(const std::string& event_id, std::optional<Json
         std::lock_guard<std::mutex> lock(mutex_);
         if (closed_) return;
         items_.push_back(Item{event_id, std::move(whole), time_ms, true, at, std::move(responded)});
+        if (waker_) waker_();
     }
     wake_.notify_one();
 }
@@ -98,6 +101,17 @@ void ValueInbox::close() {
         items_.clear();
     }
     wake_.notify_all();
+}
+
+ValueInbox::Work ValueInbox::take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Work work;
+    work.closed = closed_;
+    if (closed_) return work;
+    work.items.assign(std::make_move_iterator(items_.begin()), std::make_move_iterator(items_.end()));
+    items_.clear();
+    values_ = 0;
+    return work;
 }
 
 std::uint64_t ValueInbox::dropped() const {

@@ -14,6 +14,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -60,6 +61,17 @@ public:
     /// Everything queued; waits for something (or close) when empty, at most
     /// `timeout` when given. Called by the one consumer.
     Work wait(std::optional<std::chrono::milliseconds> timeout);
+    /// Everything queued, without waiting. Called by the one consumer.
+    Work take();
+    /// Called after every push, under the inbox's lock (so once close()
+    /// returned it is never called again and may dangle): a consumer run as
+    /// serial work (core/serial_work.hpp) is woken instead of sleeping in
+    /// wait(). It must not call back into the inbox. Pushes before it is set
+    /// wake nobody: the consumer looks once after setting it.
+    void set_waker(std::function<void()> waker) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        waker_ = std::move(waker);
+    }
     /// Wakes the consumer for good; later pushes are ignored.
     void close();
 
@@ -67,6 +79,7 @@ public:
 
 private:
     bool accept_locked();
+    std::function<void()> waker_;  // mutex_
 
     const std::size_t capacity_;
     mutable std::mutex mutex_;

@@ -67,6 +67,10 @@ struct FeatureHost {
     /// Gateway mode: where in their interval's grid this adapter's periodic
     /// ticks fall, a fraction in [0, 1) (EngineDeps::phase); 0 on its own.
     double timer_phase = 0;
+    /// Gateway mode: the shared work threads for a feature's serial
+    /// background work (core/serial_work.hpp: the events engine, the method
+    /// status ticker, the sample spool); null: a thread of its own each.
+    PollHost* work = nullptr;
 };
 
 /// The losses the features count, by cause (the names of the statistics'

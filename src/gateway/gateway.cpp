@@ -45,6 +45,7 @@ SharedThreadsOptions shared_options(const GatewayConfig& config) {
     o.timer_threads = config.timer_threads;
     o.request_threads = config.request_threads;
     o.driver_threads = config.driver_threads;
+    o.work_threads = config.work_threads;
     o.shared_mqtt_io = config.mqtt_client != "paho";
     return o;
 }

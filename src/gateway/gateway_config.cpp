@@ -73,6 +73,7 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     NCLINK_TRY(top.count("timer_threads", c.timer_threads));
     NCLINK_TRY(top.count("request_threads", c.request_threads));
     NCLINK_TRY(top.count("driver_threads", c.driver_threads));
+    NCLINK_TRY(top.count("work_threads", c.work_threads));
     NCLINK_TRY(top.str("mqtt_client", c.mqtt_client));
     if (c.mqtt_client != "mosquitto" && c.mqtt_client != "paho")
         return make_error(ErrorCode::out_of_range,

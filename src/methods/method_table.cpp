@@ -1,5 +1,4 @@
 #include "methods/method_table.hpp"
-#include "core/thread_name.hpp"
 #include "protocol/driver_failure.hpp"
 
 #include <fmt/format.h>
@@ -21,18 +20,19 @@ topics::OptEx ex_of(const ParsedTopic& topic) {
 }  // namespace
 
 std::shared_ptr<MethodTable> MethodTable::create(MethodsConfig config, Outlet outlet, Logger logger,
-                                                 std::shared_ptr<const Clock> clock) {
+                                                 std::shared_ptr<const Clock> clock, PollHost* work) {
     return std::shared_ptr<MethodTable>(
-        new MethodTable(std::move(config), std::move(outlet), std::move(logger), std::move(clock)));
+        new MethodTable(std::move(config), std::move(outlet), std::move(logger), std::move(clock), work));
 }
 
-MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock)
-    : config_(std::move(config)), logger_(std::move(logger)), clock_(std::move(clock)), outlet_(std::move(outlet)) {}
+MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
+                         PollHost* work)
+    : config_(std::move(config)), logger_(std::move(logger)), clock_(std::move(clock)), work_(work), outlet_(std::move(outlet)) {}
 
 MethodTable::~MethodTable() {
     // shutdown() joined or detached every thread; a table destroyed without it
     // (a failed start) has none running but may hold joinable handles.
-    if (ticker_.joinable()) ticker_.detach();
+    ticker_.stop();
     for (auto& [serial, entry] : entries_)
         if (entry.thread.joinable()) entry.thread.detach();
 }
@@ -56,7 +56,7 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, co
     entry.next_status = clock_->now() + config_.status_period;
     ++active_;
     ++accepted_;
-    wake_.notify_all();    // an idle ticker has a run to watch now
+    ticker_.wake();        // an idle ticker has a run to watch now
     publish_status(*run);  // "waiting": the call is accepted (8.2.22.3)
     try {
         entry.thread = std::thread([self = shared_from_this(), run, method, driver = std::move(driver)] {
@@ -125,9 +125,9 @@ void MethodTable::finish(std::uint64_t serial) {
             it->second.done = true;
             --active_;
         }
+        ticker_.wake();  // the ticker joins the thread
     }
     finished_.notify_all();
-    wake_.notify_all();  // the ticker joins the thread
 }
 
 std::vector<std::shared_ptr<MethodRun>> MethodTable::running(const std::string& method_id) const {
@@ -187,48 +187,44 @@ void MethodTable::answer(const ParsedTopic& request, const Json& reply) {
 
 void MethodTable::start_ticker() {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!ticker_.joinable())
-        ticker_ = std::thread([this] {
-            name_this_thread("nclink-methods");
-            ticker();
-        });
+    if (ticker_started_) return;
+    ticker_started_ = true;
+    // "nclink-method-0" on a host of its own: 15 characters, the most a
+    // thread's name keeps.
+    ticker_.start(work_, "nclink-method", [this](PollHost::Time) { return tick(); });
 }
 
-void MethodTable::ticker() {
+PollHost::Time MethodTable::tick() {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!ticker_stop_) {
-        const auto now = clock_->now();
-        std::vector<std::shared_ptr<MethodRun>> due;
-        std::vector<std::thread> finished;
-        for (auto it = entries_.begin(); it != entries_.end();) {
-            Entry& entry = it->second;
-            if (entry.done) {
-                if (entry.thread.joinable()) finished.push_back(std::move(entry.thread));
-                it = entries_.erase(it);
-                continue;
-            }
-            if (now >= entry.next_status) {
-                due.push_back(entry.run);
-                // One Status per period; periods the clock jumped over are skipped.
-                while (entry.next_status <= now) entry.next_status += config_.status_period;
-            }
-            ++it;
-        }
-        if (!due.empty() || !finished.empty()) {
-            lock.unlock();
-            for (auto& run : due) publish_status(*run);
-            for (auto& thread : finished) thread.join();
-            lock.lock();
+    if (ticker_stop_) return PollHost::Time::max();
+    const auto now = clock_->now();
+    std::vector<std::shared_ptr<MethodRun>> due;
+    std::vector<std::thread> finished;
+    for (auto it = entries_.begin(); it != entries_.end();) {
+        Entry& entry = it->second;
+        if (entry.done) {
+            if (entry.thread.joinable()) finished.push_back(std::move(entry.thread));
+            it = entries_.erase(it);
             continue;
         }
-        // Idle (no run under way): sleep until start() or shutdown() wakes
-        // it, so a gateway of many idle machines costs no wake-ups. With runs,
-        // poll the injected clock (tests drive it by hand).
-        if (entries_.empty())
-            wake_.wait(lock, [this] { return ticker_stop_ || !entries_.empty(); });
-        else
-            wake_.wait_for(lock, kTickerPoll);
+        if (now >= entry.next_status) {
+            due.push_back(entry.run);
+            // One Status per period; periods the clock jumped over are skipped.
+            while (entry.next_status <= now) entry.next_status += config_.status_period;
+        }
+        ++it;
     }
+    if (!due.empty() || !finished.empty()) {
+        lock.unlock();
+        for (auto& run : due) publish_status(*run);
+        for (auto& thread : finished) thread.join();
+        return std::chrono::steady_clock::now();  // look again at once
+    }
+    // Idle (no run under way): nothing is due until start() or a finishing
+    // run wakes it, so a gateway of many idle machines costs no wake-ups.
+    // With runs, poll the injected clock (tests drive it by hand).
+    if (entries_.empty()) return PollHost::Time::max();
+    return std::chrono::steady_clock::now() + kTickerPoll;
 }
 
 void MethodTable::shutdown(std::chrono::milliseconds grace) {
@@ -244,8 +240,7 @@ void MethodTable::shutdown(std::chrono::milliseconds grace) {
             if (!entry.done) stuck.push_back(entry.run);
     ticker_stop_ = true;
     lock.unlock();
-    wake_.notify_all();
-    if (ticker_.joinable()) ticker_.join();
+    ticker_.stop();  // returns once no turn of the ticker runs or will
 
     for (auto& run : stuck) {
         logger_.error("method {} did not return within {} ms of shutdown; its thread is abandoned", run->method_id,

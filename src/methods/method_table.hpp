@@ -8,10 +8,13 @@
 // be gone), whatever a late thread does.
 //
 // Threads: start()/running()/answer()/stats() from request workers (any
-// thread); the ticker thread (start_ticker()) publishes periodic statuses and
-// joins finished method threads; shutdown() from the adapter's owner thread.
+// thread); the ticker (start_ticker()) publishes periodic statuses and joins
+// finished method threads: serial work (core/serial_work.hpp), a pollable of
+// the gateway's shared work threads or of a host of one thread of its own,
+// one turn at a time; shutdown() from the adapter's owner thread.
 #pragma once
 
+#include "core/serial_work.hpp"
 #include "methods/method_run.hpp"
 
 #include <nclink/clock.hpp>
@@ -42,8 +45,10 @@ public:
         std::function<void(const ParsedTopic& request, const Json& reply)> respond;
     };
 
+    /// `work`: the shared work threads the ticker runs on (gateway mode), or
+    /// null for a ticker thread of its own.
     static std::shared_ptr<MethodTable> create(MethodsConfig config, Outlet outlet, Logger logger,
-                                               std::shared_ptr<const Clock> clock);
+                                               std::shared_ptr<const Clock> clock, PollHost* work = nullptr);
     ~MethodTable();
 
     /// Admits an accepted call: 417 when max_running runs are under way, 202
@@ -75,18 +80,21 @@ private:
         Clock::Steady next_status{};
     };
 
-    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock);
+    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
+                PollHost* work);
 
     void execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver);
     MethodResult result_of(const MethodRun& run, const Result<Json>& outcome) const;
     void finish(std::uint64_t serial);
-    void ticker();
+    /// One turn of the ticker; returns when it must look again.
+    PollHost::Time tick();
     void publish_status(MethodRun& run);
     void publish_result(MethodRun& run, const MethodResult& result);
 
     const MethodsConfig config_;
     const Logger logger_;
     const std::shared_ptr<const Clock> clock_;
+    PollHost* const work_;
 
     // Publishing: once `closed_`, nothing goes out (the outlet may dangle).
     std::mutex gate_mutex_;
@@ -94,16 +102,17 @@ private:
     Outlet outlet_;
 
     mutable std::mutex mutex_;
-    std::condition_variable wake_;      ///< the ticker
     std::condition_variable finished_;  ///< a run finished (shutdown waits)
     std::map<std::uint64_t, Entry> entries_;
     std::size_t active_ = 0;
     std::uint64_t serial_ = 0;
     bool closing_ = false;
     bool ticker_stop_ = false;
-    std::thread ticker_;
+    bool ticker_started_ = false;
 
     std::atomic<std::uint64_t> accepted_{0}, finished_count_{0}, canceled_{0}, errors_{0}, statuses_{0};
+    // Started and woken under mutex_ only; last, so it stops first.
+    SerialWork ticker_;
 };
 
 }  // namespace nclink::detail

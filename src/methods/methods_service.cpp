@@ -37,7 +37,7 @@ public:
         outlet.dev = host.dev;
         outlet.transport = &host.transport;
         outlet.respond = host.respond;
-        table_ = MethodTable::create(config, std::move(outlet), host.logger, host.clock);
+        table_ = MethodTable::create(config, std::move(outlet), host.logger, host.clock, host.work);
     }
     ~MethodsService() override { stop(); }
 

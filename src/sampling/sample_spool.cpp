@@ -1,5 +1,4 @@
 #include "sampling/sample_spool.hpp"
-#include "core/thread_name.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -11,8 +10,9 @@ std::size_t cost(const Message& m) { return m.topic.size() + m.payload.size(); }
 
 constexpr std::string_view kMarker = R"("privateInfo":{"replayed":true})";
 
-// How long the spool thread waits for the transport's backlog to shrink.
+// How long the spool worker waits for the transport's backlog to shrink.
 constexpr auto kBacklogPoll = std::chrono::milliseconds(2);
+constexpr std::size_t kStepsPerTurn = 64;
 constexpr auto kDiskRetry = std::chrono::seconds(10);
 
 }  // namespace
@@ -56,11 +56,12 @@ bool is_replayed(const Json& dtu) {
     return flag != info->end() && flag->is_boolean() && flag->get<bool>();
 }
 
-SampleSpool::SampleSpool(SpoolOptions options, Transport& transport, Logger logger)
+SampleSpool::SampleSpool(SpoolOptions options, Transport& transport, Logger logger, PollHost* work)
     : options_(std::move(options)),
       transport_(transport),
       logger_(std::move(logger)),
-      segment_bytes_(std::clamp<std::size_t>(options_.memory_bytes / 4, 16u << 10, 1u << 20)) {}
+      segment_bytes_(std::clamp<std::size_t>(options_.memory_bytes / 4, 16u << 10, 1u << 20)),
+      work_(work) {}
 
 SampleSpool::~SampleSpool() { stop(); }
 
@@ -91,10 +92,7 @@ Result<void> SampleSpool::start() {
         }
     }
     link_up_ = transport_.state() == LinkState::connected;
-    thread_ = std::thread([this] {
-        name_this_thread("nclink-spool");
-        run();
-    });
+    worker_.start(work_, "nclink-spool", [this](PollHost::Time) { return turn(); });
     return ok_result();
 }
 
@@ -104,8 +102,7 @@ void SampleSpool::stop() {
         if (!started_ || stopped_) return;
         stopping_ = true;
     }
-    wake_.notify_all();
-    if (thread_.joinable()) thread_.join();
+    worker_.stop();  // returns once no turn of the worker runs or will
     {
         // From here publish() drops (counted): the engine stops before us.
         std::lock_guard<std::mutex> lock(mutex_);
@@ -120,7 +117,7 @@ void SampleSpool::publish(Message message) {
         std::lock_guard<std::mutex> lock(mutex_);
         if (stopped_ || !link_up_ || pending_locked() > 0) {
             enqueue_locked(std::move(message));
-            wake_.notify_one();
+            worker_.wake();
             return;
         }
     }
@@ -139,8 +136,8 @@ void SampleSpool::on_link(LinkState link) {
             logger_.warn("sample spool: {} DTU(s) dropped while offline (budget full)", drop_burst_);
             drop_burst_ = 0;
         }
+        worker_.wake();
     }
-    wake_.notify_all();
 }
 
 SpoolStats SampleSpool::stats() const {
@@ -180,7 +177,7 @@ void SampleSpool::enqueue_locked(Message message) {
     memory_used_ += size;
     memory_.push_back(std::move(message));
     ++counters_.spooled;
-    // The spool thread moves RAM to disk from half the budget on; RAM is a
+    // The spool worker moves RAM to disk from half the budget on; RAM is a
     // hard limit even when the disk cannot keep up.
     while (memory_used_ > options_.memory_bytes) drop_memory_front_locked();
 }
@@ -197,9 +194,12 @@ void SampleSpool::drop_memory_front_locked() {
     memory_.pop_front();
 }
 
-void SampleSpool::run() {
+PollHost::Time SampleSpool::turn() {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!stopping_) {
+    for (std::size_t step = 0; !stopping_; ++step) {
+        // A long replay goes in turns, so the other machines on the shared
+        // threads are not held up behind it.
+        if (step == kStepsPerTurn) return std::chrono::steady_clock::now();
         const bool can_spill = disk_enabled() && std::chrono::steady_clock::now() >= disk_retry_at_;
         if (can_spill && memory_used_ > options_.memory_bytes / 2 && !memory_.empty()) {
             spill_one_segment(lock);
@@ -212,11 +212,12 @@ void SampleSpool::run() {
             const bool room = transport.buffered < options_.replay_backlog;
             const bool replayed = room && replay_one();
             lock.lock();
-            if (!replayed) wake_.wait_for(lock, kBacklogPoll);
+            if (!replayed) return std::chrono::steady_clock::now() + kBacklogPoll;
             continue;
         }
-        wake_.wait(lock);
+        return PollHost::Time::max();  // publish() or on_link() wakes it
     }
+    return PollHost::Time::max();
 }
 
 void SampleSpool::spill_one_segment(std::unique_lock<std::mutex>& lock) {

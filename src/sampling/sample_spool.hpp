@@ -4,7 +4,7 @@
 //
 //   uploader --publish()--> [link up, nothing spooled] --> transport
 //                           [otherwise] --> spool (memory, then disk segments)
-//   spool thread: after reconnect, replays the spool in order into the
+//   spool worker: after reconnect, replays the spool in order into the
 //   transport, each DTU marked "privateInfo": {"replayed": true}; DTUs
 //   produced meanwhile queue behind the replay, so the order on the wire is
 //   the order of production.
@@ -36,10 +36,14 @@
 //
 // Threads: publish() from any thread (the uploader); on_link() from the
 // transport's callback thread (never blocks: takes only the state lock,
-// which is never held while calling the transport); one spool thread spills
-// to disk and replays. stats() from any thread.
+// which is never held while calling the transport); the spool's worker
+// spills to disk and replays, one turn at a time: serial work
+// (core/serial_work.hpp), a pollable of the gateway's shared work threads or
+// of a host of one thread of its own ("nclink-spool"). stats() from any
+// thread.
 #pragma once
 
+#include "core/serial_work.hpp"
 #include "sampling/spool_segment.hpp"
 
 #include <nclink/json.hpp>
@@ -54,7 +58,6 @@
 #include <mutex>
 #include <string>
 #include <string_view>
-#include <thread>
 
 namespace nclink::detail {
 
@@ -96,15 +99,17 @@ bool is_replayed(const Json& dtu);
 
 class SampleSpool {
 public:
-    SampleSpool(SpoolOptions options, Transport& transport, Logger logger);
+    /// `work`: the shared work threads the spool's worker runs on (gateway
+    /// mode), or null for a thread of its own.
+    SampleSpool(SpoolOptions options, Transport& transport, Logger logger, PollHost* work = nullptr);
     ~SampleSpool();  ///< stop()s
     SampleSpool(const SampleSpool&) = delete;
     SampleSpool& operator=(const SampleSpool&) = delete;
 
-    /// Picks up segments of a previous run and starts the spool thread. The
+    /// Picks up segments of a previous run and starts the worker. The
     /// link state is read from the transport once; on_link() follows it.
     Result<void> start();
-    /// Joins the spool thread. What is still spooled goes to disk (when a
+    /// Stops the worker. What is still spooled goes to disk (when a
     /// disk budget is set), else to the transport if the link is up, else it
     /// is dropped (counted, logged). Idempotent.
     void stop();
@@ -120,15 +125,17 @@ public:
     bool empty() const;
 
 private:
-    void run();
+    /// One turn of the worker (spill, replay; at most kStepsPerTurn steps,
+    /// then it yields the shared thread); returns when it must look again.
+    PollHost::Time turn();
     std::size_t pending_locked() const;
     void enqueue_locked(Message message);
     void drop_memory_front_locked();
     bool disk_enabled() const { return options_.disk_bytes > 0 && !options_.disk_dir.empty(); }
-    /// Spool thread: moves the oldest RAM DTUs into one segment file.
+    /// Worker: moves the oldest RAM DTUs into one segment file.
     void spill_one_segment(std::unique_lock<std::mutex>& lock);
     void enforce_disk_budget_locked();
-    /// Spool thread: hands the next spooled DTU to the transport. False when
+    /// Worker: hands the next spooled DTU to the transport. False when
     /// there is nothing to replay right now.
     bool replay_one();
     bool load_next_segment(std::unique_lock<std::mutex>& lock);
@@ -139,13 +146,13 @@ private:
     Transport& transport_;
     const Logger logger_;
     const std::size_t segment_bytes_;
+    PollHost* const work_;
 
     // Held from taking a DTU (live or spooled) until the transport has it, so
     // hand-overs keep production order. Never taken by on_link().
     std::mutex order_mutex_;
 
-    mutable std::mutex mutex_;
-    std::condition_variable wake_;
+    mutable std::mutex mutex_;  // the worker is started and woken under it
     bool link_up_ = false;
     bool stopping_ = false;
     bool started_ = false;
@@ -162,7 +169,7 @@ private:
     std::chrono::steady_clock::time_point disk_retry_at_{};
     SpoolStats counters_;
     std::uint64_t drop_burst_ = 0;
-    std::thread thread_;
+    SerialWork worker_;  // last: stopped before the rest goes
 };
 
 }  // namespace nclink::detail

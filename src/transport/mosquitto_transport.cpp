@@ -51,12 +51,12 @@ void init_library_once() {
 // library must not also replay its own copy (a duplicate, out of order).
 class MosquittoTransport final : public Transport, private LoopMember {
 public:
-    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop)
+    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop, PollHost* work)
         : options_(std::move(options)),
           logger_(std::move(logger)),
           loop_(std::move(loop)),
           link_(logger_, options_.broker_url, options_.client_id),
-          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_),
+          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work),
           watchdog_(ack_limit(options_)) {}
 
     ~MosquittoTransport() override {
@@ -512,7 +512,8 @@ private:
     }
 #endif
 
-    friend Result<std::unique_ptr<Transport>> detail::make_mosquitto_transport(MqttOptions, Logger, std::shared_ptr<MqttLoop>);
+    friend Result<std::unique_ptr<Transport>> detail::make_mosquitto_transport(MqttOptions, Logger, std::shared_ptr<MqttLoop>,
+                                                                              PollHost*);
 
     const MqttOptions options_;
     const Logger logger_;
@@ -568,7 +569,8 @@ bool mosquitto_supports(const std::string& broker_url) {
     return scheme == "tcp" || scheme == "mqtt" || scheme == "ssl" || scheme == "mqtts";
 }
 
-Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop) {
+Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop,
+                                                            PollHost* work) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     if (!loop) return make_error(ErrorCode::parameter_missing, "MQTT loop missing");
     std::string host, scheme;
@@ -587,7 +589,7 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
                                       options.broker_url));
     if (tls && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
-    auto t = std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop));
+    auto t = std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop), work);
     t->host_ = host;
     t->port_ = port;
     return std::unique_ptr<Transport>(std::move(t));
@@ -601,15 +603,23 @@ namespace nclink {
 // (the transport holds the only reference), and its thread is the
 // transport's callback thread.
 Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger) {
-    if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
-    if (auto usable = check_broker_url(options.broker_url); !usable) return std::move(usable).error();
-    std::shared_ptr<detail::MqttLoop> loop;
-    try {
-        loop = std::make_shared<detail::MqttLoop>(logger);
-    } catch (const std::exception& e) {  // no descriptor or thread left for it
-        return make_error(ErrorCode::unavailable, fmt::format("MQTT client: {}", e.what()));
-    }
-    return detail::make_mosquitto_transport(std::move(options), std::move(logger), std::move(loop));
+    return detail::make_own_loop_transport(std::move(options), std::move(logger), nullptr);
 }
 
 }  // namespace nclink
+
+namespace nclink::detail {
+
+Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, Logger logger, PollHost* work) {
+    if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
+    if (auto usable = check_broker_url(options.broker_url); !usable) return std::move(usable).error();
+    std::shared_ptr<MqttLoop> loop;
+    try {
+        loop = std::make_shared<MqttLoop>(logger);
+    } catch (const std::exception& e) {  // no descriptor or thread left for it
+        return make_error(ErrorCode::unavailable, fmt::format("MQTT client: {}", e.what()));
+    }
+    return make_mosquitto_transport(std::move(options), std::move(logger), std::move(loop), work);
+}
+
+}  // namespace nclink::detail

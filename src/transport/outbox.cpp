@@ -1,16 +1,12 @@
 #include "transport/outbox.hpp"
-#include "core/thread_name.hpp"
 
 #include <algorithm>
 
 namespace nclink::detail {
 
-Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger)
+Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger, PollHost* work)
     : limits_(limits), send_(std::move(send)), logger_(std::move(logger)), window_(limits.max_in_flight) {
-    thread_ = std::thread([this] {
-        name_this_thread("nclink-outbox");
-        run();
-    });
+    sender_.start(work, "nclink-outbox", [this](PollHost::Time) { return send_waiting(); });
 }
 
 Outbox::~Outbox() { stop(); }
@@ -18,12 +14,10 @@ Outbox::~Outbox() { stop(); }
 void Outbox::stop() {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (stopping_ && !thread_.joinable()) return;
         stopping_ = true;
     }
-    wake_.notify_all();
     drained_.notify_all();
-    if (thread_.joinable()) thread_.join();
+    sender_.stop();  // returns once no turn of the sender runs or will
 }
 
 Result<void> Outbox::push(Message message) {
@@ -49,7 +43,7 @@ Result<void> Outbox::push(Message message) {
         send_first_waiting();
         send_mutex_.unlock();
     } else {
-        wake_.notify_one();
+        sender_.wake();
     }
     return ok_result();
 }
@@ -100,7 +94,7 @@ void Outbox::link_up() {
         if (drop_burst_ > 1) logger_.warn("offline buffer dropped {} messages in total so far", dropped_);
         drop_burst_ = 0;
     }
-    wake_.notify_all();
+    sender_.wake();
 }
 
 void Outbox::set_window(std::size_t max_in_flight) {
@@ -108,7 +102,7 @@ void Outbox::set_window(std::size_t max_in_flight) {
         std::lock_guard<std::mutex> lock(mutex_);
         window_ = std::max<std::size_t>(1, std::min(max_in_flight, limits_.max_in_flight));
     }
-    wake_.notify_all();
+    sender_.wake();
 }
 
 void Outbox::link_down() {
@@ -136,7 +130,7 @@ void Outbox::delivered(std::uint64_t attempt) {
         // a thread switch (docs/performance.md "Fleet").
         if (entries_.size() <= in_flight_) return;
     }
-    wake_.notify_one();
+    sender_.wake();
 }
 
 void Outbox::failed(std::uint64_t attempt) {
@@ -144,7 +138,7 @@ void Outbox::failed(std::uint64_t attempt) {
         std::lock_guard<std::mutex> lock(mutex_);
         put_back_locked(attempt);
     }
-    wake_.notify_one();
+    sender_.wake();
 }
 
 bool Outbox::wait_drained(std::chrono::milliseconds timeout) {
@@ -152,28 +146,29 @@ bool Outbox::wait_drained(std::chrono::milliseconds timeout) {
     return drained_.wait_for(lock, timeout, [this] { return entries_.empty() || stopping_; }) && entries_.empty();
 }
 
-void Outbox::run() {
+PollHost::Time Outbox::send_waiting() {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!stopping_) {
-        const bool paused = std::chrono::steady_clock::now() < paused_until_;
+    ++sender_wakeups_;
+    for (std::size_t sent = 0; !stopping_; ++sent) {
+        const auto now = std::chrono::steady_clock::now();
         const bool waiting = entries_.size() > in_flight_;
-        if (waiting && can_send_locked()) {
-            // Always the first waiting entry: publish order is kept even after
-            // messages were put back by link_down() or failed().
-            lock.unlock();
-            {
-                std::lock_guard<std::mutex> sending(send_mutex_);
-                send_first_waiting();
-            }
-            lock.lock();
-            continue;
+        if (!waiting || !can_send_locked()) {
+            if (waiting && link_up_ && now < paused_until_) return paused_until_;
+            return PollHost::Time::max();  // push(), an ack, link_up() or set_window() wakes it
         }
-        if (link_up_ && paused)
-            wake_.wait_until(lock, paused_until_);
-        else
-            wake_.wait(lock);
-        ++sender_wakeups_;
+        // A backlog of thousands (a reconnect) is sent in turns, so the
+        // other machines on the shared threads are not held up behind it.
+        if (sent == kSendsPerTurn) return now;
+        // Always the first waiting entry: publish order is kept even after
+        // messages were put back by link_down() or failed().
+        lock.unlock();
+        {
+            std::lock_guard<std::mutex> sending(send_mutex_);
+            send_first_waiting();
+        }
+        lock.lock();
     }
+    return PollHost::Time::max();
 }
 
 void Outbox::put_back_locked(std::uint64_t attempt) {

@@ -1,11 +1,18 @@
 // Ordered, bounded buffer of outgoing messages with an in-flight window.
 // Shared by every transport so offline buffering behaves the same on MQTT
 // and on the loopback: messages are handed to the link in publish order (by
-// the publishing thread itself when nothing is waiting, else by the sender
-// thread), never more than max_in_flight unacknowledged at once (paho
+// the publishing thread itself when nothing is waiting, else by the sender),
+// never more than max_in_flight unacknowledged at once (paho
 // refuses bursts beyond its own buffer, error -12), keeps QoS>=1 messages until
 // acknowledged, and puts unacknowledged ones back when the link drops.
+//
+// The sender is serial work (core/serial_work.hpp), not a thread of its
+// own: in a gateway a pollable of the shared work threads, so 1,000
+// machines' outboxes share a few threads; alone, a host of one thread
+// ("nclink-outbox"). Either way one hand-over at a time, in publish order.
 #pragma once
+
+#include "core/serial_work.hpp"
 
 #include <nclink/log.hpp>
 #include <nclink/transport.hpp>
@@ -17,7 +24,6 @@
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <thread>
 
 namespace nclink::detail {
 
@@ -33,7 +39,9 @@ public:
     /// to the payload instead of copying it (a Sample DTU can be megabytes).
     using SendFn = std::function<bool(const std::shared_ptr<const Message>&, std::uint64_t attempt)>;
 
-    Outbox(OutboxLimits limits, SendFn send, Logger logger);
+    /// `work`: the shared work threads the sender runs on (gateway mode), or
+    /// null for a sender thread of its own.
+    Outbox(OutboxLimits limits, SendFn send, Logger logger, PollHost* work = nullptr);
     ~Outbox();
     Outbox(const Outbox&) = delete;
     Outbox& operator=(const Outbox&) = delete;
@@ -61,7 +69,7 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         return in_flight_;
     }
-    /// How often the sender thread woke up (tests: no futile wake-ups).
+    /// How often the sender ran (tests: no futile wake-ups).
     std::uint64_t sender_wakeups() const {
         std::lock_guard<std::mutex> lock(mutex_);
         return sender_wakeups_;
@@ -75,7 +83,10 @@ private:
         std::uint64_t attempt = 0;  // 0 = waiting, else in flight under this attempt id
     };
 
-    void run();
+    /// The sender: hands over what the window allows, a turn of at most
+    /// kSendsPerTurn (then it yields the shared thread and comes back at
+    /// once); returns when it must look again.
+    PollHost::Time send_waiting();
     std::size_t cost(const Message& m) const { return m.topic.size() + m.payload.size(); }
     void drop_oldest_waiting_locked();
     void put_back_locked(std::uint64_t attempt);
@@ -84,14 +95,14 @@ private:
     bool send_first_waiting();
 
     static constexpr std::chrono::milliseconds kRetryPause{100};
+    static constexpr std::size_t kSendsPerTurn = 64;
 
     const OutboxLimits limits_;
     const SendFn send_;
     const Logger logger_;
 
-    std::mutex send_mutex_;  // serializes hand-overs to the link (outbox thread or fast path)
+    std::mutex send_mutex_;  // serializes hand-overs to the link (sender or fast path)
     mutable std::mutex mutex_;
-    std::condition_variable wake_;
     std::condition_variable drained_;
     std::deque<Entry> entries_;
     std::size_t bytes_ = 0;
@@ -106,7 +117,7 @@ private:
     std::uint64_t dropped_bytes_ = 0;
     std::uint64_t drop_burst_ = 0;  // drops since the last log line
     std::uint64_t sender_wakeups_ = 0;
-    std::thread thread_;
+    SerialWork sender_;  // last: stopped before the rest goes
 };
 
 }  // namespace nclink::detail
