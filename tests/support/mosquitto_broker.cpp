@@ -21,6 +21,14 @@ extern char** environ;
 namespace nclink::test {
 namespace {
 
+std::string find_mosquitto() {
+    for (const char* path : {"/usr/sbin/mosquitto", "/usr/bin/mosquitto", "/usr/local/sbin/mosquitto"})
+        if (::access(path, X_OK) == 0) return path;
+    throw std::runtime_error("mosquitto not found (tools/install-deps.sh installs it)");
+}
+
+}  // namespace
+
 bool port_accepts(int port) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     if (fd < 0) return false;
@@ -32,14 +40,6 @@ bool port_accepts(int port) {
     ::close(fd);
     return ok;
 }
-
-std::string find_mosquitto() {
-    for (const char* path : {"/usr/sbin/mosquitto", "/usr/bin/mosquitto", "/usr/local/sbin/mosquitto"})
-        if (::access(path, X_OK) == 0) return path;
-    throw std::runtime_error("mosquitto not found (tools/install-deps.sh installs it)");
-}
-
-}  // namespace
 
 int free_loopback_port() {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);

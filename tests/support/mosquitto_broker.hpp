@@ -69,4 +69,8 @@ private:
 /// A free TCP port on 127.0.0.1 (bound and released; tiny race accepted).
 int free_loopback_port();
 
+/// Whether something accepts TCP connections on 127.0.0.1:port now (a
+/// broker or node that has come up, or not yet gone).
+bool port_accepts(int port);
+
 }  // namespace nclink::test

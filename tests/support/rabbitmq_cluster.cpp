@@ -1,6 +1,6 @@
 #include "support/rabbitmq_cluster.hpp"
 
-#include "support/mosquitto_broker.hpp"  // free_loopback_port()
+#include "support/mosquitto_broker.hpp"  // free_loopback_port(), port_accepts()
 
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -33,18 +33,6 @@ namespace {
 constexpr const char* server_script = "/usr/lib/rabbitmq/bin/rabbitmq-server";
 constexpr const char* ctl_script = "/usr/lib/rabbitmq/bin/rabbitmqctl";
 constexpr const char* epmd_binary = "/usr/bin/epmd";
-
-bool port_accepts(int port) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) return false;
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(static_cast<uint16_t>(port));
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    const bool ok = ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
-    ::close(fd);
-    return ok;
-}
 
 // Spawns argv in a process group of its own (so kill -9 of the group takes
 // the shell script, the Erlang VM and its helper processes together), stdin
