@@ -37,6 +37,14 @@ for d in modbus mtconnect; do
   [[ -f ${deb[nclink-driver-$d]} ]] || { ls "$work/packages"; fail "no package nclink-driver-$d for lib/nclink-$d.so"; }
 done
 
+# The Python package, when the build has the extension module (docs/python.md).
+with_python=0
+if compgen -G "$build/python/nclink/_nclink*.so" >/dev/null; then
+  with_python=1
+  deb[python3-nclink]=$work/packages/python3-nclink_${version}-${release}_${arch}.deb
+  [[ -f ${deb[python3-nclink]} ]] || { ls "$work/packages"; fail "no package python3-nclink for the built extension module"; }
+fi
+
 # lintian is the slowest part: it runs beside the other checks.
 lint_pid=""
 if command -v lintian >/dev/null; then
@@ -102,6 +110,26 @@ for d in "${drivers[@]}"; do
   exports=$(nm -D --defined-only "$plugin" | awk '$2 == "T" {print $3}' | sort -u)
   [[ $exports == nclink_driver_entry ]] || fail "nclink-$d.so exports: $(echo $exports)"
 done
+# python3-nclink: Debian's python3 (the extension is built for 3.11), the
+# package where Debian's python3 looks, importable from the unpacked tree and
+# answering from its compiled half (a failed request raises the table-19 class).
+if ((with_python)); then
+  [[ $(field python3-nclink Depends) == *"python3 (>= 3.11)"* ]] || fail "python3-nclink: Depends $(field python3-nclink Depends)"
+  [[ -f $root/usr/lib/python3/dist-packages/nclink/__init__.py ]] || fail "python3-nclink: no nclink/__init__.py in /usr/lib/python3/dist-packages"
+  PYTHONPATH=$root/usr/lib/python3/dist-packages /usr/bin/python3 -c '
+import nclink, sys
+assert nclink.__file__.startswith(sys.argv[1]), nclink.__file__
+c = nclink.Client("tcp://127.0.0.1:1")
+try:
+    c.get("dev", "status")
+except nclink.Unavailable:
+    pass
+else:
+    raise SystemExit("a request before connect() did not raise nclink.Unavailable")
+finally:
+    c.close()
+' "$root" || fail "python3-nclink: import nclink from the unpacked package failed"
+fi
 pcdir=$(dirname "$(find "$root" -name nclink.pc -print -quit)")
 libdir=$(dirname "$pcdir")
 

@@ -6,7 +6,7 @@
 // terminal id. Triggers, elements, 416, release on offline and lease expiry
 // have their mosquitto counterpart on the simulated machine
 // (tests/integration/events/test_events_sim_mqtt.cpp).
-#include "events_rig.hpp"
+#include "support/events_rig.hpp"
 
 #include <set>
 

@@ -1,6 +1,6 @@
 // The client library's events (src/client/client_events.cpp) against a real
 // Adapter over the loopback broker.
-#include "events_rig.hpp"
+#include "support/events_rig.hpp"
 #include "support/collected.hpp"
 
 #include <nclink/client.hpp>
