@@ -10,7 +10,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 
 namespace nclink::bridge {
 
@@ -56,6 +58,25 @@ std::string shdr_device_key(const MtDevice& device) {
     return shdr_escape(usable ? device.uuid : device.name);
 }
 
+namespace {
+
+/// Native units an MTConnect agent converts to the DataItem's `units` by
+/// itself, with the factor the mapping uses (checked with cppagent 1.8.0.3,
+/// docs/bridge.md "Agents tried"). Part 2 `nativeUnits`: the unit the
+/// equipment reports in; an adapter sends a SAMPLE in it and the agent
+/// converts (its default; `ConversionRequired = false` turns that off).
+/// Other native units (the x: extensions, MICRO_RADIAN, KILOWATT_HOUR,
+/// JOULE, CENTIPOISE) the agent leaves as they are, so the bridge sends
+/// those values already converted.
+bool agent_converts(std::string_view native_units) {
+    static constexpr std::string_view kConverted[] = {"MILLIMETER/MINUTE", "DEGREE/MINUTE", "RADIAN",
+                                                      "RADIAN/SECOND",     "RADIAN/MINUTE", "RADIAN/SECOND^2",
+                                                      "REVOLUTION/SECOND", "KILOWATT",      "FAHRENHEIT"};
+    return std::find(std::begin(kConverted), std::end(kConverted), native_units) != std::end(kConverted);
+}
+
+}  // namespace
+
 std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& o) {
     const std::string prefix = iso_time(o.time_ms) + "|" + shdr_device_key(device.mt) + ":" + shdr_escape(item.mt.id) + "|";
     std::string out;
@@ -63,7 +84,17 @@ std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const O
         out = prefix + (o.value.is_null() ? "UNAVAILABLE" : "AVAILABLE") + "\n";
         return out;
     }
-    const auto observations = mtconnect_observations(item.mt, o.value);
+    // A SAMPLE the agent converts goes in its nativeUnits (the NC-Link
+    // value): sent converted, it was converted twice (x_speed: 20 mm/s in
+    // the bridge, 0.33 in the agent).
+    const bool native = item.mt.category == MtCategory::sample && agent_converts(item.mt.native_units);
+    MtDataItem unconverted;
+    if (native) {
+        unconverted = item.mt;
+        unconverted.scale = 1;
+        unconverted.offset = 0;
+    }
+    const auto observations = mtconnect_observations(native ? unconverted : item.mt, o.value);
     if (item.mt.category == MtCategory::condition) {
         // level|nativeCode|nativeSeverity|qualifier|message
         for (const auto& ob : observations) {

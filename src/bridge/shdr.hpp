@@ -5,7 +5,8 @@
 //   2024-01-01T00:00:00.123Z|mill-01:system_alarm|fault|1001|||Spindle overload
 //   2024-01-01T00:00:00.123Z|mill-01:tools||[{"id":"T1","len":1.5}]
 // One line per change; the key is "<Device uuid>:<DataItem id>"; a MESSAGE
-// (how list and dict items are mapped) as nativeCode|text; a value with '|'
+// (how list and dict items are mapped) as nativeCode|text; a SAMPLE whose
+// nativeUnits an agent converts in those units; a value with '|'
 // quoted (shdr_value); UNAVAILABLE
 // when the adapter is offline; a full snapshot to every new connection; a
 // "* PING" line is answered "* PONG <heartbeat ms>".

@@ -29,7 +29,16 @@
 //   - a DataItem with a single Constraints/Value is constant: lines for it
 //     are ignored and its value is that constant; every other item starts
 //     UNAVAILABLE;
-//   - a SAMPLE value that is not a number is refused (no observation).
+//   - a SAMPLE value that is not a number is refused (no observation);
+//   - a SAMPLE whose DataItem has `nativeUnits` is taken to be in those
+//     units and converted to `units` (the agent's default, ConversionRequired),
+//     by the agent's own factors: INCH 25.4, FOOT 304.8, CENTIMETER 10,
+//     DECIMETER 100, METER 1000, FAHRENHEIT 5/9 after subtracting 32, POUND
+//     0.45359237, GRAM 0.001, RADIAN 57.2957795, MINUTE 60, HOUR 3600, any
+//     other unit 1; `A/B` as A / B (`B^n` to the power n),
+//     REVOLUTION/SECOND as 60, REVOLUTION/MINUTE unchanged; a unit without
+//     `/` whose factor is 1 is unchanged unless it is KILO + `units` (1000).
+//     The result is written with 15 significant digits.
 // DATA_SET and TABLE representations (MTConnect 1.5 and 1.6) are not read:
 // a 1.4 Devices document cannot declare them (docs/bridge.md "SHDR").
 #pragma once
@@ -39,6 +48,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -93,7 +104,7 @@ public:
 
 private:
     struct Item {
-        std::string id, name, source, category, type, units, representation;
+        std::string id, name, source, category, type, units, native_units, representation;
         std::optional<std::string> constant;
         Current current;
     };
@@ -143,6 +154,7 @@ private:
                 item.category = prop(node, "category");
                 item.type = prop(node, "type");
                 item.units = prop(node, "units");
+                item.native_units = prop(node, "nativeUnits");
                 item.representation = prop(node, "representation");
                 std::vector<std::string> values;
                 for (const xmlNode* c = node->children; c; c = c->next) {
@@ -225,6 +237,39 @@ private:
             i = cp < n ? cp + 1 : cp;
         }
         return out;
+    }
+
+    static double unit_factor(const std::string& unit, double* offset) {
+        static const std::map<std::string, double> factors = {{"INCH", 25.4},        {"FOOT", 304.8},   {"CENTIMETER", 10.0},
+                                                              {"DECIMETER", 100.0},  {"METER", 1000.0}, {"FAHRENHEIT", 5.0 / 9},
+                                                              {"POUND", 0.45359237}, {"GRAM", 0.001},   {"RADIAN", 57.2957795},
+                                                              {"MINUTE", 60.0},      {"HOUR", 3600.0}};
+        auto it = factors.find(unit);
+        if (it == factors.end()) return 1.0;
+        if (unit == "FAHRENHEIT" && offset) *offset = -32.0;
+        return it->second;
+    }
+
+    /// value -> (value + offset) * factor from nativeUnits to units; nullopt: left as it is.
+    static std::optional<std::pair<double, double>> conversion(const Item& item) {
+        if (item.native_units.empty()) return std::nullopt;
+        std::string native = item.native_units;
+        double offset = 0;
+        const auto slash = native.find('/');
+        if (slash == std::string::npos) {
+            if (auto d3 = native.find("_3D"); d3 != std::string::npos) native.erase(d3);
+            const double f = unit_factor(native, &offset);
+            if (f != 1.0) return std::make_pair(f, offset);
+            if (native.compare(0, 4, "KILO") == 0 && native.substr(4) == item.units) return std::make_pair(1000.0, 0.0);
+            return std::nullopt;
+        }
+        if (native == "REVOLUTION/MINUTE") return std::nullopt;
+        const std::string num = native.substr(0, slash), den = native.substr(slash + 1);
+        if (num == "REVOLUTION" && den == "SECOND") return std::make_pair(60.0, 0.0);
+        const auto caret = den.find('^');
+        if (caret == std::string::npos) return std::make_pair(unit_factor(num, nullptr) / unit_factor(den, nullptr), 0.0);
+        const double power = std::atof(den.c_str() + caret + 1);
+        return std::make_pair(unit_factor(num, nullptr) / std::pow(unit_factor(den.substr(0, caret), nullptr), power), 0.0);
     }
 
     static bool unavailable(const std::string& s) {
@@ -336,6 +381,19 @@ private:
             const bool three_d = item.units.size() >= 2 && item.units.compare(item.units.size() - 2, 2, "3D") == 0;
             if (!in.eof() || count != (three_d ? 3 : 1)) {
                 problems_.push_back("not a number for " + item.id + ": '" + value->second + "'");
+                return;
+            }
+            if (const auto conv = conversion(item)) {
+                std::istringstream numbers(value->second);
+                std::string converted;
+                while (numbers >> d) {
+                    char buf[64];
+                    std::snprintf(buf, sizeof buf, "%.15g", (d + conv->second) * conv->first);
+                    converted += (converted.empty() ? "" : " ") + std::string(buf);
+                }
+                c.available = true;
+                c.value = converted;
+                c.native_code.clear();
                 return;
             }
         }

@@ -17,7 +17,8 @@ const opcua = require(path.join(OPCUA_DIR, "lib", "node-opcua"));
 const { scanNodeset } = require(path.join(OPCUA_DIR, "lib", "nodeset-info"));
 const { tempDir, freePort, waitUntil, startServer, connect, browseVariables, spawnLogged: run, stopProcess } = require(path.join(OPCUA_DIR, "test", "support", "harness"));
 
-const { AttributeIds, DataType } = opcua;
+const { AttributeIds, DataType, Variant } = opcua;
+const { constructEventFilter, TimestampsToReturn } = require(require.resolve("node-opcua-client", { paths: [OPCUA_DIR] }));
 const DEV = "nclink-sim-mill-01";
 const URI = `urn:nclink:device:${DEV}`;
 
@@ -42,6 +43,13 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
   const nodeId = (id) => `ns=${ns};s=${id}`;
   const read = (id) => c.session.read({ nodeId: nodeId(id), attributeId: AttributeIds.Value });
   const write = (id, dataType, value) => c.session.write({ nodeId: nodeId(id), attributeId: AttributeIds.Value, value: { value: { dataType, value } } });
+
+  /// NC-Link Set of `assignments` ("id=<JSON>") at the machine.
+  const nclinkSet = (...assignments) =>
+    new Promise((resolve, reject) => {
+      execFile(path.join(BIN, "nclink"), ["set", "--broker", broker, "--device", DEV, "--timeout", "5000", ...assignments], (err, stdout, stderr) =>
+        err ? reject(new Error(`nclink set ${assignments.join(" ")}: ${err.message} ${stdout} ${stderr}`)) : resolve(stdout));
+    });
 
   /// NC-Link Query of `ids` -> Map id -> {code, value}.
   const query = (ids) =>
@@ -71,7 +79,18 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
         s.on("error", () => resolve(false));
       });
     }, { what: "mosquitto" });
-    procs.push(run(path.join(BIN, "nclink-sim"), ["--broker", broker, "--persistence", path.join(work, "sim-state")], work));
+    // The mill's model with its WARNING item setable: a Set of it is how a
+    // test raises an alarm at the machine (docs/simulator.md "Alarms").
+    const model = JSON.parse(fs.readFileSync(path.join(OPCUA_DIR, "..", "..", "models", "sim-mill.json"), "utf8"));
+    const setWarning = (node) => {
+      if (Array.isArray(node)) return node.forEach(setWarning);
+      if (!node || typeof node !== "object") return;
+      if (node.id === "warning" && node.type === "WARNING") node.setable = true;
+      Object.values(node).forEach(setWarning);
+    };
+    setWarning(model);
+    fs.writeFileSync(path.join(work, "sim-mill.json"), JSON.stringify(model));
+    procs.push(run(path.join(BIN, "nclink-sim"), ["--broker", broker, "--model", path.join(work, "sim-mill.json"), "--persistence", path.join(work, "sim-state")], work));
     const httpPort = await freePort();
     bridgeUrl = `http://127.0.0.1:${httpPort}`;
     procs.push(run(path.join(BIN, "nclink-bridge"), ["--broker", broker, "--http", `127.0.0.1:${httpPort}`, "--shdr", "off", "--device", DEV], work));
@@ -240,6 +259,48 @@ describe("nclink-opcua with nclink-bridge and the simulated mill", () => {
     } finally {
       if (s) await s.close();
       await cnc.stop();
+    }
+  });
+  it("ConditionRefresh and ConditionRefresh2 (OPC 10000-9 5.5.7, 5.5.8) resend the active alarm between RefreshStart and RefreshEnd", async () => {
+    const FIELDS = ["EventType", "ConditionName", "ActiveState.Id", "Retain", "Message"];
+    const REFRESH_START = "ns=0;i=2787"; // RefreshStartEventType
+    const REFRESH_END = "ns=0;i=2788"; // RefreshEndEventType
+    const subscription = await c.session.createSubscription2({ requestedPublishingInterval: 50, publishingEnabled: true, requestedMaxKeepAliveCount: 20, requestedLifetimeCount: 200 });
+    const events = [];
+    try {
+      const item = await subscription.monitor({ nodeId: "i=2253", attributeId: AttributeIds.EventNotifier }, { samplingInterval: 0, queueSize: 1000, filter: constructEventFilter(FIELDS) }, TimestampsToReturn.Neither);
+      assert.equal(item.statusCode.name, "Good", "event monitored item on the Server object");
+      item.on("changed", (values) => events.push(Object.fromEntries(FIELDS.map((f, i) => [f, values[i] ? values[i].value : undefined]))));
+      const type = (e) => (e.EventType ? e.EventType.toString() : "");
+      const summary = () => events.map((e) => (type(e) === REFRESH_START ? "start" : type(e) === REFRESH_END ? "end" : `${e.ConditionName}/${e["ActiveState.Id"] ? "active" : "inactive"}/retain=${e.Retain}`)).join(" ");
+
+      // An alarm at the machine (the mill raises a Set of its warning item), raised over OPC UA.
+      await nclinkSet('warning={"number":"7001","text":"coolant level low"}');
+      await waitUntil(() => events.some((e) => e.ConditionName === "7001" && e["ActiveState.Id"] === true), { ms: 20000, what: `alarm 7001 raised (events: ${summary()})` });
+
+      // A client that joins late (or lost its events) asks for the current
+      // state: RefreshStart, every retained condition, RefreshEnd.
+      const refresh = async (what, methodId, inputArguments) => {
+        events.length = 0;
+        const result = await c.session.call({ objectId: "i=2782", methodId, inputArguments }); // ConditionType
+        assert.equal(result.statusCode.name, "Good", what);
+        await waitUntil(() => events.some((e) => type(e) === REFRESH_END), { ms: 10000, what: `${what}: RefreshEndEvent (events: ${summary()})` });
+        const start = events.findIndex((e) => type(e) === REFRESH_START);
+        const end = events.findIndex((e) => type(e) === REFRESH_END);
+        const alarm = events.findIndex((e) => e.ConditionName === "7001");
+        assert.ok(start >= 0 && alarm > start && end > alarm, `${what}: RefreshStart, 7001, RefreshEnd in order (events: ${summary()})`);
+        assert.equal(events[alarm]["ActiveState.Id"], true, what);
+        assert.equal(events[alarm].Retain, true, what);
+        assert.equal(events[alarm].Message.text, "coolant level low", what);
+      };
+      await refresh("ConditionRefresh", "i=3875", [new Variant({ dataType: DataType.UInt32, value: subscription.subscriptionId })]);
+      await refresh("ConditionRefresh2", "i=12912", [
+        new Variant({ dataType: DataType.UInt32, value: subscription.subscriptionId }),
+        new Variant({ dataType: DataType.UInt32, value: item.monitoredItemId }),
+      ]);
+    } finally {
+      await nclinkSet("warning={}").catch(() => {});
+      await subscription.terminate().catch(() => {});
     }
   });
 });

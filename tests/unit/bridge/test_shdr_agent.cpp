@@ -15,6 +15,9 @@
 #include <libxml/parser.h>
 #include <libxml/tree.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -99,6 +102,18 @@ void fill(BridgeStore& store, const std::string& dev, std::int64_t time) {
     }
 }
 
+/// The same value: equal text, or numbers equal to 1e-9 (the agent writes a
+/// value it converted from nativeUnits with its own digits).
+bool same_value(const std::string& agent, const std::string& bridge) {
+    if (agent == bridge) return true;
+    char* end_a = nullptr;
+    char* end_b = nullptr;
+    const double a = std::strtod(agent.c_str(), &end_a);
+    const double b = std::strtod(bridge.c_str(), &end_b);
+    if (agent.empty() || bridge.empty() || *end_a != '\0' || *end_b != '\0') return false;
+    return std::fabs(a - b) <= 1e-9 * std::max(1.0, std::fabs(b));
+}
+
 /// The agent's view after reading the bridge's whole SHDR snapshot.
 ShdrAgent agent_of(const BridgeStore& store, const MtConnectApi& api) {
     ShdrAgent agent(api.probe("").body);
@@ -162,8 +177,9 @@ TEST_CASE("an agent reading the bridge's SHDR shows every item of the sim mill a
             continue;
         }
         REQUIRE(c->available);
+        INFO("agent: " << c->value);
         if (!c->level.empty()) CHECK(c->level == text);
-        else CHECK(c->value == text);
+        else CHECK(same_value(c->value, text));
         ++compared;
     }
     CHECK(compared == shown.size());  // the fill gave every item a value the bridge shows
@@ -190,7 +206,7 @@ TEST_CASE("an agent reading the bridge's SHDR shows every item of the sim mill a
         const ShdrAgent::Current* c = offline.current(id);
         REQUIRE(c);
         if (text == "UNAVAILABLE" || text == "unavailable") CHECK_FALSE(c->available);
-        else CHECK(c->value == text);
+        else CHECK(same_value(c->value, text));
     }
 }
 
@@ -216,4 +232,67 @@ TEST_CASE("two machines of one model reach the agent each under its own device")
     REQUIRE(agent.current("mill-02.x_position"));
     CHECK(agent.current("mill-01.x_position")->value == "1.5");
     CHECK(agent.current("mill-02.x_position")->value == "2.5");
+}
+
+TEST_CASE(
+    "a sample in units an agent converts goes in its nativeUnits, any other converted: the agent shows the bridge's value") {
+    // One item per NC-Link unit the mapping gives nativeUnits (docs/mapping.md
+    // "Units"); the agent converts a SAMPLE from nativeUnits to units by itself.
+    const std::vector<std::pair<std::string, std::string>> units = {{"mm/min", "SPEED"},
+                                                                    {"m/min", "SPEED"},
+                                                                    {"rad", "POSITION"},
+                                                                    {"μm", "POSITION"},
+                                                                    {"m", "POSITION"},
+                                                                    {"rad/s", "SPEED"},
+                                                                    {"DEGREE/MINUTE", "SPEED"},
+                                                                    {"RADIAN/MINUTE", "SPEED"},
+                                                                    {"MICRO_RADIAN", "POSITION"},
+                                                                    {"rad/s²", "ACCELERATION"},
+                                                                    {"REVOLUTION/SECOND", "SPINDLE_SPEED"},
+                                                                    {"mA", "CURRENT"},
+                                                                    {"kW·h", "ENERGY"},
+                                                                    {"W·h", "ENERGY"},
+                                                                    {"JOULE", "ENERGY"},
+                                                                    {"kW", "POWER"},
+                                                                    {"mW", "POWER"},
+                                                                    {"°F", "TEMPERATURE"},
+                                                                    {"CENTIPOISE", "VISCOSITY"},
+                                                                    {"kHz", "FREQUENCY"},
+                                                                    {"mL/s", "FLOW"},
+                                                                    {"kΩ", "RESISTANCE"}};
+    Json items = Json::array();
+    for (std::size_t i = 0; i < units.size(); ++i)
+        items.push_back(Json{{"id", "v" + std::to_string(i)}, {"type", units[i].second}, {"units", units[i].first}});
+    const Json model = {
+        {"id", "root"},
+        {"type", "NC_LINK_ROOT"},
+        {"version", "1.0"},
+        {"devices",
+         Json::array({Json{
+             {"id", "m"}, {"name", "M"}, {"type", "MACHINE"}, {"guid", "m-01"}, {"version", "1.0"}, {"dataItems", items}}})}};
+    BridgeStore store(256, "test", 7);
+    store.add_device("m-01");
+    REQUIRE(store.set_model("m-01", model).ok());
+    store.set_state("m-01", "online");
+    for (std::size_t i = 0; i < units.size(); ++i) store.update("m-01", "v" + std::to_string(i), 37.5 + i, 1700000000000);
+    const MtConnectApi api(store);
+    const ShdrAgent agent = agent_of(store, api);
+    CHECK(agent.problems().empty());
+    const std::string probe = api.probe("").body;
+    std::size_t compared = 0;
+    for (const auto& [id, text] : observations(api.current("", {}).body)) {
+        if (id == "m-01.m_avail") continue;
+        const ShdrAgent::Current* c = agent.current(id);
+        REQUIRE(c);
+        INFO(id << " bridge: " << text << " agent: " << c->value);
+        REQUIRE(c->available);
+        CHECK(same_value(c->value, text));
+        ++compared;
+    }
+    CHECK(compared == units.size());
+    std::size_t declared = 0;  // every item is a SAMPLE with nativeUnits
+    for (auto at = probe.find("nativeUnits=\""); at != std::string::npos; at = probe.find("nativeUnits=\"", at + 1)) ++declared;
+    CHECK(declared == units.size());
+    CHECK(probe.find("nativeUnits=\"MILLIMETER/MINUTE\"") != std::string::npos);
+    CHECK(probe.find("nativeUnits=\"FAHRENHEIT\"") != std::string::npos);
 }
