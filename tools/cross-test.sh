@@ -71,6 +71,15 @@ extra=()
 options=$(cmake -N -LH "$build" 2>/dev/null || true)
 if grep -q '^NCLINK_BUILD_PLANT:' <<<"$options"; then extra+=(-DNCLINK_BUILD_PLANT=OFF); fi
 if grep -q '^NCLINK_WITH_TLS:' <<<"$options"; then extra+=(-DNCLINK_WITH_TLS="${NCLINK_CROSS_TLS:-ON}"); fi
+# No debug information by default: the leg checks behaviour on the target,
+# and -g made a cross compile 65 % slower here (18.1 s against 11.0 s for
+# one unit-test file), the largest part of the leg on a fresh machine.
+# NCLINK_CROSS_DEBUG_INFO=1 keeps RelWithDebInfo's -g (to debug under qemu).
+if [[ "${NCLINK_CROSS_DEBUG_INFO:-0}" == 0 ]]; then
+  extra+=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -DNDEBUG")
+else
+  extra+=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g -DNDEBUG")
+fi
 if ((${#extra[@]})); then
   cmake "$build" "${extra[@]}" >>"$build/cross-configure.log" 2>&1 || { cat "$build/cross-configure.log"; exit 1; }
 fi
