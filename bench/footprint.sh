@@ -84,8 +84,9 @@ measure() {
   local small=build-footprint-$arch
   echo "footprint $arch: building (RelWithDebInfo in $rel/, MinSizeRel library in $small/)" >&2
   [[ -f $rel/CMakeCache.txt ]] || cmake --preset "$preset" >/dev/null
+  # The build tree's other options stay as they are: libnclink.so is the
+  # terminal library with or without the plant side beside it.
   cmake "$rel" -DNCLINK_BUILD_BENCH=ON >/dev/null
-  split_options "$rel"
   cmake --build "$rel" -j "$jobs" --target nclink_shared nclink-sim bench_footprint >&2
   if [[ ! -f $small/CMakeCache.txt ]]; then
     cmake -S . -B "$small" -DCMAKE_BUILD_TYPE=MinSizeRel ${toolchain:+-DCMAKE_TOOLCHAIN_FILE=$toolchain} \

@@ -74,6 +74,12 @@ public:
     /// after the Result. Held while publishing.
     std::mutex publish_mutex;
     bool result_published = false;  ///< guarded by publish_mutex
+    /// Whether the Result is out: the run is over for the applications even
+    /// while its thread is still being wound down.
+    bool answered() {
+        std::lock_guard<std::mutex> lock(publish_mutex);
+        return result_published;
+    }
 
 private:
     void changed();

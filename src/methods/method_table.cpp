@@ -13,9 +13,7 @@ namespace {
 // moves without waking anyone).
 constexpr auto kTickerPoll = std::chrono::milliseconds(10);
 
-topics::OptEx ex_of(const ParsedTopic& topic) {
-    return topic.ex ? topics::OptEx(*topic.ex) : std::nullopt;
-}
+topics::OptEx ex_of(const ParsedTopic& topic) { return topic.ex ? topics::OptEx(*topic.ex) : std::nullopt; }
 
 }  // namespace
 
@@ -25,8 +23,7 @@ std::shared_ptr<MethodTable> MethodTable::create(MethodsConfig config, Outlet ou
         new MethodTable(std::move(config), std::move(outlet), std::move(logger), std::move(clock), work));
 }
 
-MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
-                         PollHost* work)
+MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock, PollHost* work)
     : config_(std::move(config)), logger_(std::move(logger)), clock_(std::move(clock)), work_(work), outlet_(std::move(outlet)) {}
 
 MethodTable::~MethodTable() {
@@ -38,8 +35,7 @@ MethodTable::~MethodTable() {
 }
 
 Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, const ParsedTopic& call_topic,
-                                                      const MessageId& call_id, Json args,
-                                                      std::shared_ptr<Driver> driver) {
+                                                      const MessageId& call_id, Json args, std::shared_ptr<Driver> driver) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (closing_) return make_error(ErrorCode::unavailable, "the adapter is stopping");
     if (active_ >= config_.max_running)
@@ -59,9 +55,8 @@ Result<std::shared_ptr<MethodRun>> MethodTable::start(const PointRef& method, co
     ticker_.wake();        // an idle ticker has a run to watch now
     publish_status(*run);  // "waiting": the call is accepted (8.2.22.3)
     try {
-        entry.thread = std::thread([self = shared_from_this(), run, method, driver = std::move(driver)] {
-            self->execute(run, method, *driver);
-        });
+        entry.thread = std::thread(
+            [self = shared_from_this(), run, method, driver = std::move(driver)] { self->execute(run, method, *driver); });
     } catch (const std::system_error& e) {
         // No thread for it: the run never starts. It was announced, so it is
         // answered like a run that failed.
@@ -131,18 +126,23 @@ void MethodTable::finish(std::uint64_t serial) {
 }
 
 std::vector<std::shared_ptr<MethodRun>> MethodTable::running(const std::string& method_id) const {
-    std::vector<std::shared_ptr<MethodRun>> out;
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [serial, entry] : entries_)
-        if (!entry.done && entry.run->method_id == method_id) out.push_back(entry.run);
+    auto out = running();
+    out.erase(std::remove_if(out.begin(), out.end(), [&](const auto& run) { return run->method_id != method_id; }), out.end());
     return out;
 }
 
 std::vector<std::shared_ptr<MethodRun>> MethodTable::running() const {
     std::vector<std::shared_ptr<MethodRun>> out;
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [serial, entry] : entries_)
-        if (!entry.done) out.push_back(entry.run);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const auto& [serial, entry] : entries_)
+            if (!entry.done) out.push_back(entry.run);
+    }
+    // A run whose Method/Result (8.2.24) is out is over, though its thread
+    // has not reached finish() yet: a control after the Result answers "not
+    // running" (202), never OK. Checked outside mutex_: publish_mutex is
+    // never taken under it.
+    out.erase(std::remove_if(out.begin(), out.end(), [](const auto& run) { return run->answered(); }), out.end());
     return out;
 }
 
@@ -159,20 +159,16 @@ void MethodTable::publish_status(MethodRun& run) {
     std::lock_guard<std::mutex> gate(gate_mutex_);
     if (closed_) return;
     ++statuses_;
-    (void)outlet_.transport->publish(
-        Message{topics::method_status(outlet_.dev, ex_of(run.call_topic)), encode(status), 1, false});
+    (void)outlet_.transport->publish(Message{topics::method_status(outlet_.dev, ex_of(run.call_topic)), encode(status), 1, false});
 }
 
 void MethodTable::publish_result(MethodRun& run, const MethodResult& result) {
     std::lock_guard<std::mutex> order(run.publish_mutex);
     if (run.result_published) return;
     run.result_published = true;
-    if (result.result == "finished")
-        ++finished_count_;
-    else if (result.result == "canceled")
-        ++canceled_;
-    else
-        ++errors_;
+    if (result.result == "finished") ++finished_count_;
+    else if (result.result == "canceled") ++canceled_;
+    else ++errors_;
     logger_.debug("method {} {}: {}", run.method_id, run.call_id ? run.call_id->dump() : "(no @id)", result.result);
     std::lock_guard<std::mutex> gate(gate_mutex_);
     if (closed_) return;
@@ -243,8 +239,7 @@ void MethodTable::shutdown(std::chrono::milliseconds grace) {
     ticker_.stop();  // returns once no turn of the ticker runs or will
 
     for (auto& run : stuck) {
-        logger_.error("method {} did not return within {} ms of shutdown; its thread is abandoned", run->method_id,
-                      grace.count());
+        logger_.error("method {} did not return within {} ms of shutdown; its thread is abandoned", run->method_id, grace.count());
         MethodResult result = result_of(*run, make_error(ErrorCode::unavailable, "the adapter stopped"));
         result.result = "error";  // not "canceled": the driver never confirmed
         result.status = ResponseStatus(make_error(ErrorCode::unavailable));
@@ -260,10 +255,8 @@ void MethodTable::shutdown(std::chrono::milliseconds grace) {
     std::vector<std::thread> to_join;
     for (auto& [serial, entry] : entries_) {
         if (!entry.thread.joinable()) continue;
-        if (entry.done)
-            to_join.push_back(std::move(entry.thread));
-        else
-            entry.thread.detach();  // stuck in the driver; it holds the table alive
+        if (entry.done) to_join.push_back(std::move(entry.thread));
+        else entry.thread.detach();  // stuck in the driver; it holds the table alive
     }
     lock.unlock();
     for (auto& thread : to_join) thread.join();
@@ -275,9 +268,9 @@ Json MethodTable::stats() const {
         std::lock_guard<std::mutex> lock(mutex_);
         running_now = active_;
     }
-    return Json{{"running", running_now},           {"max_running", config_.max_running},
-                {"accepted", accepted_.load()},     {"finished", finished_count_.load()},
-                {"canceled", canceled_.load()},     {"errors", errors_.load()},
+    return Json{{"running", running_now},         {"max_running", config_.max_running},
+                {"accepted", accepted_.load()},   {"finished", finished_count_.load()},
+                {"canceled", canceled_.load()},   {"errors", errors_.load()},
                 {"status_dtus", statuses_.load()}};
 }
 

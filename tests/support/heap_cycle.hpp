@@ -46,6 +46,12 @@ inline void set_initial_heap_policy() {
 #endif
 }
 
+/// Blocks of a burst that keep_freed_heap() keeps: a thread's malloc arena
+/// grows in sub-heaps of 64 MB on a 64-bit target but of 1 MB on a 32-bit
+/// one (armhf), and glibc unmaps a sub-heap that falls wholly free whatever
+/// the trim threshold: there a kept burst must fit one sub-heap (8 x 64 kB).
+constexpr std::size_t kKeptBurstBlocks = sizeof(long) >= 8 ? 32 : 8;
+
 /// Minor page faults of bursts 2..`bursts` (the first one always faults),
 /// each `blocks` blocks of `block_bytes`, on a thread of its own (its own
 /// malloc arena, as an uploader has).

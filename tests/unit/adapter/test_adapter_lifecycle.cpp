@@ -59,7 +59,7 @@ TEST_CASE("the dev_uuid override from the configuration wins") {
 TEST_CASE("start keeps freed heap for the uploader's next DTUs by default") {
     AdapterFixture f;
     if (sanitized_allocator()) return;  // mallopt does nothing under a sanitizer
-    CHECK(faults_after_first_burst() < 40);
+    CHECK(faults_after_first_burst(5, kKeptBurstBlocks) < 40);
 }
 
 TEST_CASE("heap_keep_bytes 0 leaves the allocator as the program set it") {

@@ -11,14 +11,6 @@
 
 using namespace nclink;
 
-namespace {
-// A thread's malloc arena grows in sub-heaps of 64 MB on a 64-bit target but
-// of 1 MB on a 32-bit one (armhf), and glibc unmaps a sub-heap that falls
-// wholly free whatever the trim threshold: there the kept bursts must fit
-// one sub-heap (8 x 64 kB) to be kept.
-constexpr std::size_t kKeptBurstBlocks = sizeof(long) >= 8 ? 32 : 8;
-}  // namespace
-
 TEST_CASE("with glibc's default policy a burst after the first faults its pages in again") {
     if (test::sanitized_allocator()) {
         SUCCEED("the sanitizer's allocator has its own policy");
@@ -38,7 +30,7 @@ TEST_CASE("after keep_freed_heap the later bursts reuse the pages") {
         return;
     }
     REQUIRE(applied);
-    CHECK(test::faults_after_first_burst(5, kKeptBurstBlocks) < 40);
+    CHECK(test::faults_after_first_burst(5, test::kKeptBurstBlocks) < 40);
 }
 
 TEST_CASE("keep_freed_heap caps the size and does nothing for 0") {
@@ -49,6 +41,6 @@ TEST_CASE("keep_freed_heap caps the size and does nothing for 0") {
         // (and the 32 MB default on armhf) still takes effect.
         CHECK(keep_freed_heap(std::numeric_limits<std::size_t>::max()));
         CHECK(keep_freed_heap(max_heap_keep_bytes));
-        CHECK(test::faults_after_first_burst(5, kKeptBurstBlocks) < 40);
+        CHECK(test::faults_after_first_burst(5, test::kKeptBurstBlocks) < 40);
     }
 }
