@@ -4,7 +4,8 @@
 # qemu-user, and runs one real-broker check: that CPU's nclink-sim (under
 # qemu) answering Probe/Query/Set, refusing malformed input and streaming its
 # sample channels through a NATIVE mosquitto on a free loopback port to a
-# NATIVE client (mosquitto_pub/mosquitto_sub speaking NC-Link DTUs).
+# NATIVE client (mosquitto_pub/mosquitto_sub speaking NC-Link DTUs); and the
+# C firmware example (under qemu) passing the native nclink-conform.
 #
 #   tools/cross-test.sh aarch64     # 64-bit ARM (preset cross-aarch64, build-aarch64/)
 #   tools/cross-test.sh armhf       # 32-bit ARM (preset cross-armhf, build-armhf/)
@@ -88,12 +89,14 @@ phase configure
 # The terminal library's modules (src/layers.txt, up to the gateway) and the
 # unit-test programs of those that have one.
 # NCLINK_CROSS_MODULES="core sampling" narrows the unit tests to those modules.
-terminal_modules=(core model values protocol driver transport feature sampling events methods adapter gateway)
+terminal_modules=(core model values protocol driver transport feature sampling events methods adapter embed gateway)
 if [[ -n "${NCLINK_CROSS_MODULES:-}" ]]; then read -ra terminal_modules <<<"$NCLINK_CROSS_MODULES"; fi
 targets=$(cmake --build "$build" --target help 2>/dev/null | sed -n 's/^\.\.\. \([^ ]*\).*/\1/p')
 has_target() { grep -qx "$1" <<<"$targets"; }
 build_targets=(nclink-sim)
 if has_target nclink_shared; then build_targets+=(nclink_shared); fi
+# The C firmware example (examples/c-firmware: C11 over nclink.h).
+if has_target nclink_c_firmware; then build_targets+=(nclink_c_firmware); fi
 tested=()
 for m in "${terminal_modules[@]}"; do
   if has_target "test_$m"; then build_targets+=("test_$m"); tested+=("$m"); fi
@@ -205,12 +208,40 @@ refuses_garbage() {
     request Query '{"@id":"q3","ids":[{"id":"status"}]}' && grep -q '"code" *: *"OK"' "$work/answer"
 }
 
+# The C firmware example under qemu, checked by the native conformance
+# tester (GB/T 41970-2022 chapter 9) when a native build has one
+# (tools/run-tests.sh builds it before this leg; NCLINK_NATIVE_BIN names
+# another directory). Timeouts allow for the emulation.
+firmware_device=acme-cfw-0001
+conform_bin=${NCLINK_NATIVE_BIN:-$here/build/bin}/nclink-conform
+firmware_conforms() {
+  "$qemu" "$build/bin/nclink-c-firmware" --broker "$broker" >"$work/firmware.log" 2>&1 &
+  local firmware=$!
+  pids+=("$firmware")
+  local up=0
+  for _ in $(seq 90); do
+    if sub -t "Notify/State/$firmware_device" -C 1 -W 2 2>/dev/null | grep -q '"state" *: *"online"'; then up=1; break; fi
+    kill -0 "$firmware" 2>/dev/null || break
+  done
+  ((up)) || { echo "the C firmware did not come online"; cat "$work/firmware.log"; return 1; }
+  "$conform_bin" --broker "$broker" --device "$firmware_device" --allow-write --method home_axes \
+    --timeout-ms 10000 --max-wait-ms 20000 --json "$work/conform.json" ||
+    { cat "$work/firmware.log"; return 1; }
+}
+
 check "Notify/State online" online
 check "Probe/Query: the model" probe
 check "Query: two items" query
 check "Set feed_override=37, Query reads it back" set_read_back
 check "Sample: ch_slow and ch_fast stream" stream
 check "bad input answered with 412, still serving" refuses_garbage
+if [[ ! -x $build/bin/nclink-c-firmware ]]; then
+  echo "  skip  the C firmware example (not built for $arch)"
+elif [[ ! -x $conform_bin ]]; then
+  echo "  skip  the C firmware example under nclink-conform (no native $conform_bin; build it first or set NCLINK_NATIVE_BIN)"
+else
+  check "the C firmware example passes nclink-conform" firmware_conforms
+fi
 stop_children
 phase integration
 echo "  integration checks: $passed of $((passed + failed)) passed"
