@@ -18,3 +18,11 @@ endif()
 if(NCLINK_FUZZ AND NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
   message(FATAL_ERROR "NCLINK_FUZZ needs clang (CC=clang CXX=clang++), libFuzzer is part of clang")
 endif()
+
+# MinSizeRel is the size build for firmware (docs/footprint.md): every
+# function and datum in a section of its own, so that the linker drops what
+# nothing reaches. It took 131,040 bytes (8 %) off the stripped aarch64
+# libnclink.so (1,580,672 -> 1,449,632); other configurations are left as
+# they are.
+add_compile_options($<$<CONFIG:MinSizeRel>:-ffunction-sections> $<$<CONFIG:MinSizeRel>:-fdata-sections>)
+add_link_options($<$<CONFIG:MinSizeRel>:LINKER:--gc-sections>)
