@@ -1,6 +1,7 @@
 #include "bridge/bridge_store.hpp"
 
 #include "bridge/mtconnect_documents.hpp"
+#include "bridge/shdr.hpp"
 
 #include <algorithm>
 
@@ -127,6 +128,7 @@ Result<void> BridgeStore::set_model(const std::string& dev, const Json& model_js
             ItemEntry entry;
             entry.nclink_id = mt.item_id;
             entry.mt = mt;
+            entry.shdr_mt = shdr_native_item(mt);
             const DataObject* object = model.data_object(mt.item_id);
             entry.setable = object && object->setable;
             entry.constant = object && object->value.has_value();

@@ -46,6 +46,7 @@ struct ItemEntry {
     bool setable = false;
     bool current = true;        ///< false once a newer model of its device replaced it
     MtDataItem mt;              ///< its MTConnect description (mapping library)
+    std::optional<MtDataItem> shdr_mt;  ///< how SHDR sends it, when not as `mt` (shdr_native_item)
 };
 
 /// One method call at a device, whoever made it (8.2.22-8.2.24), as its

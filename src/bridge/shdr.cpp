@@ -77,6 +77,14 @@ bool agent_converts(std::string_view native_units) {
 
 }  // namespace
 
+std::optional<MtDataItem> shdr_native_item(const MtDataItem& item) {
+    if (item.category != MtCategory::sample || !agent_converts(item.native_units)) return std::nullopt;
+    MtDataItem unconverted = item;
+    unconverted.scale = 1;
+    unconverted.offset = 0;
+    return unconverted;
+}
+
 std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& o) {
     const std::string prefix = iso_time(o.time_ms) + "|" + shdr_device_key(device.mt) + ":" + shdr_escape(item.mt.id) + "|";
     std::string out;
@@ -86,15 +94,8 @@ std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const O
     }
     // A SAMPLE the agent converts goes in its nativeUnits (the NC-Link
     // value): sent converted, it was converted twice (x_speed: 20 mm/s in
-    // the bridge, 0.33 in the agent).
-    const bool native = item.mt.category == MtCategory::sample && agent_converts(item.mt.native_units);
-    MtDataItem unconverted;
-    if (native) {
-        unconverted = item.mt;
-        unconverted.scale = 1;
-        unconverted.offset = 0;
-    }
-    const auto observations = mtconnect_observations(native ? unconverted : item.mt, o.value);
+    // the bridge, 0.33 in the agent). Decided once per item, by the store.
+    const auto observations = mtconnect_observations(item.shdr_mt ? *item.shdr_mt : item.mt, o.value);
     if (item.mt.category == MtCategory::condition) {
         // level|nativeCode|nativeSeverity|qualifier|message
         for (const auto& ob : observations) {

@@ -24,6 +24,7 @@
 #include <chrono>
 #include <list>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -47,6 +48,11 @@ std::string shdr_device_key(const MtDevice& device);
 
 /// The SHDR line(s) of one observation (with "\n"); a condition gives one line per active alarm.
 std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const Observation& observation);
+
+/// The DataItem as its SHDR lines carry it (ItemEntry::shdr_mt): a SAMPLE
+/// whose nativeUnits an MTConnect agent converts itself, unconverted;
+/// nullopt for every other item, which goes as the mapping describes it.
+std::optional<MtDataItem> shdr_native_item(const MtDataItem& item);
 
 /// "* PONG <ms>\n" for a "* PING" line; "" for any other line.
 std::string shdr_answer(std::string_view line, std::chrono::milliseconds heartbeat);
