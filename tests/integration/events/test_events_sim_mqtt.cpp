@@ -8,6 +8,7 @@
 
 #include "support/cli.hpp"
 #include "support/collected.hpp"
+#include "support/event_registration.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/sim_mill_rig.hpp"
@@ -27,6 +28,7 @@ using nclink::test::cli_built;
 using nclink::test::run_cli;
 using Run = nclink::test::CliRun;
 using nclink::test::eventually;
+using nclink::test::event_registration;
 
 namespace {
 
@@ -46,14 +48,6 @@ struct Rig : nclink::test::SimMillRig {
     Json stats() { return adapter->stats().features["events"]; }
 };
 
-Client::EventRegistration on(const std::string& id, std::vector<Json> filters = {}, std::string trigger = "always") {
-    Client::EventRegistration r;
-    r.id = id;
-    r.filters = std::move(filters);
-    r.trigger = std::move(trigger);
-    return r;
-}
-
 ErrorCode refused(Rig& rig, Client::EventRegistration r) {
     Seen seen;
     auto id = rig.client->register_event(kDev, std::move(r), seen.handler());
@@ -67,7 +61,7 @@ TEST_CASE("events on the sim: a greater filter fires when a Set moves the value"
     Rig rig;
     rig.set_one("feed_override", {{"value", 100}});
     Seen seen;
-    auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "greater"}, {"value", 110}}}),
+    auto id = rig.client->register_event(kDev, event_registration("feed_override", {{{"type", "greater"}, {"value", 110}}}),
                                          seen.handler());
     REQUIRE(id.ok());
     rig.set_one("feed_override", {{"value", 120}});
@@ -89,9 +83,9 @@ TEST_CASE("events on the sim: each trigger type") {
     rig.set_one("spindle_override", {{"value", 100}});
     const Json below{{"type", "less"}, {"value", 90}};
     Seen always, normal, once;
-    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "always"), always.handler()).ok());
-    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "normal"), normal.handler()).ok());
-    REQUIRE(rig.client->register_event(kDev, on("spindle_override", {below}, "once"), once.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, event_registration("spindle_override", {below}, "always"), always.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, event_registration("spindle_override", {below}, "normal"), normal.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, event_registration("spindle_override", {below}, "once"), once.handler()).ok());
     CHECK(rig.client->event_registrations() == 3);
     for (int v : {80, 70, 95, 60}) {
         rig.set_one("spindle_override", {{"value", v}});
@@ -117,7 +111,7 @@ TEST_CASE("events on the sim: a sampled item is watched from the sample stream")
     // x_position is in the model's ch_fast channel and moves while the
     // simulated program runs.
     Seen seen;
-    auto id = rig.client->register_event(kDev, on("x_position", {{{"type", "change"}, {"variance", 0.5}}}),
+    auto id = rig.client->register_event(kDev, event_registration("x_position", {{{"type", "change"}, {"variance", 0.5}}}),
                                          seen.handler());
     REQUIRE(id.ok());
     REQUIRE(eventually([&] { return seen.size() >= 3; }));
@@ -136,7 +130,7 @@ TEST_CASE("events on the sim: an event that matches at registration fires at onc
     Rig rig;
     rig.set_one("feed_override", {{"value", 100}});
     Seen seen;
-    auto id = rig.client->register_event(kDev, on("feed_override", {{{"type", "equal"}, {"value", 100}}}),
+    auto id = rig.client->register_event(kDev, event_registration("feed_override", {{{"type", "equal"}, {"value", 100}}}),
                                          seen.handler());
     REQUIRE(id.ok());
     REQUIRE(eventually([&] { return seen.size() == 1; }));
@@ -148,10 +142,10 @@ TEST_CASE("events on the sim: dict and list elements") {
     Rig rig;
     const Json p1 = rig.query_one("parameters", {{"keys", {"P0001"}}});
     Seen dict, list;
-    auto reg_dict = on("parameters", {{{"type", "change"}, {"variance", 10}}});
+    auto reg_dict = event_registration("parameters", {{{"type", "change"}, {"variance", 10}}});
     reg_dict.key = "P0001";
     REQUIRE(rig.client->register_event(kDev, reg_dict, dict.handler()).ok());
-    auto reg_list = on("tools");
+    auto reg_list = event_registration("tools");
     reg_list.index = 0;
     REQUIRE(rig.client->register_event(kDev, reg_list, list.handler()).ok());
 
@@ -178,21 +172,21 @@ TEST_CASE("events on the sim: dict and list elements") {
 
 TEST_CASE("events on the sim: every refusal reaches the client as its table-19 code") {
     Rig rig(2);
-    CHECK(refused(rig, on("no_such_item")) == ErrorCode::node_not_exists);
-    CHECK(refused(rig, on("tools")) == ErrorCode::no_index);
-    CHECK(refused(rig, on("parameters")) == ErrorCode::no_key);
-    CHECK(refused(rig, on("feed_override", {{{"type", "between"}}})) == ErrorCode::filter_type);
-    CHECK(refused(rig, on("feed_override", {}, "sometimes")) == ErrorCode::trigger_type);
-    CHECK(refused(rig, on("feed_override", {{{"type", "change"}, {"from", 1}}})) == ErrorCode::filter_arguments_mismatch);
-    auto missing_key = on("parameters");
+    CHECK(refused(rig, event_registration("no_such_item")) == ErrorCode::node_not_exists);
+    CHECK(refused(rig, event_registration("tools")) == ErrorCode::no_index);
+    CHECK(refused(rig, event_registration("parameters")) == ErrorCode::no_key);
+    CHECK(refused(rig, event_registration("feed_override", {{{"type", "between"}}})) == ErrorCode::filter_type);
+    CHECK(refused(rig, event_registration("feed_override", {}, "sometimes")) == ErrorCode::trigger_type);
+    CHECK(refused(rig, event_registration("feed_override", {{{"type", "change"}, {"from", 1}}})) == ErrorCode::filter_arguments_mismatch);
+    auto missing_key = event_registration("parameters");
     missing_key.key = "NOPE";
     CHECK(refused(rig, missing_key) == ErrorCode::key_error);
     // Resource exhaustion, then a release frees a slot.
     Seen seen;
-    auto a = rig.client->register_event(kDev, on("feed_override"), seen.handler());
+    auto a = rig.client->register_event(kDev, event_registration("feed_override"), seen.handler());
     REQUIRE(a.ok());
-    REQUIRE(rig.client->register_event(kDev, on("spindle_override"), seen.handler()).ok());
-    CHECK(refused(rig, on("status")) == ErrorCode::insufficient_event);
+    REQUIRE(rig.client->register_event(kDev, event_registration("spindle_override"), seen.handler()).ok());
+    CHECK(refused(rig, event_registration("status")) == ErrorCode::insufficient_event);
     // Unregister: unknown, another application's, then the owner's.
     auto other = rig.make_client("other");
     auto stranger = other->unregister_event(kDev, *a);
@@ -200,7 +194,7 @@ TEST_CASE("events on the sim: every refusal reaches the client as its table-19 c
     CHECK(stranger.error().code == ErrorCode::permission_denied);
     CHECK(rig.client->unregister_event(kDev, "event_nope").error().code == ErrorCode::node_not_exists);
     REQUIRE(rig.client->unregister_event(kDev, *a).ok());
-    CHECK(rig.client->register_event(kDev, on("status"), seen.handler()).ok());
+    CHECK(rig.client->register_event(kDev, event_registration("status"), seen.handler()).ok());
     other->stop();
 }
 
@@ -208,8 +202,8 @@ TEST_CASE("events on the sim: events of an application that goes offline are rel
     Rig rig;
     auto leaving = rig.make_client("leaving");
     Seen seen;
-    REQUIRE(leaving->register_event(kDev, on("feed_override"), seen.handler()).ok());
-    REQUIRE(rig.client->register_event(kDev, on("feed_override"), seen.handler()).ok());
+    REQUIRE(leaving->register_event(kDev, event_registration("feed_override"), seen.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, event_registration("feed_override"), seen.handler()).ok());
     CHECK(rig.stats()["registered"] == 2);
     // What an agent (or the application's last will) publishes when it leaves.
     MqttOptions m;
@@ -228,7 +222,7 @@ TEST_CASE("events on the sim: events of an application that goes offline are rel
 TEST_CASE("events on the sim: events of an application silent for the lease are released") {
     Rig rig(8, std::chrono::milliseconds(600));
     Seen seen;
-    REQUIRE(rig.client->register_event(kDev, on("feed_override"), seen.handler()).ok());
+    REQUIRE(rig.client->register_event(kDev, event_registration("feed_override"), seen.handler()).ok());
     CHECK(rig.stats()["registered"] == 1);
     REQUIRE(eventually([&] { return rig.stats()["registered"] == 0; }));
     CHECK(rig.stats()["released"] == 1);

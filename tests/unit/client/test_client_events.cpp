@@ -2,6 +2,7 @@
 // Adapter over the loopback broker.
 #include "support/events_rig.hpp"
 #include "support/collected.hpp"
+#include "support/event_registration.hpp"
 
 #include <nclink/client.hpp>
 
@@ -29,14 +30,6 @@ struct ClientRig : EventsRig {
     std::unique_ptr<Client> client;
 };
 
-Client::EventRegistration on(const std::string& id, std::vector<Json> filters = {}, std::string trigger = "always") {
-    Client::EventRegistration r;
-    r.id = id;
-    r.filters = std::move(filters);
-    r.trigger = std::move(trigger);
-    return r;
-}
-
 }  // namespace
 
 TEST_CASE("client events: the registration's first event reaches the callback after done") {
@@ -44,7 +37,7 @@ TEST_CASE("client events: the registration's first event reaches the callback af
     std::promise<std::string> done_id;
     std::atomic<std::size_t> events_when_done{99};
     f.client->register_event_async(
-        "test-dev", on("ovr", {{{"type", "equal"}, {"value", 100}}}), f.seen.handler(),
+        "test-dev", event_registration("ovr", {{{"type", "equal"}, {"value", 100}}}), f.seen.handler(),
         [&](Result<std::string> id) {
             events_when_done = f.seen.size();
             done_id.set_value(id.ok() ? *id : std::string());
@@ -64,7 +57,7 @@ TEST_CASE("client events: the registration's first event reaches the callback af
 
 TEST_CASE("client events: polled changes reach the callback with old and new value") {
     ClientRig f;
-    auto id = f.client->register_event("test-dev", on("ovr"), f.seen.handler());
+    auto id = f.client->register_event("test-dev", event_registration("ovr"), f.seen.handler());
     REQUIRE(id.ok());
     f.machine("ovr", 70);
     f.poll();
@@ -80,11 +73,11 @@ TEST_CASE("client events: refusals come back as their table-19 codes") {
         REQUIRE_FALSE(id.ok());
         return id.error().code;
     };
-    CHECK(code(on("nope")) == ErrorCode::node_not_exists);
-    CHECK(code(on("ovr", {{{"type", "bigger"}}})) == ErrorCode::filter_type);
-    CHECK(code(on("ovr", {}, "never")) == ErrorCode::trigger_type);
-    CHECK(code(on("ovr", {{{"type", "include"}, {"values", 1}}})) == ErrorCode::filter_arguments_mismatch);
-    auto list = on("tools");
+    CHECK(code(event_registration("nope")) == ErrorCode::node_not_exists);
+    CHECK(code(event_registration("ovr", {{{"type", "bigger"}}})) == ErrorCode::filter_type);
+    CHECK(code(event_registration("ovr", {}, "never")) == ErrorCode::trigger_type);
+    CHECK(code(event_registration("ovr", {{{"type", "include"}, {"values", 1}}})) == ErrorCode::filter_arguments_mismatch);
+    auto list = event_registration("tools");
     CHECK(code(list) == ErrorCode::no_index);
     list.index = 7;
     CHECK(code(list) == ErrorCode::out_of_range);
@@ -93,7 +86,7 @@ TEST_CASE("client events: refusals come back as their table-19 codes") {
 
 TEST_CASE("client events: a once callback goes with its first event") {
     ClientRig f;
-    REQUIRE(f.client->register_event("test-dev", on("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.seen.handler()).ok());
+    REQUIRE(f.client->register_event("test-dev", event_registration("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.seen.handler()).ok());
     CHECK(f.client->event_registrations() == 1);
     f.machine("ovr", 10);
     f.poll();
@@ -104,7 +97,7 @@ TEST_CASE("client events: a once callback goes with its first event") {
 
 TEST_CASE("client events: unregister drops the callback and reports NG codes") {
     ClientRig f;
-    auto id = f.client->register_event("test-dev", on("ovr"), f.seen.handler());
+    auto id = f.client->register_event("test-dev", event_registration("ovr"), f.seen.handler());
     REQUIRE(id.ok());
     REQUIRE(f.client->unregister_event("test-dev", *id).ok());
     CHECK(f.client->event_registrations() == 0);
@@ -130,9 +123,9 @@ TEST_CASE("client events: unknown and malformed Event DTUs are counted and dropp
 TEST_CASE("client events: blocking calls from a callback answer unavailable") {
     ClientRig f;
     std::promise<ErrorCode> inner;
-    auto id = f.client->register_event("test-dev", on("ovr", {{{"type", "equal"}, {"value", 100}}}),
+    auto id = f.client->register_event("test-dev", event_registration("ovr", {{{"type", "equal"}, {"value", 100}}}),
                                        [&](const EventData&) {
-                                           auto r = f.client->register_event("test-dev", on("ovr"), {});
+                                           auto r = f.client->register_event("test-dev", event_registration("ovr"), {});
                                            inner.set_value(r.ok() ? ErrorCode::success : r.error().code);
                                        });
     REQUIRE(id.ok());
