@@ -169,10 +169,12 @@ check() {  # check NAME COMMAND...: on failure the last answer is shown
   fi
 }
 # 8.2.2: the adapter's retained Notify/State says online once it is connected.
+# online [DEVICE PID LOG]: by default the simulator's.
 online() {
+  local dev=${1:-$device} pid=${2:-${pids[1]}} log=${3:-$work/sim.log}
   for _ in $(seq 90); do
-    sub -t "Notify/State/$device" -C 1 -W 2 2>/dev/null | grep -q '"state" *: *"online"' && return 0
-    kill -0 "${pids[1]}" 2>/dev/null || { cat "$work/sim.log"; return 1; }
+    sub -t "Notify/State/$dev" -C 1 -W 2 2>/dev/null | grep -q '"state" *: *"online"' && return 0
+    kill -0 "$pid" 2>/dev/null || { cat "$log"; return 1; }
   done
   return 1
 }
@@ -218,12 +220,7 @@ firmware_conforms() {
   "$qemu" "$build/bin/nclink-c-firmware" --broker "$broker" >"$work/firmware.log" 2>&1 &
   local firmware=$!
   pids+=("$firmware")
-  local up=0
-  for _ in $(seq 90); do
-    if sub -t "Notify/State/$firmware_device" -C 1 -W 2 2>/dev/null | grep -q '"state" *: *"online"'; then up=1; break; fi
-    kill -0 "$firmware" 2>/dev/null || break
-  done
-  ((up)) || { echo "the C firmware did not come online"; cat "$work/firmware.log"; return 1; }
+  online "$firmware_device" "$firmware" "$work/firmware.log" || { echo "the C firmware did not come online"; return 1; }
   "$conform_bin" --broker "$broker" --device "$firmware_device" --allow-write --method home_axes \
     --timeout-ms 10000 --max-wait-ms 20000 --json "$work/conform.json" ||
     { cat "$work/firmware.log"; return 1; }
