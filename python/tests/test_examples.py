@@ -31,7 +31,12 @@ def test_channel_to_csv(sim: Sim, workdir: str) -> None:
         rows = list(csv.reader(f))
     assert rows[0][:3] == ["time", "x_position", "y_position"]
     assert len(rows) - 1 >= 300
-    assert rows[1][0].endswith("Z") and float(rows[1][1]) == float(rows[1][1])
+    assert rows[1][0].endswith("Z")
+    # A row's value may be null (a missed tick, written as an empty
+    # cell); every other cell is a number, and most rows have them.
+    values = [row[1] for row in rows[1:] if row[1] != ""]
+    assert all(float(v) == float(v) for v in values)
+    assert len(values) >= (len(rows) - 1) // 2
 
 
 def test_channel_to_csv_unknown_device_fails_clearly(sim: Sim) -> None:
