@@ -160,7 +160,7 @@ RabbitCluster::RabbitCluster(int nodes) {
         }
         // All nodes boot at once (the boot is most of the time), then 2..N join 1.
         for (auto& node : nodes_) spawn_node(node);
-        for (const auto& node : nodes_) wait_node_up(node);
+        for (auto& node : nodes_) boot_node(node);
         for (int i = 1; i < nodes; ++i) {
             ctl(i, {"stop_app"});
             ctl(i, {"join_cluster", nodes_[0].name});
@@ -232,6 +232,28 @@ void RabbitCluster::spawn_node(Node& node) {
 std::string RabbitCluster::tail_of(const std::string& path) const {
     const std::string all = read_file(path);
     return all.size() > 2000 ? all.substr(all.size() - 2000) : all;
+}
+
+// A port found free can be taken before the node binds it (by another
+// test, or as an outgoing connection's ephemeral port: RabbitMQ then stops
+// with dist_port_already_used or eaddrinuse). Such a node boots again on
+// new ports, at most twice more.
+void RabbitCluster::boot_node(Node& node) {
+    for (int attempt = 1;; ++attempt) {
+        try {
+            wait_node_up(node);
+            return;
+        } catch (const std::runtime_error& e) {
+            const std::string why = e.what();
+            const bool port_taken = why.find("already_used") != std::string::npos || why.find("eaddrinuse") != std::string::npos;
+            if (!port_taken || attempt == 3) throw;
+        }
+        node.mqtt_port = free_loopback_port();
+        node.amqp_port = free_loopback_port();
+        node.dist_port = free_loopback_port();
+        write_node_config(node);
+        spawn_node(node);
+    }
 }
 
 void RabbitCluster::wait_node_up(const Node& node) const {

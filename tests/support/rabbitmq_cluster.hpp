@@ -59,6 +59,7 @@ private:
     void write_node_config(const Node& node) const;
     void spawn_node(Node& node);
     void wait_node_up(const Node& node) const;
+    void boot_node(Node& node);
     std::vector<std::string> environment(const Node* node) const;
     std::string tail_of(const std::string& path) const;
 
