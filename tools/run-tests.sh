@@ -4,8 +4,8 @@
 #   tools/run-tests.sh            # RelWithDebInfo build in build/
 #   NCLINK_PRESET=asan tools/run-tests.sh   # ASan+UBSan build in build-asan/
 #   NCLINK_FORMAT_BASE=origin/main tools/run-tests.sh
-#       # first checks the format of the C/C++ files changed against that base
-#       # (tools/check-format.sh; CI sets it to the branch a change goes into)
+#       # checks the format of only the C/C++ files changed against that base
+#       # (default: every C/C++ file, tools/check-format.sh --all)
 #   NCLINK_WITH_CROSS=0 tools/run-tests.sh  # without the aarch64 leg
 # After the native suite, the cross leg (tools/cross-test.sh aarch64): the
 # terminal library and its unit tests built for 64-bit ARM and run under
@@ -24,11 +24,9 @@ export NCLINK_WITH_PACKAGING=${NCLINK_WITH_PACKAGING:-1}
 export NCLINK_WITH_PANDAS=${NCLINK_WITH_PANDAS:-1}
 tools/install-deps.sh
 
-# Formatting first, when CI knows the base a change goes into: a failure
-# here costs seconds, not a build. Only the files the change touches.
-if [[ -n "${NCLINK_FORMAT_BASE:-}" ]]; then
-  tools/check-format.sh "$NCLINK_FORMAT_BASE"
-fi
+# Formatting first: a failure here costs seconds, not a build. The whole
+# tree (it is formatted), or what a change touches against a base.
+tools/check-format.sh "${NCLINK_FORMAT_BASE:---all}"
 
 preset=${NCLINK_PRESET:-default}
 jobs=${NCLINK_JOBS:-$(nproc)}

@@ -3,6 +3,8 @@
 # those: in a scratch repository with the project's .clang-format, a badly
 # formatted file that the change does not touch passes, a badly formatted
 # changed file fails and is named, --fix formats it, and then the check passes.
+# --all (what CI runs) checks every file, the untouched one included, and
+# --fix --all formats them all.
 #   check_format_test.sh SOURCE WORK
 set -euo pipefail
 source_dir=$1
@@ -43,8 +45,20 @@ grep -q 'int   untouched' untouched.cpp || fail "--fix touched a file outside th
 out=$(tools/check-format.sh "$base") || fail "formatted, yet the check failed: $out"
 
 set +e
+out=$(tools/check-format.sh --all 2>&1)
+rc=$?
+set -e
+[[ $rc -eq 1 ]] || fail "--all passed a badly formatted file the change did not touch (exit $rc): $out"
+grep -q 'untouched.cpp is not formatted' <<<"$out" || fail "--all did not name the untouched file: $out"
+if grep -q 'changed.cpp is not' <<<"$out"; then fail "--all named a formatted file: $out"; fi
+git rm -q --cached untouched.cpp && printf 'int   deleted_later( );\n' > gone.cpp && git add gone.cpp && rm gone.cpp
+tools/check-format.sh --fix --all >/dev/null
+grep -q 'int untouched(int a) { return a; }' untouched.cpp || fail "--fix --all did not format an untracked file: $(cat untouched.cpp)"
+out=$(tools/check-format.sh --all) || fail "all formatted (a deleted file in the index), yet --all failed: $out"
+
+set +e
 tools/check-format.sh >/dev/null 2>&1; rc_usage=$?
 tools/check-format.sh no-such-base >/dev/null 2>&1; rc_base=$?
 set -e
 [[ $rc_usage -eq 2 && $rc_base -eq 2 ]] || fail "usage errors exit $rc_usage and $rc_base, not 2"
-echo "check-format: only changed files checked, named when unformatted, fixed by --fix"
+echo "check-format: only changed files checked (all with --all), named when unformatted, fixed by --fix"
