@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
     std::printf("sampling disabled (baseline): %6ld / %6ld / %6ld\n", off.before_kb, off.running_kb, off.peak_kb);
     std::printf("all channels running:         %6ld / %6ld / %6ld   (%llu rows published)\n", on.before_kb, on.running_kb,
                 on.peak_kb, on.rows);
-    std::printf("sampling costs %+ld KiB resident (running), %+ld KiB peak\n", on.running_kb - off.running_kb, on.peak_kb - off.peak_kb);
+    std::printf("sampling costs %+ld KiB resident (running), %+ld KiB peak\n", on.running_kb - off.running_kb,
+                on.peak_kb - off.peak_kb);
     return 0;
 }

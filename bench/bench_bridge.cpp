@@ -104,9 +104,8 @@ int main(int argc, char** argv) {
     nclink::http::HttpOptions ho;
     ho.workers = 4;
     nclink::http::HttpServer floor_server(ho);
-    floor_server.get("/current", [&](const nclink::http::HttpRequest&) {
-        return nclink::http::text_response(current_doc, "application/xml");
-    });
+    floor_server.get(
+        "/current", [&](const nclink::http::HttpRequest&) { return nclink::http::text_response(current_doc, "application/xml"); });
     if (!floor_server.start().ok()) return 3;
     latencies(floor_server.port(), "/current", 100);
     latencies(bridge.http_port(), "/current", 100);
@@ -131,14 +130,15 @@ int main(int argc, char** argv) {
         render_us.push_back(static_cast<double>(t1 - t0) / 1000.0);
         lock_us.push_back(static_cast<double>(t2 - t1) / 1000.0);
     }
-    std::printf("/current (%zu bytes, %d requests): median %.1f us, p99 %.1f us; floor (constant document): "
-                "median %.1f us, p99 %.1f us; ratio median %.2f, p99 %.2f\n",
-                current_doc.size(), requests, median(bridge_us), percentile(bridge_us, 99), median(floor_us),
-                percentile(floor_us, 99), median(bridge_us) / median(floor_us),
-                percentile(bridge_us, 99) / percentile(floor_us, 99));
-    std::printf("  in-process /current (%zu bytes, no HTTP): median %.1f us, p99 %.1f us; "
-                "store lock alone: median %.1f us, p99 %.1f us\n",
-                rendered_bytes, median(render_us), percentile(render_us, 99), median(lock_us), percentile(lock_us, 99));
+    std::printf(
+        "/current (%zu bytes, %d requests): median %.1f us, p99 %.1f us; floor (constant document): "
+        "median %.1f us, p99 %.1f us; ratio median %.2f, p99 %.2f\n",
+        current_doc.size(), requests, median(bridge_us), percentile(bridge_us, 99), median(floor_us), percentile(floor_us, 99),
+        median(bridge_us) / median(floor_us), percentile(bridge_us, 99) / percentile(floor_us, 99));
+    std::printf(
+        "  in-process /current (%zu bytes, no HTTP): median %.1f us, p99 %.1f us; "
+        "store lock alone: median %.1f us, p99 %.1f us\n",
+        rendered_bytes, median(render_us), percentile(render_us, 99), median(lock_us), percentile(lock_us, 99));
 
     // 2. /sample keeping up with the 1 ms channel.
     std::uint64_t from = std::stoull(attribute(client.Get("/current")->body, "nextSequence"));
@@ -170,15 +170,16 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("/sample for %.0f s in %llu calls: %.0f observations/s (%.0f Position/s; the 1 ms channel offers "
-                "6 x 1000/s, unchanged values are not recorded), sequence gaps %llu\n",
-                elapsed, static_cast<unsigned long long>(calls), observations / elapsed, positions / elapsed,
-                static_cast<unsigned long long>(gaps));
+    std::printf(
+        "/sample for %.0f s in %llu calls: %.0f observations/s (%.0f Position/s; the 1 ms channel offers "
+        "6 x 1000/s, unchanged values are not recorded), sequence gaps %llu\n",
+        elapsed, static_cast<unsigned long long>(calls), observations / elapsed, positions / elapsed,
+        static_cast<unsigned long long>(gaps));
 
     // 3. RSS with the buffer full (131,072 slots; 60 s of the sim mill fill it several times).
     std::printf("bridge RSS: %ld kB before the bridge, %ld kB now (buffer %zu slots, last sequence %s), peak %ld kB\n",
-                rss_before, status_kb("VmRSS:"), bc.buffer_size,
-                attribute(client.Get("/current")->body, "lastSequence").c_str(), status_kb("VmHWM:"));
+                rss_before, status_kb("VmRSS:"), bc.buffer_size, attribute(client.Get("/current")->body, "lastSequence").c_str(),
+                status_kb("VmHWM:"));
     bridge.stop();
     adapter.stop();
     return 0;

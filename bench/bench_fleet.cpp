@@ -230,12 +230,20 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     Watcher watcher(url);
     std::this_thread::sleep_for(500ms);
     const auto t0 = Clock::now();
-    std::vector<std::string> gateway{bin + "/bin/nclink-sim", "--machines", std::to_string(machines), "--model",
-                                     fleet_model(src, points, interval_ms), "--guid", prefix, "--broker", url, "--log-level", "warn"};
+    std::vector<std::string> gateway{bin + "/bin/nclink-sim",
+                                     "--machines",
+                                     std::to_string(machines),
+                                     "--model",
+                                     fleet_model(src, points, interval_ms),
+                                     "--guid",
+                                     prefix,
+                                     "--broker",
+                                     url,
+                                     "--log-level",
+                                     "warn"};
     if (!config.empty()) gateway.insert(gateway.end(), {"--config", config});
     const pid_t gw = spawn(gateway, "/tmp/bench_fleet_gateway.log");
-    while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600)
-        std::this_thread::sleep_for(50ms);
+    while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600) std::this_thread::sleep_for(50ms);
     row.all_online_s = seconds_since(t0);
 
     ClientOptions co;
@@ -281,10 +289,8 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
         const std::string dev = fmt::format("{}-{:04d}", prefix, random() % machines);
         const auto t = Clock::now();
         auto values = app->query(dev, {QueryItem{"spindle_speed", std::nullopt}});
-        if (values && !values->empty() && (*values)[0].status.ok)
-            query_ms.push_back(seconds_since(t) * 1000);
-        else
-            ++row.query_failures;
+        if (values && !values->empty() && (*values)[0].status.ok) query_ms.push_back(seconds_since(t) * 1000);
+        else ++row.query_failures;
         // The same pause before either: a request after an idle gap costs
         // more than one right after another (caches go cold), so the echo
         // must not ride on the path the machine's query has just warmed.
@@ -339,11 +345,12 @@ int echo_child(int port) {
                              if (to == std::string::npos) return;
                              std::string reply = "{\"@id\":\"";
                              reply.append(payload, from, to - from)
-                                 .append("\",\"guid\":\"fleet-echo\",\"values\":[{\"code\":\"OK\",\"id\":"
-                                         "\"spindle_speed\",\"values\":[2133]}]}");
+                                 .append(
+                                     "\",\"guid\":\"fleet-echo\",\"values\":[{\"code\":\"OK\",\"id\":"
+                                     "\"spindle_speed\",\"values\":[2133]}]}");
                              const std::string& topic = request.get_topic();
-                             client.publish(response_prefix + topic.substr(request_prefix.size()), reply.data(),
-                                            reply.size(), 1, false);
+                             client.publish(response_prefix + topic.substr(request_prefix.size()), reply.data(), reply.size(), 1,
+                                            false);
                          });
     for (;;) ::pause();
 }
@@ -375,17 +382,19 @@ int main(int argc, char** argv) {
         }
     }
     std::printf("%zu point(s) per machine every %d ms\n\n", points, interval_ms);
-    std::printf("| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
-                "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
-                "| floor p50 / p99 ms | online again after broker restart s |\n");
+    std::printf(
+        "| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
+        "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
+        "| floor p50 / p99 ms | online again after broker restart s |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t n : sizes) {
         const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config, points, interval_ms);
-        std::printf("| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.2f / %.2f | %.1f |\n",
-                    r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
-                    r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb,
-                    r.all_online_s, r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures,
-                    r.floor_p50, r.floor_p99, r.restart_s);
+        std::printf(
+            "| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.2f "
+            "/ %.2f | %.1f |\n",
+            r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
+            r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb, r.all_online_s,
+            r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures, r.floor_p50, r.floor_p99, r.restart_s);
         std::fflush(stdout);
     }
     return 0;

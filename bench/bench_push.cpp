@@ -76,14 +76,17 @@ int main(int argc, char** argv) {
     }
     engine.stop();
     const auto s = engine.stats().at(0);
-    std::printf("push of a %zu-value row, %d rounds x %zu (+50 timed singly), uploader draining concurrently\n", kWidth, rounds, kBatch);
+    std::printf("push of a %zu-value row, %d rounds x %zu (+50 timed singly), uploader draining concurrently\n", kWidth, rounds,
+                kBatch);
     std::printf("baseline copy into an array: median %.1f ns/row\n", median(copy_batch_ns));
     std::printf("push():                      median %.1f ns/row (batch mean), ratio %.2fx the copy\n", median(push_batch_ns),
                 median(push_batch_ns) / median(copy_batch_ns));
-    std::printf("push() timed singly:         p50 %.0f ns, p99 %.0f ns, p99.9 %.0f ns, max %.0f ns (clock read itself: p50 %.0f ns, subtracted: p50 %.0f, p99.9 %.0f)\n",
-                median(push_call_ns), percentile(push_call_ns, 99), percentile(push_call_ns, 99.9), maximum(push_call_ns),
-                median(clock_call_ns), median(push_call_ns) - median(clock_call_ns),
-                percentile(push_call_ns, 99.9) - median(clock_call_ns));
+    std::printf(
+        "push() timed singly:         p50 %.0f ns, p99 %.0f ns, p99.9 %.0f ns, max %.0f ns (clock read itself: p50 %.0f ns, "
+        "subtracted: p50 %.0f, p99.9 %.0f)\n",
+        median(push_call_ns), percentile(push_call_ns, 99), percentile(push_call_ns, 99.9), maximum(push_call_ns),
+        median(clock_call_ns), median(push_call_ns) - median(clock_call_ns),
+        percentile(push_call_ns, 99.9) - median(clock_call_ns));
     std::printf("rows pushed %llu, published %llu, drops %llu, refused %llu\n", static_cast<unsigned long long>(s.rows_sampled),
                 static_cast<unsigned long long>(s.rows_published), static_cast<unsigned long long>(s.drops),
                 static_cast<unsigned long long>(refused));

@@ -48,8 +48,8 @@ void run_case(const char* name, const std::string& payload, int runs, std::size_
     }
     const double ours = bench::median(ours_ns);
     const double floor = bench::median(floor_ns);
-    std::printf("%-10s %5zu B  decode %8.0f ns [%.0f-%.0f]  parse alone %8.0f ns  ratio %.2fx\n", name, payload.size(),
-                ours, bench::minimum(ours_ns), bench::maximum(ours_ns), floor, ours / floor);
+    std::printf("%-10s %5zu B  decode %8.0f ns [%.0f-%.0f]  parse alone %8.0f ns  ratio %.2fx\n", name, payload.size(), ours,
+                bench::minimum(ours_ns), bench::maximum(ours_ns), floor, ours / floor);
 }
 
 }  // namespace
@@ -57,9 +57,10 @@ void run_case(const char* name, const std::string& payload, int runs, std::size_
 int main(int argc, char** argv) {
     const int runs = argc > 1 ? std::max(7, std::atoi(argv[1])) : 9;
     const std::size_t iterations = argc > 2 ? static_cast<std::size_t>(std::atol(argv[2])) : 20000;
-    std::printf("decode<T>(text) of plain requests against Json::parse of the same text (the tree decoder's first step);\n"
-                "median of %d runs x %zu decodes\n",
-                runs, iterations);
+    std::printf(
+        "decode<T>(text) of plain requests against Json::parse of the same text (the tree decoder's first step);\n"
+        "median of %d runs x %zu decodes\n",
+        runs, iterations);
     run_case<QueryRequest>("Query 1", query_of(1), runs, iterations);
     run_case<QueryRequest>("Query 100", query_of(100), runs, iterations / 20);
     run_case<SetRequest>("Set int", set_of(42), runs, iterations);

@@ -149,17 +149,16 @@ public:
             values_[msg.topic.substr(std::string("$SYS/broker/").size())] = msg.payload;
         });
         (void)transport_->start();
-        (void)transport_->subscribe({"$SYS/broker/messages/#", "$SYS/broker/publish/messages/#",
-                                     "$SYS/broker/store/messages/#", "$SYS/broker/clients/connected",
-                                     "$SYS/broker/load/messages/received/1min"},
+        (void)transport_->subscribe({"$SYS/broker/messages/#", "$SYS/broker/publish/messages/#", "$SYS/broker/store/messages/#",
+                                     "$SYS/broker/clients/connected", "$SYS/broker/load/messages/received/1min"},
                                     0);
     }
     ~SysWatch() { transport_->stop(); }
     std::string line() const {
         std::lock_guard<std::mutex> lock(mutex_);
         std::string out;
-        for (const char* key : {"messages/received", "messages/sent", "publish/messages/dropped", "store/messages/count",
-                                "clients/connected"}) {
+        for (const char* key :
+             {"messages/received", "messages/sent", "publish/messages/dropped", "store/messages/count", "clients/connected"}) {
             auto it = values_.find(key);
             out += std::string(" ") + key + "=" + (it == values_.end() ? "?" : it->second);
         }
@@ -267,8 +266,7 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
 
     const auto before = adapter.stats();
     const auto flood_start = fast_channel(adapter);
-    for (std::size_t i = 0; i < opt.requests; ++i)
-        (void)flooder->publish(test::flood_message(i, kDev, "flooder", "x_position"));
+    for (std::size_t i = 0; i < opt.requests; ++i) (void)flooder->publish(test::flood_message(i, kDev, "flooder", "x_position"));
     (void)flooder->flush(600s);
     const auto sent = std::chrono::steady_clock::now();
     const auto flood_end = fast_channel(adapter);
@@ -305,8 +303,8 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     if (opt.trace || !result.answer_ms) {
         std::printf("  trace (ms from burst start; burst sent at %.0f ms; flooder received %llu):\n", send_ms,
                     static_cast<unsigned long long>(flooder_got.load()));
-        std::printf("  %7s %8s %8s %7s %7s %7s %7s %7s %7s %8s %8s  broker $SYS\n", "t", "recv", "handled", "shed",
-                    "malf", "repeat", "pending", "outbox", "inflt", "publ", "fastrows");
+        std::printf("  %7s %8s %8s %7s %7s %7s %7s %7s %7s %8s %8s  broker $SYS\n", "t", "recv", "handled", "shed", "malf",
+                    "repeat", "pending", "outbox", "inflt", "publ", "fastrows");
         for (const auto& x : samples)
             std::printf("  %7.0f %8llu %8llu %7llu %7llu %7llu %7zu %7zu %7zu %8llu %8llu %s\n", x.t_ms,
                         static_cast<unsigned long long>(x.received), static_cast<unsigned long long>(x.handled),
@@ -330,12 +328,13 @@ void summary(const std::string& label, const std::vector<RunResult>& results) {
     }
     std::sort(nulls.begin(), nulls.end());
     std::sort(answers.begin(), answers.end());
-    std::printf("%s: %zu runs, clean Query answered within 1 s after the burst in %zu (%.0f %%); "
-                "never answered (15 s) in %zu; null rows during the burst median %.2f %% max %.2f %%; "
-                "first clean answer median %.0f ms max %.0f ms\n",
-                label.c_str(), results.size(), within, 100.0 * static_cast<double>(within) / static_cast<double>(results.size()),
-                results.size() - answers.size(), nulls[nulls.size() / 2], nulls.back(),
-                answers.empty() ? -1.0 : answers[answers.size() / 2], answers.empty() ? -1.0 : answers.back());
+    std::printf(
+        "%s: %zu runs, clean Query answered within 1 s after the burst in %zu (%.0f %%); "
+        "never answered (15 s) in %zu; null rows during the burst median %.2f %% max %.2f %%; "
+        "first clean answer median %.0f ms max %.0f ms\n",
+        label.c_str(), results.size(), within, 100.0 * static_cast<double>(within) / static_cast<double>(results.size()),
+        results.size() - answers.size(), nulls[nulls.size() / 2], nulls.back(),
+        answers.empty() ? -1.0 : answers[answers.size() / 2], answers.empty() ? -1.0 : answers.back());
 }
 
 }  // namespace

@@ -88,7 +88,9 @@ std::vector<SampleValue> mixed_case(std::mt19937_64& rng) {
                                                 : SampleValue::float64(static_cast<double>(rng() % 100000) / 100));
                     break;
                 case 8: values.push_back(SampleValue::text(kStatus[(r / 25) % 4])); break;
-                case 9: values.push_back(SampleValue::int64(static_cast<std::int64_t>(1e12) + static_cast<std::int64_t>(r))); break;
+                case 9:
+                    values.push_back(SampleValue::int64(static_cast<std::int64_t>(1e12) + static_cast<std::int64_t>(r)));
+                    break;
                 default: values.push_back(SampleValue::float64(static_cast<double>(rng() % 1000000) / 1000));
             }
         }
@@ -125,13 +127,11 @@ void run_case(const char* name, const std::vector<SampleValue>& values, int runs
     const double ours = bench::median(ours_ns);
     const double theirs = bench::median(theirs_ns);
     auto mbps = [](std::size_t bytes, double ns) { return static_cast<double>(bytes) / ns * 1e3; };
-    std::printf("%-8s %zux%zu  %6zu B  nclink   %8.0f ns/msg [%.0f-%.0f]  %6.1f MB/s\n", name, kPoints, kRows,
-                ours_text.size(), ours, bench::minimum(ours_ns), bench::maximum(ours_ns), mbps(ours_text.size(), ours));
-    std::printf("%-8s %zux%zu  %6zu B  nlohmann %8.0f ns/msg [%.0f-%.0f]  %6.1f MB/s\n", name, kPoints, kRows,
-                theirs_text.size(), theirs, bench::minimum(theirs_ns), bench::maximum(theirs_ns),
-                mbps(theirs_text.size(), theirs));
-    std::printf("%-8s ratio nlohmann/nclink = %.2fx (median of %d runs x %zu messages)\n\n", name, theirs / ours, runs,
-                iterations);
+    std::printf("%-8s %zux%zu  %6zu B  nclink   %8.0f ns/msg [%.0f-%.0f]  %6.1f MB/s\n", name, kPoints, kRows, ours_text.size(),
+                ours, bench::minimum(ours_ns), bench::maximum(ours_ns), mbps(ours_text.size(), ours));
+    std::printf("%-8s %zux%zu  %6zu B  nlohmann %8.0f ns/msg [%.0f-%.0f]  %6.1f MB/s\n", name, kPoints, kRows, theirs_text.size(),
+                theirs, bench::minimum(theirs_ns), bench::maximum(theirs_ns), mbps(theirs_text.size(), theirs));
+    std::printf("%-8s ratio nlohmann/nclink = %.2fx (median of %d runs x %zu messages)\n\n", name, theirs / ours, runs, iterations);
 }
 
 }  // namespace

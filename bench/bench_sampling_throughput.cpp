@@ -7,7 +7,8 @@
 // paho publisher (also its own process) sending the same bytes, at the same
 // pace, through the same broker to the same subscriber.
 //
-//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--slice-us N] [--rt-priority N] [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
+//   bench_sampling_throughput [--json-reads] [--no-value-checks] [--system-heap] [--slice-us N] [--rt-priority N]
+//   [seconds_per_run=3] [rounds=3] [qos=0] [channels points]
 //
 // With `channels points` only that load runs (no search), e.g. under a profiler.
 // The bench's driver implements the typed Driver::read_samples(); with
@@ -104,8 +105,8 @@ private:
     const bool typed_;
 };
 
-bool g_json_reads = false;  // --json-reads (parent and adapter child)
-int g_rt_priority = 0;      // --rt-priority N (parent and adapter child)
+bool g_json_reads = false;       // --json-reads (parent and adapter child)
+int g_rt_priority = 0;           // --rt-priority N (parent and adapter child)
 bool g_no_value_checks = false;  // --no-value-checks (parent and adapter child)
 bool g_system_heap = false;      // --system-heap (parent and both children)
 int g_slice_us = -1;             // --slice-us N (parent and adapter child; -1 = the config's default)
@@ -165,7 +166,8 @@ int adapter_child(int port) {
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - stop0).count());
     const double cpu = bench::process_cpu_seconds() - start;
     const auto stats = adapter.stats();
-    std::printf("%s\n", Json{{"cpu_s", cpu}, {"sampling", stats.features.at("sampling")},
+    std::printf("%s\n", Json{{"cpu_s", cpu},
+                             {"sampling", stats.features.at("sampling")},
                              {"transport_dropped", stats.transport.dropped},
                              {"allocs", allocs},
                              {"window_rows", at_stop.first - at_mark.first},
@@ -248,8 +250,11 @@ public:
     std::string register_channel(int points, int qos) {
         Json ids = Json::array();
         for (int i = 0; i < points; ++i) ids.push_back(Json{{"id", "pos"}});
-        Json request{{"@id", "r" + std::to_string(++counter_)}, {"guid", kDev}, {"sampleInterval", kSampleMs},
-                     {"uploadInterval", kUploadMs}, {"ids", ids}};
+        Json request{{"@id", "r" + std::to_string(++counter_)},
+                     {"guid", kDev},
+                     {"sampleInterval", kSampleMs},
+                     {"uploadInterval", kUploadMs},
+                     {"ids", ids}};
         if (qos) request["privateInfo"] = Json{{"qos", qos}};
         std::unique_lock<std::mutex> lock(mutex_);
         last_reply_.clear();
@@ -395,8 +400,7 @@ std::string encode_dtu(SampleEncoder& encoder, int points, std::size_t rows, int
 }
 
 /// The floor for `adapter`: encoding its DTUs + a bare publisher sending them.
-double run_floor(int port, int channels, int points, int qos, const RunResult& adapter, double& encode_s,
-                 double& publish_s) {
+double run_floor(int port, int channels, int points, int qos, const RunResult& adapter, double& encode_s, double& publish_s) {
     SampleEncoder encoder;
     // Encode as many DTUs as the adapter did, of the same mean number of rows
     // (it splits DTUs at sampling.max_dtu_bytes), in thread CPU time.
@@ -418,8 +422,9 @@ double run_floor(int port, int channels, int points, int qos, const RunResult& a
     }
     App app(port, qos);
     const double per_second = static_cast<double>(adapter.dtus) / adapter.seconds;
-    std::vector<std::string> args{"bench_sampling_throughput", "--publisher-child", std::to_string(port), std::to_string(qos), file,
-                                  std::to_string(adapter.dtus), std::to_string(per_second)};
+    std::vector<std::string> args{
+        "bench_sampling_throughput",  "--publisher-child",       std::to_string(port), std::to_string(qos), file,
+        std::to_string(adapter.dtus), std::to_string(per_second)};
     if (g_system_heap) args.push_back("--system-heap");
     bench::Child child(args);
     child.say("mark");
@@ -457,12 +462,12 @@ void report_allocations(const RunResult& r) {
     const auto rows = static_cast<double>(r.window_rows), dtus = static_cast<double>(r.window_dtus);
     // The sampler allocates nothing per row (test_steady_allocations); what
     // it shows here are the lines it logs for missed ticks.
-    std::printf("     heap allocations in steady state (%llu rows, %llu DTUs): sampler thread %llu (%.4f per row), "
-                "uploader %.1f per DTU, whole adapter %.1f per DTU = %.3f per row [%s]\n",
-                static_cast<unsigned long long>(r.window_rows), static_cast<unsigned long long>(r.window_dtus),
-                static_cast<unsigned long long>(sampler), static_cast<double>(sampler) / rows,
-                static_cast<double>(uploader) / dtus, static_cast<double>(total) / dtus,
-                static_cast<double>(total) / rows, others.c_str());
+    std::printf(
+        "     heap allocations in steady state (%llu rows, %llu DTUs): sampler thread %llu (%.4f per row), "
+        "uploader %.1f per DTU, whole adapter %.1f per DTU = %.3f per row [%s]\n",
+        static_cast<unsigned long long>(r.window_rows), static_cast<unsigned long long>(r.window_dtus),
+        static_cast<unsigned long long>(sampler), static_cast<double>(sampler) / rows, static_cast<double>(uploader) / dtus,
+        static_cast<double>(total) / dtus, static_cast<double>(total) / rows, others.c_str());
 }
 
 int run(int argc, char** argv);
@@ -480,18 +485,12 @@ int run(int argc, char** argv) {
     // --json-reads may come anywhere; the other arguments are positional.
     std::vector<char*> kept;
     for (int i = 0; i < argc; ++i) {
-        if (std::string(argv[i]) == "--json-reads")
-            g_json_reads = true;
-        else if (std::string(argv[i]) == "--no-value-checks")
-            g_no_value_checks = true;
-        else if (std::string(argv[i]) == "--system-heap")
-            g_system_heap = true;
-        else if (std::string(argv[i]) == "--slice-us" && i + 1 < argc)
-            g_slice_us = std::atoi(argv[++i]);
-        else if (std::string(argv[i]) == "--rt-priority" && i + 1 < argc)
-            g_rt_priority = std::atoi(argv[++i]);
-        else
-            kept.push_back(argv[i]);
+        if (std::string(argv[i]) == "--json-reads") g_json_reads = true;
+        else if (std::string(argv[i]) == "--no-value-checks") g_no_value_checks = true;
+        else if (std::string(argv[i]) == "--system-heap") g_system_heap = true;
+        else if (std::string(argv[i]) == "--slice-us" && i + 1 < argc) g_slice_us = std::atoi(argv[++i]);
+        else if (std::string(argv[i]) == "--rt-priority" && i + 1 < argc) g_rt_priority = std::atoi(argv[++i]);
+        else kept.push_back(argv[i]);
     }
     argc = static_cast<int>(kept.size());
     argv = kept.data();
@@ -504,15 +503,17 @@ int run(int argc, char** argv) {
     const int qos = argc > 3 ? std::atoi(argv[3]) : 0;
 
     test::MosquittoBroker broker;
-    std::printf("sampling throughput: %d ms sample, %d ms upload, QoS %d, %.1f s per run, %d rounds at the max load, %s reads, "
-                "sampler %s, %s\n",
-                kSampleMs, kUploadMs, qos, seconds, rounds, g_json_reads ? "Json (read())" : "typed (read_samples())",
-                g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str()
-                : g_slice_us == 0 ? "SCHED_OTHER, the kernel's slice"
-                                  : ("SCHED_OTHER, slice " + std::to_string(g_slice_us < 0 ? SamplingConfig{}.slice_us : g_slice_us) + " us").c_str(),
-                g_system_heap ? "glibc's default heap policy" : "freed heap kept");
-    std::printf("%8s %7s %12s %12s %8s %8s %9s %s\n", "channels", "points", "points/s", "DTUs", "lost", "null %",
-                "cpu_s", "lossless");
+    std::printf(
+        "sampling throughput: %d ms sample, %d ms upload, QoS %d, %.1f s per run, %d rounds at the max load, %s reads, "
+        "sampler %s, %s\n",
+        kSampleMs, kUploadMs, qos, seconds, rounds, g_json_reads ? "Json (read())" : "typed (read_samples())",
+        g_rt_priority > 0 ? ("SCHED_FIFO " + std::to_string(g_rt_priority)).c_str()
+        : g_slice_us == 0
+            ? "SCHED_OTHER, the kernel's slice"
+            : ("SCHED_OTHER, slice " + std::to_string(g_slice_us < 0 ? SamplingConfig{}.slice_us : g_slice_us) + " us").c_str(),
+        g_system_heap ? "glibc's default heap policy" : "freed heap kept");
+    std::printf("%8s %7s %12s %12s %8s %8s %9s %s\n", "channels", "points", "points/s", "DTUs", "lost", "null %", "cpu_s",
+                "lossless");
     std::vector<int> channel_counts{1, 10, 50}, point_counts{10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000};
     if (argc > 5) {
         channel_counts = {std::atoi(argv[4])};
@@ -531,8 +532,8 @@ int run(int argc, char** argv) {
                 r = run_adapter(broker.port(), channels, points, qos, seconds);
                 std::printf("%8d %7d %12.0f %12llu %8lld %8.2f %9.3f %s%s\n", channels, points, r.points_per_s(),
                             static_cast<unsigned long long>(r.dtus),
-                            static_cast<long long>(r.dtus) - static_cast<long long>(r.received),
-                            100.0 * r.null_share(), r.cpu_s, r.lossless ? "yes" : "NO", attempt > 0 ? " (again)" : "");
+                            static_cast<long long>(r.dtus) - static_cast<long long>(r.received), 100.0 * r.null_share(), r.cpu_s,
+                            r.lossless ? "yes" : "NO", attempt > 0 ? " (again)" : "");
                 std::fflush(stdout);
                 if (r.lossless) break;
             }
@@ -562,17 +563,19 @@ int run(int argc, char** argv) {
             rates.push_back(r.points_per_s());
         }
         const double a = bench::median(adapter_pm), f = bench::median(floor_pm);
-        std::printf("  => %d channel(s) x %d points: %.0f points/s lossless; CPU s per million points: adapter %.3f "
-                    "[%.3f-%.3f], floor %.3f (encode %.3f + bare paho publish %.3f); ratio %.2fx (target <= 1.5x)\n",
-                    channels, best, bench::median(rates), a, bench::minimum(adapter_pm), bench::maximum(adapter_pm), f,
-                    bench::median(encode_pm), bench::median(publish_pm), f > 0 ? a / f : 0);
+        std::printf(
+            "  => %d channel(s) x %d points: %.0f points/s lossless; CPU s per million points: adapter %.3f "
+            "[%.3f-%.3f], floor %.3f (encode %.3f + bare paho publish %.3f); ratio %.2fx (target <= 1.5x)\n",
+            channels, best, bench::median(rates), a, bench::minimum(adapter_pm), bench::maximum(adapter_pm), f,
+            bench::median(encode_pm), bench::median(publish_pm), f > 0 ? a / f : 0);
         // Not part of the target, what it leaves out: the floor sends
         // the same DTUs but never wakes at the sample rate, which a sampler
         // must; at small loads that alone is a large share of the floor.
         const double w = bench::median(wake_pm);
-        std::printf("     the %d ms wake-ups alone (a bare clock_nanosleep loop, same run): %.3f s per million points; "
-                    "adapter / (floor + wake-ups) %.2fx\n",
-                    kSampleMs, w, f + w > 0 ? a / (f + w) : 0);
+        std::printf(
+            "     the %d ms wake-ups alone (a bare clock_nanosleep loop, same run): %.3f s per million points; "
+            "adapter / (floor + wake-ups) %.2fx\n",
+            kSampleMs, w, f + w > 0 ? a / (f + w) : 0);
         report_allocations(best_run);
         std::fflush(stdout);
     }

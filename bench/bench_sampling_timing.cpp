@@ -41,7 +41,8 @@ public:
     DriverInfo info() const override { return {"fast", "1", false}; }
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
         ++n_;
-        for (std::size_t i = 0; i < points.size(); ++i) results[i] = Json(static_cast<double>(n_) * 0.001 + static_cast<double>(i));
+        for (std::size_t i = 0; i < points.size(); ++i)
+            results[i] = Json(static_cast<double>(n_) * 0.001 + static_cast<double>(i));
     }
 
 private:
@@ -99,7 +100,9 @@ EngineRun engine_run(const Options& o) {
         std::lock_guard<std::mutex> lock(mutex);
         payloads.push_back(std::move(m.payload));
     };
-    deps.tick_observer = [&](const std::string&, std::int64_t late_ns) { run.late_us.push_back(static_cast<double>(late_ns) / 1000.0); };
+    deps.tick_observer = [&](const std::string&, std::int64_t late_ns) {
+        run.late_us.push_back(static_cast<double>(late_ns) / 1000.0);
+    };
     detail::SamplingEngine engine(std::move(deps));
     detail::ChannelSpec spec;
     spec.id = "ch_fast";
@@ -141,12 +144,15 @@ int main(int argc, char** argv) {
         else if (arg == "--cpu") o.sampling.cpu = std::atoi(next().c_str());
         else if (arg == "--worker-reads") o.sampling.direct_reads = false;
         else {
-            std::fprintf(stderr, "usage: bench_sampling_timing [--seconds N] [--points N] [--rt-priority P] [--timer-slack NS] [--cpu N] [--slice-us N] [--worker-reads]\n");
+            std::fprintf(stderr,
+                         "usage: bench_sampling_timing [--seconds N] [--points N] [--rt-priority P] [--timer-slack NS] [--cpu N] "
+                         "[--slice-us N] [--worker-reads]\n");
             return 2;
         }
     }
-    std::printf("1 ms channel, %zu points, %.0f s each; rt_priority %d, timer_slack_ns %ld, cpu %d, slice_us %d, %s reads\n", o.points,
-                o.seconds, o.sampling.rt_priority, o.sampling.timer_slack_ns, o.sampling.cpu, o.sampling.slice_us, o.sampling.direct_reads ? "direct" : "worker");
+    std::printf("1 ms channel, %zu points, %.0f s each; rt_priority %d, timer_slack_ns %ld, cpu %d, slice_us %d, %s reads\n",
+                o.points, o.seconds, o.sampling.rt_priority, o.sampling.timer_slack_ns, o.sampling.cpu, o.sampling.slice_us,
+                o.sampling.direct_reads ? "direct" : "worker");
     const auto floor = bare_loop(o);
     const auto run = engine_run(o);
     report("floor: bare clock_nanosleep", floor);
@@ -154,10 +160,12 @@ int main(int argc, char** argv) {
     std::printf("difference (engine - floor):  p50 %+7.1f  p99 %+7.1f  p99.9 %+8.1f us\n", median(run.late_us) - median(floor),
                 percentile(run.late_us, 99) - percentile(floor, 99), percentile(run.late_us, 99.9) - percentile(floor, 99.9));
     const auto& s = run.stats;
-    std::printf("rows: sampled %llu, published %llu, in %zu DTUs %zu rows (malformed DTUs %zu); overruns %llu (null rows), skipped %llu, drops %llu\n",
-                static_cast<unsigned long long>(s.rows_sampled), static_cast<unsigned long long>(s.rows_published), run.dtus,
-                run.rows_in_dtus, run.bad_dtus, static_cast<unsigned long long>(s.overruns),
-                static_cast<unsigned long long>(s.skipped_ticks), static_cast<unsigned long long>(s.drops));
+    std::printf(
+        "rows: sampled %llu, published %llu, in %zu DTUs %zu rows (malformed DTUs %zu); overruns %llu (null rows), skipped %llu, "
+        "drops %llu\n",
+        static_cast<unsigned long long>(s.rows_sampled), static_cast<unsigned long long>(s.rows_published), run.dtus,
+        run.rows_in_dtus, run.bad_dtus, static_cast<unsigned long long>(s.overruns),
+        static_cast<unsigned long long>(s.skipped_ticks), static_cast<unsigned long long>(s.drops));
     const bool all_rows = s.rows_published == s.rows_sampled && run.rows_in_dtus == s.rows_published && s.drops == 0 &&
                           s.skipped_ticks == 0 && run.bad_dtus == 0;
     std::printf("every row present: %s\n", all_rows ? "yes" : "NO");

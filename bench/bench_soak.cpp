@@ -49,8 +49,7 @@ long rss_kb() {
 }
 
 std::int64_t wall_ms() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-        .count();
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 template <class P>
@@ -72,21 +71,17 @@ int main(int argc, char** argv) {
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg == "--crash")
-            crash = true;
-        else if (arg == "--save-every" && i + 1 < argc)
-            save_every = std::max(1, std::atoi(argv[++i]));
-        else if (positional++ == 0)
-            seconds = std::atoi(argv[i]);
-        else
-            period = std::atoi(argv[i]);
+        if (arg == "--crash") crash = true;
+        else if (arg == "--save-every" && i + 1 < argc) save_every = std::max(1, std::atoi(argv[++i]));
+        else if (positional++ == 0) seconds = std::atoi(argv[i]);
+        else period = std::atoi(argv[i]);
     }
     const std::string model_path = std::string(NCLINK_SOURCE_DIR) + "/models/sim-mill.json";
     const std::string dev = "nclink-sim-mill-01";
     const std::map<std::string, std::int64_t> intervals = {{"ch_fast", 1}, {"ch_slow", 100}};
-    const std::vector<std::string> items = {"x_position", "y_position", "z_position", "x_speed", "y_speed", "z_speed",
-                                            "spindle_speed", "spindle_load", "feed_speed", "x_load", "y_load", "z_load",
-                                            "x_current", "y_current", "z_current", "line_number", "part_count"};
+    const std::vector<std::string> items = {"x_position",    "y_position",   "z_position", "x_speed",     "y_speed",   "z_speed",
+                                            "spindle_speed", "spindle_load", "feed_speed", "x_load",      "y_load",    "z_load",
+                                            "x_current",     "y_current",    "z_current",  "line_number", "part_count"};
 
     test::MosquittoOptions broker_options;
     broker_options.persistent = true;
@@ -158,8 +153,9 @@ int main(int argc, char** argv) {
     }
     std::this_thread::sleep_for(2s);
     const long rss_start = rss_kb();
-    std::printf("soak: %d s, broker %s every %d s (saving after every %d change(s)), %zu events registered, RSS at start %ld kB\n",
-                seconds, crash ? "killed -9" : "restarted", period, save_every, registered, rss_start);
+    std::printf(
+        "soak: %d s, broker %s every %d s (saving after every %d change(s)), %zu events registered, RSS at start %ld kB\n",
+        seconds, crash ? "killed -9" : "restarted", period, save_every, registered, rss_start);
     std::fflush(stdout);
 
     const auto begun = std::chrono::steady_clock::now();
@@ -169,10 +165,8 @@ int main(int argc, char** argv) {
         std::this_thread::sleep_until(std::min(next, begun + std::chrono::seconds(seconds)));
         if (std::chrono::steady_clock::now() - begun >= std::chrono::seconds(seconds)) break;
         const auto stopped_at = wall_ms();
-        if (crash)
-            broker.crash();
-        else
-            broker.stop();
+        if (crash) broker.crash();
+        else broker.stop();
         std::this_thread::sleep_for(1s);
         broker.start();
         {
@@ -181,7 +175,8 @@ int main(int argc, char** argv) {
         }
         ++restarts;
         std::printf("  restart %d at %lld s: rows %llu, RSS %ld kB\n", restarts,
-                    static_cast<long long>(std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - begun).count()),
+                    static_cast<long long>(
+                        std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - begun).count()),
                     static_cast<unsigned long long>(ledger.rows()), rss_kb());
         std::fflush(stdout);
     }
@@ -191,10 +186,12 @@ int main(int argc, char** argv) {
     std::uint64_t produced = 0;
     for (const auto& ch : adapter.sampling_stats().channels) produced += ch.rows_published;
     const auto fired = adapter.stats().features["events"]["fired"].get<std::uint64_t>();
-    wait_for([&] {
-        std::lock_guard<std::mutex> lock(events_mutex);
-        return ledger.rows() >= produced && event_ids.size() >= fired;
-    }, 60s);
+    wait_for(
+        [&] {
+            std::lock_guard<std::mutex> lock(events_mutex);
+            return ledger.rows() >= produced && event_ids.size() >= fired;
+        },
+        60s);
     std::unique_lock<std::mutex> lock(events_mutex);
     const auto stats = client->stats();
     const Json drops = to_json(adapter.stats())["drops"];
@@ -217,9 +214,11 @@ int main(int argc, char** argv) {
                 std::int64_t nearest = 0;
                 for (const auto& [down, up] : outages)
                     if (nearest == 0 || std::llabs(previous_time - down) < std::llabs(previous_time - nearest)) nearest = down;
-                std::printf("  gap: %llu @ids missing after %llu (event time %+lld ms from the nearest broker stop, next received %+lld ms)\n",
-                            static_cast<unsigned long long>(counter - previous - 1), static_cast<unsigned long long>(previous),
-                            static_cast<long long>(previous_time - nearest), static_cast<long long>(time - nearest));
+                std::printf(
+                    "  gap: %llu @ids missing after %llu (event time %+lld ms from the nearest broker stop, next received %+lld "
+                    "ms)\n",
+                    static_cast<unsigned long long>(counter - previous - 1), static_cast<unsigned long long>(previous),
+                    static_cast<long long>(previous_time - nearest), static_cast<long long>(time - nearest));
                 ++gaps_shown;
             }
             previous = counter;
@@ -232,15 +231,19 @@ int main(int argc, char** argv) {
     // Messages the application's connection received, against what was
     // handed on: an event lost before the client shows as fewer messages.
     const auto& link = stats.transport;
-    std::printf("application connection: %llu messages received = %llu Sample DTUs + %llu events handed on + %llu held back + %llu other\n",
-                static_cast<unsigned long long>(link.received), static_cast<unsigned long long>(dtus.load()),
-                static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.duplicates),
-                static_cast<unsigned long long>(link.received - std::min<std::uint64_t>(link.received, dtus.load() + stats.events + stats.duplicates)));
+    std::printf(
+        "application connection: %llu messages received = %llu Sample DTUs + %llu events handed on + %llu held back + %llu "
+        "other\n",
+        static_cast<unsigned long long>(link.received), static_cast<unsigned long long>(dtus.load()),
+        static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.duplicates),
+        static_cast<unsigned long long>(link.received -
+                                        std::min<std::uint64_t>(link.received, dtus.load() + stats.events + stats.duplicates)));
     // Where an event that fired but never reached the handler could have gone.
-    std::printf("client: events handed on %llu, unmatched %llu, malformed %llu, held back %llu; adapter: applications released %llu\n",
-                static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.unmatched_responses),
-                static_cast<unsigned long long>(stats.malformed), static_cast<unsigned long long>(stats.duplicates),
-                static_cast<unsigned long long>(adapter.stats().applications_released));
+    std::printf(
+        "client: events handed on %llu, unmatched %llu, malformed %llu, held back %llu; adapter: applications released %llu\n",
+        static_cast<unsigned long long>(stats.events), static_cast<unsigned long long>(stats.unmatched_responses),
+        static_cast<unsigned long long>(stats.malformed), static_cast<unsigned long long>(stats.duplicates),
+        static_cast<unsigned long long>(adapter.stats().applications_released));
     std::printf("RSS: %ld kB at start, %ld kB at end, growth %ld kB over %d broker restarts\n", rss_start, rss_end,
                 rss_end - rss_start, restarts);
     // Whose growth it was: the benchmark's own ledgers (every row time and
@@ -257,8 +260,9 @@ int main(int argc, char** argv) {
     adapter_owner.reset();
     ::malloc_trim(0);
     const long rss_after = rss_kb();
-    std::printf("RSS: %ld kB without the benchmark's ledgers (they held %ld kB), %ld kB with adapter and client gone "
-                "(%+ld kB against the start)\n",
-                rss_without_ledgers, rss_end - rss_without_ledgers, rss_after, rss_after - rss_start);
+    std::printf(
+        "RSS: %ld kB without the benchmark's ledgers (they held %ld kB), %ld kB with adapter and client gone "
+        "(%+ld kB against the start)\n",
+        rss_without_ledgers, rss_end - rss_without_ledgers, rss_after, rss_after - rss_start);
     return 0;
 }

@@ -16,9 +16,7 @@ namespace nclink::bench {
 
 /// Monotonic nanoseconds.
 inline std::int64_t now_ns() noexcept {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 /// CPU seconds (user + system) of this whole process so far.

@@ -34,8 +34,7 @@ public:
     /// callback thread, one request at a time.
     using Answer = std::function<void(const mqtt::message& request, mqtt::async_client& client)>;
 
-    PahoEcho(const std::string& url, const std::string& client_id, const std::string& request_topic, int port,
-             Answer answer)
+    PahoEcho(const std::string& url, const std::string& client_id, const std::string& request_topic, int port, Answer answer)
         : client_(url, client_id, mqtt::create_options(MQTTVERSION_3_1_1), nullptr), answer_(std::move(answer)) {
         client_.set_message_callback([this](mqtt::const_message_ptr m) { answer_(*m, client_); });
         connect_and_subscribe(client_, request_topic, port);

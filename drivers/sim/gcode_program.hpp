@@ -20,13 +20,13 @@ struct Block {
     int number = 0;  ///< N word (0 when absent)
     Motion motion = Motion::none;
     std::optional<double> x, y, z, i, j;
-    std::optional<double> feed;     ///< F, mm/min
-    std::optional<double> spindle;  ///< S, r/min
-    std::optional<int> spindle_dir; ///< M3 1, M4 -1, M5 0
-    std::optional<int> tool;        ///< T
-    bool tool_change = false;       ///< M6
-    double dwell_s = 0;             ///< G4 P<seconds>
-    bool end = false;               ///< M30 / M2
+    std::optional<double> feed;      ///< F, mm/min
+    std::optional<double> spindle;   ///< S, r/min
+    std::optional<int> spindle_dir;  ///< M3 1, M4 -1, M5 0
+    std::optional<int> tool;         ///< T
+    bool tool_change = false;        ///< M6
+    double dwell_s = 0;              ///< G4 P<seconds>
+    bool end = false;                ///< M30 / M2
 
     bool moves() const noexcept { return motion != Motion::none && (x || y || z); }
 };

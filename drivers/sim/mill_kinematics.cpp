@@ -25,8 +25,7 @@ const char* to_string(RunStatus status) noexcept {
     return "free";
 }
 
-MillMachine::MillMachine(Program program, MillConfig config, bool autostart)
-    : program_(std::move(program)), config_(config) {
+MillMachine::MillMachine(Program program, MillConfig config, bool autostart) : program_(std::move(program)), config_(config) {
     if (autostart) status_ = RunStatus::running;
 }
 
@@ -53,7 +52,8 @@ void MillMachine::reset() {
 
 Result<void> MillMachine::set_feed_override(double percent) {
     if (!(percent >= 0 && percent <= config_.max_override))
-        return make_error(ErrorCode::out_of_range, "feed override must be 0.." + std::to_string(static_cast<int>(config_.max_override)));
+        return make_error(ErrorCode::out_of_range,
+                          "feed override must be 0.." + std::to_string(static_cast<int>(config_.max_override)));
     feed_override_ = percent;
     return ok_result();
 }
@@ -78,13 +78,10 @@ double MillMachine::block_speed_mm_s() const {
 }
 
 void MillMachine::run_spindle(double dt) {
-    const double target =
-        spindle_dir_ == 0 ? 0.0 : std::min(spindle_target_ * spindle_override_ / 100.0, config_.spindle_max_rpm);
+    const double target = spindle_dir_ == 0 ? 0.0 : std::min(spindle_target_ * spindle_override_ / 100.0, config_.spindle_max_rpm);
     const double step = config_.spindle_accel_rpm_s * dt;
-    if (spindle_rpm_ < target)
-        spindle_rpm_ = std::min(target, spindle_rpm_ + step);
-    else
-        spindle_rpm_ = std::max(target, spindle_rpm_ - step);
+    if (spindle_rpm_ < target) spindle_rpm_ = std::min(target, spindle_rpm_ + step);
+    else spindle_rpm_ = std::max(target, spindle_rpm_ - step);
 }
 
 void MillMachine::begin_block() {
@@ -212,9 +209,7 @@ double MillMachine::path_speed() const {
     return block_speed_mm_s() * 60.0;
 }
 
-bool MillMachine::cutting() const {
-    return path_speed() > 0 && segment_.motion != Motion::rapid && position_[2] < 0;
-}
+bool MillMachine::cutting() const { return path_speed() > 0 && segment_.motion != Motion::rapid && position_[2] < 0; }
 
 std::string MillMachine::line_number() const {
     if (rewound_) return "0";

@@ -19,11 +19,11 @@ namespace nclink::sim {
 using Vec3 = std::array<double, 3>;
 
 struct MillConfig {
-    double rapid_mm_min = 6000;        ///< G0 speed at 100 %
-    double spindle_max_rpm = 12000;    ///< upper limit of the actual speed
-    double spindle_accel_rpm_s = 4000; ///< ramp of the actual spindle speed
-    double tool_change_s = 2;          ///< time an M6 takes
-    double max_override = 150;         ///< percent, feed and spindle
+    double rapid_mm_min = 6000;         ///< G0 speed at 100 %
+    double spindle_max_rpm = 12000;     ///< upper limit of the actual speed
+    double spindle_accel_rpm_s = 4000;  ///< ramp of the actual spindle speed
+    double tool_change_s = 2;           ///< time an M6 takes
+    double max_override = 150;          ///< percent, feed and spindle
 };
 
 enum class RunStatus { running, free, holding };

@@ -14,19 +14,32 @@ namespace {
 constexpr std::string_view mill_guid = "nclink-sim-mill-01";
 
 constexpr std::array<std::pair<std::string_view, MillRole>, 27> item_ids{{
-    {"x_position", MillRole::x_position},       {"y_position", MillRole::y_position},
-    {"z_position", MillRole::z_position},       {"x_speed", MillRole::x_speed},
-    {"y_speed", MillRole::y_speed},             {"z_speed", MillRole::z_speed},
-    {"x_load", MillRole::x_load},               {"y_load", MillRole::y_load},
-    {"z_load", MillRole::z_load},               {"x_current", MillRole::x_current},
-    {"y_current", MillRole::y_current},         {"z_current", MillRole::z_current},
-    {"spindle_speed", MillRole::spindle_speed}, {"spindle_load", MillRole::spindle_load},
-    {"spindle_override", MillRole::spindle_override}, {"spindle_mode", MillRole::spindle_mode},
-    {"status", MillRole::status},               {"work_mode", MillRole::work_mode},
-    {"program", MillRole::program},             {"line_number", MillRole::line_number},
-    {"part_count", MillRole::part_count},       {"feed_speed", MillRole::feed_speed},
-    {"feed_override", MillRole::feed_override}, {"tool_number", MillRole::tool_number},
-    {"warning", MillRole::warning},             {"emergency_stop", MillRole::emergency_stop},
+    {"x_position", MillRole::x_position},
+    {"y_position", MillRole::y_position},
+    {"z_position", MillRole::z_position},
+    {"x_speed", MillRole::x_speed},
+    {"y_speed", MillRole::y_speed},
+    {"z_speed", MillRole::z_speed},
+    {"x_load", MillRole::x_load},
+    {"y_load", MillRole::y_load},
+    {"z_load", MillRole::z_load},
+    {"x_current", MillRole::x_current},
+    {"y_current", MillRole::y_current},
+    {"z_current", MillRole::z_current},
+    {"spindle_speed", MillRole::spindle_speed},
+    {"spindle_load", MillRole::spindle_load},
+    {"spindle_override", MillRole::spindle_override},
+    {"spindle_mode", MillRole::spindle_mode},
+    {"status", MillRole::status},
+    {"work_mode", MillRole::work_mode},
+    {"program", MillRole::program},
+    {"line_number", MillRole::line_number},
+    {"part_count", MillRole::part_count},
+    {"feed_speed", MillRole::feed_speed},
+    {"feed_override", MillRole::feed_override},
+    {"tool_number", MillRole::tool_number},
+    {"warning", MillRole::warning},
+    {"emergency_stop", MillRole::emergency_stop},
     {"door_closed", MillRole::door_closed},
 }};
 
@@ -37,8 +50,7 @@ constexpr std::array<std::pair<std::string_view, MillMethod>, 4> method_ids{{
     {"program_transfer", MillMethod::program_transfer},
 }};
 
-constexpr std::array<std::string_view, 5> signature_ids{"x_position", "y_position", "z_position", "spindle_speed",
-                                                        "status"};
+constexpr std::array<std::string_view, 5> signature_ids{"x_position", "y_position", "z_position", "spindle_speed", "status"};
 
 Json round_to(double v, int decimals) {
     const double scale = std::pow(10.0, decimals);
@@ -86,13 +98,10 @@ Json mill_reading(MillRole role, const MillMachine& m, double t, std::uint64_t s
     const double rapid = m.config().rapid_mm_min;
     auto axis_load = [&](int axis) {
         // Percent: friction share of the speed, plus cutting force while in material.
-        const double load = 4.0 + 20.0 * std::abs(v[axis]) / rapid + (m.cutting() ? 18.0 : 0.0) +
-                            1.5 * jitter(stream, role, t);
+        const double load = 4.0 + 20.0 * std::abs(v[axis]) / rapid + (m.cutting() ? 18.0 : 0.0) + 1.5 * jitter(stream, role, t);
         return std::max(0.0, load);
     };
-    auto axis_current = [&](int axis) {
-        return std::max(0.0, 0.4 + 0.12 * axis_load(axis) + 0.05 * jitter(stream, role, t));
-    };
+    auto axis_current = [&](int axis) { return std::max(0.0, 0.4 + 0.12 * axis_load(axis) + 0.05 * jitter(stream, role, t)); };
     switch (role) {
         case MillRole::x_position: return round_to(m.position()[0], 3);
         case MillRole::y_position: return round_to(m.position()[1], 3);
@@ -109,8 +118,8 @@ Json mill_reading(MillRole role, const MillMachine& m, double t, std::uint64_t s
         case MillRole::spindle_speed: return static_cast<std::int64_t>(std::llround(m.spindle_speed()));
         case MillRole::spindle_load: {
             if (m.spindle_speed() <= 0) return 0.0;
-            const double load = 8.0 + 25.0 * m.spindle_speed() / m.config().spindle_max_rpm +
-                                (m.cutting() ? 30.0 : 0.0) + 2.0 * jitter(stream, role, t);
+            const double load = 8.0 + 25.0 * m.spindle_speed() / m.config().spindle_max_rpm + (m.cutting() ? 30.0 : 0.0) +
+                                2.0 * jitter(stream, role, t);
             return round_to(std::max(0.0, load), 1);
         }
         case MillRole::spindle_override: return percent(m.spindle_override());

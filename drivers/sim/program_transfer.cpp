@@ -26,17 +26,15 @@ bool plain_file_name(const std::string& name) {
 /// A name for the partial copy next to `target`, unique per transfer.
 fs::path temp_beside(const fs::path& target) {
     static std::atomic<std::uint64_t> counter{0};
-    return target.parent_path() /
-           ("." + target.filename().string() + ".nclink-part-" + std::to_string(++counter));
+    return target.parent_path() / ("." + target.filename().string() + ".nclink-part-" + std::to_string(++counter));
 }
 
 /// Waits (polling the injected clock, which tests move by hand) until `bytes`
 /// may have crossed the simulated link. False when cancelled meanwhile.
 bool pace(const TransferSettings& settings, Clock::Steady begin, std::uint64_t bytes, MethodControl& control) {
     if (settings.bytes_per_second == 0) return !control.cancelled();
-    const auto due = begin + std::chrono::duration_cast<Clock::Steady::duration>(
-                                 std::chrono::duration<double>(static_cast<double>(bytes) /
-                                                               static_cast<double>(settings.bytes_per_second)));
+    const auto due = begin + std::chrono::duration_cast<Clock::Steady::duration>(std::chrono::duration<double>(
+                                 static_cast<double>(bytes) / static_cast<double>(settings.bytes_per_second)));
     while (settings.clock->now() < due) {
         if (control.cancelled()) return false;
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -52,11 +50,9 @@ Result<Json> transfer_program(const TransferSettings& settings, const Json& args
         return make_error(ErrorCode::out_of_range, "operation must be push or pull, not \"" + operation + "\"");
     const std::string protocol = string_arg(args, "protocol");
     if (!protocol.empty() && protocol != "FILE" && protocol != "file" && protocol != "LOCAL" && protocol != "local")
-        return make_error(ErrorCode::out_of_range,
-                          "the simulator copies local files only (protocol FILE), not " + protocol);
+        return make_error(ErrorCode::out_of_range, "the simulator copies local files only (protocol FILE), not " + protocol);
     if (settings.program_dir.empty())
-        return make_error(ErrorCode::unavailable,
-                          "no program directory configured (driver configuration key program_dir)");
+        return make_error(ErrorCode::unavailable, "no program directory configured (driver configuration key program_dir)");
     const std::string source = string_arg(args, "source");
     std::string destination = string_arg(args, "destination");
     if (source.empty()) return make_error(ErrorCode::parameter_missing, "program_transfer needs a source");

@@ -10,9 +10,9 @@
 
 namespace nclink {
 
-using sim_detail::as_count;
 using sim::MillMethod;
 using sim::MillRole;
+using sim_detail::as_count;
 
 Result<void> SimDriver::Impl::commit_alarms(const Item& item, const Json& value) {
     std::vector<Json> next;

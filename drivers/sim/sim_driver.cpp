@@ -155,9 +155,9 @@ Json SimDriver::Impl::value_of(const Item& item) const {
 }
 
 void SimDriver::Impl::add_alarm(const std::string& number, const std::string& text) {
-    alarms.erase(std::remove_if(alarms.begin(), alarms.end(),
-                                [&](const Json& a) { return a.value("number", std::string()) == number; }),
-                 alarms.end());
+    alarms.erase(
+        std::remove_if(alarms.begin(), alarms.end(), [&](const Json& a) { return a.value("number", std::string()) == number; }),
+        alarms.end());
     alarms.push_back(sim::warning_object(number, text, wall_ms));
     if (mill) mill->feed_hold();  // an alarm stops the feed, as on a real control
 }
@@ -231,8 +231,7 @@ Result<void> SimDriver::bind(const std::vector<BindPoint>& points, std::vector<P
         if (points[i].method) {
             if (!impl_->profile) continue;
             const auto m = impl_->profile->methods.find(points[i].id);
-            if (m != impl_->profile->methods.end())
-                handles[i] = method_handle_base + static_cast<PointHandle>(m->second);
+            if (m != impl_->profile->methods.end()) handles[i] = method_handle_base + static_cast<PointHandle>(m->second);
             continue;
         }
         // Not simulated: left by id, so the read answers 401 as before.
@@ -243,8 +242,8 @@ Result<void> SimDriver::bind(const std::vector<BindPoint>& points, std::vector<P
 }
 
 // The row in impl_->items of `point`, if simulated. Call with the mutex held.
-static std::optional<std::size_t> row_of(const std::unordered_map<std::string, std::size_t>& index,
-                                         std::size_t rows, const PointRef& point) {
+static std::optional<std::size_t> row_of(const std::unordered_map<std::string, std::size_t>& index, std::size_t rows,
+                                         const PointRef& point) {
     if (point.handle < rows) return static_cast<std::size_t>(point.handle);
     if (point.handle != no_handle) return std::nullopt;
     const auto it = index.find(point.id);
@@ -326,8 +325,8 @@ Result<Json> SimDriver::run_method(const PointRef& point, const Json& args, Meth
     std::unique_lock<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
     std::optional<MillMethod> method;
-    if (point.handle >= method_handle_base && point.handle <= method_handle_base + static_cast<PointHandle>(MillMethod::program_transfer) &&
-        impl_->profile) {
+    if (point.handle >= method_handle_base &&
+        point.handle <= method_handle_base + static_cast<PointHandle>(MillMethod::program_transfer) && impl_->profile) {
         method = static_cast<MillMethod>(point.handle - method_handle_base);
     } else {
         if (!impl_->model->method(method_id))

@@ -64,11 +64,11 @@ struct BoolSpec {
 
 // Table 13 Booleans with how often each is typically true.
 constexpr std::array<BoolSpec, 22> booleans{{
-    {"AUTO_MODE", 0.8},        {"AXIS_TOREFPOINT", 0.95}, {"BLOCK_SKIP_MODE", 0.1}, {"COOLANT_ON", 0.6},
-    {"CYCLE_START", 0.7},      {"DOOR_CLOSED", 0.9},      {"EDIT_MODE", 0.05},      {"EMG", 0.02},
-    {"FEED_HOLD", 0.1},        {"HANDLE_MODE", 0.1},      {"INCREMENTAL_MODE", 0.1}, {"JOG_MODE", 0.1},
-    {"LIGHTING_ON", 0.9},      {"LUBRICANT_ON", 0.5},     {"MACHINE_LOCKED", 0.02}, {"MDI_MODE", 0.1},
-    {"MST_LOCKED", 0.02},      {"OPT_STOP_MODE", 0.1},    {"REF_MODE", 0.05},       {"RESET_MODE", 0.05},
+    {"AUTO_MODE", 0.8},         {"AXIS_TOREFPOINT", 0.95}, {"BLOCK_SKIP_MODE", 0.1},  {"COOLANT_ON", 0.6},
+    {"CYCLE_START", 0.7},       {"DOOR_CLOSED", 0.9},      {"EDIT_MODE", 0.05},       {"EMG", 0.02},
+    {"FEED_HOLD", 0.1},         {"HANDLE_MODE", 0.1},      {"INCREMENTAL_MODE", 0.1}, {"JOG_MODE", 0.1},
+    {"LIGHTING_ON", 0.9},       {"LUBRICANT_ON", 0.5},     {"MACHINE_LOCKED", 0.02},  {"MDI_MODE", 0.1},
+    {"MST_LOCKED", 0.02},       {"OPT_STOP_MODE", 0.1},    {"REF_MODE", 0.05},        {"RESET_MODE", 0.05},
     {"SINGLE_BLOCK_MODE", 0.1}, {"TOOL_CHANGING", 0.1},
 }};
 
@@ -289,16 +289,12 @@ Generator make_generator(const ItemTraits& item, std::uint64_t seed, std::size_t
         } else if (t == "TOOL_CHANGE") {
             g = choice_gen({"auto", "manual"}, {}, 1e9);
         } else if (t == "USER_ROLE") {
-            g = choice_gen({"operator", "manager", "machine_manufacturer", "cnc_manufacturer", "system_manager"},
-                           {}, 1e9);
+            g = choice_gen({"operator", "manager", "machine_manufacturer", "cnc_manufacturer", "system_manager"}, {}, 1e9);
         } else if (t == "CATAGORY") {
             // Table 16: the value depends on what the item describes.
-            if (item.parent_type == "AXIS")
-                g = choice_gen({"linear", "rotary"}, {3, 1}, 1e9);
-            else if (item.parent_type == "MACHINE")
-                g = choice_gen({"milling", "lathe", "grinder", "planer", "other"}, {}, 1e9);
-            else
-                g = text_gen("other");
+            if (item.parent_type == "AXIS") g = choice_gen({"linear", "rotary"}, {3, 1}, 1e9);
+            else if (item.parent_type == "MACHINE") g = choice_gen({"milling", "lathe", "grinder", "planer", "other"}, {}, 1e9);
+            else g = text_gen("other");
         } else if (t == "MANUFACTURER") {
             g = text_gen("nclink-sim");
         } else if (t == "MODEL") {
@@ -329,18 +325,15 @@ Generator make_generator(const ItemTraits& item, std::uint64_t seed, std::size_t
             g.shape = Shape::warning;
             g.period = 60;
             g.p_true = 0.25;
-        } else if (t == "COORDINATE" || t == "TOOL_PARAM" || t == "PART" || t == "TOOL" || t == "PARAMETER" ||
-                   t == "VARIABLE" || t == "SHELF_UNIT") {
+        } else if (t == "COORDINATE" || t == "TOOL_PARAM" || t == "PART" || t == "TOOL" || t == "PARAMETER" || t == "VARIABLE" ||
+                   t == "SHELF_UNIT") {
             // Composite types given without a datatype: a fixed value of the
             // table-12/13/14 shape.
             g.shape = Shape::object;
             Rng rng(mix64(seed ^ hash_text(item.id)));
-            if (t == "COORDINATE")
-                g.fixed = coordinate_object("G54", rng);
-            else if (t == "TOOL_PARAM")
-                g.fixed = tool_param_object(0, rng);
-            else if (t == "PART")
-                g.fixed = part_object(rng);
+            if (t == "COORDINATE") g.fixed = coordinate_object("G54", rng);
+            else if (t == "TOOL_PARAM") g.fixed = tool_param_object(0, rng);
+            else if (t == "PART") g.fixed = part_object(rng);
             else {
                 ItemTraits as_collection = item;
                 as_collection.kind = t == "PARAMETER" ? DataKind::dict : DataKind::list;
@@ -393,8 +386,7 @@ Json generate(const Generator& g, double t, std::int64_t wall_ms) {
             const double phase = std::fmod(t, g.period) / g.period;
             return std::to_string(10 * (1 + static_cast<std::int64_t>(phase * 200)));
         }
-        case Shape::boolean:
-            return lattice(g.stream, static_cast<std::int64_t>(std::floor(t / g.period))) < g.p_true;
+        case Shape::boolean: return lattice(g.stream, static_cast<std::int64_t>(std::floor(t / g.period))) < g.p_true;
         case Shape::choice: {
             if (g.words.empty()) return "";
             const double u = lattice(g.stream, static_cast<std::int64_t>(std::floor(t / g.period)));
@@ -430,10 +422,8 @@ Json make_collection(const ItemTraits& item, std::uint64_t seed, std::size_t siz
     Json out = dict ? Json::object() : Json::array();
     auto put = [&](std::size_t i, const std::string& key, Json v) {
         (void)i;
-        if (dict)
-            out[key] = std::move(v);
-        else
-            out.push_back(std::move(v));
+        if (dict) out[key] = std::move(v);
+        else out.push_back(std::move(v));
     };
     // Scalar element types reuse the single-value generator at spread-out times.
     ItemTraits element = item;
@@ -458,7 +448,8 @@ Json make_collection(const ItemTraits& item, std::uint64_t seed, std::size_t siz
         } else if (t == "SHELF_UNIT") {
             const bool occupied = rng.uniform(0, 1) < 0.6;
             put(i, fmt::format("S{:02}", i + 1),
-                Json{{"id", fmt::format("S{:02}", i + 1)}, {"occupied", occupied},
+                Json{{"id", fmt::format("S{:02}", i + 1)},
+                     {"occupied", occupied},
                      {"part", occupied ? fmt::format("P-{:04}", rng.integer(1, 9999)) : std::string()}});
         } else if (t == "PART") {
             put(i, fmt::format("part_{:02}", i), part_object(rng));

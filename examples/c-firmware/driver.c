@@ -14,7 +14,7 @@
 machine* firmware_machine = NULL;
 
 enum point { P_X, P_Y, P_Z, P_SPINDLE, P_STATUS, P_PARTS, P_FEED, P_HOME, P_COUNT };
-static const char* const points[P_COUNT] = {"x_position", "y_position", "z_position", "spindle_speed",
+static const char* const points[P_COUNT] = {"x_position", "y_position", "z_position",    "spindle_speed",
                                             "status",     "part_count", "feed_override", "home_axes"};
 
 typedef struct instance {
@@ -138,8 +138,18 @@ static int link_state(void* self, const nclink_text_output* reason) {
     return NCLINK_LINK_CONNECTED; /* the machine is this process */
 }
 
-static const nclink_driver_descriptor descriptor = {
-    NCLINK_DRIVER_ABI_VERSION, sizeof(nclink_driver_descriptor), "c-firmware", "1.0.0", 0,
-    create, destroy, read_points, bind_points, write_point, call_method, NULL, link_state};
+static const nclink_driver_descriptor descriptor = {NCLINK_DRIVER_ABI_VERSION,
+                                                    sizeof(nclink_driver_descriptor),
+                                                    "c-firmware",
+                                                    "1.0.0",
+                                                    0,
+                                                    create,
+                                                    destroy,
+                                                    read_points,
+                                                    bind_points,
+                                                    write_point,
+                                                    call_method,
+                                                    NULL,
+                                                    link_state};
 
 const nclink_driver_descriptor* firmware_driver(void) { return &descriptor; }

@@ -17,10 +17,10 @@ typedef struct machine_snapshot {
 } machine_snapshot;
 
 typedef struct machine {
-    pthread_mutex_t lock;     /* guards `published`, `feed_override` and `homing` */
+    pthread_mutex_t lock; /* guards `published`, `feed_override` and `homing` */
     machine_snapshot published;
-    int feed_override;        /* percent, 0..150 */
-    int homing;               /* nonzero while home_axes runs: the servo loop holds the axes */
+    int feed_override; /* percent, 0..150 */
+    int homing;        /* nonzero while home_axes runs: the servo loop holds the axes */
     /* Servo-loop state: only the servo thread touches these. */
     double time_s;
     machine_snapshot now;

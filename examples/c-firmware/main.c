@@ -60,10 +60,8 @@ static void* servo_loop(void* arg) {
         }
         row[3].kind = NCLINK_VALUE_FLOAT64;
         row[3].as.float64 = s->m->now.spindle_speed;
-        if (nclink_channel_push(s->channel, row, 4, 0) == NCLINK_OK)
-            ++s->pushed;
-        else
-            ++s->refused;
+        if (nclink_channel_push(s->channel, row, 4, 0) == NCLINK_OK) ++s->pushed;
+        else ++s->refused;
         next.tv_nsec += SERVO_PERIOD_NS;
         if (next.tv_nsec >= 1000000000L) {
             next.tv_nsec -= 1000000000L;
@@ -137,8 +135,7 @@ int main(int argc, char** argv) {
     options.model_path = model;
     options.driver = firmware_driver();
     options.log = log_line;
-    if (nclink_adapter_create(&options, &adapter, &err) != NCLINK_OK ||
-        nclink_adapter_start(adapter, &err) != NCLINK_OK) {
+    if (nclink_adapter_create(&options, &adapter, &err) != NCLINK_OK || nclink_adapter_start(adapter, &err) != NCLINK_OK) {
         fprintf(stderr, "c-firmware: %d %s: %s\n", err.code, nclink_error_message(err.code), err.message);
         nclink_adapter_destroy(adapter);
         machine_destroy(&m);

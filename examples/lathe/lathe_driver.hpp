@@ -18,11 +18,19 @@ inline std::shared_ptr<nclink::PointDriver> make_lathe_driver(LatheMachine& cnc)
     d->point("spindle_speed", [&cnc] { return cnc.spindle_speed(); });
     d->point("spindle_load", [&cnc] { return cnc.running() ? 42.0 : 0.0; });
     d->point("spindle_mode", [&cnc] { return cnc.running() ? "forward" : "stop"; });
-    d->point("spindle_override", [&cnc] { return cnc.spindle_override(); },
-             [&cnc](const nclink::Json& v) { cnc.set_spindle_override(v.get<int>()); return nclink::ok_result(); })
+    d->point(
+         "spindle_override", [&cnc] { return cnc.spindle_override(); },
+         [&cnc](const nclink::Json& v) {
+             cnc.set_spindle_override(v.get<int>());
+             return nclink::ok_result();
+         })
         .range(50, 120);
-    d->point("feed_override", [&cnc] { return cnc.feed_override(); },
-             [&cnc](const nclink::Json& v) { cnc.set_feed_override(v.get<int>()); return nclink::ok_result(); })
+    d->point(
+         "feed_override", [&cnc] { return cnc.feed_override(); },
+         [&cnc](const nclink::Json& v) {
+             cnc.set_feed_override(v.get<int>());
+             return nclink::ok_result();
+         })
         .range(0, 150);
     d->point("status", [&cnc] { return cnc.running() ? "running" : "free"; });
     d->value("work_mode", "auto", true).one_of({"manual", "auto"});

@@ -63,8 +63,8 @@ struct Options {
     std::uint64_t seed = 1;
     std::size_t machines = 0;
     std::string gateway_file;
-    bool model_given = false, broker_given = false, guid_given = false, strict_given = false,
-         persistence_given = false, plugin_given = false, level_given = false;
+    bool model_given = false, broker_given = false, guid_given = false, strict_given = false, persistence_given = false,
+         plugin_given = false, level_given = false;
     std::string model, broker, guid, plugin, persistence, metrics;
     nclink::LogLevel level = nclink::LogLevel::info;
 };
@@ -201,8 +201,7 @@ int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const ncl
             return nclink::prometheus_metrics(adapters);
         };
         // The HTTP limits of --config's "metrics" section (the machines' own are not read: one endpoint).
-        auto made = nclink::http::MetricsEndpoint::start(o.metrics, scrape, "nclink_adapter", std::nullopt, logger,
-                                                         shared.metrics);
+        auto made = nclink::http::MetricsEndpoint::start(o.metrics, scrape, "nclink_adapter", std::nullopt, logger, shared.metrics);
         if (!made) {
             logger.error("nclink-sim: --metrics {}: {}", o.metrics, made.error().describe());
             gw.stop();
@@ -284,10 +283,9 @@ int main(int argc, char** argv) {
         // The linked simulator simulates the configured model file.
         const auto loaded = nclink::load_model_file(config.model_path);
         if (!loaded.model) {
-            return nclink::program::fail(kProgram,
-                                         config.model_path + " cannot be simulated (run `nclink validate " +
-                                             config.model_path + "`)",
-                                         kExitCannotRun);
+            return nclink::program::fail(
+                kProgram, config.model_path + " cannot be simulated (run `nclink validate " + config.model_path + "`)",
+                kExitCannotRun);
         }
         nclink::SimOptions sim;
         sim.seed = o.seed;
@@ -328,7 +326,7 @@ int main(int argc, char** argv) {
     if (metrics) metrics->stop();
     adapter.stop();
     const auto stats = adapter.stats();
-    logger.info("nclink-sim: answered {} request(s); {} ignored as repeats, {} retained ignored, {} malformed",
-                stats.requests, stats.ignored_duplicates, stats.ignored_retained, stats.rejected);
+    logger.info("nclink-sim: answered {} request(s); {} ignored as repeats, {} retained ignored, {} malformed", stats.requests,
+                stats.ignored_duplicates, stats.ignored_retained, stats.rejected);
     return nclink::program::kExitOk;
 }

@@ -82,12 +82,12 @@ int main(int argc, char** argv) {
     for (int k = 0; k < cycles; ++k) {
         const double t = k * 1e-3;
         nclink::SampleValue row[6] = {
-            nclink::SampleValue::float64(100 * std::sin(t)),       // x_position
-            nclink::SampleValue::float64(100 * std::cos(t)),       // y_position
-            nclink::SampleValue::float64(-5 + 0.1 * t),            // z_position
-            nclink::SampleValue::float64(6000 * std::cos(t)),      // x_speed (mm/min)
-            nclink::SampleValue::float64(-6000 * std::sin(t)),     // y_speed
-            nclink::SampleValue::float64(6),                       // z_speed
+            nclink::SampleValue::float64(100 * std::sin(t)),    // x_position
+            nclink::SampleValue::float64(100 * std::cos(t)),    // y_position
+            nclink::SampleValue::float64(-5 + 0.1 * t),         // z_position
+            nclink::SampleValue::float64(6000 * std::cos(t)),   // x_speed (mm/min)
+            nclink::SampleValue::float64(-6000 * std::sin(t)),  // y_speed
+            nclink::SampleValue::float64(6),                    // z_speed
         };
         if (!channel.push(row, 6)) ++refused;
         next += period;

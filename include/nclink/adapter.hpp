@@ -37,10 +37,10 @@
 namespace nclink {
 
 struct NCLINK_API AdapterStats {
-    std::uint64_t requests = 0;             ///< request DTUs handled
-    std::uint64_t ignored_retained = 0;     ///< requests ignored for their retain flag
-    std::uint64_t ignored_duplicates = 0;   ///< requests ignored as a repeated @id
-    std::uint64_t rejected = 0;             ///< requests answered NG as a whole (malformed)
+    std::uint64_t requests = 0;            ///< request DTUs handled
+    std::uint64_t ignored_retained = 0;    ///< requests ignored for their retain flag
+    std::uint64_t ignored_duplicates = 0;  ///< requests ignored as a repeated @id
+    std::uint64_t rejected = 0;            ///< requests answered NG as a whole (malformed)
     std::uint64_t driver_timeouts = 0;
     /// Driver values refused for breaking chapter 7 (their item's type,
     /// enumeration, keys or range; docs/porting-guide.md), and how many
@@ -54,10 +54,10 @@ struct NCLINK_API AdapterStats {
     /// Driver::link() now: while disconnected, driver items answer 202
     /// "machine disconnected: <reason>" without a driver call.
     MachineLinkStatus machine_link;
-    std::uint64_t shed = 0;                 ///< requests dropped unanswered: max_pending_requests were pending
-    std::uint64_t oversized = 0;            ///< requests answered 404 unread: above max_request_bytes
-    std::size_t pending_requests = 0;       ///< requests waiting or being handled now
-    bool registered = false;                ///< an agent accepted Register/Request
+    std::uint64_t shed = 0;            ///< requests dropped unanswered: max_pending_requests were pending
+    std::uint64_t oversized = 0;       ///< requests answered 404 unread: above max_request_bytes
+    std::size_t pending_requests = 0;  ///< requests waiting or being handled now
+    bool registered = false;           ///< an agent accepted Register/Request
     AdapterState state = AdapterState::initial;
     TransportStats transport;
     /// Counters of the features (sampling, events, methods), one object each,

@@ -24,34 +24,34 @@ namespace nclink {
 struct NCLINK_API AdapterConfig {
     // --- broker (JSON: "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
-    std::string client_id;               ///< "client_id"; default "nclink-adapter-<dev_uuid>"
-    std::string username;                ///< "username"
-    std::string password;                ///< "password"
-    std::optional<MqttTlsOptions> tls;   ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
-    int mqtt_version = 4;                ///< "mqtt_version": 4 (3.1.1), 5, or "auto" (0; MqttOptions::mqtt_version)
-    std::chrono::seconds keep_alive{20}; ///< "keep_alive_s"
-    bool clean_session = true;           ///< "clean_session"
+    std::string client_id;                            ///< "client_id"; default "nclink-adapter-<dev_uuid>"
+    std::string username;                             ///< "username"
+    std::string password;                             ///< "password"
+    std::optional<MqttTlsOptions> tls;                ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
+    int mqtt_version = 4;                             ///< "mqtt_version": 4 (3.1.1), 5, or "auto" (0; MqttOptions::mqtt_version)
+    std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
+    bool clean_session = true;                        ///< "clean_session"
 
     // --- model ---
-    std::string model_path;              ///< "model": path of the probe file (required)
-    std::string device_id;               ///< "device": which device of the model this adapter is ("" = the first)
-    std::string dev_uuid;                ///< "dev_uuid": terminal id override ("" = device guid, else device id)
-    bool strict = false;                 ///< "strict": refuse models with conformance problems too
-    std::string persistence_dir;         ///< "persistence_dir": where Probe/Set models and settable config values are kept ("" = not persisted)
+    std::string model_path;  ///< "model": path of the probe file (required)
+    std::string device_id;   ///< "device": which device of the model this adapter is ("" = the first)
+    std::string dev_uuid;    ///< "dev_uuid": terminal id override ("" = device guid, else device id)
+    bool strict = false;     ///< "strict": refuse models with conformance problems too
+    std::string persistence_dir;  ///< "persistence_dir": where Probe/Set models and settable config values are kept ("" = not persisted)
     /// Check every value the driver returns against its item's chapter-7
     /// rule (docs/porting-guide.md, "Values the SDK checks"). Off only to
     /// measure what the checks cost (bench_sampling_throughput --no-value-checks).
     bool check_values = true;
 
     // --- wire ---
-    bool standard_typo_topics = true;    ///< "standard_typo_topics": also publish Reigster/Unreigster response topics
-    std::size_t offline_buffer_bytes = 8u << 20;  ///< "offline_buffer_bytes": kept while the broker is unreachable
-    std::size_t max_in_flight = 64;      ///< "max_in_flight": unacknowledged messages on the link
+    bool standard_typo_topics = true;               ///< "standard_typo_topics": also publish Reigster/Unreigster response topics
+    std::size_t offline_buffer_bytes = 8u << 20;    ///< "offline_buffer_bytes": kept while the broker is unreachable
+    std::size_t max_in_flight = 64;                 ///< "max_in_flight": unacknowledged messages on the link
     std::chrono::milliseconds dedup_window{10000};  ///< "dedup_window_ms": a repeated @id within it is ignored
-    std::size_t dedup_capacity = 4096;   ///< "dedup_capacity": @ids remembered at most
+    std::size_t dedup_capacity = 4096;              ///< "dedup_capacity": @ids remembered at most
 
     // --- behaviour ---
-    std::size_t request_threads = 2;     ///< "request_threads": workers handling requests
+    std::size_t request_threads = 2;  ///< "request_threads": workers handling requests
     /// "max_pending_requests": requests waiting or being handled at most;
     /// beyond it requests are shed (dropped, counted as "shed") so a flood
     /// neither queues without bound nor starves sampling (docs/security.md).
@@ -59,9 +59,9 @@ struct NCLINK_API AdapterConfig {
     /// "max_request_bytes": a larger request payload is answered 404 unread
     /// (0 = no limit).
     std::size_t max_request_bytes = 1u << 20;
-    std::chrono::milliseconds driver_timeout{1000};   ///< "driver_timeout_ms": deadline of one driver call (then 203)
-    std::chrono::milliseconds register_timeout{3000}; ///< "register_timeout_ms": wait for Register/Response before retrying
-    std::chrono::milliseconds register_retry_max{60000}; ///< "register_retry_max_ms": retry interval cap
+    std::chrono::milliseconds driver_timeout{1000};       ///< "driver_timeout_ms": deadline of one driver call (then 203)
+    std::chrono::milliseconds register_timeout{3000};     ///< "register_timeout_ms": wait for Register/Response before retrying
+    std::chrono::milliseconds register_retry_max{60000};  ///< "register_retry_max_ms": retry interval cap
     /// "application_lease_ms": an application from which no DTU came for this
     /// long is gone (8.2.18.3): its dynamic channels and events are released.
     /// Its Notify/State offline releases them at once. 0 = only on offline.
@@ -78,10 +78,10 @@ struct NCLINK_API AdapterConfig {
     MethodsConfig methods;
 
     // --- driver (JSON: "driver": {"plugin": path, "config": {...}}) ---
-    std::string driver_plugin;           ///< plugin path ("" = the program links its driver)
-    Json driver_config;                  ///< handed to the driver's open()
+    std::string driver_plugin;  ///< plugin path ("" = the program links its driver)
+    Json driver_config;         ///< handed to the driver's open()
 
-    LogLevel log_level = LogLevel::info; ///< "log_level": trace/debug/info/warn/error/off
+    LogLevel log_level = LogLevel::info;  ///< "log_level": trace/debug/info/warn/error/off
     /// "metrics": {"http_workers", "http_header_timeout_ms", ...}: the HTTP
     /// limits of `nclink-sim --metrics` (the Adapter itself serves no HTTP;
     /// docs/metrics.md). A change takes a restart.

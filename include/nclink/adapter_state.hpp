@@ -21,15 +21,15 @@ enum class AdapterState {
 };
 
 enum class AdapterEvent {
-    initialized,       ///< model loaded, driver open, features started (67)
-    request_handled,   ///< a request was processed; its response is at hand (69, 74, 79)
-    response_failed,   ///< the link would not take a response (69: -> request)
-    link_lost,         ///< 70, 75, 80
-    link_restored,     ///< 71, 76, 81
-    sample_due,        ///< a sample channel's upload time came (72, 77, 82)
-    model_changed,     ///< nclink: the model was replaced (Probe/Set 8.2.9 or Adapter::replace_model)
-    retry_due,         ///< nclink: housekeeping tick: try the kept responses again while connected
-    cache_flushed,     ///< nclink: every kept response went out
+    initialized,      ///< model loaded, driver open, features started (67)
+    request_handled,  ///< a request was processed; its response is at hand (69, 74, 79)
+    response_failed,  ///< the link would not take a response (69: -> request)
+    link_lost,        ///< 70, 75, 80
+    link_restored,    ///< 71, 76, 81
+    sample_due,       ///< a sample channel's upload time came (72, 77, 82)
+    model_changed,    ///< nclink: the model was replaced (Probe/Set 8.2.9 or Adapter::replace_model)
+    retry_due,        ///< nclink: housekeeping tick: try the kept responses again while connected
+    cache_flushed,    ///< nclink: every kept response went out
 };
 
 /// What the adapter does on a transition (a bit set).

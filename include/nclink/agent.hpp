@@ -58,7 +58,7 @@ enum AccessRight : unsigned {
 /// application's entry for the adapter, else its "*" entry, else (listed
 /// applications) nothing; applications not listed get `default_rights`.
 struct NCLINK_API AccessPolicy {
-    unsigned default_rights = access_all;                               ///< "default"
+    unsigned default_rights = access_all;                                 ///< "default"
     std::map<std::string, std::map<std::string, unsigned>> applications;  ///< "applications": ex -> (dev | "*") -> rights
 };
 
@@ -69,29 +69,29 @@ struct NCLINK_API TerminalEntry {
 };
 
 struct NCLINK_API RegistrationPolicy {
-    bool open = true;                             ///< "open": false = only listed terminals may register (else 301)
+    bool open = true;                                ///< "open": false = only listed terminals may register (else 301)
     std::map<std::string, TerminalEntry> terminals;  ///< "terminals"
-    std::size_t max_id_length = 128;             ///< "max_id_length": longer ids get 414
-    std::string id_pattern;                      ///< "id_pattern": ECMAScript regex the whole id must match ("" = any)
+    std::size_t max_id_length = 128;                 ///< "max_id_length": longer ids get 414
+    std::string id_pattern;                          ///< "id_pattern": ECMAScript regex the whole id must match ("" = any)
 };
 
 struct NCLINK_API AgentConfig {
     // --- broker (JSON "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
-    std::string client_id;               ///< "client_id"; default "<agent_id>-<random>" (unique per instance)
-    std::string username;                ///< "username"
-    std::string password;                ///< "password"
-    std::optional<MqttTlsOptions> tls;   ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
-    int mqtt_version = 5;                ///< "mqtt_version": 5, or 4 (3.1.1; mosquitto 2 still honours $share)
-    std::chrono::seconds keep_alive{20}; ///< "keep_alive_s"
+    std::string client_id;                            ///< "client_id"; default "<agent_id>-<random>" (unique per instance)
+    std::string username;                             ///< "username"
+    std::string password;                             ///< "password"
+    std::optional<MqttTlsOptions> tls;                ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
+    int mqtt_version = 5;                             ///< "mqtt_version": 5, or 4 (3.1.1; mosquitto 2 still honours $share)
+    std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
 
     // --- identity and instances ---
-    std::string agent_id = "nclink-agent";   ///< "agent_id": the agent's terminal id (ex of its own Probe/Query)
+    std::string agent_id = "nclink-agent";     ///< "agent_id": the agent's terminal id (ex of its own Probe/Query)
     std::string share_group = "nclink-agent";  ///< "share_group": $share group of answering subscriptions ("" = plain)
 
     // --- behaviour ---
-    std::string state_dir;               ///< "state_dir": registrations and cached models ("" = not persisted)
-    std::chrono::milliseconds request_timeout{1500};   ///< "request_timeout_ms": then the agent answers 203
+    std::string state_dir;                            ///< "state_dir": registrations and cached models ("" = not persisted)
+    std::chrono::milliseconds request_timeout{1500};  ///< "request_timeout_ms": then the agent answers 203
     /// "adapter_liveness_ms": an adapter from which no DTU came for this long is
     /// offline (3.22). 0 = trust its retained state and last will only.
     std::chrono::milliseconds adapter_liveness{0};
@@ -101,11 +101,11 @@ struct NCLINK_API AgentConfig {
     bool observe_samples = true;         ///< "observe_samples": count Sample DTUs as signs of life
     std::chrono::milliseconds tick{20};  ///< "tick_ms": housekeeping period (timeouts, liveness)
 
-    RegistrationPolicy registration;     ///< "registration": {...}
-    AccessPolicy access;                 ///< "access": {...}
+    RegistrationPolicy registration;              ///< "registration": {...}
+    AccessPolicy access;                          ///< "access": {...}
     std::string acl_agent_user = "nclink-agent";  ///< "acl": {"agent_user"}: broker user of the agents in the ACL file
 
-    LogLevel log_level = LogLevel::info; ///< "log_level"
+    LogLevel log_level = LogLevel::info;  ///< "log_level"
     /// "metrics": {"http_workers", "http_header_timeout_ms", ...}: the HTTP
     /// limits of `nclink-agent --metrics` (the Agent itself serves no HTTP;
     /// docs/metrics.md). A change takes a restart.
@@ -125,28 +125,30 @@ NCLINK_API std::string mosquitto_acl(const AgentConfig& config);
 
 /// Counters only grow.
 struct NCLINK_API AgentStats {
-    std::uint64_t registrations = 0;         ///< Register/Request accepted
-    std::uint64_t registrations_refused = 0; ///< answered NG (414, 301, malformed)
-    std::uint64_t discoveries = 0;           ///< Discovery/Request answered
-    std::uint64_t versions = 0;              ///< Probe/Version answered
-    std::uint64_t models_fetched = 0;        ///< models stored after a version change
-    std::uint64_t cached_probes = 0;         ///< Probe/Query answered from the cache (adapter offline)
-    std::uint64_t unreachable = 0;           ///< requests answered DEV_UNREACHABLE
-    std::uint64_t timeouts = 0;              ///< requests answered 203
-    std::uint64_t denied = 0;                ///< requests answered 301 (access control)
-    std::uint64_t state_notifications = 0;   ///< Notify/State published by the agent
-    std::uint64_t malformed = 0;             ///< undecodable DTUs (answered NG where there is a topic to answer on)
-    std::uint64_t ignored_retained = 0;      ///< requests ignored for their retain flag
-    std::size_t pending = 0;                 ///< requests waiting for the adapter's answer now
-    std::uint64_t held_responses = 0;        ///< responses for an offline application (its session keeps them; the state-machine text 42, 58)
-    std::string state = "initial";           ///< "initial" before start, then "normal" (the state-machine text item 31; pairs: include/nclink/agent_state.hpp)
+    std::uint64_t registrations = 0;          ///< Register/Request accepted
+    std::uint64_t registrations_refused = 0;  ///< answered NG (414, 301, malformed)
+    std::uint64_t discoveries = 0;            ///< Discovery/Request answered
+    std::uint64_t versions = 0;               ///< Probe/Version answered
+    std::uint64_t models_fetched = 0;         ///< models stored after a version change
+    std::uint64_t cached_probes = 0;          ///< Probe/Query answered from the cache (adapter offline)
+    std::uint64_t unreachable = 0;            ///< requests answered DEV_UNREACHABLE
+    std::uint64_t timeouts = 0;               ///< requests answered 203
+    std::uint64_t denied = 0;                 ///< requests answered 301 (access control)
+    std::uint64_t state_notifications = 0;    ///< Notify/State published by the agent
+    std::uint64_t malformed = 0;              ///< undecodable DTUs (answered NG where there is a topic to answer on)
+    std::uint64_t ignored_retained = 0;       ///< requests ignored for their retain flag
+    std::size_t pending = 0;                  ///< requests waiting for the adapter's answer now
+    std::uint64_t held_responses =
+        0;  ///< responses for an offline application (its session keeps them; the state-machine text 42, 58)
+    std::string state =
+        "initial";  ///< "initial" before start, then "normal" (the state-machine text item 31; pairs: include/nclink/agent_state.hpp)
     TransportStats transport;
 };
 
 /// What the agent knows of one terminal.
 struct NCLINK_API TerminalInfo {
     std::string id;
-    std::string kind;               ///< "adapter", "application" or "" (not known yet)
+    std::string kind;  ///< "adapter", "application" or "" (not known yet)
     bool registered = false;
     std::string status;             ///< "online", "offline" or "unknown"
     std::int64_t last_alive_s = 0;  ///< wall seconds of the last DTU seen from it (0 = never)

@@ -39,10 +39,11 @@ enum AgentAction : unsigned {
     agent_action_check_registrations = 1u << 0,  ///< read the registry (31): Agent::start() does it
     agent_action_forward_request = 1u << 1,      ///< the broker carries it; the agent watches for the answer (203)
     agent_action_forward_response = 1u << 2,     ///< the broker carries it; the agent notes the adapter alive
-    agent_action_hold_request = 1u << 3,         ///< the adapter cannot get it: answered in its place (DEV_UNREACHABLE 8.3.4, or the cached model)
-    agent_action_hold_response = 1u << 4,        ///< the application cannot get it now: its session keeps it (QoS 1)
-    agent_action_forward_sample = 1u << 5,       ///< the broker carries it to the subscribers
-    agent_action_hold_sample = 1u << 6,          ///< the application's session keeps it (QoS 1 samples) until it is back
+    agent_action_hold_request =
+        1u << 3,  ///< the adapter cannot get it: answered in its place (DEV_UNREACHABLE 8.3.4, or the cached model)
+    agent_action_hold_response = 1u << 4,   ///< the application cannot get it now: its session keeps it (QoS 1)
+    agent_action_forward_sample = 1u << 5,  ///< the broker carries it to the subscribers
+    agent_action_hold_sample = 1u << 6,     ///< the application's session keeps it (QoS 1 samples) until it is back
 };
 
 struct NCLINK_API AgentTransition {

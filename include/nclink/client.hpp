@@ -80,7 +80,7 @@ struct NCLINK_API ClientOptions {
 
 struct NCLINK_API RequestOptions {
     std::optional<std::chrono::milliseconds> timeout;  ///< default: ClientOptions::default_timeout
-    std::optional<Json> private_info;                   ///< sent as "privateInfo"
+    std::optional<Json> private_info;                  ///< sent as "privateInfo"
 };
 
 /// What came of Register/Request. Registration is an agent feature: without an
@@ -201,10 +201,8 @@ public:
     Result<std::vector<DeviceListEntry>> discover(RequestOptions options = {});
     Result<Json> probe(const std::string& dev, RequestOptions options = {});
     Result<void> probe_set(const std::string& dev, Json model, RequestOptions options = {});
-    Result<std::vector<QueryResult>> query(const std::string& dev, std::vector<QueryItem> items,
-                                           RequestOptions options = {});
-    Result<std::vector<SetResult>> set(const std::string& dev, std::vector<SetItem> items,
-                                       RequestOptions options = {});
+    Result<std::vector<QueryResult>> query(const std::string& dev, std::vector<QueryItem> items, RequestOptions options = {});
+    Result<std::vector<SetResult>> set(const std::string& dev, std::vector<SetItem> items, RequestOptions options = {});
 
     // ---- subscriptions ----------------------------------------------------------
     /// Sample DTUs of the model channels, `Sample/{dev}/+` (or one channel).
@@ -267,15 +265,14 @@ public:
                            RequestOptions options = {});
     /// Blocking form (not from a callback); on_status still runs on the dispatch thread.
     Result<MethodResult> call_method(const std::string& dev, const std::string& method_id, Json args,
-                                     std::function<void(const MethodStatus&)> on_status = {},
-                                     RequestOptions options = {});
+                                     std::function<void(const MethodStatus&)> on_status = {}, RequestOptions options = {});
     /// Method/Control on the running calls of `method_id` at `dev`: this
     /// application's own calls, else (as an operator) everybody's;
     /// options.private_info = {"call": <the call's @id>} narrows it to one
     /// call. OK completes with success; NG with the Error of its code (401
     /// unknown method, 418 bad action, 202 not running). Thread-safe.
-    void control_method_async(const std::string& dev, const std::string& method_id, MethodAction action,
-                              Completion<void> done, RequestOptions options = {});
+    void control_method_async(const std::string& dev, const std::string& method_id, MethodAction action, Completion<void> done,
+                              RequestOptions options = {});
     Result<void> control_method(const std::string& dev, const std::string& method_id, MethodAction action,
                                 RequestOptions options = {});
     // ==== end of methods ==============================================================
@@ -298,14 +295,13 @@ public:
     /// releases the channel when this application sends it no DTU for its
     /// application lease (the client's keep-alive prevents that while the
     /// client runs), or goes offline. Thread-safe.
-    void register_sampling_async(const std::string& dev, std::vector<std::string> ids,
-                                 std::chrono::milliseconds sample_interval, std::chrono::milliseconds upload_interval,
-                                 SampleHandler handler, Completion<SamplingChannel> done, RequestOptions options = {});
+    void register_sampling_async(const std::string& dev, std::vector<std::string> ids, std::chrono::milliseconds sample_interval,
+                                 std::chrono::milliseconds upload_interval, SampleHandler handler,
+                                 Completion<SamplingChannel> done, RequestOptions options = {});
     /// Blocking form (not from a callback).
     Result<SamplingChannel> register_sampling(const std::string& dev, std::vector<std::string> ids,
-                                              std::chrono::milliseconds sample_interval,
-                                              std::chrono::milliseconds upload_interval, SampleHandler handler,
-                                              RequestOptions options = {});
+                                              std::chrono::milliseconds sample_interval, std::chrono::milliseconds upload_interval,
+                                              SampleHandler handler, RequestOptions options = {});
     /// Unregister/Sample of `channel`; its handler subscription goes too, also
     /// when the adapter refuses (401 unknown channel, 301 not this
     /// application's). Thread-safe.
@@ -325,7 +321,7 @@ public:
         /// Figure-16 filter objects, OR-ed in order, e.g. {"type":"range","from":10,"to":20};
         /// empty = the adapter's default change filter.
         std::vector<Json> filters;
-        std::string trigger = "always";     ///< triggerType: always | normal | once
+        std::string trigger = "always";  ///< triggerType: always | normal | once
     };
     /// Gets the Event DTUs of one registration (8.2.31), on the dispatch thread.
     using EventHandler = std::function<void(const EventData&)>;
@@ -343,8 +339,8 @@ public:
     void register_event_async(const std::string& dev, EventRegistration registration, EventHandler on_event,
                               Completion<std::string> done, RequestOptions options = {});
     /// Blocking form (not from a callback): the event id.
-    Result<std::string> register_event(const std::string& dev, EventRegistration registration,
-                                       EventHandler on_event, RequestOptions options = {});
+    Result<std::string> register_event(const std::string& dev, EventRegistration registration, EventHandler on_event,
+                                       RequestOptions options = {});
     /// Unregister/Event. The callback is dropped at once (no Event reaches it
     /// after this call, whatever the answer); `done` gets OK or the Error of
     /// the NG (401 unknown event, 301 another application's). Thread-safe.

@@ -50,7 +50,7 @@ struct NCLINK_API ClientTransition {
 /// re-sends unacknowledged QoS 1 messages, so their answers may still come).
 /// Pure and thread-safe.
 NCLINK_API ClientTransition client_transition(ClientState state, ClientEvent event, bool queued = false,
-                                   bool outstanding = false) noexcept;
+                                              bool outstanding = false) noexcept;
 
 NCLINK_API std::string_view to_string(ClientState state) noexcept;
 NCLINK_API std::string_view to_string(ClientEvent event) noexcept;

@@ -25,8 +25,7 @@ class NCLINK_API SystemClock final : public Clock {
 public:
     Steady now() const override { return std::chrono::steady_clock::now(); }
     std::int64_t wall_ms() const override {
-        return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-            .count();
+        return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
     }
 };
 

@@ -157,11 +157,11 @@ struct NCLINK_API BindPoint {
     std::string type;                  ///< the model's `type` ("POSITION", "STATUS", "METHOD"...)
     std::string name;
     std::string units;
-    std::string path;                  ///< component path, "/MACHINE/AXIS@X/POSITION" (docs/model.md)
+    std::string path;  ///< component path, "/MACHINE/AXIS@X/POSITION" (docs/model.md)
     bool setable = false;
-    bool config = false;               ///< listed in a `configs` array (a claimed config object)
-    const DataObject* object = nullptr;       ///< the whole data object (null for methods)
-    const Method* method_object = nullptr;    ///< the whole METHOD object (null for data items)
+    bool config = false;                    ///< listed in a `configs` array (a claimed config object)
+    const DataObject* object = nullptr;     ///< the whole data object (null for methods)
+    const Method* method_object = nullptr;  ///< the whole METHOD object (null for data items)
 };
 
 /// One point of a read: the model's data-item id, its data type and the

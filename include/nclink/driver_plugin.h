@@ -57,8 +57,7 @@ extern "C" {
 #define NCLINK_DRIVER_ENTRY_SYMBOL "nclink_driver_entry"
 
 /* True when the struct *s (with its struct_size) includes `field`. */
-#define NCLINK_HAS_FIELD(s, type, field) \
-    ((s) != NULL && (s)->struct_size >= offsetof(type, field) + sizeof(((type*)0)->field))
+#define NCLINK_HAS_FIELD(s, type, field) ((s) != NULL && (s)->struct_size >= offsetof(type, field) + sizeof(((type*)0)->field))
 
 /* flags */
 #define NCLINK_DRIVER_CONCURRENT 1u
@@ -70,8 +69,8 @@ extern "C" {
 #define NCLINK_KIND_METHOD 3
 
 /* Handles (bind): the plugin's own number for a point, or one of these. */
-#define NCLINK_NO_HANDLE UINT64_MAX              /* identify the point by id */
-#define NCLINK_NOT_SERVED (UINT64_MAX - 1u)      /* the host answers 202 itself */
+#define NCLINK_NO_HANDLE UINT64_MAX         /* identify the point by id */
+#define NCLINK_NOT_SERVED (UINT64_MAX - 1u) /* the host answers 202 itself */
 
 /* Log levels for nclink_host.log. */
 #define NCLINK_LOG_TRACE 0
@@ -115,13 +114,13 @@ typedef struct nclink_bind_request {
     uint32_t struct_size;
     size_t count;
     const char* const* ids;
-    const int* kinds;           /* NCLINK_KIND_*, NCLINK_KIND_METHOD for a METHOD */
-    const char* const* types;   /* the model's `type` */
+    const int* kinds;         /* NCLINK_KIND_*, NCLINK_KIND_METHOD for a METHOD */
+    const char* const* types; /* the model's `type` */
     const char* const* names;
     const char* const* units;
-    const char* const* paths;   /* component paths, "/MACHINE/AXIS@X/POSITION" */
-    const int* setable;         /* nonzero when setable */
-    uint64_t* handles;          /* out: each arrives NCLINK_NO_HANDLE */
+    const char* const* paths; /* component paths, "/MACHINE/AXIS@X/POSITION" */
+    const int* setable;       /* nonzero when setable */
+    uint64_t* handles;        /* out: each arrives NCLINK_NO_HANDLE */
 } nclink_bind_request;
 
 /* read(): the points to read. handles[i] is what bind() gave ids[i]
@@ -171,7 +170,7 @@ typedef struct nclink_method_request {
     uint32_t struct_size;
     const char* id;
     uint64_t handle;
-    const char* args_json;      /* checked against the METHOD's args, defaults filled in */
+    const char* args_json; /* checked against the METHOD's args, defaults filled in */
 } nclink_method_request;
 
 /* Given to call_method() while a method runs. */

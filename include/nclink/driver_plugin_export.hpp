@@ -28,9 +28,11 @@ inline void put_text(const nclink_text_output* out, const std::string& text) {
 inline Logger host_logger(const nclink_host* host) {
     if (!host || !host->log) return Logger();
     nclink_host copy = *host;
-    return Logger([copy](LogLevel level, std::string_view message) {
-        copy.log(copy.context, static_cast<int>(level), std::string(message).c_str());
-    }, LogLevel::trace);
+    return Logger(
+        [copy](LogLevel level, std::string_view message) {
+            copy.log(copy.context, static_cast<int>(level), std::string(message).c_str());
+        },
+        LogLevel::trace);
 }
 
 class ControlBridge final : public MethodControl {
@@ -149,11 +151,9 @@ const nclink_driver_descriptor* descriptor(std::uint32_t flags) {
                 std::vector<Result<Json>> results(count, Result<Json>(make_error(ErrorCode::unavailable)));
                 driver->read(points, results);
                 for (size_t i = 0; i < count; ++i) {
-                    if (results[i].ok())
-                        put_value(out, i, results[i].value());
+                    if (results[i].ok()) put_value(out, i, results[i].value());
                     else
-                        out->error(out->context, i, static_cast<int>(results[i].error().code),
-                                   results[i].error().message.c_str());
+                        out->error(out->context, i, static_cast<int>(results[i].error().code), results[i].error().message.c_str());
                 }
             } catch (const std::exception& e) {
                 for (size_t i = 0; i < count; ++i) out->error(out->context, i, NCLINK_E_UNAVAILABLE, e.what());
@@ -205,8 +205,8 @@ const nclink_driver_descriptor* descriptor(std::uint32_t flags) {
             }
         },
         // call_method: run_method() with the bound handle
-        [](void* instance, const nclink_method_request* c, const nclink_method_control* control,
-           const nclink_text_output* result, const nclink_text_output* reason) -> int {
+        [](void* instance, const nclink_method_request* c, const nclink_method_control* control, const nclink_text_output* result,
+           const nclink_text_output* reason) -> int {
             const Json args = Json::parse(c->args_json ? c->args_json : "null", nullptr, false);
             if (args.is_discarded()) {
                 put_text(reason, "args are not valid JSON");
@@ -224,9 +224,7 @@ const nclink_driver_descriptor* descriptor(std::uint32_t flags) {
             }
         },
         // claims
-        [](void* instance, const char* id) -> int {
-            return static_cast<DriverType*>(instance)->claims(id ? id : "") ? 1 : 0;
-        },
+        [](void* instance, const char* id) -> int { return static_cast<DriverType*>(instance)->claims(id ? id : "") ? 1 : 0; },
         // link
         [](void* instance, const nclink_text_output* reason) -> int {
             const MachineLinkStatus link = static_cast<DriverType*>(instance)->link();
@@ -242,7 +240,7 @@ const nclink_driver_descriptor* descriptor(std::uint32_t flags) {
 
 }  // namespace nclink::plugin_export
 
-#define NCLINK_EXPORT_DRIVER(DriverType)                                                            \
+#define NCLINK_EXPORT_DRIVER(DriverType)                                                                          \
     extern "C" __attribute__((visibility("default"))) const nclink_driver_descriptor* nclink_driver_entry(void) { \
-        return ::nclink::plugin_export::descriptor<DriverType>(0u);                                   \
+        return ::nclink::plugin_export::descriptor<DriverType>(0u);                                               \
     }

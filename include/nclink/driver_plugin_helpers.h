@@ -51,7 +51,8 @@ extern "C" {
 #if defined(__GNUC__)
 __attribute__((format(printf, 3, 4)))
 #endif
-static inline void nclink_logf(const nclink_host* host, int level, const char* format, ...) {
+static inline void
+nclink_logf(const nclink_host* host, int level, const char* format, ...) {
     char line[512];
     va_list args;
     if (host == NULL || host->log == NULL) return;
@@ -71,9 +72,9 @@ static inline void nclink_put_text(const nclink_text_output* out, const char* te
 typedef struct nclink_json_writer {
     char* data;
     size_t capacity;
-    size_t length;   /* characters written, without the terminating NUL */
-    int depth;       /* open arrays/objects */
-    int overflow;    /* nonzero once something did not fit */
+    size_t length; /* characters written, without the terminating NUL */
+    int depth;     /* open arrays/objects */
+    int overflow;  /* nonzero once something did not fit */
 } nclink_json_writer;
 
 static inline void nclink_json_init(nclink_json_writer* w, char* buffer, size_t capacity) {
@@ -198,10 +199,8 @@ static inline void nclink_json_double(nclink_json_writer* w, double value) {
 }
 static inline void nclink_json_bool(nclink_json_writer* w, int value) {
     nclink_json_separate(w);
-    if (value)
-        nclink_json_raw(w, "true", 4);
-    else
-        nclink_json_raw(w, "false", 5);
+    if (value) nclink_json_raw(w, "true", 4);
+    else nclink_json_raw(w, "false", 5);
 }
 static inline void nclink_json_null(nclink_json_writer* w) {
     nclink_json_separate(w);
@@ -234,7 +233,10 @@ static inline const char* nclink_json_skip_value(const char* p) {
                 ++p;
                 break;
             case '[':
-            case '{': ++depth; ++p; break;
+            case '{':
+                ++depth;
+                ++p;
+                break;
             case ']':
             case '}':
                 if (depth == 0) return NULL;
@@ -248,8 +250,8 @@ static inline const char* nclink_json_skip_value(const char* p) {
                 break;
             default: {
                 const char* start = p;
-                while (*p != '\0' && *p != ',' && *p != ']' && *p != '}' && *p != ':' && *p != ' ' && *p != '\t' &&
-                       *p != '\n' && *p != '\r' && *p != '"' && *p != '[' && *p != '{')
+                while (*p != '\0' && *p != ',' && *p != ']' && *p != '}' && *p != ':' && *p != ' ' && *p != '\t' && *p != '\n' &&
+                       *p != '\r' && *p != '"' && *p != '[' && *p != '{')
                     ++p;
                 if (p == start) return NULL;
             }

@@ -16,6 +16,6 @@ namespace nclink {
 /// create) with ErrorCode::unavailable / value_type / parameter_missing.
 /// Thread-safe (dlopen is).
 NCLINK_API Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, const Json& config = nullptr,
-                                                   Logger logger = {});
+                                                              Logger logger = {});
 
 }  // namespace nclink

@@ -50,8 +50,8 @@ struct NCLINK_API DiscoveryRequest {
 /// Table 25.
 struct NCLINK_API DeviceListEntry {
     std::string guid;
-    std::string status;                  ///< "online" | "offline" | "unknown"
-    std::string last_alive_time_stamp;   ///< seconds, as a string
+    std::string status;                 ///< "online" | "offline" | "unknown"
+    std::string last_alive_time_stamp;  ///< seconds, as a string
     std::optional<Json> private_info;
 };
 struct NCLINK_API DiscoveryResponse {
@@ -159,7 +159,7 @@ struct NCLINK_API SetResult {
 struct NCLINK_API SetResponse {
     MessageId msg_id;
     std::string guid;
-    std::vector<SetResult> results;  ///< decode also takes "values" (8.2.14 example 3 says so)
+    std::vector<SetResult> results;        ///< decode also takes "values" (8.2.14 example 3 says so)
     std::optional<ResponseStatus> status;  ///< whole-request refusal, as for QueryResponse
     std::optional<Json> private_info;
 };
@@ -169,9 +169,9 @@ struct NCLINK_API SetResponse {
 struct NCLINK_API SampleDtu {
     MessageId msg_id;
     std::string guid;
-    std::string id;                 ///< channel id
-    std::int64_t begin_time = 0;    ///< ms since epoch; sent as a string, decode takes a string or number
-    std::vector<Json> data;         ///< one array per point, values in time order
+    std::string id;               ///< channel id
+    std::int64_t begin_time = 0;  ///< ms since epoch; sent as a string, decode takes a string or number
+    std::vector<Json> data;       ///< one array per point, values in time order
     std::optional<Json> private_info;
 };
 
@@ -185,8 +185,8 @@ struct NCLINK_API NotifyState {
 struct NCLINK_API SampleRegisterRequest {
     MessageId msg_id;
     std::string guid;
-    double sample_interval = 0;  ///< ms, required
-    double upload_interval = 0;  ///< ms, required
+    double sample_interval = 0;    ///< ms, required
+    double upload_interval = 0;    ///< ms, required
     std::vector<std::string> ids;  ///< required; wire form [{"id": ...}]
     std::optional<Json> private_info;
 };
@@ -254,11 +254,11 @@ struct NCLINK_API MethodControlResponse {
 struct NCLINK_API EventRegisterRequest {
     MessageId msg_id;
     std::string guid;
-    std::string id;  ///< data item id, required
-    std::optional<std::string> key;     ///< dict element
-    std::optional<std::int64_t> index;  ///< list element; decode takes a number or numeric string
+    std::string id;                            ///< data item id, required
+    std::optional<std::string> key;            ///< dict element
+    std::optional<std::int64_t> index;         ///< list element; decode takes a number or numeric string
     std::optional<std::vector<Json>> filters;  ///< each a filter object (type, from, to, value, values, variance)
-    std::string trigger_type;  ///< always | normal | once, required (checked by the events module: 420)
+    std::string trigger_type;                  ///< always | normal | once, required (checked by the events module: 420)
     std::optional<Json> private_info;
 };
 struct NCLINK_API EventRegisterResponse {
@@ -291,15 +291,15 @@ struct NCLINK_API EventBody {
 struct NCLINK_API EventData {
     MessageId msg_id;
     std::string guid;
-    std::string id;          ///< event id
-    std::int64_t time = 0;   ///< ms since epoch, a number
+    std::string id;         ///< event id
+    std::int64_t time = 0;  ///< ms since epoch, a number
     EventBody event;
     std::optional<Json> private_info;
 };
 
 // ---- 8.3.4 / 8.3.5 (tables 53, 54) -------------------------------------------
 struct NCLINK_API DevUnreachable {
-    MessageId msg_id;     ///< of the application's latest request
+    MessageId msg_id;  ///< of the application's latest request
     std::string dev_uuid;
     std::string cli_uuid;
     ResponseStatus status = ResponseStatus::failure(std::string(dev_unreachable_reason), 301);
@@ -307,16 +307,16 @@ struct NCLINK_API DevUnreachable {
 };
 
 // ---- codec declarations --------------------------------------------------------
-#define NCLINK_DTU_CODEC(Type, name)                                                  \
-    template <>                                                                      \
-    NCLINK_API Result<Type> decode<Type>(std::string_view payload);                  \
-    template <>                                                                      \
-    NCLINK_API Result<Type> decode<Type>(const Json& dtu);                           \
-    inline Result<Type> decode_##name(std::string_view payload) { return decode<Type>(payload); } \
-    inline Result<Type> decode_##name(const Json& dtu) { return decode<Type>(dtu); } \
-    inline Result<Type> decode_##name(const char* payload) { return decode<Type>(std::string_view(payload)); } \
+#define NCLINK_DTU_CODEC(Type, name)                                                                                  \
+    template <>                                                                                                       \
+    NCLINK_API Result<Type> decode<Type>(std::string_view payload);                                                   \
+    template <>                                                                                                       \
+    NCLINK_API Result<Type> decode<Type>(const Json& dtu);                                                            \
+    inline Result<Type> decode_##name(std::string_view payload) { return decode<Type>(payload); }                     \
+    inline Result<Type> decode_##name(const Json& dtu) { return decode<Type>(dtu); }                                  \
+    inline Result<Type> decode_##name(const char* payload) { return decode<Type>(std::string_view(payload)); }        \
     inline Result<Type> decode_##name(const std::string& payload) { return decode<Type>(std::string_view(payload)); } \
-    NCLINK_API Json to_json(const Type& dtu);                                        \
+    NCLINK_API Json to_json(const Type& dtu);                                                                         \
     inline void to_json(Json& out, const Type& dtu) { out = to_json(dtu); }
 
 NCLINK_DTU_CODEC(RegisterRequest, register_request)
@@ -382,6 +382,6 @@ Response make_reply(const Request& request, std::string dev) {
 /// (cli_uuid = dev). std::nullopt for kinds that are not answered (responses,
 /// samples, events, Probe/Version, Notify/State).
 NCLINK_API std::optional<Json> make_error_reply(TopicKind request_kind, const MessageId& msg_id, std::string_view dev,
-                                     const Error& error);
+                                                const Error& error);
 
 }  // namespace nclink

@@ -84,8 +84,6 @@ inline Error make_error(ErrorCode code, std::string message = {}) {
 /// to the user. `code` < 0 goes on the wire unchanged with `reason` as its
 /// `reason`; any other code table 19 does not define is answered 202
 /// Unavailable, its number kept in the text (docs/wire.md, "Vendor errors").
-inline Error vendor_error(int code, std::string reason) {
-    return make_error(static_cast<ErrorCode>(code), std::move(reason));
-}
+inline Error vendor_error(int code, std::string reason) { return make_error(static_cast<ErrorCode>(code), std::move(reason)); }
 
 }  // namespace nclink

@@ -15,8 +15,8 @@ namespace nclink {
 
 /// Sample channels (6.2.6, 8.2.15). JSON: "sampling": {...}. Keys: src/sampling/sampling_config.cpp.
 struct NCLINK_API SamplingConfig {
-    bool enabled = true;                       ///< "enabled": run the model's sample channels
-    std::size_t max_dynamic_channels = 16;     ///< "max_dynamic_channels": more answers 415
+    bool enabled = true;                    ///< "enabled": run the model's sample channels
+    std::size_t max_dynamic_channels = 16;  ///< "max_dynamic_channels": more answers 415
     /// "push_channels": model channels whose rows the firmware pushes
     /// (Adapter::push_channel) instead of the SDK reading the driver.
     std::vector<std::string> push_channels;
@@ -33,13 +33,13 @@ struct NCLINK_API SamplingConfig {
     std::string full_policy = "drop_oldest";
     /// "ring_periods": ring capacity in upload periods (rounded up to a power of two rows).
     double ring_periods = 4;
-    std::size_t ring_max_rows = 65536;        ///< "ring_max_rows": cap of one ring
+    std::size_t ring_max_rows = 65536;  ///< "ring_max_rows": cap of one ring
     /// "direct_reads": read the driver on the sampling thread (serialized with
     /// the driver's workers) instead of handing each read to a worker.
     bool direct_reads = true;
-    int rt_priority = 0;                      ///< "rt_priority": SCHED_FIFO priority of the sampling thread (0 = normal scheduling)
-    long timer_slack_ns = 0;                  ///< "timer_slack_ns": PR_SET_TIMERSLACK of the sampling thread (0 = leave default)
-    int cpu = -1;                             ///< "cpu": pin the sampling thread to this CPU (-1 = no pinning)
+    int rt_priority = 0;      ///< "rt_priority": SCHED_FIFO priority of the sampling thread (0 = normal scheduling)
+    long timer_slack_ns = 0;  ///< "timer_slack_ns": PR_SET_TIMERSLACK of the sampling thread (0 = leave default)
+    int cpu = -1;             ///< "cpu": pin the sampling thread to this CPU (-1 = no pinning)
     /// "slice_us": under normal scheduling, the sampling thread asks the
     /// kernel for this time slice (Linux >= 6.12, EEVDF's per-task slice; no
     /// privilege needed). A thread with a shorter slice than the one running
@@ -50,7 +50,7 @@ struct NCLINK_API SamplingConfig {
     /// "overrun_log_interval_ms": missed ticks are logged at most once per
     /// this interval (over all channels; the line sums up the bursts between).
     std::chrono::milliseconds overrun_log_interval{10000};
-    std::size_t text_budget_bytes = 1u << 20; ///< "text_budget_bytes": distinct text values kept per channel
+    std::size_t text_budget_bytes = 1u << 20;  ///< "text_budget_bytes": distinct text values kept per channel
     /// "max_dtu_bytes": an upload period whose DTU would be larger is sent as
     /// several consecutive DTUs of about this size (0 = no limit). paho
     /// stalls on payloads beyond the socket buffer (docs/sampling.md).
@@ -71,7 +71,7 @@ struct NCLINK_API SamplingConfig {
 
 /// Events (8.2.27-8.2.31). JSON: "events": {...}. Keys: src/events/events_config.cpp.
 struct NCLINK_API EventsConfig {
-    std::size_t max_events = 64;                   ///< "max_events": registrations of all applications; more answers 416 (0 = none)
+    std::size_t max_events = 64;  ///< "max_events": registrations of all applications; more answers 416 (0 = none)
     /// "poll_interval_ms": how often watched items that no running sample
     /// channel reads are read (one driver call for all); 0 = never (values
     /// then come only from the sample stream and Adapter::notify_value).

@@ -133,8 +133,7 @@ public:
     Result<void> add_machine(MachineConfig machine);
     /// Stops one machine: its offline state goes out and its connection
     /// closes; the others are untouched. 401 for an unknown id. Thread-safe.
-    Result<void> remove_machine(const std::string& id,
-                                std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
+    Result<void> remove_machine(const std::string& id, std::chrono::milliseconds flush_timeout = std::chrono::milliseconds(2000));
 
     /// Serves `next` (a re-read gateway file): machines no longer listed are
     /// removed, new ones added, a changed machine is reloaded when only its

@@ -37,12 +37,8 @@ public:
     Logger(LogSink sink, LogLevel min_level = LogLevel::info)
         : sink_(std::make_shared<LogSink>(std::move(sink))), min_level_(std::make_shared<std::atomic<LogLevel>>(min_level)) {}
 
-    bool enabled(LogLevel level) const noexcept {
-        return sink_ && *sink_ && level >= min_level() && level != LogLevel::off;
-    }
-    LogLevel min_level() const noexcept {
-        return min_level_ ? min_level_->load(std::memory_order_relaxed) : LogLevel::info;
-    }
+    bool enabled(LogLevel level) const noexcept { return sink_ && *sink_ && level >= min_level() && level != LogLevel::off; }
+    LogLevel min_level() const noexcept { return min_level_ ? min_level_->load(std::memory_order_relaxed) : LogLevel::info; }
     /// Changes the level of this logger and of every copy of it (a program
     /// reloading its configuration on SIGHUP changes what every component
     /// logs). Thread-safe; no effect on a logger that drops everything.
@@ -56,15 +52,25 @@ public:
         write(level, fmt::vformat(format, fmt::make_format_args(args...)));
     }
     template <class... Args>
-    void trace(fmt::format_string<Args...> f, Args&&... a) const { log(LogLevel::trace, f, std::forward<Args>(a)...); }
+    void trace(fmt::format_string<Args...> f, Args&&... a) const {
+        log(LogLevel::trace, f, std::forward<Args>(a)...);
+    }
     template <class... Args>
-    void debug(fmt::format_string<Args...> f, Args&&... a) const { log(LogLevel::debug, f, std::forward<Args>(a)...); }
+    void debug(fmt::format_string<Args...> f, Args&&... a) const {
+        log(LogLevel::debug, f, std::forward<Args>(a)...);
+    }
     template <class... Args>
-    void info(fmt::format_string<Args...> f, Args&&... a) const { log(LogLevel::info, f, std::forward<Args>(a)...); }
+    void info(fmt::format_string<Args...> f, Args&&... a) const {
+        log(LogLevel::info, f, std::forward<Args>(a)...);
+    }
     template <class... Args>
-    void warn(fmt::format_string<Args...> f, Args&&... a) const { log(LogLevel::warn, f, std::forward<Args>(a)...); }
+    void warn(fmt::format_string<Args...> f, Args&&... a) const {
+        log(LogLevel::warn, f, std::forward<Args>(a)...);
+    }
     template <class... Args>
-    void error(fmt::format_string<Args...> f, Args&&... a) const { log(LogLevel::error, f, std::forward<Args>(a)...); }
+    void error(fmt::format_string<Args...> f, Args&&... a) const {
+        log(LogLevel::error, f, std::forward<Args>(a)...);
+    }
 
     void write(LogLevel level, std::string_view message) const {
         if (enabled(level)) (*sink_)(level, message);

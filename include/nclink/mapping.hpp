@@ -128,11 +128,11 @@ enum class MtTarget {
 
 /// How mtconnect_observations turns a JSON value into element text.
 enum class MtValueForm {
-    number,     ///< float pattern, after value * scale + offset (unit conversion)
-    integer,    ///< [+-]?digits (PartCount, LineNumber)
-    enumerated, ///< through MtDataItem::values (booleans as "true"/"false")
-    text,       ///< any text; objects and arrays as compact JSON
-    condition,  ///< Normal/Fault/Unavailable per alarm
+    number,      ///< float pattern, after value * scale + offset (unit conversion)
+    integer,     ///< [+-]?digits (PartCount, LineNumber)
+    enumerated,  ///< through MtDataItem::values (booleans as "true"/"false")
+    text,        ///< any text; objects and arrays as compact JSON
+    condition,   ///< Normal/Fault/Unavailable per alarm
 };
 
 /// One NC-Link data object (data item or config item) as seen by MTConnect.
@@ -142,13 +142,13 @@ struct NCLINK_API MtDataItem {
     std::string item_id;      ///< NC-Link id
     std::string nclink_type;  ///< chapter-7 spelling ("CATAGORY" for a written "TYPE")
     MtTarget target = MtTarget::data_item;
-    std::string id;           ///< DataItem id (mtconnect_id(item_id))
-    std::string name;         ///< DataItem name (NMTOKEN form of the NC-Link name), may be empty
+    std::string id;    ///< DataItem id (mtconnect_id(item_id))
+    std::string name;  ///< DataItem name (NMTOKEN form of the NC-Link name), may be empty
     MtCategory category = MtCategory::event;
-    std::string type;         ///< "POSITION"
-    std::string sub_type;     ///< "ACTUAL", "x:TOOL", or empty
-    std::string units;        ///< MTConnect units (SAMPLE only), may be empty
-    std::string native_units; ///< when the NC-Link unit differs from `units`
+    std::string type;                   ///< "POSITION"
+    std::string sub_type;               ///< "ACTUAL", "x:TOOL", or empty
+    std::string units;                  ///< MTConnect units (SAMPLE only), may be empty
+    std::string native_units;           ///< when the NC-Link unit differs from `units`
     std::optional<double> sample_rate;  ///< samples per second (A.4 h), when in a channel
     /// Observation element in a Streams document ("Position", "Execution",
     /// "RotaryVelocity", "Message"); empty for conditions, whose element is
@@ -161,7 +161,7 @@ struct NCLINK_API MtDataItem {
     std::string device_uuid;
     std::string attribute;  ///< description_attribute: "manufacturer", "model" or "serialNumber"
     MtValueForm value_form = MtValueForm::text;
-    double scale = 1;   ///< number: MTConnect value = NC-Link value * scale + offset
+    double scale = 1;  ///< number: MTConnect value = NC-Link value * scale + offset
     double offset = 0;
     /// enumerated: NC-Link value text -> MTConnect value ("running" -> "ACTIVE").
     std::vector<std::pair<std::string, std::string>> values;
@@ -235,30 +235,30 @@ NCLINK_API std::string xml_escape(std::string_view text);
 
 /// How the OPC UA server stores an NC-Link value in the variable.
 enum class UaEncoding {
-    scalar,     ///< the JSON number/string/boolean as DataType
-    json,       ///< String holding compact JSON (lists, dicts, objects, files)
-    enum_index, ///< MultiStateDiscreteType: UInt32 index into enum_strings
-    two_state,  ///< TwoStateDiscreteType: Boolean; for text items true = true_value
+    scalar,      ///< the JSON number/string/boolean as DataType
+    json,        ///< String holding compact JSON (lists, dicts, objects, files)
+    enum_index,  ///< MultiStateDiscreteType: UInt32 index into enum_strings
+    two_state,   ///< TwoStateDiscreteType: Boolean; for text items true = true_value
 };
 
 /// "scalar", "json", "enum_index", "two_state".
 NCLINK_API std::string_view to_string(UaEncoding encoding) noexcept;
 
 struct NCLINK_API UaVariable {
-    std::string item_id;          ///< NC-Link id
-    std::string nclink_type;      ///< chapter-7 spelling
-    std::string node_id;          ///< "ns=1;s=x_position" (index within the document)
-    std::string namespace_uri;    ///< urn:nclink:device:<dev_uuid>
-    std::string browse_name;      ///< without namespace prefix
-    std::string data_type;        ///< "Double", "Int32", "UInt32", "Boolean", "String", "BaseDataType"
-    std::string type_definition;  ///< "AnalogItemType", "TwoStateDiscreteType", ...
-    int access_level = 1;         ///< 1 CurrentRead, 3 CurrentRead|CurrentWrite (setable)
+    std::string item_id;                   ///< NC-Link id
+    std::string nclink_type;               ///< chapter-7 spelling
+    std::string node_id;                   ///< "ns=1;s=x_position" (index within the document)
+    std::string namespace_uri;             ///< urn:nclink:device:<dev_uuid>
+    std::string browse_name;               ///< without namespace prefix
+    std::string data_type;                 ///< "Double", "Int32", "UInt32", "Boolean", "String", "BaseDataType"
+    std::string type_definition;           ///< "AnalogItemType", "TwoStateDiscreteType", ...
+    int access_level = 1;                  ///< 1 CurrentRead, 3 CurrentRead|CurrentWrite (setable)
     double minimum_sampling_interval = 0;  ///< ms, the channel's sampleInterval
     UaEncoding encoding = UaEncoding::scalar;
     std::vector<std::string> enum_strings;  ///< enum_index: index -> NC-Link value
-    std::string true_value;   ///< two_state text items: the NC-Link value meaning true
+    std::string true_value;                 ///< two_state text items: the NC-Link value meaning true
     std::string false_value;
-    bool fallback = false;    ///< BaseDataVariableType fallback (unknown type)
+    bool fallback = false;  ///< BaseDataVariableType fallback (unknown type)
     /// cnc profile: the OPC 40502 slot this item fills ("CncAxisType/PosDirect/ActPos"),
     /// empty when none (its browse_name is then the slot's).
     std::string cnc_slot;

@@ -92,8 +92,8 @@ struct NCLINK_API Root {
     std::string name;
     std::string type;  ///< "NC_LINK_ROOT" (also when the file omits it)
     std::string description;
-    std::string version;  ///< normalized: "1.0.0" when missing, "1.2" -> "1.2.0"
-    Children children;    ///< children.components holds the device ids
+    std::string version;          ///< normalized: "1.0.0" when missing, "1.2" -> "1.2.0"
+    Children children;            ///< children.components holds the device ids
     Json extra = Json::object();  ///< attributes chapter 6 does not define, kept verbatim
 };
 

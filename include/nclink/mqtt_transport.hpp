@@ -18,9 +18,9 @@
 namespace nclink {
 
 struct NCLINK_API MqttTlsOptions {
-    std::string ca_file;        ///< PEM trust store; empty = system default
-    std::string cert_file;      ///< client certificate (PEM), for mutual TLS
-    std::string key_file;       ///< client private key (PEM)
+    std::string ca_file;    ///< PEM trust store; empty = system default
+    std::string cert_file;  ///< client certificate (PEM), for mutual TLS
+    std::string key_file;   ///< client private key (PEM)
     std::string key_password;
     bool verify_server = true;  ///< check the broker's certificate and host name
 };
@@ -29,10 +29,10 @@ struct NCLINK_API MqttOptions {
     /// tcp://host:port, ssl://host:port (TLS); ws:// and wss:// with the
     /// paho transport of libnclink-plant only (make_paho_transport()).
     std::string broker_url = "tcp://127.0.0.1:1883";
-    std::string client_id;                 ///< required; unique on the broker
-    std::string username;                  ///< empty = anonymous
+    std::string client_id;  ///< required; unique on the broker
+    std::string username;   ///< empty = anonymous
     std::string password;
-    std::optional<MqttTlsOptions> tls;     ///< used for ssl:// and wss:// URLs
+    std::optional<MqttTlsOptions> tls;  ///< used for ssl:// and wss:// URLs
     /// 4 = MQTT 3.1.1, 5 = MQTT 5, 0 = auto: MQTT 5, and 3.1.1 when the
     /// broker refuses a 5 CONNECT (closes the connection or answers
     /// "unsupported protocol version"; RabbitMQ 3.10, docs/scaling.md); the
@@ -42,8 +42,8 @@ struct NCLINK_API MqttOptions {
     bool clean_session = true;
     std::chrono::seconds keep_alive{20};
     std::chrono::milliseconds connect_timeout{5000};
-    std::chrono::milliseconds reconnect_min{250};   ///< first retry delay, doubled per failure
-    std::chrono::milliseconds reconnect_max{10000}; ///< retry delay cap
+    std::chrono::milliseconds reconnect_min{250};    ///< first retry delay, doubled per failure
+    std::chrono::milliseconds reconnect_max{10000};  ///< retry delay cap
     std::optional<Message> last_will;
     OutboxLimits outbox;
     /// Without TCP_NODELAY a QoS 1 round trip through mosquitto takes ~88 ms

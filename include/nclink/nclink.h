@@ -81,7 +81,10 @@ typedef struct nclink_error {
     char message[512]; /* UTF-8, NUL-terminated, cut at 511 bytes; "" on success */
 } nclink_error;
 
-#define NCLINK_ERROR_INIT {sizeof(nclink_error), 0, {0}}
+#define NCLINK_ERROR_INIT              \
+    {                                  \
+        sizeof(nclink_error), 0, { 0 } \
+    }
 
 /* The text of a code: the table-19 reason ("Node not exists"), "OK" for 0,
  * "vendor error" below 0, "unknown error" otherwise. Static storage. */
@@ -97,9 +100,9 @@ typedef struct nclink_channel nclink_channel; /* opaque: a push-mode sample chan
  * config_json relative to the working directory. */
 typedef struct nclink_adapter_options {
     uint32_t struct_size;
-    const char* config_json;  /* the configuration as JSON text, or NULL */
-    const char* config_path;  /* or the path of a configuration file, or NULL */
-    const char* model_path;   /* the model (probe) file; NULL = the configuration's "model" */
+    const char* config_json; /* the configuration as JSON text, or NULL */
+    const char* config_path; /* or the path of a configuration file, or NULL */
+    const char* model_path;  /* the model (probe) file; NULL = the configuration's "model" */
     /* Required: the driver (driver_plugin.h, abi_version 2). Copied; the
      * functions it points to must stay loaded until nclink_adapter_destroy()
      * returns. create() is called by nclink_adapter_create() with the
@@ -112,13 +115,13 @@ typedef struct nclink_adapter_options {
     void* log_context;
 } nclink_adapter_options;
 
-#define NCLINK_ADAPTER_OPTIONS_INIT {sizeof(nclink_adapter_options), NULL, NULL, NULL, NULL, NULL, NULL}
+#define NCLINK_ADAPTER_OPTIONS_INIT \
+    { sizeof(nclink_adapter_options), NULL, NULL, NULL, NULL, NULL, NULL }
 
 /* Reads the configuration, creates the driver (its create()) and the adapter.
  * Nothing connects yet. On success *adapter is the new adapter; on failure it
  * is NULL and nothing needs freeing. */
-NCLINK_C_API int nclink_adapter_create(const nclink_adapter_options* options, nclink_adapter** adapter,
-                                       nclink_error* error);
+NCLINK_C_API int nclink_adapter_create(const nclink_adapter_options* options, nclink_adapter** adapter, nclink_error* error);
 
 /* Loads and validates the model (412 with every problem listed when it does
  * not validate), binds the driver, connects and starts serving. Returns once
@@ -191,8 +194,7 @@ NCLINK_C_API size_t nclink_channel_points(const nclink_channel* channel);
  * adapter stopped, a full ring under "full_policy": "block"), 102 for NULL.
  * Text and json values are borrowed until the row is published: point them
  * at storage that lives as long as the channel (string literals). */
-NCLINK_C_API int nclink_channel_push(nclink_channel* channel, const nclink_value* values, size_t count,
-                                     int64_t time_ns);
+NCLINK_C_API int nclink_channel_push(nclink_channel* channel, const nclink_value* values, size_t count, int64_t time_ns);
 
 /* Frees the handle (not the channel). NULL is ignored. */
 NCLINK_C_API void nclink_channel_release(nclink_channel* channel);

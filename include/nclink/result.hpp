@@ -24,17 +24,32 @@ public:
     bool ok() const noexcept { return storage_.index() == 0; }
     explicit operator bool() const noexcept { return ok(); }
 
-    T& value() & { assert(ok()); return std::get<0>(storage_); }
-    const T& value() const& { assert(ok()); return std::get<0>(storage_); }
-    T&& value() && { assert(ok()); return std::get<0>(std::move(storage_)); }
+    T& value() & {
+        assert(ok());
+        return std::get<0>(storage_);
+    }
+    const T& value() const& {
+        assert(ok());
+        return std::get<0>(storage_);
+    }
+    T&& value() && {
+        assert(ok());
+        return std::get<0>(std::move(storage_));
+    }
 
     T* operator->() { return &value(); }
     const T* operator->() const { return &value(); }
     T& operator*() & { return value(); }
     const T& operator*() const& { return value(); }
 
-    const Error& error() const& { assert(!ok()); return std::get<1>(storage_); }
-    Error&& error() && { assert(!ok()); return std::get<1>(std::move(storage_)); }
+    const Error& error() const& {
+        assert(!ok());
+        return std::get<1>(storage_);
+    }
+    Error&& error() && {
+        assert(!ok());
+        return std::get<1>(std::move(storage_));
+    }
 
     template <class U>
     T value_or(U&& fallback) const& {
@@ -53,8 +68,14 @@ public:
 
     bool ok() const noexcept { return !error_.has_value(); }
     explicit operator bool() const noexcept { return ok(); }
-    const Error& error() const& { assert(!ok()); return *error_; }
-    Error&& error() && { assert(!ok()); return std::move(*error_); }
+    const Error& error() const& {
+        assert(!ok());
+        return *error_;
+    }
+    Error&& error() && {
+        assert(!ok());
+        return std::move(*error_);
+    }
 
 private:
     std::optional<Error> error_;

@@ -27,9 +27,9 @@ namespace nclink {
 
 /// The scalar keys of a Sample DTU. Views are only read during encode().
 struct NCLINK_API SampleDtuHeader {
-    std::string_view guid;        ///< device GUID (dev)
-    std::string_view channel_id;  ///< sample channel id ("id")
-    std::int64_t begin_time_ms = 0;  ///< time of the first row, ms since epoch (sent as a string)
+    std::string_view guid;               ///< device GUID (dev)
+    std::string_view channel_id;         ///< sample channel id ("id")
+    std::int64_t begin_time_ms = 0;      ///< time of the first row, ms since epoch (sent as a string)
     const Json* msg_id = nullptr;        ///< optional "@id" (rare: dumped by nlohmann)
     const Json* private_info = nullptr;  ///< optional "privateInfo" (rare: dumped by nlohmann)
 };

@@ -20,7 +20,7 @@ namespace nclink {
 class NCLINK_API SampleValue {
 public:
     enum class Kind : std::uint8_t {
-        null,     ///< a missed read: encoded as `null` in its slot
+        null,  ///< a missed read: encoded as `null` in its slot
         boolean,
         int64,
         uint64,   ///< for counters beyond INT64_MAX

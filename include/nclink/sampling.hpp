@@ -39,20 +39,20 @@ inline constexpr std::array<std::uint32_t, 11> kLatenessBoundsUs = {10, 20, 50, 
 struct NCLINK_API ChannelStats {
     std::string id;
     std::string topic;
-    std::string owner_ex;               ///< "" for model channels
-    bool push = false;                  ///< rows come from PushChannel::push()
+    std::string owner_ex;  ///< "" for model channels
+    bool push = false;     ///< rows come from PushChannel::push()
     double sample_interval_ms = 0;
     double upload_interval_ms = 0;
-    std::size_t points = 0;             ///< columns per row
-    std::size_t ring_capacity = 0;      ///< rows the ring holds
-    std::uint64_t rows_sampled = 0;     ///< rows written into the ring (incl. rows of missed ticks)
-    std::uint64_t rows_published = 0;   ///< rows handed to the transport in Sample DTUs
+    std::size_t points = 0;            ///< columns per row
+    std::size_t ring_capacity = 0;     ///< rows the ring holds
+    std::uint64_t rows_sampled = 0;    ///< rows written into the ring (incl. rows of missed ticks)
+    std::uint64_t rows_published = 0;  ///< rows handed to the transport in Sample DTUs
     std::uint64_t dtus_published = 0;
-    std::uint64_t overruns = 0;         ///< ticks whose read could not start before the next tick was due
-    std::uint64_t skipped_ticks = 0;    ///< ticks not produced at all after a very long stall (the DTU restarts)
-    std::uint64_t drops = 0;            ///< rows lost because the ring was full
-    std::uint64_t null_values = 0;      ///< values sent as null (failed/timed-out reads, missed ticks)
-    std::uint64_t refused_values = 0;   ///< values sent as null for breaking chapter 7 (their item's rule)
+    std::uint64_t overruns = 0;        ///< ticks whose read could not start before the next tick was due
+    std::uint64_t skipped_ticks = 0;   ///< ticks not produced at all after a very long stall (the DTU restarts)
+    std::uint64_t drops = 0;           ///< rows lost because the ring was full
+    std::uint64_t null_values = 0;     ///< values sent as null (failed/timed-out reads, missed ticks)
+    std::uint64_t refused_values = 0;  ///< values sent as null for breaking chapter 7 (their item's rule)
     std::uint64_t max_lateness_us = 0;
     /// lateness[i] counts ticks that started less than kLatenessBoundsUs[i] us
     /// after their deadline (and at least the previous bound); the last entry
@@ -62,14 +62,14 @@ struct NCLINK_API ChannelStats {
 
 /// Whether the real-time options of the sampling thread were granted.
 struct NCLINK_API RealtimeStatus {
-    int fifo_priority = 0;          ///< requested SCHED_FIFO priority (0 = not requested)
+    int fifo_priority = 0;  ///< requested SCHED_FIFO priority (0 = not requested)
     bool fifo_granted = false;
-    long timer_slack_ns = 0;        ///< requested timer slack (0 = not requested)
+    long timer_slack_ns = 0;  ///< requested timer slack (0 = not requested)
     bool timer_slack_granted = false;
-    int cpu = -1;                   ///< requested CPU (-1 = not requested)
+    int cpu = -1;  ///< requested CPU (-1 = not requested)
     bool cpu_granted = false;
-    int slice_us = 0;               ///< requested time slice (0 = not requested)
-    bool slice_granted = false;     ///< false on kernels before 6.12 (no per-task slice) and under SCHED_FIFO
+    int slice_us = 0;            ///< requested time slice (0 = not requested)
+    bool slice_granted = false;  ///< false on kernels before 6.12 (no per-task slice) and under SCHED_FIFO
 };
 
 struct NCLINK_API SamplingStats {

@@ -20,7 +20,7 @@ struct NCLINK_API StarterModelOptions {
     MachineKind kind = MachineKind::generic;
     /// Device id, also the start of the guid (the terminal id).
     std::string id = "machine";
-    std::string name;          ///< default: from the kind
+    std::string name;  ///< default: from the kind
     std::string manufacturer = "ACME";
     /// Linear and rotary axes by table 9 number ("X", "Z", "A", "C"...).
     /// Empty: the kind's usual axes (lathe X Z, machining center X Y Z,

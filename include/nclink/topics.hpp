@@ -65,14 +65,13 @@ enum class Spelling {
 
 struct NCLINK_API ParsedTopic {
     TopicKind kind = TopicKind::register_request;
-    std::string dev;                 ///< dev_uuid; cli_uuid for Register/Response; tid for Notify/State; empty for Register/Request and Discovery
-    std::optional<std::string> ex;   ///< ex_cid when the topic carries one
-    std::optional<std::string> channel;  ///< sample channel id (Sample topics)
+    std::string dev;  ///< dev_uuid; cli_uuid for Register/Response; tid for Notify/State; empty for Register/Request and Discovery
+    std::optional<std::string> ex;           ///< ex_cid when the topic carries one
+    std::optional<std::string> channel;      ///< sample channel id (Sample topics)
     Spelling spelling = Spelling::standard;  ///< which spelling of Register/Unregister was seen
 
     friend bool operator==(const ParsedTopic& a, const ParsedTopic& b) {
-        return a.kind == b.kind && a.dev == b.dev && a.ex == b.ex && a.channel == b.channel &&
-               a.spelling == b.spelling;
+        return a.kind == b.kind && a.dev == b.dev && a.ex == b.ex && a.channel == b.channel && a.spelling == b.spelling;
     }
     friend bool operator!=(const ParsedTopic& a, const ParsedTopic& b) { return !(a == b); }
 };

@@ -32,12 +32,12 @@ NCLINK_API std::string_view to_string(LinkState state) noexcept;
 
 /// What the transport has done so far. Counters only grow.
 struct NCLINK_API TransportStats {
-    std::uint64_t published = 0;         ///< messages handed to the broker connection
-    std::uint64_t received = 0;          ///< messages delivered to the message handler
-    std::uint64_t dropped = 0;           ///< oldest messages dropped because the offline buffer was full
+    std::uint64_t published = 0;  ///< messages handed to the broker connection
+    std::uint64_t received = 0;   ///< messages delivered to the message handler
+    std::uint64_t dropped = 0;    ///< oldest messages dropped because the offline buffer was full
     std::uint64_t dropped_bytes = 0;
-    std::uint64_t connects = 0;          ///< successful (re)connections
-    std::size_t buffered = 0;            ///< messages waiting (offline, or queued behind the in-flight window)
+    std::uint64_t connects = 0;  ///< successful (re)connections
+    std::size_t buffered = 0;    ///< messages waiting (offline, or queued behind the in-flight window)
     std::size_t buffered_bytes = 0;
     std::size_t in_flight = 0;           ///< handed to the connection, not yet acknowledged
     int tcp_nodelay_sockets = 0;         ///< sockets TCP_NODELAY was applied to at the last connect (MQTT)
@@ -115,8 +115,8 @@ public:
 
 /// Sizes of the buffer that holds messages while the link is down or busy.
 struct NCLINK_API OutboxLimits {
-    std::size_t max_bytes = 8u << 20;   ///< topic + payload bytes kept at most
-    std::size_t max_in_flight = 64;     ///< messages handed to the connection and not yet acknowledged
+    std::size_t max_bytes = 8u << 20;  ///< topic + payload bytes kept at most
+    std::size_t max_in_flight = 64;    ///< messages handed to the connection and not yet acknowledged
 };
 
 }  // namespace nclink

@@ -125,17 +125,17 @@ private:
 
     std::string id_;
     std::string type_;
-    std::string where_;  ///< "table 10", "table 15", ... for messages
+    std::string where_;           ///< "table 10", "table 15", ... for messages
     std::uint8_t container_ = 0;  ///< 0 whole value, 1 list (array of elements), 2 dict (object of elements)
     bool whole_object_ = false;   ///< dict item whose type is an object/file: the keys apply to the whole
     bool typed_ = false;
-    ValueShape shape_ = ValueShape::any;  ///< of the whole value (container 0) or of each element
-    std::vector<std::string> enumeration_;     ///< allowed strings (empty = any)
+    ValueShape shape_ = ValueShape::any;         ///< of the whole value (container 0) or of each element
+    std::vector<std::string> enumeration_;       ///< allowed strings (empty = any)
     std::vector<std::int64_t> int_enumeration_;  ///< allowed integers besides (STATUS 0/1/2, appendix A)
     bool has_min_ = false, has_max_ = false;
     double min_ = 0, max_ = 0;
     const detail::ObjectSpec* object_ = nullptr;  ///< keys of table 14 (static storage)
-    std::vector<std::string> axes_;  ///< the device's AXIS numbers, upper case (COORDINATE); empty = not checked
+    std::vector<std::string> axes_;               ///< the device's AXIS numbers, upper case (COORDINATE); empty = not checked
 };
 
 /// Every data object's rule, compiled from one model. Immutable.

@@ -36,9 +36,7 @@ struct NCLINK_API IndexRange {
 
     /// Number of indexes covered (saturates at SIZE_MAX for absurd ranges).
     std::size_t count() const noexcept;
-    friend bool operator==(const IndexRange& a, const IndexRange& b) noexcept {
-        return a.first == b.first && a.last == b.last;
-    }
+    friend bool operator==(const IndexRange& a, const IndexRange& b) noexcept { return a.first == b.first && a.last == b.last; }
 };
 
 /// Parses one index entry: a non-negative integer number, a numeric string
@@ -58,8 +56,7 @@ inline constexpr std::size_t max_selected_indexes = std::size_t{1} << 20;
 /// checking every one against `length`: 101 when one is >= length, 404 when
 /// more than max_selected_indexes are selected. Checks before expanding, so
 /// a hostile "0-4000000000" never allocates.
-NCLINK_API Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges,
-                                                std::size_t length);
+NCLINK_API Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges, std::size_t length);
 
 // ---------------------------------------------------------------- Query --
 
@@ -86,9 +83,7 @@ struct NCLINK_API QueryParams {
 
     /// True when the whole value is asked for (params absent, null or {}, or
     /// get_value on a single item). The response is then `[value]`.
-    bool whole_item() const noexcept {
-        return operation == QueryOperation::get_value && keys.empty() && indexes.empty();
-    }
+    bool whole_item() const noexcept { return operation == QueryOperation::get_value && keys.empty() && indexes.empty(); }
 };
 
 /// Parses `params` of one Query item (pass a null Json when absent).

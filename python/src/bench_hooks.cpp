@@ -19,8 +19,7 @@ namespace py = pybind11;
 void bind_bench_hooks(py::module_& m) {
     m.def(
         "bench_cpp_query",
-        [](const std::string& broker, const std::string& client_id, const std::string& dev, const std::string& item,
-           int count) {
+        [](const std::string& broker, const std::string& client_id, const std::string& dev, const std::string& item, int count) {
             MqttOptions mqtt;
             mqtt.broker_url = broker;
             ClientOptions options;

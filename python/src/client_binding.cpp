@@ -77,13 +77,13 @@ py::object msg_id(const MessageId& id) {
 }
 
 py::object query_result(const QueryResult& r) {
-    return types("QueryResult")(r.id, r.status.ok, optional_json(r.values), status_code(r.status),
-                                optional_str(r.status.reason), optional_json(r.params), optional_json(r.private_info));
+    return types("QueryResult")(r.id, r.status.ok, optional_json(r.values), status_code(r.status), optional_str(r.status.reason),
+                                optional_json(r.params), optional_json(r.private_info));
 }
 
 py::object set_result(const SetResult& r) {
-    return types("SetResult")(r.id, r.status.ok, status_code(r.status), optional_str(r.status.reason),
-                              optional_json(r.params), optional_json(r.private_info));
+    return types("SetResult")(r.id, r.status.ok, status_code(r.status), optional_str(r.status.reason), optional_json(r.params),
+                              optional_json(r.private_info));
 }
 
 py::object method_status(const MethodStatus& s) {
@@ -93,15 +93,13 @@ py::object method_status(const MethodStatus& s) {
 
 py::object method_result(const MethodResult& r) {
     return types("MethodResult")(msg_id(r.msg_id), r.guid, r.id, r.result, r.status.ok, status_code(r.status),
-                                 optional_str(r.status.reason), optional_json(r.return_value),
-                                 optional_json(r.private_info));
+                                 optional_str(r.status.reason), optional_json(r.return_value), optional_json(r.private_info));
 }
 
 py::object event(const std::string& dev, const std::string& app, const EventData& e) {
     return types("Event")(e.id, e.guid.empty() ? dev : e.guid, app, e.time, e.event.id, to_python(e.event.value),
                           optional_json(e.event.old_value), optional_str(e.event.key),
-                          e.event.index ? py::object(py::int_(*e.event.index)) : py::none(),
-                          optional_json(e.private_info));
+                          e.event.index ? py::object(py::int_(*e.event.index)) : py::none(), optional_json(e.private_info));
 }
 
 py::dict stats_dict(const ClientStats& s) {
@@ -180,8 +178,8 @@ void apply_advanced(const py::dict& d, MqttOptions& mqtt, ClientOptions& options
         } else if (key == "last_will") {
             auto will = value.cast<py::tuple>();
             if (will.size() != 4) throw py::value_error("last_will is (topic, payload, qos, retain)");
-            mqtt.last_will = Message{will[0].cast<std::string>(), will[1].cast<std::string>(), will[2].cast<int>(),
-                                     will[3].cast<bool>()};
+            mqtt.last_will =
+                Message{will[0].cast<std::string>(), will[1].cast<std::string>(), will[2].cast<int>(), will[3].cast<bool>()};
         } else {
             throw py::value_error("unknown client option: " + key);
         }
@@ -192,10 +190,10 @@ void apply_advanced(const py::dict& d, MqttOptions& mqtt, ClientOptions& options
 
 class PyClient {
 public:
-    PyClient(const std::string& broker, const std::string& client_id, const std::string& username,
-             const std::string& password, const std::optional<py::dict>& tls, double timeout_s, double keepalive_s,
-             bool clean_session, double connect_timeout_s, double reconnect_max_s, const std::string& log_level,
-             const py::object& on_link_state, const std::optional<py::dict>& advanced)
+    PyClient(const std::string& broker, const std::string& client_id, const std::string& username, const std::string& password,
+             const std::optional<py::dict>& tls, double timeout_s, double keepalive_s, bool clean_session,
+             double connect_timeout_s, double reconnect_max_s, const std::string& log_level, const py::object& on_link_state,
+             const std::optional<py::dict>& advanced)
         : broker_(broker) {
         MqttOptions mqtt;
         mqtt.broker_url = broker;
@@ -272,9 +270,8 @@ public:
             }
         }
         if (!do_register) return "not_sent";
-        auto outcome = wait_for_result<RegisterOutcome>([&](auto done) {
-            client_->register_async(std::move(done), request_options(register_timeout_s));
-        });
+        auto outcome = wait_for_result<RegisterOutcome>(
+            [&](auto done) { client_->register_async(std::move(done), request_options(register_timeout_s)); });
         if (!outcome) {
             if (outcome.error().code == ErrorCode::timeout) return "no_answer";
             raise_error(outcome.error());
@@ -310,18 +307,14 @@ public:
             [](Json model) { return to_python(model); });
     }
 
-    py::object probe_set(const std::string& dev, const py::object& model, std::optional<double> timeout,
-                         const py::object& done) {
+    py::object probe_set(const std::string& dev, const py::object& model, std::optional<double> timeout, const py::object& done) {
         Json m = from_python(model);
-        return request<void>(done,
-                             [this, dev, m, o = request_options(timeout)](auto cb) {
-                                 client_->probe_set_async(dev, m, std::move(cb), o);
-                             },
-                             [] { return py::none(); });
+        return request<void>(
+            done, [this, dev, m, o = request_options(timeout)](auto cb) { client_->probe_set_async(dev, m, std::move(cb), o); },
+            [] { return py::none(); });
     }
 
-    py::object query(const std::string& dev, const py::list& items, std::optional<double> timeout,
-                     const py::object& done) {
+    py::object query(const std::string& dev, const py::list& items, std::optional<double> timeout, const py::object& done) {
         std::vector<QueryItem> q;
         q.reserve(items.size());
         for (auto item : items) {
@@ -343,8 +336,7 @@ public:
             });
     }
 
-    py::object set(const std::string& dev, const py::list& items, std::optional<double> timeout,
-                   const py::object& done) {
+    py::object set(const std::string& dev, const py::list& items, std::optional<double> timeout, const py::object& done) {
         std::vector<SetItem> s;
         s.reserve(items.size());
         for (auto item : items) {
@@ -367,8 +359,8 @@ public:
     }
 
     // ---- methods ----------------------------------------------------------------
-    py::object call_method(const std::string& dev, const std::string& method, const py::object& args,
-                           const py::object& on_status, std::optional<double> timeout, const py::object& done) {
+    py::object call_method(const std::string& dev, const std::string& method, const py::object& args, const py::object& on_status,
+                           std::optional<double> timeout, const py::object& done) {
         Json a = args.is_none() ? Json() : from_python(args);
         PyCallable status_cb(on_status);
         std::function<void(const MethodStatus&)> status_fn;
@@ -386,8 +378,7 @@ public:
     }
 
     py::object control_method(const std::string& dev, const std::string& method, const std::string& action,
-                              const std::optional<std::string>& call_id, std::optional<double> timeout,
-                              const py::object& done) {
+                              const std::optional<std::string>& call_id, std::optional<double> timeout, const py::object& done) {
         Client::MethodAction a;
         if (action == "stop") a = Client::MethodAction::stop;
         else if (action == "resume") a = Client::MethodAction::resume;
@@ -401,9 +392,9 @@ public:
     }
 
     // ---- dynamic sampling -------------------------------------------------------
-    py::object register_sampling(const std::string& dev, const std::vector<std::string>& ids, double sample_ms,
-                                 double upload_ms, const py::object& on_batch, std::optional<int> qos,
-                                 std::optional<double> timeout, const py::object& done) {
+    py::object register_sampling(const std::string& dev, const std::vector<std::string>& ids, double sample_ms, double upload_ms,
+                                 const py::object& on_batch, std::optional<int> qos, std::optional<double> timeout,
+                                 const py::object& done) {
         if (!(sample_ms > 0) || !(upload_ms > 0)) throw py::value_error("sample_ms and upload_ms must be > 0");
         auto layout = std::make_shared<ChannelLayout>();
         layout->ids = ids;
@@ -433,8 +424,8 @@ public:
             std::lock_guard<std::mutex> lock(channels_mutex_);
             auto it = channels_.find({dev, channel_id});
             if (it == channels_.end()) {
-                raise_error(make_error(ErrorCode::node_not_exists,
-                                       "no dynamic channel " + channel_id + " of this client at " + dev));
+                raise_error(
+                    make_error(ErrorCode::node_not_exists, "no dynamic channel " + channel_id + " of this client at " + dev));
             }
             channel = it->second;
             channels_.erase(it);
@@ -449,9 +440,8 @@ public:
 
     // ---- events -----------------------------------------------------------------
     py::object register_event(const std::string& dev, const std::string& id, const std::optional<std::string>& key,
-                              const std::optional<std::int64_t>& index, const py::list& filters,
-                              const std::string& trigger, const py::object& on_event, std::optional<double> timeout,
-                              const py::object& done) {
+                              const std::optional<std::int64_t>& index, const py::list& filters, const std::string& trigger,
+                              const py::object& on_event, std::optional<double> timeout, const py::object& done) {
         Client::EventRegistration r;
         r.id = id;
         r.key = key;
@@ -519,8 +509,8 @@ public:
     }
 
     // ---- subscriptions ----------------------------------------------------------
-    SubscriptionId subscribe_samples(const std::string& dev, const std::optional<std::string>& channel,
-                                     const py::dict& layouts, const py::object& on_batch) {
+    SubscriptionId subscribe_samples(const std::string& dev, const std::optional<std::string>& channel, const py::dict& layouts,
+                                     const py::object& on_batch) {
         auto table = std::make_shared<const ChannelLayouts>(layouts_from(layouts));
         SampleHandler handler = batch_handler(dev, on_batch, nullptr, table);
         return subscribed([&] { return client_->subscribe_samples(dev, handler, channel); });
@@ -538,9 +528,7 @@ public:
     SubscriptionId subscribe_version(const std::string& dev, const py::object& on_version) {
         PyCallable cb(on_version);
         VersionHandler handler = [this, cb, dev](const ProbeVersionRequest& v) {
-            cb.call(this, [&] {
-                return py::make_tuple(types("VersionChange")(v.guid.empty() ? dev : v.guid, v.version));
-            });
+            cb.call(this, [&] { return py::make_tuple(types("VersionChange")(v.guid.empty() ? dev : v.guid, v.version)); });
         };
         return subscribed([&] { return client_->subscribe_version(dev, handler); });
     }
@@ -549,10 +537,9 @@ public:
         PyCallable cb(on_run);
         MethodRunHandler handler = [this, cb](const MethodRun& run) {
             cb.call(this, [&] {
-                return py::make_tuple(types("MethodRun")(
-                    std::string(to_string(run.kind)), run.dev, run.ex,
-                    run.status ? method_status(*run.status) : py::none(),
-                    run.result ? method_result(*run.result) : py::none()));
+                return py::make_tuple(types("MethodRun")(std::string(to_string(run.kind)), run.dev, run.ex,
+                                                         run.status ? method_status(*run.status) : py::none(),
+                                                         run.result ? method_result(*run.result) : py::none()));
             });
         };
         return subscribed([&] { return client_->subscribe_method_runs(dev, handler); });
@@ -658,8 +645,7 @@ private:
 
     /// A Sample handler handing SampleBatch objects to on_batch: the layout of
     /// a dynamic channel, or the table of a device's model channels.
-    SampleHandler batch_handler(const std::string& dev, const py::object& on_batch,
-                                std::shared_ptr<const ChannelLayout> fixed,
+    SampleHandler batch_handler(const std::string& dev, const py::object& on_batch, std::shared_ptr<const ChannelLayout> fixed,
                                 std::shared_ptr<const ChannelLayouts> table) {
         PyCallable cb(on_batch);
         return [this, cb, dev, fixed, table](const SampleDtu& dtu) {
@@ -685,13 +671,12 @@ void bind_client(py::module_& m) {
     using py::arg;
     const auto none = py::none();
     py::class_<PyClient>(m, "Core", "nclink::Client (use nclink.Client)")
-        .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&,
-                      const std::optional<py::dict>&, double, double, bool, double, double, const std::string&,
-                      const py::object&, const std::optional<py::dict>&>(),
-             arg("broker"), arg("client_id"), arg("username") = "", arg("password") = "", arg("tls") = none,
-             arg("timeout") = 2.0, arg("keepalive") = 60.0, arg("clean_session") = true,
-             arg("connect_timeout") = 5.0, arg("reconnect_max") = 10.0, arg("log_level") = "error",
-             arg("on_link_state") = none, arg("advanced") = none)
+        .def(
+            py::init<const std::string&, const std::string&, const std::string&, const std::string&, const std::optional<py::dict>&,
+                     double, double, bool, double, double, const std::string&, const py::object&, const std::optional<py::dict>&>(),
+            arg("broker"), arg("client_id"), arg("username") = "", arg("password") = "", arg("tls") = none, arg("timeout") = 2.0,
+            arg("keepalive") = 60.0, arg("clean_session") = true, arg("connect_timeout") = 5.0, arg("reconnect_max") = 10.0,
+            arg("log_level") = "error", arg("on_link_state") = none, arg("advanced") = none)
         .def("connect", &PyClient::connect, arg("timeout"), arg("register"), arg("register_timeout") = none)
         .def("close", &PyClient::close)
         .def("register", &PyClient::register_terminal, arg("timeout") = none, arg("done") = none)
@@ -702,18 +687,16 @@ void bind_client(py::module_& m) {
         .def("set", &PyClient::set, arg("dev"), arg("items"), arg("timeout") = none, arg("done") = none)
         .def("call_method", &PyClient::call_method, arg("dev"), arg("method"), arg("args"), arg("on_status"),
              arg("timeout") = none, arg("done") = none)
-        .def("control_method", &PyClient::control_method, arg("dev"), arg("method"), arg("action"),
-             arg("call_id") = none, arg("timeout") = none, arg("done") = none)
-        .def("register_sampling", &PyClient::register_sampling, arg("dev"), arg("ids"), arg("sample_ms"),
-             arg("upload_ms"), arg("on_batch"), arg("qos") = none, arg("timeout") = none, arg("done") = none)
-        .def("unregister_sampling", &PyClient::unregister_sampling, arg("dev"), arg("channel"),
+        .def("control_method", &PyClient::control_method, arg("dev"), arg("method"), arg("action"), arg("call_id") = none,
              arg("timeout") = none, arg("done") = none)
-        .def("register_event", &PyClient::register_event, arg("dev"), arg("id"), arg("key"), arg("index"),
-             arg("filters"), arg("trigger"), arg("on_event"), arg("timeout") = none, arg("done") = none)
-        .def("unregister_event", &PyClient::unregister_event, arg("dev"), arg("event_id"), arg("timeout") = none,
+        .def("register_sampling", &PyClient::register_sampling, arg("dev"), arg("ids"), arg("sample_ms"), arg("upload_ms"),
+             arg("on_batch"), arg("qos") = none, arg("timeout") = none, arg("done") = none)
+        .def("unregister_sampling", &PyClient::unregister_sampling, arg("dev"), arg("channel"), arg("timeout") = none,
              arg("done") = none)
-        .def("subscribe_samples", &PyClient::subscribe_samples, arg("dev"), arg("channel"), arg("layouts"),
-             arg("on_batch"))
+        .def("register_event", &PyClient::register_event, arg("dev"), arg("id"), arg("key"), arg("index"), arg("filters"),
+             arg("trigger"), arg("on_event"), arg("timeout") = none, arg("done") = none)
+        .def("unregister_event", &PyClient::unregister_event, arg("dev"), arg("event_id"), arg("timeout") = none, arg("done") = none)
+        .def("subscribe_samples", &PyClient::subscribe_samples, arg("dev"), arg("channel"), arg("layouts"), arg("on_batch"))
         .def("subscribe_state", &PyClient::subscribe_state, arg("tid"), arg("on_state"))
         .def("subscribe_version", &PyClient::subscribe_version, arg("dev"), arg("on_version"))
         .def("subscribe_method_runs", &PyClient::subscribe_method_runs, arg("dev"), arg("on_run"))

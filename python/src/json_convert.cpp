@@ -55,8 +55,7 @@ Json convert(const py::handle& value, const std::string& where) {
         Json out = Json::object();
         for (auto item : py::reinterpret_borrow<py::dict>(value)) {
             if (!py::isinstance<py::str>(item.first))
-                throw py::type_error("JSON object keys must be str (at " + (where.empty() ? std::string("/") : where) +
-                                     ")");
+                throw py::type_error("JSON object keys must be str (at " + (where.empty() ? std::string("/") : where) + ")");
             auto key = item.first.cast<std::string>();
             out[key] = convert(item.second, where + "/" + key);
         }
@@ -79,8 +78,8 @@ Json convert(const py::handle& value, const std::string& where) {
         if (d == -1.0 && PyErr_Occurred()) throw py::error_already_set();
         return Json(d);
     }
-    throw py::type_error("cannot send a " + std::string(py::str(value.get_type().attr("__name__"))) +
-                         " as JSON (at " + (where.empty() ? std::string("/") : where) + ")");
+    throw py::type_error("cannot send a " + std::string(py::str(value.get_type().attr("__name__"))) + " as JSON (at " +
+                         (where.empty() ? std::string("/") : where) + ")");
 }
 
 }  // namespace

@@ -12,8 +12,9 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_nclink, m) {
     m.doc() = "nclink's C++ client (nclink::Client) for Python; use the nclink package";
-    m.def("reason", [](int code) { return std::string(nclink::reason(static_cast<nclink::ErrorCode>(code))); },
-          py::arg("code"), "The table-19 reason string of a code.");
+    m.def(
+        "reason", [](int code) { return std::string(nclink::reason(static_cast<nclink::ErrorCode>(code))); }, py::arg("code"),
+        "The table-19 reason string of a code.");
     m.attr("sdk_version") = std::string(nclink::library_version());
     nclink::python::bind_sample_batch(m);
     nclink::python::bind_client(m);

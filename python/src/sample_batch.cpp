@@ -92,7 +92,7 @@ py::object SampleBatch::raw() const { return to_python(to_json(dtu_)); }
 
 void bind_sample_batch(py::module_& module) {
     py::class_<SampleBatch, std::shared_ptr<SampleBatch>>(module, "SampleBatch",
-        "The rows of one Sample DTU (8.2.15/8.2.21): one upload of a channel.")
+                                                          "The rows of one Sample DTU (8.2.15/8.2.21): one upload of a channel.")
         .def_property_readonly("dev", &SampleBatch::dev)
         .def_property_readonly("channel", &SampleBatch::channel)
         .def_property_readonly("begin_time_ms", &SampleBatch::begin_time_ms)

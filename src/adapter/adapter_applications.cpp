@@ -7,8 +7,8 @@
 
 namespace nclink::detail {
 
-ApplicationWatch::ApplicationWatch(Transport& transport, std::string dev, std::chrono::milliseconds lease,
-                                   const Logger& logger, std::function<void(const std::string&)> gone)
+ApplicationWatch::ApplicationWatch(Transport& transport, std::string dev, std::chrono::milliseconds lease, const Logger& logger,
+                                   std::function<void(const std::string&)> gone)
     : transport_(transport), dev_(std::move(dev)), lease_(lease), logger_(logger), on_gone_(std::move(gone)), tracker_(lease) {}
 
 // Subscribes the Notify/State of an application that just sent its first

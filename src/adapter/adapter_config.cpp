@@ -8,7 +8,9 @@ namespace nclink {
 using detail::ConfigReader;
 
 Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c) {
-    if (!json.is_object()) return make_error(ErrorCode::syntax_error, "configuration: the file must hold a JSON object");  // pointer "": the whole document
+    if (!json.is_object())
+        return make_error(ErrorCode::syntax_error,
+                          "configuration: the file must hold a JSON object");  // pointer "": the whole document
     ConfigReader top(json, "");
 
     if (const Json* broker = top.object("broker")) {

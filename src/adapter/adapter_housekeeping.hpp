@@ -60,14 +60,14 @@ private:
     const std::function<Json()> drops_;
     const std::shared_ptr<const Clock> clock_;
     PollHost* const timers_;
-    DropReporter drop_reporter_;                          // passes only (one at a time)
+    DropReporter drop_reporter_;                               // passes only (one at a time)
     std::chrono::steady_clock::time_point last_drop_check_{};  // passes only
 
     std::mutex mutex_;  // stopping_, with wake_
     std::condition_variable wake_;
     bool stopping_ = false;
-    std::thread thread_;              // without shared timers
-    PollHost::Handle entry_;          // with shared timers
+    std::thread thread_;      // without shared timers
+    PollHost::Handle entry_;  // with shared timers
 };
 
 }  // namespace nclink::detail

@@ -101,7 +101,7 @@ struct NCLINK_LOCAL Adapter::Impl {
     /// Whether a model change may run: started, not stopping, initialized.
     bool running();
     void on_message(const Message& message);  ///< transport thread; never blocks
-    void on_link(LinkState link);              ///< transport thread; never blocks
+    void on_link(LinkState link);             ///< transport thread; never blocks
     /// The statistics' "drops" object, read from the counters (thread-safe).
     Json drops_now() const;
 };

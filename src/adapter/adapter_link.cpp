@@ -43,10 +43,8 @@ void AdapterLink::stopping() {
 // reconnection announces (state, registration, version) and when the kept
 // responses go is the table's row, not code here.
 void AdapterLink::on_link(LinkState link) {
-    if (link == LinkState::connected)
-        fire(AdapterEvent::link_restored);
-    else if (link == LinkState::disconnected)
-        fire(AdapterEvent::link_lost);
+    if (link == LinkState::connected) fire(AdapterEvent::link_restored);
+    else if (link == LinkState::disconnected) fire(AdapterEvent::link_lost);
 }
 
 // The row is taken and the response kept under the state mutex, so a
@@ -124,9 +122,9 @@ void AdapterLink::respond(const ParsedTopic& request_topic, const Json& reply) {
     // (the implementation's, 8.2.18/8.2.28), as Probe/Version does: the
     // application then knows, after an outage, whether the registration is
     // still here (same run) or must be made again (docs/wire.md).
-    if ((request_topic.kind == TopicKind::event_register_request ||
-         request_topic.kind == TopicKind::sample_register_request) &&
-        reply.is_object() && (!reply.contains("privateInfo") || reply["privateInfo"].is_object() || reply["privateInfo"].is_null())) {
+    if ((request_topic.kind == TopicKind::event_register_request || request_topic.kind == TopicKind::sample_register_request) &&
+        reply.is_object() &&
+        (!reply.contains("privateInfo") || reply["privateInfo"].is_object() || reply["privateInfo"].is_null())) {
         Json marked = reply;
         if (!marked["privateInfo"].is_object()) marked["privateInfo"] = Json::object();
         marked["privateInfo"]["instance"] = instance_;

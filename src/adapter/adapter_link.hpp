@@ -45,9 +45,8 @@ public:
     /// `instance` names this run of the adapter (docs/wire.md);
     /// `wake_housekeeping` is called when a registration went out or was
     /// answered, so its retry clock is looked at at once.
-    AdapterLink(const AdapterConfig& config, Transport& transport, const ModelSource& model,
-                std::shared_ptr<const Clock> clock, const Logger& logger, std::string dev, std::string instance,
-                std::function<void()> wake_housekeeping);
+    AdapterLink(const AdapterConfig& config, Transport& transport, const ModelSource& model, std::shared_ptr<const Clock> clock,
+                const Logger& logger, std::string dev, std::string instance, std::function<void()> wake_housekeeping);
 
     AdapterState state() const;
     bool registered() const { return registration_.registered(); }
@@ -87,17 +86,17 @@ private:
     const std::shared_ptr<const Clock> clock_;
     const Logger& logger_;
     const std::string dev_;
-    const std::string instance_;      ///< this run, in Probe/Version's and registrations' privateInfo
+    const std::string instance_;  ///< this run, in Probe/Version's and registrations' privateInfo
     const std::string msg_id_prefix_;
     const std::function<void()> wake_housekeeping_;
     std::atomic<std::uint64_t> msg_counter_{0};
-    Registration registration_;       // its own lock (registration.hpp)
+    Registration registration_;  // its own lock (registration.hpp)
 
-    mutable std::mutex mutex_;        // the state and the kept responses, in one order
+    mutable std::mutex mutex_;  // the state and the kept responses, in one order
     AdapterState state_ = AdapterState::initial;
-    bool connected_once_ = false;     // a link_lost before it is the transport's start, not a loss
+    bool connected_once_ = false;  // a link_lost before it is the transport's start, not a loss
     bool stopping_ = false;
-    ResponseCache responses_;         // state-machine text items 75, 79: kept while the link will not take them
+    ResponseCache responses_;  // state-machine text items 75, 79: kept while the link will not take them
 };
 
 }  // namespace nclink::detail

@@ -12,7 +12,7 @@
 
 namespace nclink::detail {
 
-void add_adapter_metrics(PrometheusText& out, const std::string& dev, const AdapterStats& stats,
-                         const SamplingStats& sampling, const TrafficStats& traffic);
+void add_adapter_metrics(PrometheusText& out, const std::string& dev, const AdapterStats& stats, const SamplingStats& sampling,
+                         const TrafficStats& traffic);
 
 }  // namespace nclink::detail

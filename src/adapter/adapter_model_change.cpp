@@ -34,8 +34,7 @@ Result<std::string> ModelChange::adopt(const std::string& text, std::string_view
     auto built = host_.build(loaded, config_.device_id, driver_);
     if (!built) return std::move(built).error();
     const std::string new_dev = resolve_dev_uuid(*built.value()->device, config_.dev_uuid);
-    if (new_dev != dev_)
-        logger_.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev_);
+    if (new_dev != dev_) logger_.warn("the new model names the device {}, this adapter keeps answering as {}", new_dev, dev_);
     // The driver sees the new model before it is persisted: a driver that
     // refuses it (or is too busy to be asked) leaves the old one in force.
     if (auto bound = ModelHost::bind(*built.value(), runner_); !bound) {
@@ -52,8 +51,7 @@ Result<std::string> ModelChange::adopt(const std::string& text, std::string_view
     const std::string version = built.value()->device->version;
     logger_.info("model replaced by {}: version {} -> {}", origin, old_version, version);
     if (version == old_version)
-        logger_.warn("the new model keeps version {}: caches that compare versions (8.2.7.3) will not re-probe",
-                    version);
+        logger_.warn("the new model keeps version {}: caches that compare versions (8.2.7.3) will not re-probe", version);
     const std::vector<ModelListener> to_call = listeners_.snapshot();
     features_.on_model(built.value());
     for (auto& listener : to_call) listener(built.value()->model);

@@ -42,15 +42,13 @@ Result<LoadResult> load_adapter_model(const AdapterConfig& config, const ModelHo
         const std::string shipped_version = device_version_of(shipped, config.device_id);
         const auto order = compare_model_versions(shipped_version, kept_version);
         if (shipped.model && (!kept.model || (order && *order > 0))) {
-            logger.info("using the shipped model {} (version {}): newer than the persisted {} (version {})",
-                        config.model_path, shipped_version, persisted, kept_version.empty() ? "?" : kept_version);
+            logger.info("using the shipped model {} (version {}): newer than the persisted {} (version {})", config.model_path,
+                        shipped_version, persisted, kept_version.empty() ? "?" : kept_version);
             loaded = std::move(shipped);
             adopt_shipped = true;
         } else {
-            logger.info("using the persisted model {} (version {}) of the last model change{}", persisted,
-                        kept_version,
-                        shipped.model ? fmt::format("; the shipped {} has version {}", config.model_path,
-                                                    shipped_version)
+            logger.info("using the persisted model {} (version {}) of the last model change{}", persisted, kept_version,
+                        shipped.model ? fmt::format("; the shipped {} has version {}", config.model_path, shipped_version)
                                       : std::string());
             path = persisted;
             loaded = std::move(kept);

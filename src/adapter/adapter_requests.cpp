@@ -11,8 +11,7 @@ namespace nclink::detail {
 
 RequestIntake::RequestIntake(Parts parts)
     : parts_(std::move(parts)),
-      gate_(std::make_shared<RequestGate>(parts_.config.max_pending_requests, parts_.config.max_request_bytes,
-                                          parts_.logger)),
+      gate_(std::make_shared<RequestGate>(parts_.config.max_pending_requests, parts_.config.max_request_bytes, parts_.logger)),
       dedup_(parts_.config.dedup_window, parts_.config.dedup_capacity, parts_.clock) {
     if (parts_.shared) {
         executor_ = std::make_unique<TaskGroup>(parts_.shared->requests);
@@ -81,8 +80,8 @@ void RequestIntake::on_request(const ParsedTopic& topic, const Message& message)
     const auto& config = parts_.config;
     const auto& logger = parts_.logger;
     const auto& dev = parts_.dev;
-    if (!response_kind(topic.kind) || topic.kind == TopicKind::probe_version ||
-        topic.kind == TopicKind::register_request || topic.kind == TopicKind::discovery_request)
+    if (!response_kind(topic.kind) || topic.kind == TopicKind::probe_version || topic.kind == TopicKind::register_request ||
+        topic.kind == TopicKind::discovery_request)
         return;  // not a request to an adapter (version-check answers and the like)
     if (topic.dev != dev) return;
     if (topic.ex) parts_.applications.seen(*topic.ex, parts_.clock->now());
@@ -99,9 +98,9 @@ void RequestIntake::on_request(const ParsedTopic& topic, const Message& message)
     if (admission.verdict == RequestGate::Verdict::shed) return;
     if (admission.verdict == RequestGate::Verdict::oversized) {
         ++rejected_;
-        if (auto reply = make_error_reply(topic.kind, std::nullopt, dev,
-                                          make_error(ErrorCode::memory_configured,
-                                                     fmt::format("request larger than {} bytes", config.max_request_bytes))))
+        if (auto reply = make_error_reply(
+                topic.kind, std::nullopt, dev,
+                make_error(ErrorCode::memory_configured, fmt::format("request larger than {} bytes", config.max_request_bytes))))
             parts_.link.respond(topic, *reply);
         return;
     }
@@ -152,8 +151,7 @@ void RequestIntake::on_request(const ParsedTopic& topic, const Message& message)
 // whole Set, saying the write may still take effect.
 bool RequestIntake::dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
                                            std::shared_ptr<RequestGate::Ticket> ticket,
-                                           std::chrono::steady_clock::time_point received,
-                                           Decoded decoded) {
+                                           std::chrono::steady_clock::time_point received, Decoded decoded) {
     const auto& config = parts_.config;
     auto claim = std::make_shared<AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
@@ -173,14 +171,13 @@ bool RequestIntake::dispatch_driver_affine(const ParsedTopic& topic, const std::
         if (deadline == AnswerClaim::Deadline::lost) return;
         ++affine_timeouts_;
         const char* what = topic.kind == TopicKind::set_request ? "Set" : "Query";
-        parts_.logger.warn("driver '{}' did not answer a {} within {} ms", parts_.driver.info().name, what,
-                           timeout.count());
+        parts_.logger.warn("driver '{}' did not answer a {} within {} ms", parts_.driver.info().name, what, timeout.count());
         if (deadline == AnswerClaim::Deadline::during_work && topic.kind == TopicKind::set_request) {
             // The worker is inside the driver with this Set: which items it
             // has written is not known here, so the whole Set answers 203.
-            const Error unknown = make_error(ErrorCode::timeout,
-                                             fmt::format("driver did not finish the Set within {} ms: it may still take effect",
-                                                         timeout.count()));
+            const Error unknown =
+                make_error(ErrorCode::timeout,
+                           fmt::format("driver did not finish the Set within {} ms: it may still take effect", timeout.count()));
             if (auto reply = make_error_reply(topic.kind, peek_message_id(payload), parts_.dev, unknown)) {
                 (*reply)["privateInfo"] = Json{{"message", unknown.message}};
                 executor_->post([this, topic, reply = std::move(*reply)] { parts_.link.respond(topic, reply); });
@@ -189,10 +186,9 @@ bool RequestIntake::dispatch_driver_affine(const ParsedTopic& topic, const std::
         }
         executor_->post([this, topic, payload] {
             const auto ms = parts_.config.driver_timeout.count();
-            const Error expired = make_error(ErrorCode::timeout,
-                                             topic.kind == TopicKind::set_request
-                                                 ? fmt::format("driver busy for {} ms: not written", ms)
-                                                 : fmt::format("driver did not answer within {} ms", ms));
+            const Error expired = make_error(ErrorCode::timeout, topic.kind == TopicKind::set_request
+                                                                     ? fmt::format("driver busy for {} ms: not written", ms)
+                                                                     : fmt::format("driver did not answer within {} ms", ms));
             handle(topic, payload, Affine{nullptr, nullptr}, &expired);
         });
     });
@@ -204,8 +200,8 @@ void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload)
     handle(topic, payload, Affine{nullptr, nullptr});
 }
 
-void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                           const Error* driver_expired, const Decoded& decoded) {
+void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload, Affine affine, const Error* driver_expired,
+                           const Decoded& decoded) {
     const auto& logger = parts_.logger;
     if (affine.claim && topic.kind == TopicKind::set_request) {
         std::lock_guard<std::mutex> alive_lock(affine.life->mutex);
@@ -223,7 +219,8 @@ void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload,
     const std::string task_dev = parts_.dev;
     // config.sampling.stats_item: the SDK-provided statistics item (docs/sampling.md)
     const auto guard = parts_.values;
-    HandlerContext context{*current, parts_.runner, parts_.host, task_dev, task_logger, parts_.config.sampling.stats_item,
+    HandlerContext context{*current,          parts_.runner,  parts_.host,
+                           task_dev,          task_logger,    parts_.config.sampling.stats_item,
                            parts_.statistics, driver_expired, guard.get()};
     std::optional<Json> reply;
     std::optional<std::string> text;  // an answer already written out (a Query's, a Set's)
@@ -258,7 +255,8 @@ void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload,
             break;
         }
         case TopicKind::probe_set_request:
-            reply = answer<ProbeSetRequest>(topic, payload, [&](const ProbeSetRequest& r) { return to_json(parts_.model_change.probe_set(r)); });
+            reply = answer<ProbeSetRequest>(topic, payload,
+                                            [&](const ProbeSetRequest& r) { return to_json(parts_.model_change.probe_set(r)); });
             break;
         default:
             if (parts_.features.handle(topic, payload)) return;
@@ -271,10 +269,8 @@ void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload,
     }
     if (!reply && !text) return;
     const auto deliver = [&] {
-        if (text)
-            parts_.link.respond_text(topic, std::move(*text));
-        else
-            parts_.link.respond(topic, *reply);
+        if (text) parts_.link.respond_text(topic, std::move(*text));
+        else parts_.link.respond(topic, *reply);
     };
     if (!affine.claim) {
         deliver();

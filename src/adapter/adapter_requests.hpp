@@ -63,7 +63,7 @@ public:
         FeatureSet& features;
         ApplicationWatch& applications;
         ModelChange& model_change;
-        std::function<Json()> statistics;  ///< the statistics item's value (SamplingConfig::stats_item)
+        std::function<Json()> statistics;       ///< the statistics item's value (SamplingConfig::stats_item)
         SharedThreads::Impl* shared = nullptr;  ///< gateway mode; null: workers and watchdog of its own
     };
     explicit RequestIntake(Parts parts);
@@ -110,12 +110,11 @@ private:
         std::shared_ptr<const SetRequest> set;
     };
 
-    bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload,
-                                std::shared_ptr<RequestGate::Ticket> ticket,
+    bool dispatch_driver_affine(const ParsedTopic& topic, const std::string& payload, std::shared_ptr<RequestGate::Ticket> ticket,
                                 std::chrono::steady_clock::time_point received, Decoded decoded);
     void handle(const ParsedTopic& topic, const std::string& payload);
-    void handle(const ParsedTopic& topic, const std::string& payload, Affine affine,
-                const Error* driver_expired = nullptr, const Decoded& decoded = {});
+    void handle(const ParsedTopic& topic, const std::string& payload, Affine affine, const Error* driver_expired = nullptr,
+                const Decoded& decoded = {});
     template <class Request, class Handler>
     std::optional<Json> answer(const ParsedTopic& topic, const std::string& payload, Handler&& handler);
     /// The NG answer to an undecodable request (counted and logged).
@@ -124,15 +123,14 @@ private:
     void observe(TopicKind kind, std::chrono::steady_clock::time_point received) noexcept;
 
     Parts parts_;
-    std::shared_ptr<Executor> own_executor_;        // without shared threads
-    std::unique_ptr<TaskGroup> executor_;           // this adapter's request tasks (on either)
+    std::shared_ptr<Executor> own_executor_;          // without shared threads
+    std::unique_ptr<TaskGroup> executor_;             // this adapter's request tasks (on either)
     std::unique_ptr<DeadlineWatchdog> own_watchdog_;  // without shared threads
     std::unique_ptr<WatchdogScope> watchdog_;         // this adapter's deadlines (on either)
-    std::shared_ptr<RequestGate> gate_;             // bounded request intake (its own lock)
-    DedupWindow dedup_;                             // its own lock
+    std::shared_ptr<RequestGate> gate_;               // bounded request intake (its own lock)
+    DedupWindow dedup_;                               // its own lock
     std::shared_ptr<Lifetime> lifetime_ = std::make_shared<Lifetime>();
-    std::atomic<std::uint64_t> requests_{0}, ignored_retained_{0}, ignored_duplicates_{0}, rejected_{0},
-        affine_timeouts_{0};
+    std::atomic<std::uint64_t> requests_{0}, ignored_retained_{0}, ignored_duplicates_{0}, rejected_{0}, affine_timeouts_{0};
     std::array<LatencyHistogram, kTopicKindCount> latency_;
 };
 

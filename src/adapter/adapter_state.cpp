@@ -64,8 +64,7 @@ constexpr AdapterTableRow kTable[] = {
     {S::disconnected, E::cache_flushed, S::disconnected, action_none, "nclink"},
 };
 
-static_assert(sizeof kTable / sizeof kTable[0] == adapter_state_count * adapter_event_count,
-              "one row per state and event");
+static_assert(sizeof kTable / sizeof kTable[0] == adapter_state_count * adapter_event_count, "one row per state and event");
 
 }  // namespace
 

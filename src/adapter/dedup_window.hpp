@@ -33,10 +33,8 @@ public:
         const std::string* text = msg_id.is_string() ? &msg_id.get_ref<const std::string&>() : nullptr;
         out.reserve(kind.size() + ex.size() + 8 + (text ? text->size() : 24));
         out.append(kind).append(1, '|').append(std::to_string(ex.size())).append(1, ':').append(ex).append(1, '|');
-        if (text)
-            out.append(1, '"').append(*text);
-        else
-            out.append(msg_id.dump());
+        if (text) out.append(1, '"').append(*text);
+        else out.append(msg_id.dump());
         return out;
     }
 

@@ -33,8 +33,8 @@ public:
             auto& s = causes_[cause];
             if (count > s.last) {
                 if (!s.in_burst) {
-                    logger_.warn("dropping ({}): {} so far; counted in the statistics' drops.{} (docs/delivery.md)",
-                                 cause, count, cause);
+                    logger_.warn("dropping ({}): {} so far; counted in the statistics' drops.{} (docs/delivery.md)", cause, count,
+                                 cause);
                     s.in_burst = true;
                     s.burst_start = s.last;
                 }

@@ -7,8 +7,7 @@
 
 namespace nclink::detail {
 
-ModelHost::ModelHost(std::string persistence_dir, Logger logger)
-    : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
+ModelHost::ModelHost(std::string persistence_dir, Logger logger) : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
 
 Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
                                                      const Driver& driver) const {
@@ -45,8 +44,7 @@ Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, c
             const Json snapshot = Json::parse(text.str(), nullptr, false);
             if (auto restored = state->store->load(snapshot); restored)
                 logger_.info("restored {} persisted value(s) from {}/values.json", restored.value(), dir_);
-            else
-                logger_.warn("ignoring {}/values.json: {}", dir_, restored.error().describe());
+            else logger_.warn("ignoring {}/values.json: {}", dir_, restored.error().describe());
         }
     }
 
@@ -54,8 +52,8 @@ Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, c
         state->probe_text = loaded.document;
     } else {
         // A LoadResult built in code, without a document: the model's own form.
-        state->probe_text = std::make_shared<const std::string>(
-            model_to_json(*state->model).dump(-1, ' ', false, Json::error_handler_t::replace));
+        state->probe_text =
+            std::make_shared<const std::string>(model_to_json(*state->model).dump(-1, ' ', false, Json::error_handler_t::replace));
     }
     state->rules = std::make_shared<const ValueRules>(*state->model);
     return state;

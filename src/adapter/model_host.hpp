@@ -26,8 +26,7 @@ public:
     /// the store with fixed values and unclaimed configs, restoring persisted
     /// values of settable ones. Errors: 401 when the device is not in the model.
     /// The state is not bound yet (bind()).
-    Result<std::shared_ptr<ModelState>> build(const LoadResult& loaded, const std::string& device_id,
-                                              const Driver& driver) const;
+    Result<std::shared_ptr<ModelState>> build(const LoadResult& loaded, const std::string& device_id, const Driver& driver) const;
     /// Asks the driver for its handles (Driver::bind) for every point of
     /// `state` it is asked about: the data items of the device (and of the
     /// root configs) that the store does not hold, and the METHODs. Sets

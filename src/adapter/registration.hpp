@@ -30,9 +30,9 @@ public:
     Answer answered(const RegisterResponse& response);
 
     struct Tick {
-        bool resend = false;                     ///< send Register/Request again now
-        std::chrono::milliseconds gave_up{0};    ///< >0: the request just timed out; next try after this
-        bool first_give_up = false;              ///< the first time out since the last answer (log it louder)
+        bool resend = false;                   ///< send Register/Request again now
+        std::chrono::milliseconds gave_up{0};  ///< >0: the request just timed out; next try after this
+        bool first_give_up = false;            ///< the first time out since the last answer (log it louder)
     };
     /// Called by the housekeeping loop. `connected`: a resend can go out now.
     Tick tick(Clock::Steady now, bool connected);

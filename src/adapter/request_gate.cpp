@@ -22,8 +22,7 @@ RequestGate::Admission RequestGate::admit(std::size_t payload_bytes) {
         if (!shedding_) {  // once per burst, not once per request
             shedding_ = true;
             shed_at_burst_start_ = total - 1;
-            logger_.warn("{} requests pending: shedding requests until the adapter catches up (counted as 'shed')",
-                         max_pending_);
+            logger_.warn("{} requests pending: shedding requests until the adapter catches up (counted as 'shed')", max_pending_);
         }
         out.verdict = Verdict::shed;
         return out;

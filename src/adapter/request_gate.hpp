@@ -60,7 +60,7 @@ private:
     const Logger logger_;
     std::atomic<std::size_t> pending_{0};
     std::atomic<std::uint64_t> shed_{0}, oversized_{0};
-    std::mutex burst_mutex_;        // the burst log below
+    std::mutex burst_mutex_;             // the burst log below
     std::atomic<bool> shedding_{false};  // in a burst: its first shed request was logged
     std::uint64_t shed_at_burst_start_ = 0;
 };

@@ -21,8 +21,8 @@ Result<Json> effective_params(const SetItem& item) {
         if (!params.is_object()) break;  // the values module answers a params that is no object
         const auto found = params.find(key);
         if (found != params.end() && !found->is_null() && *found != **given)
-            return make_error(ErrorCode::arguments_nimiety,
-                              fmt::format("{} given beside params ({}) and inside them ({})", key, (*given)->dump(), found->dump()));
+            return make_error(ErrorCode::arguments_nimiety, fmt::format("{} given beside params ({}) and inside them ({})", key,
+                                                                        (*given)->dump(), found->dump()));
         params[key] = **given;
     }
     return params;
@@ -96,10 +96,8 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
             // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
             QueryResult& result = settle(item);
             auto values = evaluate_query(params, context.stats(), DataKind::dict);
-            if (values)
-                result.values = std::move(values).value();
-            else
-                result.status = ResponseStatus(values.error());
+            if (values) result.values = std::move(values).value();
+            else result.status = ResponseStatus(values.error());
             continue;
         }
         if (!object) {
@@ -117,10 +115,8 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
         if (!bound && context.state.sdk_held(item.id)) {
             QueryResult& result = settle(item);
             auto values = context.state.store->query(item.id, params);
-            if (values)
-                result.values = std::move(values).value();
-            else
-                result.status = ResponseStatus(values.error());
+            if (values) result.values = std::move(values).value();
+            else result.status = ResponseStatus(values.error());
             continue;
         }
         if (bound && bound->handle == nclink::not_served) {
@@ -206,10 +202,8 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         }
         if (!found.bound && context.state.sdk_held(item.id)) {
             auto done = context.state.store->set(item.id, params);
-            if (done)
-                store_changed = true;
-            else
-                result.status = ResponseStatus(done.error());
+            if (done) store_changed = true;
+            else result.status = ResponseStatus(done.error());
             continue;
         }
         auto parsed = parse_set(params, object->kind);

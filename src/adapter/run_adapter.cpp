@@ -38,8 +38,8 @@ int run_adapter(int argc, char** argv, std::shared_ptr<Driver> driver, RunAdapte
     if (options.program.empty())
         options.program = argc > 0 && argv[0] ? std::filesystem::path(argv[0]).filename().string() : "adapter";
     const std::string& program = options.program;
-    const std::string usage =
-        fmt::format(kUsage, program, options.default_config.empty() ? std::string("none") : options.default_config + " if present");
+    const std::string usage = fmt::format(
+        kUsage, program, options.default_config.empty() ? std::string("none") : options.default_config + " if present");
     auto usage_error = [&](const std::string& message) {
         std::fprintf(stderr, "%s: %s\n%s", program.c_str(), message.c_str(), usage.c_str());
         return 2;
@@ -88,8 +88,7 @@ int run_adapter(int argc, char** argv, std::shared_ptr<Driver> driver, RunAdapte
         config.log_level = *level;
     }
     if (auto usable = check_broker_url(config.broker_url); !usable) return usage_error(usable.error().message);
-    if (config.model_path.empty())
-        return usage_error("no model: give --model FILE or \"model\" in the configuration file");
+    if (config.model_path.empty()) return usage_error("no model: give --model FILE or \"model\" in the configuration file");
     if (!driver && config.driver_plugin.empty())
         return usage_error("no driver: this program links none, and the configuration names no driver.plugin");
 

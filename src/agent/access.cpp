@@ -21,11 +21,16 @@ std::optional<AccessRight> required_right(TopicKind kind) noexcept {
 }
 
 const std::vector<TopicKind>& adapter_request_kinds() {
-    static const std::vector<TopicKind> kinds = {
-        TopicKind::probe_query_request,     TopicKind::probe_set_request,        TopicKind::query_request,
-        TopicKind::set_request,             TopicKind::sample_register_request,  TopicKind::sample_unregister_request,
-        TopicKind::method_call,             TopicKind::method_control_request,   TopicKind::event_register_request,
-        TopicKind::event_unregister_request};
+    static const std::vector<TopicKind> kinds = {TopicKind::probe_query_request,
+                                                 TopicKind::probe_set_request,
+                                                 TopicKind::query_request,
+                                                 TopicKind::set_request,
+                                                 TopicKind::sample_register_request,
+                                                 TopicKind::sample_unregister_request,
+                                                 TopicKind::method_call,
+                                                 TopicKind::method_control_request,
+                                                 TopicKind::event_register_request,
+                                                 TopicKind::event_unregister_request};
     return kinds;
 }
 

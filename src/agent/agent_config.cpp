@@ -62,8 +62,8 @@ Result<void> read_access(const Json& section, AccessPolicy& p) {
         for (auto app = apps->begin(); app != apps->end(); ++app) {
             const std::string app_pointer = detail::pointer_append("/access/applications", app.key());
             if (!app->is_object()) {
-                Error e = make_error(ErrorCode::value_type,
-                                     "configuration: access.applications." + app.key() + " must be an object");
+                Error e =
+                    make_error(ErrorCode::value_type, "configuration: access.applications." + app.key() + " must be an object");
                 e.pointer = app_pointer;
                 return e;
             }

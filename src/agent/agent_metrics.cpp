@@ -28,8 +28,7 @@ void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const s
     out.counter("nclink_agent_registrations_total", reg_help, {{"outcome", "refused"}}, s.registrations_refused);
     out.counter("nclink_agent_discovery_answers_total", "Discovery/Request answered (8.2.3)", none, s.discoveries);
     out.counter("nclink_agent_version_checks_total", "Probe/Version answered (8.2.5)", none, s.versions);
-    out.counter("nclink_agent_models_fetched_total", "Models fetched after a version change (8.2.7)", none,
-                s.models_fetched);
+    out.counter("nclink_agent_models_fetched_total", "Models fetched after a version change (8.2.7)", none, s.models_fetched);
     out.counter("nclink_agent_cached_probes_total", "Probe/Query answered from the cache for an offline adapter", none,
                 s.cached_probes);
     const char* fwd_help = "Requests to adapters the agent answered itself, by reason (8.3.4, 8.3.5, table 19)";
@@ -43,8 +42,7 @@ void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const s
     out.counter("nclink_agent_malformed_dtus_total", "Undecodable DTUs", none, s.malformed);
     out.counter("nclink_agent_ignored_retained_total", "Requests ignored for their retain flag", none, s.ignored_retained);
     out.counter("nclink_agent_held_responses_total",
-                "Responses for an offline application, kept by its persistent session (docs/delivery.md)", none,
-                s.held_responses);
+                "Responses for an offline application, kept by its persistent session (docs/delivery.md)", none, s.held_responses);
 
     // Every kind x status pair appears, zeros too, so a sum over time is continuous.
     std::map<std::pair<std::string, std::string>, std::uint64_t> by_state;
@@ -62,8 +60,8 @@ void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const s
         out.gauge("nclink_agent_terminals", "Terminals the agent knows, by kind and state (3.21-3.23)",
                   {{"kind", key.first}, {"state", key.second}}, static_cast<double>(n));
     for (const auto& [kind, n] : registered)
-        out.gauge("nclink_agent_registered_terminals", "Terminals with an accepted registration, by kind",
-                  {{"kind", kind}}, static_cast<double>(n));
+        out.gauge("nclink_agent_registered_terminals", "Terminals with an accepted registration, by kind", {{"kind", kind}},
+                  static_cast<double>(n));
 
     out.declare("nclink_agent_dtus_received_total", "counter", "DTUs received, by topic kind");
     for (const auto& [kind, n] : traffic.dtus_in)
@@ -74,8 +72,7 @@ void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const s
 
     const auto& t = s.transport;
     out.counter("nclink_agent_mqtt_connects_total", "Successful (re)connections to the broker", none, t.connects);
-    out.gauge("nclink_agent_mqtt_buffered_messages", "Messages waiting to go to the broker", none,
-              static_cast<double>(t.buffered));
+    out.gauge("nclink_agent_mqtt_buffered_messages", "Messages waiting to go to the broker", none, static_cast<double>(t.buffered));
     out.counter("nclink_agent_mqtt_dropped_messages_total", "Messages dropped because the offline buffer was full", none,
                 t.dropped);
 }

@@ -19,9 +19,11 @@ constexpr AgentTableRow kTable[] = {
     // ---- initial (30-31)
     {S::initial, E::initialized, S::normal, agent_action_check_registrations, "31"},
     {S::initial, E::request_received, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
-    {S::initial, E::response_received, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
+    {S::initial, E::response_received, S::initial, agent_action_none,
+     "cannot happen: nothing is subscribed before initialization"},
     {S::initial, E::application_lost, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
-    {S::initial, E::application_restored, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
+    {S::initial, E::application_restored, S::initial, agent_action_none,
+     "cannot happen: nothing is subscribed before initialization"},
     {S::initial, E::adapter_lost, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
     {S::initial, E::adapter_restored, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
     {S::initial, E::sample_received, S::initial, agent_action_none, "cannot happen: nothing is subscribed before initialization"},
@@ -38,7 +40,8 @@ constexpr AgentTableRow kTable[] = {
     {S::application_down, E::initialized, S::application_down, agent_action_none, "nclink: initialization happens once"},
     // A request of the pair comes from its application: it is a sign of life
     // (3.22) that ends this state before the row is taken.
-    {S::application_down, E::request_received, S::application_down, agent_action_forward_request, "41; nclink: the request shows the application is back"},
+    {S::application_down, E::request_received, S::application_down, agent_action_forward_request,
+     "41; nclink: the request shows the application is back"},
     {S::application_down, E::response_received, S::application_down, agent_action_hold_response, "42"},
     {S::application_down, E::application_lost, S::application_down, agent_action_none, "43"},
     {S::application_down, E::application_restored, S::normal, agent_action_none, "44"},
@@ -50,10 +53,12 @@ constexpr AgentTableRow kTable[] = {
     {S::adapter_down, E::request_received, S::adapter_down, kHoldRequest, "49; 8.3.4 (answered DEV_UNREACHABLE)"},
     // A response of the pair comes from its adapter: a sign of life that
     // ends this state before the row is taken.
-    {S::adapter_down, E::response_received, S::adapter_down, agent_action_forward_response, "50; nclink: the response shows the adapter is back"},
+    {S::adapter_down, E::response_received, S::adapter_down, agent_action_forward_response,
+     "50; nclink: the response shows the adapter is back"},
     {S::adapter_down, E::application_lost, S::both_down, agent_action_none, "51"},
     {S::adapter_down, E::application_restored, S::adapter_down, agent_action_none, "52"},
-    {S::adapter_down, E::adapter_lost, S::both_down, agent_action_none, "53 (the text names the complete interruption; the adapter was down already)"},
+    {S::adapter_down, E::adapter_lost, S::both_down, agent_action_none,
+     "53 (the text names the complete interruption; the adapter was down already)"},
     {S::adapter_down, E::adapter_restored, S::normal, agent_action_none, "54"},
     {S::adapter_down, E::sample_received, S::adapter_down, agent_action_forward_sample, "55"},
     // ---- both down (56-63)
@@ -67,8 +72,7 @@ constexpr AgentTableRow kTable[] = {
     {S::both_down, E::sample_received, S::both_down, agent_action_forward_sample, "63"},
 };
 
-static_assert(sizeof kTable / sizeof kTable[0] == agent_state_count * agent_event_count,
-              "one row per state and event");
+static_assert(sizeof kTable / sizeof kTable[0] == agent_state_count * agent_event_count, "one row per state and event");
 
 }  // namespace
 

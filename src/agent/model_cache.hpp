@@ -14,12 +14,12 @@
 namespace nclink::agent_detail {
 
 struct CachedModel {
-    std::string version;              ///< announced last (Probe/Version)
-    std::optional<Json> model;        ///< the model fetched (Probe/Query) ...
-    std::string model_version;        ///< ... for this announced version
+    std::string version;        ///< announced last (Probe/Version)
+    std::optional<Json> model;  ///< the model fetched (Probe/Query) ...
+    std::string model_version;  ///< ... for this announced version
     std::int64_t fetched_at_s = 0;
     // an outstanding fetch
-    std::string fetch_id;             ///< "@id" of our Probe/Query ("" = none)
+    std::string fetch_id;  ///< "@id" of our Probe/Query ("" = none)
     Clock::Steady fetch_deadline{};
 };
 

@@ -117,21 +117,17 @@ std::string mosquitto_acl(const AgentConfig& config) {
             out << "topic " << (reads ? "read" : "deny") << " " << topics::sample(dev, "+") << "\n";
         }
         const auto any = entries.find("*");
-        if (any != entries.end() && (any->second & access_read))
-            out << "topic read Sample/+/+\n";
-        else if (!reads_somewhere && (policy.default_rights & access_read))
-            out << "topic deny Sample/+/+\n";
+        if (any != entries.end() && (any->second & access_read)) out << "topic read Sample/+/+\n";
+        else if (!reads_somewhere && (policy.default_rights & access_read)) out << "topic deny Sample/+/+\n";
         // Watch is granted, never denied: a deny line would also hide the
         // application's own answers on the same topics. So it goes by name
         // to each adapter it may watch, or as one "+" line when it may
         // watch them all (adapters not named in the configuration are
         // covered by the "+" line only).
-        if (watches_everywhere(entries))
-            lines(out, "topic", "read", watch_topics("+"));
+        if (watches_everywhere(entries)) lines(out, "topic", "read", watch_topics("+"));
         else
             for (const auto& dev : adapters)
-                if (agent_detail::rights_of(policy, ex, dev) & access_watch)
-                    lines(out, "topic", "read", watch_topics(dev));
+                if (agent_detail::rights_of(policy, ex, dev) & access_watch) lines(out, "topic", "read", watch_topics(dev));
         out << "\n";
     }
     if (closed && (policy.default_rights & (access_read | access_watch))) {
@@ -149,8 +145,7 @@ std::string mosquitto_acl(const AgentConfig& config) {
             << "user " << dev << "\n";
         for (const auto& [ex, entries] : policy.applications) {
             const unsigned rights = agent_detail::rights_of(policy, ex, dev);
-            for (unsigned right : each_right)
-                lines(out, "topic", (rights & right) ? "read" : "deny", topics_for(right, dev, ex));
+            for (unsigned right : each_right) lines(out, "topic", (rights & right) ? "read" : "deny", topics_for(right, dev, ex));
         }
         for (const auto& ex : default_users) lines(out, "topic", "read", topics_for(policy.default_rights, dev, ex));
         if (closed) lines(out, "topic", "read", topics_for(access_read, dev, config.agent_id));  // its model fetches
@@ -159,12 +154,9 @@ std::string mosquitto_acl(const AgentConfig& config) {
 
     out << "# Every terminal, acting as the terminal its user name names (%u).\n";
     const std::vector<std::string> own = {
-        "write " + topics::register_request(),
-        "read " + topics::register_response("%u"),
-        "write " + topics::discovery_request("%u"),
-        "read " + topics::discovery_response("%u"),
-        "write " + topics::notify_state("%u"),
-        "read " + topics::notify_state("+"),
+        "write " + topics::register_request(),      "read " + topics::register_response("%u"),
+        "write " + topics::discovery_request("%u"), "read " + topics::discovery_response("%u"),
+        "write " + topics::notify_state("%u"),      "read " + topics::notify_state("+"),
         "read " + topics::probe_version("+"),
     };
     for (const auto& l : own) out << "pattern " << l << "\n";

@@ -17,11 +17,10 @@ void PendingForwards::add(Forwarded request) {
 bool PendingForwards::answered(TopicKind answer_kind, const std::string& dev, const std::optional<std::string>& ex,
                                const std::string& id) {
     bool any = false;
-    for (TopicKind request : {TopicKind::probe_query_request, TopicKind::probe_set_request, TopicKind::query_request,
-                              TopicKind::set_request, TopicKind::sample_register_request,
-                              TopicKind::sample_unregister_request, TopicKind::method_call,
-                              TopicKind::method_control_request, TopicKind::event_register_request,
-                              TopicKind::event_unregister_request}) {
+    for (TopicKind request :
+         {TopicKind::probe_query_request, TopicKind::probe_set_request, TopicKind::query_request, TopicKind::set_request,
+          TopicKind::sample_register_request, TopicKind::sample_unregister_request, TopicKind::method_call,
+          TopicKind::method_control_request, TopicKind::event_register_request, TopicKind::event_unregister_request}) {
         // A method call is answered by its first Method/Status as well as its result.
         const bool matches = response_kind(request) == answer_kind ||
                              (request == TopicKind::method_call && answer_kind == TopicKind::method_status);

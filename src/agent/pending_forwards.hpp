@@ -20,7 +20,7 @@ struct Forwarded {
     std::string dev;
     std::optional<std::string> ex;
     MessageId msg_id;
-    std::string topic;                           ///< the request topic (its answer mirrors it)
+    std::string topic;  ///< the request topic (its answer mirrors it)
     Clock::Steady deadline{};
 };
 
@@ -30,8 +30,7 @@ public:
     void add(Forwarded request);
     /// A response of `answer_kind` from `dev` to `ex` with `id` arrived:
     /// true when it answered a tracked request (which is forgotten).
-    bool answered(TopicKind answer_kind, const std::string& dev, const std::optional<std::string>& ex,
-                  const std::string& id);
+    bool answered(TopicKind answer_kind, const std::string& dev, const std::optional<std::string>& ex, const std::string& id);
     std::vector<Forwarded> take_expired(Clock::Steady now);
     std::vector<Forwarded> take_for(const std::string& dev);
     std::size_t size() const { return by_key_.size(); }

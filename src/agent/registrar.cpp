@@ -18,13 +18,11 @@ Kind Registrar::listed_kind(const std::string& tid) const {
 
 Registrar::Decision Registrar::decide(const RegisterRequest& request, const Presence& presence, std::int64_t wall_s) {
     const std::string& tid = request.cli_uuid;
-    if (auto valid = rule_.check(tid); !valid)
-        return {ResponseStatus(valid.error()), valid.error().message};
+    if (auto valid = rule_.check(tid); !valid) return {ResponseStatus(valid.error()), valid.error().message};
 
     const auto listed = policy_.terminals.find(tid);
     if (listed == policy_.terminals.end()) {
-        if (!policy_.open)
-            return {ResponseStatus::failure(ErrorCode::permission_denied), "not on the registration allowlist"};
+        if (!policy_.open) return {ResponseStatus::failure(ErrorCode::permission_denied), "not on the registration allowlist"};
     } else if (!listed->second.password.empty()) {
         const Json* given = nullptr;
         if (request.private_info && request.private_info->is_object()) {
@@ -42,8 +40,7 @@ Registrar::Decision Registrar::decide(const RegisterRequest& request, const Pres
     if (const auto current = registrations_.find(tid); current != registrations_.end()) {
         const Registration& r = current->second;
         const bool resend = !msg_id.empty() && msg_id == r.msg_id;
-        const bool live = kind == Kind::adapter && presence.status(tid) == Status::online && r.period != 0 &&
-                          r.period == period;
+        const bool live = kind == Kind::adapter && presence.status(tid) == Status::online && r.period != 0 && r.period == period;
         if (live && !resend)
             return {ResponseStatus::failure(ErrorCode::permission_denied),
                     "already registered by a terminal that is online (one live registration per id)"};

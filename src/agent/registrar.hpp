@@ -16,8 +16,8 @@ namespace nclink::agent_detail {
 struct Registration {
     Kind kind = Kind::unknown;
     std::int64_t registered_at_s = 0;
-    std::string msg_id;          ///< "@id" of the accepted request (a resend with it is answered OK again)
-    std::uint64_t period = 0;    ///< Presence::online_periods() when accepted (0 = from the state file)
+    std::string msg_id;        ///< "@id" of the accepted request (a resend with it is answered OK again)
+    std::uint64_t period = 0;  ///< Presence::online_periods() when accepted (0 = from the state file)
 };
 
 class Registrar {

@@ -78,9 +78,8 @@ Result<void> StateStore::save_registry(const Registrar& registrar, const Presenc
     for (const auto& [tid, r] : registrar.all()) {
         Kind kind = presence.kind(tid);
         if (kind == Kind::unknown) kind = r.kind;
-        terminals[tid] = {{"kind", to_string(kind)},
-                          {"registeredAt", r.registered_at_s},
-                          {"lastAlive", presence.last_alive_s(tid)}};
+        terminals[tid] = {
+            {"kind", to_string(kind)}, {"registeredAt", r.registered_at_s}, {"lastAlive", presence.last_alive_s(tid)}};
     }
     const Json doc = {{"format", 1}, {"terminals", std::move(terminals)}};
     return detail::write_file_atomically(registry_path(), doc.dump(2, ' ', false, Json::error_handler_t::replace));
@@ -88,8 +87,7 @@ Result<void> StateStore::save_registry(const Registrar& registrar, const Presenc
 
 Result<void> StateStore::save_model(const std::string& dev, const CachedModel& entry) const {
     if (!enabled() || !entry.model) return ok_result();
-    const Json doc = {{"dev", dev}, {"version", entry.model_version}, {"fetchedAt", entry.fetched_at_s},
-                      {"model", *entry.model}};
+    const Json doc = {{"dev", dev}, {"version", entry.model_version}, {"fetchedAt", entry.fetched_at_s}, {"model", *entry.model}};
     return detail::write_file_atomically(model_path(dev), doc.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 

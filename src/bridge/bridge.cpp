@@ -17,7 +17,8 @@ namespace nclink::bridge {
 
 struct Bridge::Impl {
     Impl(BridgeConfig c, Logger l)
-        : config(std::move(c)), logger(std::move(l)),
+        : config(std::move(c)),
+          logger(std::move(l)),
           // instanceId: unique per start (part 1 5.1.1): the start time in seconds.
           store(config.buffer_size, config.sender, static_cast<std::uint64_t>(now_ms() / 1000)),
           mtconnect(store) {}

@@ -36,7 +36,7 @@ struct BridgeConfig {
     std::string ex_cid = "nclink-bridge";  ///< the bridge's application terminal id
     std::vector<std::string> devices;      ///< empty: every adapter found
     std::string http_host = "127.0.0.1";
-    int http_port = 5000;                  ///< 0: any free port
+    int http_port = 5000;  ///< 0: any free port
     /// HTTP Basic credentials of every request (docs/dashboard.md "Security");
     /// required when http_host is not a loopback address.
     std::string http_username;
@@ -44,7 +44,7 @@ struct BridgeConfig {
     std::size_t http_workers = 16;
     std::size_t max_request_bytes = 64 * 1024;
     /// Slow and idle clients (docs/bridge.md "Slow and idle clients").
-    std::size_t http_max_streams = 64;           ///< SSE/MTConnect streams at once, each on its own thread
+    std::size_t http_max_streams = 64;                    ///< SSE/MTConnect streams at once, each on its own thread
     std::chrono::milliseconds http_header_timeout{3000};  ///< a request head must be whole within this
     std::chrono::milliseconds http_keep_alive{5000};      ///< idle keep-alive connections closed after this
     std::chrono::milliseconds http_read_timeout{5000};    ///< a request body must arrive within this
@@ -53,7 +53,7 @@ struct BridgeConfig {
     std::size_t http_max_connections_per_peer = 64;  ///< 0: no cap
     bool shdr_enabled = true;
     std::string shdr_host = "127.0.0.1";
-    int shdr_port = 7878;                  ///< 0: any free port
+    int shdr_port = 7878;  ///< 0: any free port
     std::size_t buffer_size = 131072;
     std::string sender = "nclink-bridge";
     std::chrono::milliseconds poll_interval{1000};

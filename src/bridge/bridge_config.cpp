@@ -82,14 +82,12 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     if (c.buffer_size < 1 || c.buffer_size > (1u << 26))
         return make_error(ErrorCode::out_of_range, "configuration: buffer_size must be 1..67108864");
     if (c.http_workers < 3) return make_error(ErrorCode::out_of_range, "configuration: http_workers must be at least 3");
-    if (c.http_max_streams < 1)
-        return make_error(ErrorCode::out_of_range, "configuration: http_max_streams must be at least 1");
+    if (c.http_max_streams < 1) return make_error(ErrorCode::out_of_range, "configuration: http_max_streams must be at least 1");
     if (c.http_max_connections < 1)
         return make_error(ErrorCode::out_of_range, "configuration: http_max_connections must be at least 1");
-    for (const auto& [key, value] : {std::pair{"http_header_timeout_ms", c.http_header_timeout},
-                                     std::pair{"http_keep_alive_ms", c.http_keep_alive},
-                                     std::pair{"http_read_timeout_ms", c.http_read_timeout},
-                                     std::pair{"http_write_timeout_ms", c.http_write_timeout}})
+    for (const auto& [key, value] :
+         {std::pair{"http_header_timeout_ms", c.http_header_timeout}, std::pair{"http_keep_alive_ms", c.http_keep_alive},
+          std::pair{"http_read_timeout_ms", c.http_read_timeout}, std::pair{"http_write_timeout_ms", c.http_write_timeout}})
         if (value.count() < 10)
             return make_error(ErrorCode::out_of_range, std::string("configuration: ") + key + " must be at least 10");
     if (c.request_timeout.count() <= 0)

@@ -15,8 +15,7 @@ const DeviceEntry* BridgeState::find_device(std::string_view name_or_uuid) const
     return nullptr;
 }
 
-BridgeStore::BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id,
-                         std::size_t activity_log_size)
+BridgeStore::BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id, std::size_t activity_log_size)
     : buffer_size_(buffer_size),
       activity_log_size_(activity_log_size),
       sender_(std::move(sender)),
@@ -29,9 +28,7 @@ DeviceEntry* BridgeStore::device_locked(const std::string& dev) {
     return nullptr;
 }
 
-void BridgeStore::touch_locked(DeviceEntry& device) {
-    device.generation = ++state_.device_generation;
-}
+void BridgeStore::touch_locked(DeviceEntry& device) { device.generation = ++state_.device_generation; }
 
 void BridgeStore::record_locked(ItemEntry& item, const Json& value, std::int64_t time_ms) {
     const auto& latest = state_.buffer.latest();
@@ -248,8 +245,8 @@ void BridgeStore::record_event(const std::string& dev, EventLogEntry event) {
     changed_.notify_all();
 }
 
-bool BridgeStore::wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation,
-                                  std::chrono::milliseconds timeout, std::uint64_t after_activity) const {
+bool BridgeStore::wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation, std::chrono::milliseconds timeout,
+                                  std::uint64_t after_activity) const {
     std::unique_lock<std::mutex> lock(mutex_);
     return changed_.wait_for(lock, timeout, [&] {
         return state_.buffer.last_sequence() > after_sequence || state_.device_generation > after_generation ||

@@ -39,13 +39,13 @@ namespace nclink::bridge {
 /// One item as the bridge serves it.
 struct ItemEntry {
     ItemIndex index = 0;
-    std::size_t device = 0;     ///< index into BridgeState::devices
-    std::string nclink_id;      ///< "" for the AVAILABILITY item
+    std::size_t device = 0;  ///< index into BridgeState::devices
+    std::string nclink_id;   ///< "" for the AVAILABILITY item
     bool availability = false;
-    bool constant = false;      ///< the model fixes its value: never UNAVAILABLE (5.1.3.7)
+    bool constant = false;  ///< the model fixes its value: never UNAVAILABLE (5.1.3.7)
     bool setable = false;
-    bool current = true;        ///< false once a newer model of its device replaced it
-    MtDataItem mt;              ///< its MTConnect description (mapping library)
+    bool current = true;                ///< false once a newer model of its device replaced it
+    MtDataItem mt;                      ///< its MTConnect description (mapping library)
     std::optional<MtDataItem> shdr_mt;  ///< how SHDR sends it, when not as `mt` (shdr_native_item)
 };
 
@@ -53,16 +53,16 @@ struct ItemEntry {
 /// Method/Status and Method/Result DTUs tell it: one entry per call,
 /// updated by each DTU.
 struct MethodRunEntry {
-    std::uint64_t seq = 0;          ///< activity sequence of its latest change
-    std::string ex;                 ///< the calling application
-    std::string call;               ///< the call's @id
-    std::string method;             ///< the METHOD's id
-    std::string status;             ///< latest Method/Status: waiting | executing | stopped | sleep ("" = none seen)
+    std::uint64_t seq = 0;           ///< activity sequence of its latest change
+    std::string ex;                  ///< the calling application
+    std::string call;                ///< the call's @id
+    std::string method;              ///< the METHOD's id
+    std::string status;              ///< latest Method/Status: waiting | executing | stopped | sleep ("" = none seen)
     std::optional<double> progress;  ///< latest percent, when the adapter sends one
-    std::string result;             ///< Method/Result: finished | canceled | error ("" = still running)
-    Json outcome;                   ///< the result's {"code","error","reason","return"} (null until then)
-    std::int64_t start_ms = 0;      ///< when its first DTU arrived
-    std::int64_t time_ms = 0;       ///< when its latest DTU arrived
+    std::string result;              ///< Method/Result: finished | canceled | error ("" = still running)
+    Json outcome;                    ///< the result's {"code","error","reason","return"} (null until then)
+    std::int64_t start_ms = 0;       ///< when its first DTU arrived
+    std::int64_t time_ms = 0;        ///< when its latest DTU arrived
 };
 
 /// One Event DTU (8.2.31) of any application's registration at a device.
@@ -76,14 +76,14 @@ struct EventLogEntry {
 };
 
 struct DeviceEntry {
-    std::string dev;             ///< terminal id = MTConnect Device uuid
-    std::string state = "unknown";  ///< online | offline | unknown
-    std::string version;         ///< model version (Probe/Version or the model's)
+    std::string dev;                     ///< terminal id = MTConnect Device uuid
+    std::string state = "unknown";       ///< online | offline | unknown
+    std::string version;                 ///< model version (Probe/Version or the model's)
     std::shared_ptr<const Model> model;  ///< null until probed
-    Json model_json;             ///< the model as the adapter sent it
-    MtDevice mt;                 ///< MTConnect name/uuid/availability id
-    std::string devices_xml;     ///< map_to_mtconnect of the model (its Device element)
-    std::vector<ItemIndex> items;  ///< current items, AVAILABILITY first, then model order
+    Json model_json;                     ///< the model as the adapter sent it
+    MtDevice mt;                         ///< MTConnect name/uuid/availability id
+    std::string devices_xml;             ///< map_to_mtconnect of the model (its Device element)
+    std::vector<ItemIndex> items;        ///< current items, AVAILABILITY first, then model order
     std::unordered_map<std::string, ItemIndex> by_nclink_id;
     std::unordered_map<std::string, ItemIndex> by_mtconnect_id;
     std::uint64_t generation = 0;  ///< changes with state, version or model
@@ -109,8 +109,7 @@ struct BridgeState {
 
 class BridgeStore {
 public:
-    BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id,
-                std::size_t activity_log_size = 200);
+    BridgeStore(std::size_t buffer_size, std::string sender, std::uint64_t instance_id, std::size_t activity_log_size = 200);
 
     const std::string& sender() const noexcept { return sender_; }
     std::uint64_t instance_id() const noexcept { return instance_id_; }
@@ -145,10 +144,10 @@ public:
     /// bound). Unknown devices are ignored.
     struct MethodRunUpdate {
         std::string ex, call, method;
-        std::string status;              ///< a Method/Status's status
+        std::string status;  ///< a Method/Status's status
         std::optional<double> progress;
-        std::string result;              ///< a Method/Result's result
-        Json outcome;                    ///< and its code/error/reason/return
+        std::string result;  ///< a Method/Result's result
+        Json outcome;        ///< and its code/error/reason/return
     };
     void record_method_run(const std::string& dev, MethodRunUpdate update, std::int64_t time_ms);
     /// An Event DTU; the oldest goes beyond the bound. Unknown devices are ignored.
@@ -164,8 +163,7 @@ public:
     /// changed after `after_generation` or a method run or event changed
     /// after `after_activity` (default: not waited for), at most `timeout`.
     /// True when one happened.
-    bool wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation,
-                         std::chrono::milliseconds timeout,
+    bool wait_for_change(std::uint64_t after_sequence, std::uint64_t after_generation, std::chrono::milliseconds timeout,
                          std::uint64_t after_activity = std::numeric_limits<std::uint64_t>::max()) const;
     /// Wakes every waiter (shutdown).
     void wake_all() const;

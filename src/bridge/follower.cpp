@@ -32,9 +32,7 @@ Result<void> Follower::start() {
 
 void Follower::stop() {
     if (!running_.exchange(false)) return;
-    {
-        std::lock_guard<std::mutex> lock(wake_mutex_);
-    }
+    { std::lock_guard<std::mutex> lock(wake_mutex_); }
     wake_.notify_all();
     if (housekeeper_.joinable()) housekeeper_.join();
 }
@@ -183,8 +181,7 @@ void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<J
             f.event_ids.clear();
             f.model = loaded;
             f.polled.clear();
-            f.poll_interval = std::max(options_.poll_interval,
-                                       std::chrono::milliseconds(static_cast<long long>(shortest)));
+            f.poll_interval = std::max(options_.poll_interval, std::chrono::milliseconds(static_cast<long long>(shortest)));
             f.next_poll = std::chrono::steady_clock::now() + f.poll_interval;
             for (const auto& id : unchanneled) {
                 const DataObject* o = loaded->data_object(id);
@@ -216,9 +213,7 @@ void Follower::register_events(const std::string& dev, std::uint64_t epoch) {
         const std::string item = o.id;
         client_.register_event_async(
             dev, registration,
-            [this, dev](const EventData& e) {
-                store_.update(dev, e.event.id, e.event.value, e.time > 0 ? e.time : now_ms());
-            },
+            [this, dev](const EventData& e) { store_.update(dev, e.event.id, e.event.value, e.time > 0 ? e.time : now_ms()); },
             [this, dev, item, epoch](Result<std::string> id) {
                 std::lock_guard<std::mutex> lock(mutex_);
                 auto it = followed_.find(dev);
@@ -230,8 +225,7 @@ void Follower::register_events(const std::string& dev, std::uint64_t epoch) {
                 if (id) {
                     it->second.event_ids.push_back(*id);
                 } else {
-                    options_.logger.debug("bridge: no event for {}/{} ({}); polling it", dev, item,
-                                          id.error().describe());
+                    options_.logger.debug("bridge: no event for {}/{} ({}); polling it", dev, item, id.error().describe());
                     it->second.polled.push_back(item);
                 }
             },
@@ -388,13 +382,14 @@ Result<MethodResult> Follower::call(const std::string& dev, const std::string& m
         std::optional<Result<MethodResult>> result;
     };
     auto waiting = std::make_shared<Waiting>();
-    client_.call_method_async(dev, method, std::move(args), {},
-                              [waiting](Result<MethodResult> r) {
-                                  std::lock_guard<std::mutex> lock(waiting->mutex);
-                                  waiting->result.emplace(std::move(r));
-                                  waiting->done.notify_all();
-                              },
-                              request_options_);
+    client_.call_method_async(
+        dev, method, std::move(args), {},
+        [waiting](Result<MethodResult> r) {
+            std::lock_guard<std::mutex> lock(waiting->mutex);
+            waiting->result.emplace(std::move(r));
+            waiting->done.notify_all();
+        },
+        request_options_);
     std::unique_lock<std::mutex> lock(waiting->mutex);
     if (!waiting->done.wait_for(lock, timeout, [&] { return waiting->result.has_value(); }))
         return make_error(ErrorCode::timeout,

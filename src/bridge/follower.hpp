@@ -79,8 +79,7 @@ public:
     /// Method/Result (8.2.24; a refused call is a result `error` with its
     /// table-19 code). Blocks until the result or `timeout` (then timeout 203;
     /// the run itself goes on at the machine). Not from a client callback.
-    Result<MethodResult> call(const std::string& dev, const std::string& method, Json args,
-                              std::chrono::milliseconds timeout);
+    Result<MethodResult> call(const std::string& dev, const std::string& method, Json args, std::chrono::milliseconds timeout);
 
 private:
     struct Followed {
@@ -113,7 +112,7 @@ private:
 
     std::mutex mutex_;
     std::map<std::string, Followed> followed_;
-    std::set<std::string> probing_;      ///< discovery candidates being probed
+    std::set<std::string> probing_;  ///< discovery candidates being probed
     std::vector<SubscriptionId> subscriptions_;
 
     std::atomic<bool> running_{false};

@@ -44,8 +44,7 @@ Json value_of(const std::string& text) {
 std::optional<MtError> GbtApi::parse_write(const std::string& body, WriteRequest& out) {
     xmlSetStructuredErrorFunc(nullptr, ignore_structured);
     std::unique_ptr<xmlDoc, void (*)(xmlDocPtr)> doc(
-        xmlReadMemory(body.data(), static_cast<int>(body.size()), "write.xml", "UTF-8", XML_PARSE_NONET),
-        xmlFreeDoc);
+        xmlReadMemory(body.data(), static_cast<int>(body.size()), "write.xml", "UTF-8", XML_PARSE_NONET), xmlFreeDoc);
     if (!doc) return MtError{MtErrorCode::invalid_request, "the data-write request is no well-formed XML"};
     const xmlNode* root = xmlDocGetRootElement(doc.get());
     if (!root || !named(root, "DataWriteRequest"))
@@ -67,7 +66,8 @@ std::optional<MtError> GbtApi::parse_write(const std::string& body, WriteRequest
     out.description = prop(operation, "description");
     if (out.command.empty()) out.command = "SET";
     if (out.command != "SET")
-        return MtError{MtErrorCode::unsupported, "operation command '" + out.command.substr(0, 64) + "' is not supported (SET only)"};
+        return MtError{MtErrorCode::unsupported,
+                       "operation command '" + out.command.substr(0, 64) + "' is not supported (SET only)"};
     for (const xmlNode* n = operation->children; n; n = n->next) {
         if (!named(n, "Value")) continue;
         WriteRequest::Value v;
@@ -111,7 +111,8 @@ http::HttpResponse GbtApi::write(const std::string& device, const std::string& b
             auto it = d->by_nclink_id.find(v.item);
             if (it == d->by_nclink_id.end()) {
                 auto by_mt = d->by_mtconnect_id.find(v.item);
-                if (by_mt != d->by_mtconnect_id.end() && !st.items[by_mt->second].availability) it = d->by_nclink_id.find(st.items[by_mt->second].nclink_id);
+                if (by_mt != d->by_mtconnect_id.end() && !st.items[by_mt->second].availability)
+                    it = d->by_nclink_id.find(st.items[by_mt->second].nclink_id);
             }
             if (it == d->by_nclink_id.end()) {
                 refusal = MtError{MtErrorCode::invalid_request, "no data item '" + v.item.substr(0, 200) + "' (NC-Link 401)"};
@@ -136,9 +137,8 @@ http::HttpResponse GbtApi::write(const std::string& device, const std::string& b
     std::vector<MtError> errors;
     for (const auto& r : *result)
         if (!r.status.ok)
-            errors.push_back(MtError{MtErrorCode::invalid_request,
-                                     "NC-Link refused " + r.id + ": " + r.status.reason.value_or("NG") + " (" +
-                                         std::to_string(r.status.error.value_or(0)) + ")"});
+            errors.push_back(MtError{MtErrorCode::invalid_request, "NC-Link refused " + r.id + ": " + r.status.reason.value_or("NG") +
+                                                                       " (" + std::to_string(r.status.error.value_or(0)) + ")"});
     if (!errors.empty()) return mtconnect_.error(errors);
     return mtconnect_.current_of(dev, ids);
 }
@@ -147,8 +147,7 @@ void GbtApi::install(http::HttpServer& server, const std::string& prefix) {
     server.get(prefix + "/probe", [this](const http::HttpRequest&) { return mtconnect_.probe(""); });
     server.get(prefix + "/current", [this](const http::HttpRequest& r) { return mtconnect_.current("", r.query); });
     server.get(prefix + "/enquire", [this](const http::HttpRequest& r) { return mtconnect_.sample("", r.query); });
-    server.get(prefix + "/{device}/probe",
-               [this](const http::HttpRequest& r) { return mtconnect_.probe(r.path_param("device")); });
+    server.get(prefix + "/{device}/probe", [this](const http::HttpRequest& r) { return mtconnect_.probe(r.path_param("device")); });
     server.get(prefix + "/{device}/current",
                [this](const http::HttpRequest& r) { return mtconnect_.current(r.path_param("device"), r.query); });
     server.get(prefix + "/{device}/enquire",

@@ -25,8 +25,8 @@ Json JsonApi::value_json(const ItemEntry& item, const Observation& o, const std:
 }
 
 Json JsonApi::method_run_json(const std::string& dev, const MethodRunEntry& run) {
-    Json out{{"dev", dev}, {"ex", run.ex}, {"call", run.call}, {"method", run.method},
-             {"start", run.start_ms}, {"time", run.time_ms}};
+    Json out{{"dev", dev},           {"ex", run.ex},          {"call", run.call},
+             {"method", run.method}, {"start", run.start_ms}, {"time", run.time_ms}};
     if (!run.status.empty()) out["status"] = run.status;
     if (run.progress) out["progress"] = *run.progress;
     if (!run.result.empty()) out["result"] = run.result;
@@ -36,7 +36,7 @@ Json JsonApi::method_run_json(const std::string& dev, const MethodRunEntry& run)
 }
 
 Json JsonApi::event_json(const std::string& dev, const EventLogEntry& event) {
-    return Json{{"dev", dev},          {"ex", event.ex},       {"event", event.event_id},
+    return Json{{"dev", dev},         {"ex", event.ex},       {"event", event.event_id},
                 {"item", event.item}, {"value", event.value}, {"time", event.time_ms}};
 }
 
@@ -106,7 +106,8 @@ http::HttpResponse JsonApi::set(const std::string& dev, const std::string& body)
     Json request = Json::parse(body, nullptr, false);
     if (request.is_discarded() || !request.is_object() || !request.contains("id") || !request["id"].is_string() ||
         (!request.contains("value") && !request.contains("params")))
-        return json_error(400, "the body must be a JSON object {\"id\": ..., \"value\": ...} or {\"id\": ..., \"params\": {...}}");
+        return json_error(400,
+                          "the body must be a JSON object {\"id\": ..., \"value\": ...} or {\"id\": ..., \"params\": {...}}");
     bool known = false;
     store_.read([&](const BridgeState& st) {
         known = st.find_device(dev) != nullptr;
@@ -128,16 +129,14 @@ http::HttpResponse JsonApi::set(const std::string& dev, const std::string& body)
     }
     auto result = follower_.set(target, {item});
     if (!result) {
-        return http::json_response(Json{{"code", "NG"},
-                                        {"error", static_cast<int>(result.error().code)},
-                                        {"reason", result.error().describe()}});
+        return http::json_response(
+            Json{{"code", "NG"}, {"error", static_cast<int>(result.error().code)}, {"reason", result.error().describe()}});
     }
     if (result->empty()) return http::json_response(Json{{"code", "NG"}, {"error", 202}, {"reason", "no answer"}});
     const SetResult& r = result->front();
     if (r.status.ok) return http::json_response(Json{{"code", "OK"}});
-    return http::json_response(Json{{"code", "NG"},
-                                    {"error", r.status.error.value_or(0)},
-                                    {"reason", r.status.reason.value_or("")}});
+    return http::json_response(
+        Json{{"code", "NG"}, {"error", r.status.error.value_or(0)}, {"reason", r.status.reason.value_or("")}});
 }
 
 http::HttpResponse JsonApi::call(const std::string& dev, const std::string& body) const {
@@ -161,8 +160,8 @@ http::HttpResponse JsonApi::call(const std::string& dev, const std::string& body
         return 0;
     });
     if (target.empty()) return json_error(404, "no device " + dev);
-    auto result = follower_.call(target, request["method"].get<std::string>(), std::move(args),
-                                 std::chrono::milliseconds(timeout_ms));
+    auto result =
+        follower_.call(target, request["method"].get<std::string>(), std::move(args), std::chrono::milliseconds(timeout_ms));
     // No Method/Result: NG with the client's code (203 timeout, 202 unreachable).
     if (!result)
         return http::json_response(Json{{"code", "NG"},
@@ -195,8 +194,7 @@ http::HttpResponse JsonApi::history(const std::string& dev, const http::HttpRequ
         out = negative ? -static_cast<std::int64_t>(*digits) : static_cast<std::int64_t>(*digits);
         return true;
     };
-    if (!integer("from", from) || !integer("to", to))
-        return json_error(400, "from and to must be integers (ms since the epoch)");
+    if (!integer("from", from) || !integer("to", to)) return json_error(400, "from and to must be integers (ms since the epoch)");
     if (const auto text = request.param("max")) {
         const auto n = parse_unsigned(*text);
         if (!n || *n < 1 || *n > 100000) return json_error(400, "max must be an integer from 1 to 100000");
@@ -249,7 +247,7 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
         auto wanted = [&](const DeviceEntry& d) { return dev.empty() || d.dev == dev || d.mt.name == dev; };
         std::uint64_t cursor = 0;  // next sequence to send
         std::uint64_t generation = 0;
-        std::uint64_t activity = 0;  // activity sequence sent up to
+        std::uint64_t activity = 0;                                       // activity sequence sent up to
         std::map<std::string, std::pair<std::string, std::string>> seen;  // dev -> state, version
         bool need_snapshot = true;
         auto last_write = std::chrono::steady_clock::now();
@@ -296,12 +294,12 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
                     for (const auto& d : st.devices) {
                         if (!wanted(d)) continue;
                         for (const auto& run : d.method_runs)
-                            if (run.seq > activity) changed.push_back({run.seq, {"method", dump(JsonApi::method_run_json(d.dev, run))}});
+                            if (run.seq > activity)
+                                changed.push_back({run.seq, {"method", dump(JsonApi::method_run_json(d.dev, run))}});
                         for (const auto& e : d.events)
                             if (e.seq > activity) changed.push_back({e.seq, {"event", dump(JsonApi::event_json(d.dev, e))}});
                     }
-                    std::sort(changed.begin(), changed.end(),
-                              [](const auto& a, const auto& b) { return a.first < b.first; });
+                    std::sort(changed.begin(), changed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
                     for (auto& c : changed) events.push_back(std::move(c.second));
                     activity = st.activity_sequence;
                 }
@@ -334,11 +332,9 @@ http::HttpResponse JsonApi::stream(const std::string& dev) const {
 void JsonApi::install(http::HttpServer& server) {
     server.get("/nclink/v1/devices", [this](const http::HttpRequest&) { return devices(); });
     server.get("/nclink/v1/devices/{dev}/model", [this](const http::HttpRequest& r) { return model(r.path_param("dev")); });
-    server.get("/nclink/v1/devices/{dev}/activity",
-               [this](const http::HttpRequest& r) { return activity(r.path_param("dev")); });
-    server.get("/nclink/v1/devices/{dev}/nodeset.xml", [this](const http::HttpRequest& r) {
-        return nodeset(r.path_param("dev"), r.param("profile").value_or("basic"));
-    });
+    server.get("/nclink/v1/devices/{dev}/activity", [this](const http::HttpRequest& r) { return activity(r.path_param("dev")); });
+    server.get("/nclink/v1/devices/{dev}/nodeset.xml",
+               [this](const http::HttpRequest& r) { return nodeset(r.path_param("dev"), r.param("profile").value_or("basic")); });
     server.get("/nclink/v1/stream", [this](const http::HttpRequest& r) { return stream(r.param("dev").value_or("")); });
     server.post("/nclink/v1/devices/{dev}/set", [this](const http::HttpRequest& r) { return set(r.path_param("dev"), r.body); });
     server.post("/nclink/v1/devices/{dev}/call", [this](const http::HttpRequest& r) { return call(r.path_param("dev"), r.body); });

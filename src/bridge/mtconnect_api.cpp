@@ -8,9 +8,7 @@
 namespace nclink::bridge {
 namespace {
 
-http::HttpResponse xml(std::string body, int status = 200) {
-    return http::text_response(std::move(body), kXmlType, status);
-}
+http::HttpResponse xml(std::string body, int status = 200) { return http::text_response(std::move(body), kXmlType, status); }
 
 std::string boundary() {
     std::random_device rd;
@@ -19,8 +17,8 @@ std::string boundary() {
 
 // One part of a multipart/x-mixed-replace stream (part 1 8.3.2.2).
 std::string part(const std::string& boundary, const std::string& document) {
-    return fmt::format("--{}\r\nContent-type: {}\r\nContent-length: {}\r\n\r\n{}\r\n", boundary, kXmlType,
-                       document.size(), document);
+    return fmt::format("--{}\r\nContent-type: {}\r\nContent-length: {}\r\n\r\n{}\r\n", boundary, kXmlType, document.size(),
+                       document);
 }
 
 }  // namespace
@@ -79,13 +77,12 @@ std::optional<MtError> MtConnectApi::select(const BridgeState& st, const std::st
     return std::nullopt;
 }
 
-std::string MtConnectApi::current_document(const BridgeState& st, const Selection& sel,
-                                           std::optional<std::uint64_t> at) const {
+std::string MtConnectApi::current_document(const BridgeState& st, const Selection& sel, std::optional<std::uint64_t> at) const {
     std::vector<std::optional<Observation>> at_values;
     if (at) at_values = st.buffer.values_at(*at);
     // A reference to one or the other (a ?: of a const and a non-const vector would copy).
-    const std::vector<std::optional<Observation>>& values = at ? static_cast<const decltype(at_values)&>(at_values)
-                                                               : st.buffer.latest();
+    const std::vector<std::optional<Observation>>& values =
+        at ? static_cast<const decltype(at_values)&>(at_values) : st.buffer.latest();
     std::lock_guard<std::mutex> lock(rendered_mutex_);  // the entries point into rendered_
     std::vector<StreamEntry> entries;
     for (const DeviceEntry* d : sel.devices)
@@ -128,8 +125,7 @@ http::HttpResponse MtConnectApi::current(const std::string& device, const QueryP
     return store_.read([&](const BridgeState& st) -> http::HttpResponse {
         Selection sel;
         std::optional<MtError> e = select(st, device, params.path, sel);
-        if (!e && params.at)
-            e = check_at(*params.at, st.buffer.first_sequence(), st.buffer.last_sequence());
+        if (!e && params.at) e = check_at(*params.at, st.buffer.first_sequence(), st.buffer.last_sequence());
         if (e) return xml(error_document(header(st), {*e}), http_status(e->code));
         return xml(current_document(st, sel, params.at));
     });
@@ -188,7 +184,8 @@ http::HttpResponse MtConnectApi::stream_current(const std::string& device, const
         while (!sink.stopping()) {
             std::string doc = store->read([&](const BridgeState& st) {
                 Selection sel;
-                if (self->select(st, device, params.path, sel)) return error_document(self->header(st), {MtError{MtErrorCode::no_device, "device gone"}});
+                if (self->select(st, device, params.path, sel))
+                    return error_document(self->header(st), {MtError{MtErrorCode::no_device, "device gone"}});
                 return self->current_document(st, sel, std::nullopt);
             });
             if (!sink.write(part(b, doc))) return;
@@ -223,13 +220,12 @@ http::HttpResponse MtConnectApi::stream_sample(const std::string& device, const 
             std::string doc = store->read([&](const BridgeState& st) -> std::string {
                 if (from < st.buffer.first_sequence()) {
                     out_of_range = true;
-                    return error_document(self->header(st), {MtError{MtErrorCode::out_of_range,
-                                                                     "the client fell behind the buffer"}});
+                    return error_document(self->header(st),
+                                          {MtError{MtErrorCode::out_of_range, "the client fell behind the buffer"}});
                 }
                 Selection sel;
                 self->select(st, device, params.path, sel);
-                auto range = st.buffer.range(from, params.count,
-                                             [&](ItemIndex i) { return i < sel.items.size() && sel.items[i]; });
+                auto range = st.buffer.range(from, params.count, [&](ItemIndex i) { return i < sel.items.size() && sel.items[i]; });
                 found = range.observations.size();
                 next = range.next_sequence;
                 std::vector<StreamEntry> entries;
@@ -270,8 +266,7 @@ void MtConnectApi::install(http::HttpServer& server, const std::string& prefix) 
     server.get(prefix + "/{device}", [this](const http::HttpRequest& r) { return probe(r.path_param("device")); });
     server.get(prefix + "/{device}/current",
                [this](const http::HttpRequest& r) { return current(r.path_param("device"), r.query); });
-    server.get(prefix + "/{device}/sample",
-               [this](const http::HttpRequest& r) { return sample(r.path_param("device"), r.query); });
+    server.get(prefix + "/{device}/sample", [this](const http::HttpRequest& r) { return sample(r.path_param("device"), r.query); });
     auto no_assets = [this](const http::HttpRequest&) {
         return error({MtError{MtErrorCode::unsupported, "this agent keeps no assets (NC-Link has none)"}});
     };

@@ -37,8 +37,8 @@ private:
         std::vector<const DeviceEntry*> devices;
         std::vector<bool> items;  ///< by ItemIndex: wanted
     };
-    std::optional<MtError> select(const BridgeState& st, const std::string& device,
-                                  const std::optional<std::string>& path, Selection& out) const;
+    std::optional<MtError> select(const BridgeState& st, const std::string& device, const std::optional<std::string>& path,
+                                  Selection& out) const;
     HeaderInfo header(const BridgeState& st) const;
     std::string current_document(const BridgeState& st, const Selection& sel, std::optional<std::uint64_t> at) const;
     http::HttpResponse stream_current(const std::string& device, const CurrentParams& params) const;

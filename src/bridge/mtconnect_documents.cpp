@@ -92,14 +92,12 @@ std::string iso_time(std::int64_t ms) {
     const int millis = static_cast<int>(ms - static_cast<std::int64_t>(seconds) * 1000);
     std::tm tm{};
     gmtime_r(&seconds, &tm);
-    return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
-                       tm.tm_hour, tm.tm_min, tm.tm_sec, millis);
+    return fmt::format("{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
+                       tm.tm_min, tm.tm_sec, millis);
 }
 
 std::int64_t now_ms() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(
-               std::chrono::system_clock::now().time_since_epoch())
-        .count();
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 std::string error_document(const HeaderInfo& header, const std::vector<MtError>& errors) {
@@ -179,8 +177,8 @@ std::string streams_document(const HeaderInfo& header, const std::vector<StreamE
         if (added) devices.push_back(Device{e.device, {}, {}});
         Device& d = devices[dit->second];
         auto [cit, cadded] = d.by_id.emplace(e.item->component_id, d.components.size());
-        if (cadded) d.components.push_back(Component{e.item->component_element, e.item->component_name,
-                                                     e.item->component_id, {}});
+        if (cadded)
+            d.components.push_back(Component{e.item->component_element, e.item->component_name, e.item->component_id, {}});
         Component& c = d.components[cit->second];
         const int group = e.item->category == MtCategory::sample ? 0 : e.item->category == MtCategory::event ? 1 : 2;
         if (e.rendered) c.groups[group] += *e.rendered;

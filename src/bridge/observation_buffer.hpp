@@ -25,7 +25,7 @@ struct Observation {
     std::uint64_t sequence = 0;
     std::int64_t time_ms = 0;  ///< ms since the epoch (the adapter's time, else arrival)
     ItemIndex item = 0;
-    Json value;                ///< the NC-Link value; null = UNAVAILABLE
+    Json value;  ///< the NC-Link value; null = UNAVAILABLE
 };
 
 class ObservationBuffer {

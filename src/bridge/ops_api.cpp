@@ -53,8 +53,7 @@ std::string OpsApi::metrics() const {
                   static_cast<double>(n));
     out.gauge("nclink_bridge_mqtt_connected", "1 while the bridge's MQTT link is up", {},
               client_.link_state() == LinkState::connected ? 1 : 0);
-    out.counter("nclink_bridge_observations_total", "Observations recorded (the last MTConnect sequence)", {},
-                f.last_sequence);
+    out.counter("nclink_bridge_observations_total", "Observations recorded (the last MTConnect sequence)", {}, f.last_sequence);
     out.gauge("nclink_bridge_buffer_observations", "Observations held in the MTConnect buffer", {},
               static_cast<double>(f.buffered));
     out.gauge("nclink_bridge_buffer_capacity_observations", "The MTConnect bufferSize", {},
@@ -69,8 +68,7 @@ std::string OpsApi::metrics() const {
     out.counter("nclink_bridge_dtus_received_total", in_help, {{"kind", "sample"}}, s.samples);
     out.counter("nclink_bridge_dtus_received_total", in_help, {{"kind", "event"}}, s.events);
     out.counter("nclink_bridge_dtus_received_total", in_help, {{"kind", "notification"}}, s.notifications);
-    out.counter("nclink_bridge_dtus_sent_total", "Request DTUs the bridge's client published", {{"kind", "request"}},
-                s.requests);
+    out.counter("nclink_bridge_dtus_sent_total", "Request DTUs the bridge's client published", {{"kind", "request"}}, s.requests);
     const char* drop_help = "DTUs the bridge's client dropped, by cause";
     out.counter("nclink_bridge_drops_total", drop_help, {{"cause", "late_response"}}, s.late_responses);
     out.counter("nclink_bridge_drops_total", drop_help, {{"cause", "unmatched_response"}}, s.unmatched_responses);
@@ -80,8 +78,7 @@ std::string OpsApi::metrics() const {
     out.counter("nclink_bridge_unreachable_total", "NC-Link requests answered DEV_UNREACHABLE (8.3.4)", {}, s.unreachable);
     const auto t = client_.transport().stats();
     out.counter("nclink_bridge_mqtt_connects_total", "Successful (re)connections to the broker", {}, t.connects);
-    out.gauge("nclink_bridge_mqtt_buffered_messages", "Messages waiting to go to the broker", {},
-              static_cast<double>(t.buffered));
+    out.gauge("nclink_bridge_mqtt_buffered_messages", "Messages waiting to go to the broker", {}, static_cast<double>(t.buffered));
     http_metrics_.render(out, "nclink_bridge");
     http::HttpMetrics::render(out, "nclink_bridge", server_.connection_counters());
     return out.str();
@@ -96,9 +93,10 @@ void OpsApi::install(http::HttpServer& server) {
     server.get("/dashboard", [](const http::HttpRequest&) {
         auto r = http::text_response(std::string(kDashboardPage), "text/html; charset=utf-8");
         // The page only talks to this server: nothing else may run in it.
-        r.headers.emplace_back("Content-Security-Policy",
-                               "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self' data:; "
-                               "frame-ancestors 'none'");
+        r.headers.emplace_back(
+            "Content-Security-Policy",
+            "default-src 'self'; script-src 'self' 'unsafe-inline'; style-src 'unsafe-inline'; img-src 'self' data:; "
+            "frame-ancestors 'none'");
         r.headers.emplace_back("X-Content-Type-Options", "nosniff");
         return r;
     });

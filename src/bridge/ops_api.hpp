@@ -16,8 +16,7 @@ namespace nclink::bridge {
 
 class OpsApi {
 public:
-    OpsApi(const BridgeStore& store, const Client& client, const http::HttpServer& server,
-           const http::HttpMetrics& http_metrics)
+    OpsApi(const BridgeStore& store, const Client& client, const http::HttpServer& server, const http::HttpMetrics& http_metrics)
         : store_(store), client_(client), server_(server), http_metrics_(http_metrics) {}
     void install(http::HttpServer& server);
 

@@ -37,8 +37,7 @@ void collect(const xmlNode* node, std::set<std::string>& ids) {
 
 }  // namespace
 
-std::optional<MtError> select_data_items(const std::string& devices_xml, const std::string& xpath,
-                                         std::set<std::string>& ids) {
+std::optional<MtError> select_data_items(const std::string& devices_xml, const std::string& xpath, std::set<std::string>& ids) {
     static std::once_flag init;
     std::call_once(init, [] { xmlInitParser(); });
     // libxml2 keeps its error handlers per thread: silence them for this one.
@@ -52,11 +51,9 @@ std::optional<MtError> select_data_items(const std::string& devices_xml, const s
     if (auto at = text.find(ns); at != std::string::npos) text.erase(at, ns.size());
 
     std::unique_ptr<xmlDoc, void (*)(xmlDocPtr)> doc(
-        xmlReadMemory(text.data(), static_cast<int>(text.size()), "devices.xml", "UTF-8", XML_PARSE_NONET),
-        xmlFreeDoc);
+        xmlReadMemory(text.data(), static_cast<int>(text.size()), "devices.xml", "UTF-8", XML_PARSE_NONET), xmlFreeDoc);
     if (!doc) return MtError{MtErrorCode::internal_error, "the Devices document does not parse"};
-    std::unique_ptr<xmlXPathContext, void (*)(xmlXPathContextPtr)> context(xmlXPathNewContext(doc.get()),
-                                                                           xmlXPathFreeContext);
+    std::unique_ptr<xmlXPathContext, void (*)(xmlXPathContextPtr)> context(xmlXPathNewContext(doc.get()), xmlXPathFreeContext);
     if (!context) return MtError{MtErrorCode::internal_error, "no XPath context"};
     std::unique_ptr<xmlXPathObject, void (*)(xmlXPathObjectPtr)> result(
         xmlXPathEvalExpression(reinterpret_cast<const xmlChar*>(xpath.c_str()), context.get()), xmlXPathFreeObject);
@@ -71,8 +68,7 @@ std::optional<MtError> select_data_items(const std::string& devices_xml, const s
         any_element = true;
         collect(node, ids);
     }
-    if (!any_element)
-        return MtError{MtErrorCode::invalid_path, "the path '" + xpath.substr(0, 200) + "' selects no element"};
+    if (!any_element) return MtError{MtErrorCode::invalid_path, "the path '" + xpath.substr(0, 200) + "' selects no element"};
     (void)before;
     return std::nullopt;
 }

@@ -19,7 +19,6 @@ namespace nclink::bridge {
 /// Adds to `ids` the id of every DataItem `xpath` selects in `devices_xml`
 /// (an MTConnectDevices document). INVALID_PATH when the expression does not
 /// parse or selects no element.
-std::optional<MtError> select_data_items(const std::string& devices_xml, const std::string& xpath,
-                                         std::set<std::string>& ids);
+std::optional<MtError> select_data_items(const std::string& devices_xml, const std::string& xpath, std::set<std::string>& ids);
 
 }  // namespace nclink::bridge

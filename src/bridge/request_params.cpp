@@ -68,17 +68,16 @@ bool looks_negative_integer(const std::string& text) {
 
 // An integer parameter: INVALID_REQUEST when it is not one, OUT_OF_RANGE when
 // negative or above `max`.
-std::optional<MtError> integer(const std::string& text, const char* name, std::uint64_t min, std::uint64_t max,
-                               std::uint64_t& out) {
+std::optional<MtError> integer(const std::string& text, const char* name, std::uint64_t min, std::uint64_t max, std::uint64_t& out) {
     if (looks_negative_integer(text))
-        return MtError{MtErrorCode::out_of_range, std::string("'") + name + "' must be greater than or equal to " +
-                                                      std::to_string(min)};
+        return MtError{MtErrorCode::out_of_range,
+                       std::string("'") + name + "' must be greater than or equal to " + std::to_string(min)};
     auto value = parse_unsigned(text);
     if (!value) {
         if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos)
             return MtError{MtErrorCode::out_of_range, std::string("'") + name + "' is too large"};
-        return MtError{MtErrorCode::invalid_request, std::string("'") + name + "' must be a positive integer, not '" +
-                                                         text.substr(0, 64) + "'"};
+        return MtError{MtErrorCode::invalid_request,
+                       std::string("'") + name + "' must be a positive integer, not '" + text.substr(0, 64) + "'"};
     }
     if (*value < min)
         return MtError{MtErrorCode::out_of_range,
@@ -92,8 +91,8 @@ std::optional<MtError> integer(const std::string& text, const char* name, std::u
 
 // An integer parameter given once or more: every value must be valid (a
 // malformed one is an error even beside a good one, 6.3.4) and all must agree.
-std::optional<MtError> one_integer(const QueryParams& query, const char* name, const char* gbt_name,
-                                   std::uint64_t min, std::uint64_t max, std::optional<std::uint64_t>& out) {
+std::optional<MtError> one_integer(const QueryParams& query, const char* name, const char* gbt_name, std::uint64_t min,
+                                   std::uint64_t max, std::optional<std::uint64_t>& out) {
     for (const std::string* text : values_of(query, name, gbt_name)) {
         std::uint64_t value = 0;
         if (auto e = integer(*text, name, min, max, value)) return e;
@@ -108,10 +107,8 @@ std::optional<MtError> one_integer(const QueryParams& query, const char* name, c
 // with a NUL in it would be answered as its head: refused instead.
 std::optional<MtError> one_path(const QueryParams& query, std::optional<std::string>& out) {
     for (const std::string* text : values_of(query, "path", "Path")) {
-        if (text->find('\0') != std::string::npos)
-            return MtError{MtErrorCode::invalid_path, "the path holds a NUL character"};
-        if (out && *out != *text)
-            return MtError{MtErrorCode::invalid_request, "'path' is given twice with different values"};
+        if (text->find('\0') != std::string::npos) return MtError{MtErrorCode::invalid_path, "the path holds a NUL character"};
+        if (out && *out != *text) return MtError{MtErrorCode::invalid_request, "'path' is given twice with different values"};
         out = *text;
     }
     return std::nullopt;
@@ -154,8 +151,7 @@ std::optional<MtError> parse_current_params(const QueryParams& query, std::size_
     if (auto e = one_integer(query, "count", "Count", 1, buffer_size, value)) return e;
     out.count = value;
     if (auto e = streaming(query, out.interval, out.heartbeat)) return e;
-    if (out.at && out.interval)
-        return MtError{MtErrorCode::invalid_request, "'at' and 'interval' cannot be given together"};
+    if (out.at && out.interval) return MtError{MtErrorCode::invalid_request, "'at' and 'interval' cannot be given together"};
     return one_path(query, out.path);
 }
 

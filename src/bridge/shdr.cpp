@@ -32,8 +32,7 @@ std::string shdr_value(std::string_view text) {
     plain.reserve(text.size());
     for (char c : text) plain += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? ' ' : c;
     const auto first = plain.find_first_not_of(' ');
-    const bool quote = plain.find('|') != std::string::npos ||
-                       (first != std::string::npos && (first > 0 || plain[first] == '"'));
+    const bool quote = plain.find('|') != std::string::npos || (first != std::string::npos && (first > 0 || plain[first] == '"'));
     if (!quote) return plain;
     // The adapter protocol's quoted form: '"' ... '"' with '\' before each
     // '|', '"' and '\' inside; the agent drops the backslashes and keeps
@@ -53,8 +52,7 @@ std::string shdr_device_key(const MtDevice& device) {
     // name, and splits the key at its first ':'. Names need not be unique
     // (two machines of one model), uuids are: the uuid unless it holds a
     // character that would split or end the key.
-    const bool usable = !device.uuid.empty() &&
-                        device.uuid.find_first_of(":| \t\r\n") == std::string::npos;
+    const bool usable = !device.uuid.empty() && device.uuid.find_first_of(":| \t\r\n") == std::string::npos;
     return shdr_escape(usable ? device.uuid : device.name);
 }
 
@@ -99,8 +97,10 @@ std::string shdr_lines(const DeviceEntry& device, const ItemEntry& item, const O
     if (item.mt.category == MtCategory::condition) {
         // level|nativeCode|nativeSeverity|qualifier|message
         for (const auto& ob : observations) {
-            std::string level = ob.element == "Fault" ? "fault" : ob.element == "Warning" ? "warning"
-                                : ob.element == "Normal" ? "normal" : "unavailable";
+            std::string level = ob.element == "Fault"     ? "fault"
+                                : ob.element == "Warning" ? "warning"
+                                : ob.element == "Normal"  ? "normal"
+                                                          : "unavailable";
             out += prefix + level + "|" + shdr_value(ob.native_code) + "|||" + shdr_value(ob.value) + "\n";
         }
         return out;
@@ -121,9 +121,13 @@ std::string shdr_answer(std::string_view line, std::chrono::milliseconds heartbe
     return {};
 }
 
-ShdrServer::ShdrServer(const BridgeStore& store, std::string host, int port, std::chrono::milliseconds heartbeat,
-                       Logger logger, std::size_t max_connections)
-    : store_(store), host_(std::move(host)), port_(port), heartbeat_(heartbeat), logger_(std::move(logger)),
+ShdrServer::ShdrServer(const BridgeStore& store, std::string host, int port, std::chrono::milliseconds heartbeat, Logger logger,
+                       std::size_t max_connections)
+    : store_(store),
+      host_(std::move(host)),
+      port_(port),
+      heartbeat_(heartbeat),
+      logger_(std::move(logger)),
       max_connections_(max_connections) {}
 
 ShdrServer::~ShdrServer() { stop(); }

@@ -17,7 +17,8 @@ namespace nclink::client_detail {
 /// the dispatch thread: the completion would come from the thread that waits.
 template <class T, class Start>
 Result<T> wait_for(const Client::Impl& impl, Start&& start) {
-    if (impl.dispatcher.on_dispatch_thread()) return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
+    if (impl.dispatcher.on_dispatch_thread())
+        return make_error(ErrorCode::unavailable, "blocking client call from a client callback");
     auto promise = std::make_shared<std::promise<Result<T>>>();
     auto future = promise->get_future();
     start([promise](Result<T> result) { promise->set_value(std::move(result)); });

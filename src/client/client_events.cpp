@@ -71,8 +71,7 @@ public:
     void complete() override {
         if (!response_) return;
         Result<std::string> result = make_error(ErrorCode::parameter_missing, "Register/Event response without an event id");
-        if (!response_->status.ok)
-            result = error_from_status(response_->status);
+        if (!response_->status.ok) result = error_from_status(response_->status);
         else if (!response_->id.empty()) {
             routes_.add(dev_, response_->id, std::move(handler_), once_);
             result = response_->id;
@@ -103,10 +102,8 @@ public:
     }
     void complete() override {
         if (!done_ || !status_) return;
-        if (status_->ok)
-            done_(ok_result());
-        else
-            done_(error_from_status(*status_));
+        if (status_->ok) done_(ok_result());
+        else done_(error_from_status(*status_));
     }
     void fail(Error error) override {
         if (done_) done_(std::move(error));
@@ -138,14 +135,14 @@ void Client::register_event_async(const std::string& dev, EventRegistration regi
         if (id) impl->keep_alive.hold(dev, "event:" + id.value(), item, client_detail::KeepAlive::Clock::now());
         if (done) done(std::move(id));
     };
-    auto responder = std::make_shared<client_detail::RegisterEventResponder>(
-        impl_->event_routes, dev, once, std::move(on_event), std::move(kept));
+    auto responder = std::make_shared<client_detail::RegisterEventResponder>(impl_->event_routes, dev, once, std::move(on_event),
+                                                                             std::move(kept));
     impl_->send(TopicKind::event_register_response, topics::event_register_request(dev, ex_cid()), std::move(request),
-                                       std::move(responder), options);
+                std::move(responder), options);
 }
 
-Result<std::string> Client::register_event(const std::string& dev, EventRegistration registration,
-                                           EventHandler on_event, RequestOptions options) {
+Result<std::string> Client::register_event(const std::string& dev, EventRegistration registration, EventHandler on_event,
+                                           RequestOptions options) {
     return client_detail::wait_for<std::string>(*impl_, [&](auto done) {
         register_event_async(dev, std::move(registration), std::move(on_event), std::move(done), options);
     });
@@ -161,13 +158,12 @@ void Client::unregister_event_async(const std::string& dev, const std::string& g
     request.guid = dev;
     request.id = event_id;
     impl_->send(TopicKind::event_unregister_response, topics::event_unregister_request(dev, ex_cid()), std::move(request),
-                                         std::make_shared<client_detail::UnregisterEventResponder>(std::move(done)),
-                                         options);
+                std::make_shared<client_detail::UnregisterEventResponder>(std::move(done)), options);
 }
 
 Result<void> Client::unregister_event(const std::string& dev, const std::string& event_id, RequestOptions options) {
-    return client_detail::wait_for<void>(
-        *impl_, [&](auto done) { unregister_event_async(dev, event_id, std::move(done), options); });
+    return client_detail::wait_for<void>(*impl_,
+                                         [&](auto done) { unregister_event_async(dev, event_id, std::move(done), options); });
 }
 
 std::size_t Client::event_registrations() const { return impl_->event_routes.size(); }

@@ -134,10 +134,9 @@ void Client::call_method_async(const std::string& dev, const std::string& method
     request.id = method_id;
     if (!args.is_null()) request.args = std::move(args);
     const auto timeout = options.timeout.value_or(impl_->options.default_timeout);
-    auto responder = std::make_shared<client_detail::MethodCallResponder>(
-        std::move(on_status), std::move(done), timeout, impl_->pending);
-    impl_->send(TopicKind::method_result, topics::method_call(dev, ex_cid()), std::move(request),
-                                    std::move(responder), options);
+    auto responder =
+        std::make_shared<client_detail::MethodCallResponder>(std::move(on_status), std::move(done), timeout, impl_->pending);
+    impl_->send(TopicKind::method_result, topics::method_call(dev, ex_cid()), std::move(request), std::move(responder), options);
 }
 
 Result<MethodResult> Client::call_method(const std::string& dev, const std::string& method_id, Json args,
@@ -154,14 +153,13 @@ void Client::control_method_async(const std::string& dev, const std::string& met
     request.id = method_id;
     request.action = std::string(method_action_name(action));
     impl_->send(TopicKind::method_control_response, topics::method_control_request(dev, ex_cid()), std::move(request),
-                                       std::make_shared<client_detail::ControlResponder>(std::move(done)), options);
+                std::make_shared<client_detail::ControlResponder>(std::move(done)), options);
 }
 
 Result<void> Client::control_method(const std::string& dev, const std::string& method_id, MethodAction action,
                                     RequestOptions options) {
-    return client_detail::wait_for<void>(*impl_, [&](auto done) {
-        control_method_async(dev, method_id, action, std::move(done), options);
-    });
+    return client_detail::wait_for<void>(
+        *impl_, [&](auto done) { control_method_async(dev, method_id, action, std::move(done), options); });
 }
 
 }  // namespace nclink

@@ -20,11 +20,11 @@ namespace nclink::client_detail {
 
 struct FollowedDevice {
     std::optional<Json> model;
-    std::string version;            ///< of `model` ("" = none fetched yet)
-    bool followed = false;          ///< follow_model() asked for it: re-probe on a version change
-    bool watched = false;           ///< Notify/State and Probe/Version of the device are subscribed
-    bool offline_seen = false;      ///< went offline since its last Probe/Version: a restart may follow
-    std::string instance;           ///< the adapter run its last Probe/Version named ("" = it names none)
+    std::string version;        ///< of `model` ("" = none fetched yet)
+    bool followed = false;      ///< follow_model() asked for it: re-probe on a version change
+    bool watched = false;       ///< Notify/State and Probe/Version of the device are subscribed
+    bool offline_seen = false;  ///< went offline since its last Probe/Version: a restart may follow
+    std::string instance;       ///< the adapter run its last Probe/Version named ("" = it names none)
     Client::ModelHandler on_model;
 };
 

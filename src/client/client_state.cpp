@@ -21,34 +21,34 @@ ClientTransition client_transition(ClientState state, ClientEvent event, bool qu
             break;
         case S::normal:
             switch (event) {
-                case E::request_made: return {S::request, client_action_send_request};           // 11
-                case E::stray_response: return {S::normal, client_action_drop_response};         // 12
+                case E::request_made: return {S::request, client_action_send_request};    // 11
+                case E::stray_response: return {S::normal, client_action_drop_response};  // 12
                 case E::response_received:
                 case E::last_response: return {S::normal, client_action_handle_response};
-                case E::link_lost: return {S::disconnected, client_action_none};                 // 13
-                case E::link_restored: return {S::normal, client_action_none};                   // 14
-                case E::sample_received: return {S::normal, client_action_handle_sample};        // 15
+                case E::link_lost: return {S::disconnected, client_action_none};           // 13
+                case E::link_restored: return {S::normal, client_action_none};             // 14
+                case E::sample_received: return {S::normal, client_action_handle_sample};  // 15
             }
             break;
         case S::request:
             switch (event) {
-                case E::request_made: return {S::request, client_action_send_request};           // 17
-                case E::response_received: return {S::request, client_action_handle_response};   // others still wait
-                case E::last_response: return {S::normal, client_action_handle_response};        // 18
+                case E::request_made: return {S::request, client_action_send_request};          // 17
+                case E::response_received: return {S::request, client_action_handle_response};  // others still wait
+                case E::last_response: return {S::normal, client_action_handle_response};       // 18
                 case E::stray_response: return {S::request, client_action_drop_response};
-                case E::link_lost: return {S::disconnected, client_action_none};                 // 19
-                case E::link_restored: return {S::request, client_action_none};                  // 20
-                case E::sample_received: return {S::request, client_action_handle_sample};       // 21
+                case E::link_lost: return {S::disconnected, client_action_none};            // 19
+                case E::link_restored: return {S::request, client_action_none};             // 20
+                case E::sample_received: return {S::request, client_action_handle_sample};  // 21
             }
             break;
         case S::disconnected:
             switch (event) {
-                case E::request_made: return {S::disconnected, client_action_queue_request};     // 23
+                case E::request_made: return {S::disconnected, client_action_queue_request};  // 23
                 case E::response_received:
                 case E::last_response: return {S::disconnected, client_action_handle_response};  // 24
                 case E::stray_response: return {S::disconnected, client_action_drop_response};
-                case E::link_lost: return {S::disconnected, client_action_none};                 // 25
-                case E::link_restored:                                                           // 26
+                case E::link_lost: return {S::disconnected, client_action_none};  // 25
+                case E::link_restored:                                            // 26
                     if (queued) return {S::request, client_action_send_queued};
                     return {outstanding ? S::request : S::normal, client_action_none};
                 case E::sample_received: return {S::disconnected, client_action_handle_sample};  // 27

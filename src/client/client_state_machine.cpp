@@ -35,12 +35,11 @@ void ClientStateMachine::apply(ClientEvent event, bool queued, bool outstanding)
 }
 
 void ClientStateMachine::prune(std::deque<Entry>& entries) {
-    for (auto it = entries.begin(); it != entries.end();)
-        it = hooks_.is_pending(it->id) ? it + 1 : entries.erase(it);
+    for (auto it = entries.begin(); it != entries.end();) it = hooks_.is_pending(it->id) ? it + 1 : entries.erase(it);
 }
 
-Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string& id, const std::string& dev,
-                                                               Message message, const std::function<bool()>& add) {
+Result<ClientStateMachine::Outcome> ClientStateMachine::submit(const std::string& id, const std::string& dev, Message message,
+                                                               const std::function<bool()>& add) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto t = client_transition(state_, ClientEvent::request_made);
     if (t.actions & client_action_queue_request) {
@@ -72,8 +71,7 @@ std::vector<std::pair<std::string, Error>> ClientStateMachine::link_restored() {
         for (auto& entry : queue_) {
             if (auto published = hooks_.publish(entry.message); !published)
                 failed.emplace_back(entry.id, std::move(published).error());
-            else
-                unconfirmed_.push_back(std::move(entry));
+            else unconfirmed_.push_back(std::move(entry));
         }
         queue_.clear();
     }

@@ -53,8 +53,7 @@ public:
     /// A request was made: `add` enters it in the pending table (false: the
     /// client is closing -> unavailable). Sent at once when connected, queued
     /// otherwise (404 when max_queued requests already wait).
-    Result<Outcome> submit(const std::string& id, const std::string& dev, Message message,
-                           const std::function<bool()>& add);
+    Result<Outcome> submit(const std::string& id, const std::string& dev, Message message, const std::function<bool()>& add);
     /// The link came up: queued requests still pending are published in
     /// order. Returns those whose publish failed, with the error.
     std::vector<std::pair<std::string, Error>> link_restored();

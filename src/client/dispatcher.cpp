@@ -72,10 +72,8 @@ void Dispatcher::run() {
         lock.unlock();
         const auto deadline = hooks_.next_deadline ? hooks_.next_deadline() : std::nullopt;
         lock.lock();
-        if (deadline)
-            wake_.wait_until(lock, *deadline, ready);
-        else
-            wake_.wait(lock, ready);
+        if (deadline) wake_.wait_until(lock, *deadline, ready);
+        else wake_.wait(lock, ready);
         poked_ = false;
         std::deque<Task> batch;
         batch.swap(tasks_);

@@ -21,9 +21,9 @@ public:
 
     struct Hooks {
         std::function<std::optional<Clock::time_point>()> next_deadline;  ///< when to wake at the latest
-        std::function<void(Clock::time_point now)> on_wake;              ///< after each batch of tasks / wake-up
-        std::function<void()> on_stop;  ///< last act on the thread, after the remaining tasks
-        std::function<void(const char* what)> on_exception;  ///< a task threw (a user callback); it is dropped
+        std::function<void(Clock::time_point now)> on_wake;               ///< after each batch of tasks / wake-up
+        std::function<void()> on_stop;                                    ///< last act on the thread, after the remaining tasks
+        std::function<void(const char* what)> on_exception;               ///< a task threw (a user callback); it is dropped
     };
 
     explicit Dispatcher(Hooks hooks);

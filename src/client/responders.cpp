@@ -39,10 +39,8 @@ public:
     }
     void fail(Error error) override {
         if (!done_) return;
-        if (on_fail_)
-            done_(on_fail_(std::move(error)));
-        else
-            done_(Result<T>(std::move(error)));
+        if (on_fail_) done_(on_fail_(std::move(error)));
+        else done_(Result<T>(std::move(error)));
     }
 
 private:
@@ -54,7 +52,7 @@ private:
 
 template <class Dtu, class T>
 std::shared_ptr<Responder> make(Completion<T> done, typename TypedResponder<Dtu, T>::Convert convert,
-                                 typename TypedResponder<Dtu, T>::OnFail on_fail = {}) {
+                                typename TypedResponder<Dtu, T>::OnFail on_fail = {}) {
     return std::make_shared<TypedResponder<Dtu, T>>(std::move(done), std::move(convert), std::move(on_fail));
 }
 
@@ -121,19 +119,17 @@ std::shared_ptr<Responder> probe_set_responder(Completion<void> done) {
 }
 
 std::shared_ptr<Responder> query_responder(Completion<std::vector<QueryResult>> done) {
-    return make<QueryResponse, std::vector<QueryResult>>(
-        std::move(done), [](QueryResponse& r) -> Result<std::vector<QueryResult>> {
-            if (r.status && !r.status->ok) return error_from_status(*r.status);
-            return std::move(r.values);
-        });
+    return make<QueryResponse, std::vector<QueryResult>>(std::move(done), [](QueryResponse& r) -> Result<std::vector<QueryResult>> {
+        if (r.status && !r.status->ok) return error_from_status(*r.status);
+        return std::move(r.values);
+    });
 }
 
 std::shared_ptr<Responder> set_responder(Completion<std::vector<SetResult>> done) {
-    return make<SetResponse, std::vector<SetResult>>(
-        std::move(done), [](SetResponse& r) -> Result<std::vector<SetResult>> {
-            if (r.status && !r.status->ok) return error_from_status(*r.status);
-            return std::move(r.results);
-        });
+    return make<SetResponse, std::vector<SetResult>>(std::move(done), [](SetResponse& r) -> Result<std::vector<SetResult>> {
+        if (r.status && !r.status->ok) return error_from_status(*r.status);
+        return std::move(r.results);
+    });
 }
 
 }  // namespace nclink::client_detail

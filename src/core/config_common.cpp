@@ -29,8 +29,7 @@ Result<ConfigDocument> read_config_document(const std::string& path) {
         std::string what = e.what();
         // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..." -> the part after the position
         if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
-        return make_error(ErrorCode::syntax_error,
-                          fmt::format("{}:{}:{}: not valid JSON: {}", path, at.line, at.column, what));
+        return make_error(ErrorCode::syntax_error, fmt::format("{}:{}:{}: not valid JSON: {}", path, at.line, at.column, what));
     }
     return doc;
 }
@@ -44,10 +43,8 @@ Result<Json> read_config_file(const std::string& path) {
 Error located(const ConfigDocument& doc, Error error) {
     std::optional<TextPosition> at;
     if (!error.pointer.empty()) at = locate_pointer(doc.text, error.pointer);
-    if (at)
-        error.message = fmt::format("{}:{}:{}: {}", doc.path, at->line, at->column, error.message);
-    else
-        error.message = fmt::format("{}: {}", doc.path, error.message);
+    if (at) error.message = fmt::format("{}:{}:{}: {}", doc.path, at->line, at->column, error.message);
+    else error.message = fmt::format("{}: {}", doc.path, error.message);
     return error;
 }
 
@@ -71,8 +68,7 @@ Result<void> read_log_level(ConfigReader& top, LogLevel& out) {
     if (level.empty()) return ok_result();
     auto parsed = log_level_from_string(level);
     if (!parsed)
-        return top.fail(ErrorCode::value_type, "log_level",
-                        fmt::format("'{}' is not trace/debug/info/warn/error/off", level));
+        return top.fail(ErrorCode::value_type, "log_level", fmt::format("'{}' is not trace/debug/info/warn/error/off", level));
     out = *parsed;
     return ok_result();
 }
@@ -93,9 +89,9 @@ Result<void> read_http_limits(ConfigReader& top, const char* section, HttpLimits
     // and a deadline under 10 ms would close every client.
     if (out.workers < 1) return r.fail(ErrorCode::out_of_range, "http_workers", "must be at least 1");
     if (out.max_connections < 1) return r.fail(ErrorCode::out_of_range, "http_max_connections", "must be at least 1");
-    for (const auto& [key, value] : {std::pair{"http_header_timeout_ms", out.header_timeout},
-                                     std::pair{"http_keep_alive_ms", out.keep_alive},
-                                     std::pair{"http_write_timeout_ms", out.write_timeout}})
+    for (const auto& [key, value] :
+         {std::pair{"http_header_timeout_ms", out.header_timeout}, std::pair{"http_keep_alive_ms", out.keep_alive},
+          std::pair{"http_write_timeout_ms", out.write_timeout}})
         if (value.count() < 10) return r.fail(ErrorCode::out_of_range, key, "must be at least 10");
     return ok_result();
 }

@@ -52,10 +52,12 @@ public:
         return ok_result();
     }
     Result<void> str(const char* key, std::string& out) {
-        return read(key, out, [](const Json& j) { return j.is_string(); }, "a string");
+        return read(
+            key, out, [](const Json& j) { return j.is_string(); }, "a string");
     }
     Result<void> boolean(const char* key, bool& out) {
-        return read(key, out, [](const Json& j) { return j.is_boolean(); }, "true or false");
+        return read(
+            key, out, [](const Json& j) { return j.is_boolean(); }, "true or false");
     }
     /// A non-negative integer that fits `T`. A value past T's range is
     /// refused, never cut: a byte limit of 5 GB read into a 32-bit size_t
@@ -70,8 +72,9 @@ public:
             mark(key);
             return fail(ErrorCode::value_type, key, fmt::format("must be at most {}", max));
         }
-        return read(key, out, [](const Json& j) { return j.is_number_unsigned() || (j.is_number_integer() && j.get<long long>() >= 0); },
-                    "a non-negative integer");
+        return read(
+            key, out, [](const Json& j) { return j.is_number_unsigned() || (j.is_number_integer() && j.get<long long>() >= 0); },
+            "a non-negative integer");
     }
     template <class Duration>
     Result<void> duration(const char* key, Duration& out) {
@@ -110,8 +113,8 @@ private:
     std::vector<std::string> order_;  ///< keys in the order the reader asks for them
 };
 
-#define NCLINK_TRY(expr)                   \
-    do {                                   \
+#define NCLINK_TRY(expr)                                         \
+    do {                                                         \
         if (auto r_ = (expr); !r_) return std::move(r_).error(); \
     } while (0)
 

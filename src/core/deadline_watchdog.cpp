@@ -45,10 +45,8 @@ void DeadlineWatchdog::loop() {
             continue;
         }
         sleeping_until_ = entries_.empty() ? Time::max() : entries_.top().at;
-        if (sleeping_until_ == Time::max())
-            wake_.wait(lock);
-        else
-            wake_.wait_until(lock, sleeping_until_);
+        if (sleeping_until_ == Time::max()) wake_.wait(lock);
+        else wake_.wait_until(lock, sleeping_until_);
         sleeping_until_ = Time::max();
     }
 }

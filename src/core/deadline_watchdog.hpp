@@ -80,9 +80,7 @@ public:
 
 private:
     static constexpr int kOpen = 0, kStarted = 1, kWorker = 2, kDeadline = 3;
-    bool move(int from, int to) noexcept {
-        return state_.compare_exchange_strong(from, to, std::memory_order_acq_rel);
-    }
+    bool move(int from, int to) noexcept { return state_.compare_exchange_strong(from, to, std::memory_order_acq_rel); }
     std::atomic<int> state_{kOpen};
 };
 

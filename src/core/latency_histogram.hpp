@@ -16,9 +16,8 @@ namespace nclink::detail {
 
 /// Upper bounds in seconds: 100 us .. 10 s, the range of request round trips
 /// on a broker (docs/metrics.md).
-inline constexpr std::array<double, 16> kLatencyBoundsSeconds = {0.0001, 0.00025, 0.0005, 0.001, 0.0025, 0.005,
-                                                                  0.01,   0.025,   0.05,   0.1,   0.25,   0.5,
-                                                                  1,      2.5,     5,      10};
+inline constexpr std::array<double, 16> kLatencyBoundsSeconds = {0.0001, 0.00025, 0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025,
+                                                                 0.05,   0.1,     0.25,   0.5,   1,      2.5,   5,    10};
 
 class LatencyHistogram {
 public:

@@ -95,12 +95,9 @@ PrometheusText::Family& PrometheusText::family(std::string_view name, std::strin
     return it->second;
 }
 
-void PrometheusText::declare(std::string_view name, std::string_view type, std::string_view help) {
-    family(name, type, help);
-}
+void PrometheusText::declare(std::string_view name, std::string_view type, std::string_view help) { family(name, type, help); }
 
-void PrometheusText::counter(std::string_view name, std::string_view help, const MetricLabels& labels,
-                             std::uint64_t value) {
+void PrometheusText::counter(std::string_view name, std::string_view help, const MetricLabels& labels, std::uint64_t value) {
     auto& f = family(name, "counter", help);
     f.samples += fmt::format("{}{} {}\n", name, label_text(labels), value);
 }
@@ -121,8 +118,8 @@ void PrometheusText::histogram(std::string_view name, std::string_view help, con
     std::uint64_t cumulative = 0;
     for (std::size_t i = 0; i < h.upper_bounds.size(); ++i) {
         cumulative += i < h.counts.size() ? h.counts[i] : 0;
-        f.samples += fmt::format("{}_bucket{} {}\n", name, label_text(labels, "le", format_metric_value(h.upper_bounds[i])),
-                                 cumulative);
+        f.samples +=
+            fmt::format("{}_bucket{} {}\n", name, label_text(labels, "le", format_metric_value(h.upper_bounds[i])), cumulative);
     }
     // +Inf holds every observation; taken from the buckets so it can never
     // be below the last finite bucket.

@@ -36,8 +36,7 @@ public:
     /// A gauge sample.
     void gauge(std::string_view name, std::string_view help, const MetricLabels& labels, double value);
     /// A histogram; `name` without the _bucket/_sum/_count suffixes.
-    void histogram(std::string_view name, std::string_view help, const MetricLabels& labels,
-                   const HistogramSnapshot& histogram);
+    void histogram(std::string_view name, std::string_view help, const MetricLabels& labels, const HistogramSnapshot& histogram);
     /// Declares a family without samples yet (its HELP/TYPE are written even
     /// when no sample follows, e.g. a counter of a kind nothing happened to).
     void declare(std::string_view name, std::string_view type, std::string_view help);

@@ -23,16 +23,16 @@ std::string utc_iso8601_ms(std::int64_t ms) {
     // day, so every block below ends with its longer part. 11017 days lie
     // between 1970-01-01 and 2000-03-01.
     const std::int64_t from_2000_march = days - 11017;
-    const std::int64_t cycles = floor_div(from_2000_march, 146097);  // 400 years
+    const std::int64_t cycles = floor_div(from_2000_march, 146097);   // 400 years
     auto rest = static_cast<int>(from_2000_march - cycles * 146097);  // [0, 146096]
-    int centuries = rest / 36524;   // the 4th century has the extra day (2400-02-29)
+    int centuries = rest / 36524;                                     // the 4th century has the extra day (2400-02-29)
     if (centuries == 4) centuries = 3;
     rest -= centuries * 36524;
     const int quads = rest / 1461;  // 4-year blocks, the last year of each leap
     rest -= quads * 1461;
     int years = rest / 365;
-    if (years == 4) years = 3;      // the leap day itself
-    rest -= years * 365;            // day of the March-based year, [0, 365]
+    if (years == 4) years = 3;  // the leap day itself
+    rest -= years * 365;        // day of the March-based year, [0, 365]
 
     std::int64_t year = 2000 + cycles * 400 + centuries * 100 + quads * 4 + years;
     static constexpr int kMonthDays[12] = {31, 30, 31, 30, 31, 31, 30, 31, 30, 31, 31, 29};  // March .. February

@@ -5,7 +5,6 @@
 
 namespace nclink {
 const char* library_version() noexcept {
-    return NCLINK_STR(NCLINK_VERSION_MAJOR) "." NCLINK_STR(NCLINK_VERSION_MINOR) "." NCLINK_STR(
-        NCLINK_VERSION_PATCH);
+    return NCLINK_STR(NCLINK_VERSION_MAJOR) "." NCLINK_STR(NCLINK_VERSION_MINOR) "." NCLINK_STR(NCLINK_VERSION_PATCH);
 }
 }  // namespace nclink

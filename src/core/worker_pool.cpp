@@ -1,7 +1,6 @@
 #include "core/worker_pool.hpp"
 #include "core/thread_name.hpp"
 
-
 #include <algorithm>
 
 namespace nclink::detail {
@@ -69,15 +68,12 @@ void WorkerPool::stop(std::chrono::milliseconds grace) {
     s.wake.notify_all();
     // Everything queued runs first; then every worker leaves, except one
     // stuck in a task.
-    s.exited.wait_for(lock, grace, [&] {
-        return std::all_of(s.workers.begin(), s.workers.end(), [](const Worker& w) { return w.exited; });
-    });
+    s.exited.wait_for(lock, grace,
+                      [&] { return std::all_of(s.workers.begin(), s.workers.end(), [](const Worker& w) { return w.exited; }); });
     for (auto& w : s.workers) {
         if (!w.thread.joinable()) continue;
-        if (w.exited && w.thread.get_id() != std::this_thread::get_id())
-            w.thread.join();
-        else
-            w.thread.detach();
+        if (w.exited && w.thread.get_id() != std::this_thread::get_id()) w.thread.join();
+        else w.thread.detach();
     }
     s.workers.remove_if([](const Worker& w) { return w.exited; });
 }
@@ -104,8 +100,7 @@ void WorkerPool::work(const std::shared_ptr<State>& state, Worker* self) {
         while (!s.stopping && s.tasks.empty()) {
             // A replacement for a stuck thread leaves when it has been idle a while.
             if (s.live > s.size) {
-                if (s.wake.wait_for(lock, kSurplusIdle) == std::cv_status::timeout && s.tasks.empty() &&
-                    s.live > s.size) {
+                if (s.wake.wait_for(lock, kSurplusIdle) == std::cv_status::timeout && s.tasks.empty() && s.live > s.size) {
                     surplus = true;
                     break;
                 }

@@ -97,9 +97,7 @@ std::optional<Error> disconnected(const Driver& driver) {
                       link.reason.empty() ? std::string("machine disconnected") : "machine disconnected: " + link.reason);
 }
 
-Error not_served_error(const std::string& id) {
-    return make_error(ErrorCode::unavailable, "the driver does not serve " + id);
-}
+Error not_served_error(const std::string& id) { return make_error(ErrorCode::unavailable, "the driver does not serve " + id); }
 
 // What the driver gets for points prepared against `generation`: the points
 // themselves (identity) when they are current, else a copy re-resolved
@@ -136,8 +134,8 @@ void plan_call(const std::vector<PointRef>& in, std::uint64_t generation, const 
 
 }  // namespace
 
-void DriverRunner::read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
-                               std::uint64_t generation, std::vector<Result<Json>>& results) {
+void DriverRunner::read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points, std::uint64_t generation,
+                               std::vector<Result<Json>>& results) {
     results.assign(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
     if (queue.closed.load(std::memory_order_acquire)) {
         for (auto& r : results) r = make_error(ErrorCode::unavailable, "driver stopped");
@@ -160,8 +158,7 @@ void DriverRunner::read_locked(Driver& driver, const Queue& queue, const std::ve
     for (std::size_t k = 0; k < plan.slots.size() && k < some.size(); ++k) results[plan.slots[k]] = std::move(some[k]);
 }
 
-Result<void> DriverRunner::write_locked(Driver& driver, const Queue& queue, const WriteRequest& request,
-                                        std::uint64_t generation) {
+Result<void> DriverRunner::write_locked(Driver& driver, const Queue& queue, const WriteRequest& request, std::uint64_t generation) {
     if (queue.closed.load(std::memory_order_acquire)) return make_error(ErrorCode::unavailable, "driver stopped");
     if (auto down = disconnected(driver)) return *down;
     const PointTable* table = queue.table.get();
@@ -376,8 +373,9 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     if (!pending->wait(timeout)) {
         count_timeout();
         logger_.warn("driver '{}': read of {} point(s) did not finish within {} ms", name_, points.size(), timeout.count());
-        return Results(points.size(), Result<Json>(make_error(ErrorCode::timeout,
-                                                               fmt::format("driver did not answer within {} ms", timeout.count()))));
+        return Results(
+            points.size(),
+            Result<Json>(make_error(ErrorCode::timeout, fmt::format("driver did not answer within {} ms", timeout.count()))));
     }
     std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(pending->value);
@@ -404,9 +402,8 @@ bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
         std::atomic<int>& waiters;
         ~Done() { waiters.fetch_sub(1, std::memory_order_acq_rel); }
     } done{queue_->priority_waiters};
-    const bool called = queue_->concurrent
-                            ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
-                            : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);
+    const bool called = queue_->concurrent ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
+                                           : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);
     if (!called) count_timeout();
     return called;
 }
@@ -458,8 +455,8 @@ Result<std::shared_ptr<const PointTable>> DriverRunner::bind(const std::vector<B
     std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
     if (!lock_within(calls, options_.call_timeout)) {
         count_timeout();
-        return make_error(ErrorCode::timeout, fmt::format("driver busy: bind() could not start within {} ms",
-                                                          options_.call_timeout.count()));
+        return make_error(ErrorCode::timeout,
+                          fmt::format("driver busy: bind() could not start within {} ms", options_.call_timeout.count()));
     }
     if (queue_->closed.load(std::memory_order_acquire)) return make_error(ErrorCode::unavailable, "driver stopped");
     std::vector<PointHandle> handles(points.size(), no_handle);
@@ -525,8 +522,9 @@ Result<void> DriverRunner::write(const WriteRequest& request, std::uint64_t gene
             return make_error(ErrorCode::timeout, fmt::format("driver busy for {} ms: not written", options_.call_timeout.count()));
         }
         logger_.warn("driver '{}': write of {} did not finish within {} ms", name_, request.id, options_.call_timeout.count());
-        return make_error(ErrorCode::timeout, fmt::format("driver did not finish the write within {} ms: it may still take effect",
-                                                          options_.call_timeout.count()));
+        return make_error(
+            ErrorCode::timeout,
+            fmt::format("driver did not finish the write within {} ms: it may still take effect", options_.call_timeout.count()));
     }
     std::lock_guard<std::mutex> lock(pending->mutex);
     return std::move(pending->value.result);
@@ -540,10 +538,8 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
     const bool all_exited = queue_->exited.wait_for(lock, grace, [this] { return queue_->running_workers == 0; });
     lock.unlock();
     for (auto& worker : workers_) {
-        if (all_exited)
-            worker.join();
-        else
-            worker.detach();  // stuck in the driver: cannot be joined
+        if (all_exited) worker.join();
+        else worker.detach();  // stuck in the driver: cannot be joined
     }
     workers_.clear();
     if (!all_exited) {
@@ -553,8 +549,7 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
             std::lock_guard<std::mutex> queue_lock(queue_->mutex);
             queue_->tasks.clear();
         }
-        logger_.error("driver '{}' did not return within {} ms of shutdown; its worker thread is abandoned", name_,
-                      grace.count());
+        logger_.error("driver '{}' did not return within {} ms of shutdown; its worker thread is abandoned", name_, grace.count());
         return;
     }
     {

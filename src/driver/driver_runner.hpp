@@ -78,8 +78,8 @@ public:
     /// at most `wait` for a running call to finish, then answers Timeout (203)
     /// for every point. The driver call itself cannot be interrupted, so use
     /// it only where a hanging read may stall the caller. Thread-safe.
-    void read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results,
-                     std::chrono::nanoseconds wait, std::uint64_t generation = unbound);
+    void read_direct(const std::vector<PointRef>& points, std::vector<Result<Json>>& results, std::chrono::nanoseconds wait,
+                     std::uint64_t generation = unbound);
     enum class TypedRead { done, unsupported, busy };
     /// The typed form of read_direct() (Driver::read_samples): `out` is set
     /// to nulls first. `unsupported` when the driver does not implement it
@@ -139,7 +139,7 @@ private:
         bool stopping = false;
         std::size_t running_workers = 0;  // own workers alive; on a pool: drains posted or running
         WorkerPool* pool = nullptr;
-        std::size_t max_drains = 1;       // on a pool: drains at once
+        std::size_t max_drains = 1;  // on a pool: drains at once
         // Serializes driver calls between the workers and read_direct():
         // exclusive per call for a serialized driver, shared for a concurrent
         // one; stop() takes it exclusively before close().
@@ -167,10 +167,9 @@ private:
     static void run_task(Queue& queue, Queue::Task& task);
     bool enqueue(Queue::Task task);
     // The bodies of the calls, run under the calls lock (see the top).
-    static void read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points,
-                            std::uint64_t generation, std::vector<Result<Json>>& results);
-    static Result<void> write_locked(Driver& driver, const Queue& queue, const WriteRequest& request,
-                                     std::uint64_t generation);
+    static void read_locked(Driver& driver, const Queue& queue, const std::vector<PointRef>& points, std::uint64_t generation,
+                            std::vector<Result<Json>>& results);
+    static Result<void> write_locked(Driver& driver, const Queue& queue, const WriteRequest& request, std::uint64_t generation);
     /// Waits (bounded) while a sampling read waits for `calls`.
     static void yield_to_priority(const Queue& queue);
     /// From a task on this runner's own worker: runs `call` in place, taking

@@ -113,10 +113,8 @@ nclink_read_output sample_output(SampleSink& sink) {
     out.text = [](void* c, size_t i, const char* text, size_t length) { SampleSink::of(c).lend(i, text, length, false); };
     out.json = [](void* c, size_t i, const char* text, size_t length) {
         // Copied verbatim into the DTU: a broken text must not break the DTU.
-        if (text != nullptr && Json::accept(text, text + length))
-            SampleSink::of(c).lend(i, text, length, true);
-        else
-            SampleSink::of(c).slot(i);  // null, a failed read
+        if (text != nullptr && Json::accept(text, text + length)) SampleSink::of(c).lend(i, text, length, true);
+        else SampleSink::of(c).slot(i);  // null, a failed read
     };
     out.error = [](void* c, size_t i, int, const char*) { SampleSink::of(c).slot(i); };  // null in samples
     return out;
@@ -216,9 +214,7 @@ public:
         return plugin_error(code, std::move(reason));
     }
 
-    bool claims(std::string_view id) const override {
-        return d_.claims && d_.claims(instance_, std::string(id).c_str()) != 0;
-    }
+    bool claims(std::string_view id) const override { return d_.claims && d_.claims(instance_, std::string(id).c_str()) != 0; }
 
     Result<Json> run_method(const PointRef& method, const Json& args, MethodControl& control) override {
         if (!d_.call_method) return Driver::run_method(method, args, control);
@@ -303,8 +299,8 @@ Result<std::shared_ptr<Driver>> make_plugin_driver_v2(std::shared_ptr<void> libr
     constexpr std::size_t required = offsetof(nclink_driver_descriptor, read) + sizeof(nclink_driver_descriptor::read);
     if (given.struct_size < required)
         return make_error(ErrorCode::value_type,
-                          fmt::format("{}: driver descriptor struct_size {} is too small for ABI version {} (at least {})",
-                                      path, given.struct_size, NCLINK_DRIVER_ABI_VERSION, required));
+                          fmt::format("{}: driver descriptor struct_size {} is too small for ABI version {} (at least {})", path,
+                                      given.struct_size, NCLINK_DRIVER_ABI_VERSION, required));
     nclink_driver_descriptor d{};
     std::memcpy(&d, &given, std::min<std::size_t>(given.struct_size, sizeof d));
     d.struct_size = sizeof d;
@@ -313,9 +309,8 @@ Result<std::shared_ptr<Driver>> make_plugin_driver_v2(std::shared_ptr<void> libr
     if (!d.destroy) missing.emplace_back("destroy");
     if (!d.read) missing.emplace_back("read");
     if (!missing.empty())
-        return make_error(ErrorCode::parameter_missing,
-                          fmt::format("{}: driver '{}' lacks required function(s): {}", path, d.name ? d.name : "?",
-                                      fmt::join(missing, ", ")));
+        return make_error(ErrorCode::parameter_missing, fmt::format("{}: driver '{}' lacks required function(s): {}", path,
+                                                                    d.name ? d.name : "?", fmt::join(missing, ", ")));
 
     auto owned_logger = std::make_unique<Logger>(std::move(logger));
     auto host = std::make_unique<nclink_host>();

@@ -112,8 +112,8 @@ void PointDriver::read(const std::vector<PointRef>& points, std::vector<Result<J
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Entry* e = find(points[i]);
         if (!e) {
-            results[i] = make_error(ErrorCode::unavailable,
-                                    fmt::format("driver '{}' declares no point '{}'", info_.name, points[i].id));
+            results[i] =
+                make_error(ErrorCode::unavailable, fmt::format("driver '{}' declares no point '{}'", info_.name, points[i].id));
             continue;
         }
         try {
@@ -131,7 +131,8 @@ Result<void> PointDriver::write(const WriteRequest& request) {
     if (!e) return make_error(ErrorCode::unavailable, fmt::format("driver '{}' declares no point '{}'", info_.name, request.id));
     if (!e->set) return make_error(ErrorCode::permission_denied, fmt::format("point '{}' is read-only", request.id));
     if (request.new_value.is_null())
-        return make_error(ErrorCode::unavailable, fmt::format("no whole new value for '{}' (the SDK could not compute it)", request.id));
+        return make_error(ErrorCode::unavailable,
+                          fmt::format("no whole new value for '{}' (the SDK could not compute it)", request.id));
     if (auto checked = check_point_value(request.id, e->checks, request.new_value); !checked) return checked;
     try {
         return e->set(request.new_value);
@@ -148,10 +149,9 @@ Result<void> check_point_value(const std::string& id, const PointChecks& checks,
             return make_error(ErrorCode::value_type, fmt::format("{} takes a number, not {}", id, value.dump()));
         const double v = value.get<double>();
         if ((checks.min && v < *checks.min) || (checks.max && v > *checks.max))
-            return make_error(ErrorCode::out_of_range,
-                              fmt::format("{} = {} is outside [{}, {}]", id, value.dump(),
-                                          checks.min ? fmt::format("{}", *checks.min) : "-inf",
-                                          checks.max ? fmt::format("{}", *checks.max) : "inf"));
+            return make_error(ErrorCode::out_of_range, fmt::format("{} = {} is outside [{}, {}]", id, value.dump(),
+                                                                   checks.min ? fmt::format("{}", *checks.min) : "-inf",
+                                                                   checks.max ? fmt::format("{}", *checks.max) : "inf"));
     }
     if (!checks.allowed.empty()) {
         for (const auto& a : checks.allowed)

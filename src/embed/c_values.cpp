@@ -68,8 +68,7 @@ using nclink::embed::report;
 
 extern "C" {
 
-int nclink_adapter_push_channel(nclink_adapter* adapter, const char* channel_id, nclink_channel** channel,
-                                nclink_error* error) {
+int nclink_adapter_push_channel(nclink_adapter* adapter, const char* channel_id, nclink_channel** channel, nclink_error* error) {
     return guarded(error, [&] {
         if (channel == nullptr) return report(error, to_int(ErrorCode::parameter_missing), "channel (the out pointer) is NULL");
         *channel = nullptr;

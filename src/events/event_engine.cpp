@@ -4,13 +4,11 @@
 
 namespace nclink::detail {
 
-EventEngine::EventEngine(std::size_t capacity, std::string id_prefix)
-    : capacity_(capacity), id_prefix_(std::move(id_prefix)) {}
+EventEngine::EventEngine(std::size_t capacity, std::string id_prefix) : capacity_(capacity), id_prefix_(std::move(id_prefix)) {}
 
 Result<std::string> EventEngine::add(std::optional<std::string> owner, EventSpec spec) {
     if (entries_.size() >= capacity_)
-        return make_error(ErrorCode::insufficient_event,
-                          fmt::format("all {} event resources are in use", capacity_));
+        return make_error(ErrorCode::insufficient_event, fmt::format("all {} event resources are in use", capacity_));
     std::string id = fmt::format("event_{}_{}", id_prefix_, ++next_id_);
     EventWatch watch(spec.filters, spec.trigger);
     entries_.emplace(id, Entry{std::move(owner), std::move(spec), std::move(watch), false});
@@ -22,8 +20,7 @@ Result<void> EventEngine::remove(const std::string& event_id, const std::optiona
     if (it == entries_.end())
         return make_error(ErrorCode::node_not_exists, fmt::format("no event '{}' on this adapter", event_id));
     if (it->second.owner != owner)
-        return make_error(ErrorCode::permission_denied,
-                          fmt::format("event '{}' belongs to another application", event_id));
+        return make_error(ErrorCode::permission_denied, fmt::format("event '{}' belongs to another application", event_id));
     entries_.erase(it);
     ++released_;
     return ok_result();
@@ -78,8 +75,7 @@ void EventEngine::evaluate(const std::string& event_id, Entry& entry, const Json
     ++fired_;
 }
 
-std::vector<FiredEvent> EventEngine::activate(const std::string& event_id, const std::optional<Json>& whole,
-                                              std::int64_t time_ms) {
+std::vector<FiredEvent> EventEngine::activate(const std::string& event_id, const std::optional<Json>& whole, std::int64_t time_ms) {
     std::vector<FiredEvent> out;
     const auto it = entries_.find(event_id);
     if (it == entries_.end() || it->second.active) return out;

@@ -57,8 +57,7 @@ public:
     /// Starts a registration with the item's whole value at registration
     /// (std::nullopt when it could not be read: the first value observed
     /// later is then its first). Unknown ids (already removed) are ignored.
-    std::vector<FiredEvent> activate(const std::string& event_id, const std::optional<Json>& whole,
-                                     std::int64_t time_ms);
+    std::vector<FiredEvent> activate(const std::string& event_id, const std::optional<Json>& whole, std::int64_t time_ms);
     /// A whole value of `item` (from a sample row, a poll or a driver push).
     std::vector<FiredEvent> observe(const std::string& item, const Json& whole, std::int64_t time_ms);
 
@@ -82,8 +81,7 @@ private:
         bool active = false;
     };
 
-    void evaluate(const std::string& event_id, Entry& entry, const Json& whole, std::int64_t time_ms,
-                  std::vector<FiredEvent>& out);
+    void evaluate(const std::string& event_id, Entry& entry, const Json& whole, std::int64_t time_ms, std::vector<FiredEvent>& out);
 
     const std::size_t capacity_;
     const std::string id_prefix_;

@@ -29,10 +29,8 @@ std::vector<std::string_view> allowed_keys(FilterType type) {
 
 Result<double> number_argument(const Json& filter, const char* key, FilterType type) {
     const auto it = filter.find(key);
-    if (it == filter.end())
-        return mismatch(fmt::format("a {} filter needs \"{}\"", to_string(type), key));
-    if (!it->is_number())
-        return mismatch(fmt::format("\"{}\" of a {} filter must be a number", key, to_string(type)));
+    if (it == filter.end()) return mismatch(fmt::format("a {} filter needs \"{}\"", to_string(type), key));
+    if (!it->is_number()) return mismatch(fmt::format("\"{}\" of a {} filter must be a number", key, to_string(type)));
     const double value = it->get<double>();
     if (!std::isfinite(value)) return mismatch(fmt::format("\"{}\" must be finite", key));
     return value;
@@ -54,10 +52,9 @@ std::string_view to_string(FilterType type) noexcept {
 
 std::optional<FilterType> filter_type_from_string(std::string_view name) noexcept {
     std::string lower(name);
-    std::transform(lower.begin(), lower.end(), lower.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    for (auto type : {FilterType::change, FilterType::equal, FilterType::range, FilterType::less,
-                      FilterType::greater, FilterType::include})
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    for (auto type :
+         {FilterType::change, FilterType::equal, FilterType::range, FilterType::less, FilterType::greater, FilterType::include})
         if (lower == to_string(type)) return type;
     return std::nullopt;
 }
@@ -112,8 +109,7 @@ Result<EventFilter> parse_filter(const Json& filter) {
             if (it == filter.end()) return mismatch("an include filter needs \"values\"");
             if (!it->is_array()) return mismatch("\"values\" of an include filter must be an array");
             for (const auto& v : *it) {
-                if (!is_scalar_argument(v))
-                    return mismatch("every entry of \"values\" must be a number, string or boolean");
+                if (!is_scalar_argument(v)) return mismatch("every entry of \"values\" must be a number, string or boolean");
                 out.values.push_back(v);
             }
             break;
@@ -153,13 +149,11 @@ bool condition_holds(const EventFilter& filter, const Json& value, const Json* p
     switch (filter.type) {
         case FilterType::change: return previous != nullptr && !same_value(*previous, value);
         case FilterType::equal: return same_value(filter.value, value);
-        case FilterType::range:
-            return value.is_number() && value.get<double>() > filter.from && value.get<double>() < filter.to;
+        case FilterType::range: return value.is_number() && value.get<double>() > filter.from && value.get<double>() < filter.to;
         case FilterType::less: return value.is_number() && value.get<double>() < filter.value.get<double>();
         case FilterType::greater: return value.is_number() && value.get<double>() > filter.value.get<double>();
         case FilterType::include:
-            return std::any_of(filter.values.begin(), filter.values.end(),
-                               [&](const Json& v) { return same_value(v, value); });
+            return std::any_of(filter.values.begin(), filter.values.end(), [&](const Json& v) { return same_value(v, value); });
     }
     return false;
 }
@@ -174,8 +168,8 @@ bool filter_matches(const EventFilter& filter, const Json& value, const Json* pr
     return condition_holds(filter, value, previous) && variance_holds(filter, value, recorded);
 }
 
-std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, const Json& value,
-                                       const Json* previous, const Json* recorded) {
+std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, const Json& value, const Json* previous,
+                                       const Json* recorded) {
     for (std::size_t i = 0; i < filters.size(); ++i)
         if (filter_matches(filters[i], value, previous, recorded)) return i;
     return std::nullopt;

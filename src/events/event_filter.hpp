@@ -68,8 +68,8 @@ bool filter_matches(const EventFilter& filter, const Json& value, const Json* pr
 
 /// Index of the first filter that matches (filters are OR-ed in order, and
 /// one evaluation makes at most one event), or std::nullopt.
-std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, const Json& value,
-                                       const Json* previous, const Json* recorded);
+std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, const Json& value, const Json* previous,
+                                       const Json* recorded);
 
 /// Equality of event values: numbers compare by value (1 == 1.0), everything
 /// else as JSON.

@@ -15,14 +15,21 @@ Result<EventSpec> validate_registration(const EventRegisterRequest& request, con
         return make_error(ErrorCode::arguments_nimiety, "give key or index, not both: an event watches one element");
     switch (item->kind) {
         case DataKind::dict:
-            if (request.index) return make_error(ErrorCode::arguments_nimiety, fmt::format("{} is a dict: it takes a key, not an index", request.id));
-            if (!request.key) return make_error(ErrorCode::no_key, fmt::format("{} is a dict: say which key to watch", request.id));
+            if (request.index)
+                return make_error(ErrorCode::arguments_nimiety,
+                                  fmt::format("{} is a dict: it takes a key, not an index", request.id));
+            if (!request.key)
+                return make_error(ErrorCode::no_key, fmt::format("{} is a dict: say which key to watch", request.id));
             spec.key = request.key;
             break;
         case DataKind::list:
-            if (request.key) return make_error(ErrorCode::arguments_nimiety, fmt::format("{} is a list: it takes an index, not a key", request.id));
-            if (!request.index) return make_error(ErrorCode::no_index, fmt::format("{} is a list: say which index to watch", request.id));
-            if (*request.index < 0) return make_error(ErrorCode::out_of_range, fmt::format("index {} is negative", *request.index));
+            if (request.key)
+                return make_error(ErrorCode::arguments_nimiety,
+                                  fmt::format("{} is a list: it takes an index, not a key", request.id));
+            if (!request.index)
+                return make_error(ErrorCode::no_index, fmt::format("{} is a list: say which index to watch", request.id));
+            if (*request.index < 0)
+                return make_error(ErrorCode::out_of_range, fmt::format("index {} is negative", *request.index));
             spec.index = static_cast<std::size_t>(*request.index);
             break;
         case DataKind::single:
@@ -43,16 +50,14 @@ Result<EventSpec> validate_registration(const EventRegisterRequest& request, con
 
 Result<Json> extract_element(const EventSpec& spec, const Json& whole) {
     if (spec.key) {
-        if (!whole.is_object())
-            return make_error(ErrorCode::unavailable, fmt::format("{} is not a dict value now", spec.item));
+        if (!whole.is_object()) return make_error(ErrorCode::unavailable, fmt::format("{} is not a dict value now", spec.item));
         const auto it = whole.find(*spec.key);
         if (it == whole.end())
             return make_error(ErrorCode::key_error, fmt::format("key \"{}\" is not in {}", *spec.key, spec.item));
         return *it;
     }
     if (spec.index) {
-        if (!whole.is_array())
-            return make_error(ErrorCode::unavailable, fmt::format("{} is not a list value now", spec.item));
+        if (!whole.is_array()) return make_error(ErrorCode::unavailable, fmt::format("{} is not a list value now", spec.item));
         if (*spec.index >= whole.size())
             return make_error(ErrorCode::out_of_range,
                               fmt::format("index {} is past the end of {} ({} elements)", *spec.index, spec.item, whole.size()));

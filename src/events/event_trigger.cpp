@@ -19,8 +19,7 @@ std::string_view to_string(TriggerType type) noexcept {
 
 std::optional<TriggerType> trigger_type_from_string(std::string_view name) noexcept {
     std::string lower(name);
-    std::transform(lower.begin(), lower.end(), lower.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     for (auto type : {TriggerType::always, TriggerType::normal, TriggerType::once})
         if (lower == to_string(type)) return type;
     return std::nullopt;
@@ -28,8 +27,7 @@ std::optional<TriggerType> trigger_type_from_string(std::string_view name) noexc
 
 Result<TriggerType> parse_trigger(std::string_view name) {
     if (auto type = trigger_type_from_string(name)) return *type;
-    return make_error(ErrorCode::trigger_type,
-                      fmt::format("unknown triggerType \"{}\" (always, normal, once)", name));
+    return make_error(ErrorCode::trigger_type, fmt::format("unknown triggerType \"{}\" (always, normal, once)", name));
 }
 
 bool TriggerState::fire(bool matched) noexcept {

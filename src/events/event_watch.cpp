@@ -2,8 +2,7 @@
 
 namespace nclink::detail {
 
-EventWatch::EventWatch(std::vector<EventFilter> filters, TriggerType trigger)
-    : filters_(std::move(filters)), trigger_(trigger) {}
+EventWatch::EventWatch(std::vector<EventFilter> filters, TriggerType trigger) : filters_(std::move(filters)), trigger_(trigger) {}
 
 std::optional<EventFiring> EventWatch::observe(const Json& value) {
     if (trigger_.finished()) return std::nullopt;

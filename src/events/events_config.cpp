@@ -10,11 +10,10 @@ Result<void> read_events_config(const Json& section, EventsConfig& out) {
     NCLINK_TRY(r.count("max_events", out.max_events));
     NCLINK_TRY(r.duration("poll_interval_ms", out.poll_interval));
     NCLINK_TRY(r.count("max_queued_values", out.max_queued_values));
-    NCLINK_TRY(r.read("qos", out.qos, [](const Json& j) {
-        return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1);
-    }, "0 or 1"));
-    if (out.max_queued_values == 0)
-        return r.fail(ErrorCode::out_of_range, "max_queued_values", "must be positive");
+    NCLINK_TRY(r.read(
+        "qos", out.qos,
+        [](const Json& j) { return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1); }, "0 or 1"));
+    if (out.max_queued_values == 0) return r.fail(ErrorCode::out_of_range, "max_queued_values", "must be positive");
     return r.no_unknown_keys();
 }
 

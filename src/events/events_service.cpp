@@ -41,10 +41,8 @@ public:
     }
 
     void handle(const ParsedTopic& topic, const std::string& payload) override {
-        if (topic.kind == TopicKind::event_register_request)
-            register_event(topic, payload);
-        else
-            unregister_event(topic, payload);
+        if (topic.kind == TopicKind::event_register_request) register_event(topic, payload);
+        else unregister_event(topic, payload);
     }
 
     // The engine is serial work (core/serial_work.hpp): a pollable of the
@@ -87,8 +85,10 @@ public:
             watched_changed();
         }
         for (const auto& [id, owner] : released) {
-            host_.logger.info("event {} released: its item is gone from the new model (or changed datatype); "
-                              "told {} (401)", id, owner.value_or("every application"));
+            host_.logger.info(
+                "event {} released: its item is gone from the new model (or changed datatype); "
+                "told {} (401)",
+                id, owner.value_or("every application"));
             EventRegisterResponse response;
             response.guid = host_.dev;
             response.id = id;
@@ -108,13 +108,10 @@ public:
             released = engine_.remove_owner(ex);
             watched_changed();
         }
-        if (!released.empty())
-            host_.logger.info("released {} event(s) of application {}", released.size(), ex);
+        if (!released.empty()) host_.logger.info("released {} event(s) of application {}", released.size(), ex);
     }
 
-    void on_value(const std::string& id, const Json& value) override {
-        inbox_->push_value(id, value, host_.clock->wall_ms());
-    }
+    void on_value(const std::string& id, const Json& value) override { inbox_->push_value(id, value, host_.clock->wall_ms()); }
 
     Json stats() const override {
         std::lock_guard<std::mutex> lock(engine_mutex_);
@@ -166,8 +163,7 @@ private:
         const auto registered_at = host_.clock->now();
         std::optional<Json> current = read_current(*state, *spec);
         if (current) {
-            if (auto element = extract_element(*spec, *current);
-                !element && element.error().code != ErrorCode::unavailable) {
+            if (auto element = extract_element(*spec, *current); !element && element.error().code != ErrorCode::unavailable) {
                 {
                     std::lock_guard<std::mutex> lock(engine_mutex_);
                     (void)engine_.remove(event_id, topic.ex);
@@ -178,8 +174,7 @@ private:
             }
         }
         response.id = event_id;
-        host_.logger.debug("event {} registered by {} on {}", event_id, topic.ex.value_or("(no terminal id)"),
-                           spec->item);
+        host_.logger.debug("event {} registered by {} on {}", event_id, topic.ex.value_or("(no terminal id)"), spec->item);
         // The activation is queued before the response goes out: a value
         // pushed by anyone who has seen the response (notify_value from the
         // application's side, a sample row) queues behind it and is
@@ -366,8 +361,7 @@ private:
         for (auto& event : fired) {
             event.dtu.msg_id = Json(host_.next_msg_id());
             event.dtu.guid = host_.dev;
-            const auto topic = topics::event(host_.dev, event.owner ? std::optional<std::string_view>(*event.owner)
-                                                                     : std::nullopt);
+            const auto topic = topics::event(host_.dev, event.owner ? std::optional<std::string_view>(*event.owner) : std::nullopt);
             if (auto sent = host_.transport.publish(Message{topic, encode(event.dtu), config_.qos, false}); !sent) {
                 // Logged once per burst: the first refusal after a success.
                 if (publish_errors_++ == publish_errors_at_last_success_)
@@ -395,10 +389,8 @@ private:
         if (on && !tap_handle_) {
             // The observer holds the inbox, not the service: a row delivered
             // while the tap is being left finds a live (closed) inbox.
-            tap_handle_ = host_.sample_tap.add(
-                [inbox = inbox_](const std::vector<std::string>& ids, const SampleValue* values, std::int64_t time_ms) {
-                    inbox->push_row(ids, values, time_ms);
-                });
+            tap_handle_ = host_.sample_tap.add([inbox = inbox_](const std::vector<std::string>& ids, const SampleValue* values,
+                                                                std::int64_t time_ms) { inbox->push_row(ids, values, time_ms); });
         } else if (!on && tap_handle_) {
             host_.sample_tap.remove(*tap_handle_);
             tap_handle_.reset();
@@ -409,18 +401,18 @@ private:
     const EventsConfig config_;
     std::shared_ptr<ValueInbox> inbox_ = std::make_shared<ValueInbox>(config_.max_queued_values);
     mutable std::mutex engine_mutex_;
-    EventEngine engine_;                      // engine_mutex_
+    EventEngine engine_;                       // engine_mutex_
     std::optional<std::uint64_t> tap_handle_;  // engine_mutex_
     std::atomic<std::uint64_t> polls_{0};
     std::atomic<std::uint64_t> publish_errors_{0};
     std::atomic<std::uint64_t> publish_errors_at_last_success_{0};  // refused by the transport (after stop, larger than its buffer)
-    std::atomic<std::uint64_t> watched_version_{1};  // bumped by watched_changed()
-    PollPlan plan_;                                   // the engine's turns only
+    std::atomic<std::uint64_t> watched_version_{1};                 // bumped by watched_changed()
+    PollPlan plan_;                                                 // the engine's turns only
     // (A flag beside the time rather than std::optional: g++ 12 -O2 warns
     // maybe-uninitialized on optional<time_point> here.)
-    bool polling_ = false;                            // the engine's turns only; false while idle
-    Clock::Steady next_poll_{};                       // the engine's turns only
-    SerialWork engine_work_;                          // last: stopped before the rest goes
+    bool polling_ = false;       // the engine's turns only; false while idle
+    Clock::Steady next_poll_{};  // the engine's turns only
+    SerialWork engine_work_;     // last: stopped before the rest goes
 };
 
 }  // namespace

@@ -81,10 +81,8 @@ void ValueInbox::push_activation(const std::string& event_id, std::optional<Json
 ValueInbox::Work ValueInbox::wait(std::optional<std::chrono::milliseconds> timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
     const auto ready = [&] { return closed_ || !items_.empty(); };
-    if (timeout)
-        wake_.wait_for(lock, *timeout, ready);
-    else
-        wake_.wait(lock, ready);
+    if (timeout) wake_.wait_for(lock, *timeout, ready);
+    else wake_.wait(lock, ready);
     Work work;
     work.closed = closed_;
     if (closed_) return work;

@@ -41,14 +41,14 @@ namespace nclink::detail {
 
 /// What the host lends its features. Every member outlives the features.
 struct FeatureHost {
-    const std::string& dev;               ///< the terminal id of the host (dev_uuid)
+    const std::string& dev;  ///< the terminal id of the host (dev_uuid)
     const Logger& logger;
-    std::shared_ptr<const Clock> clock;   ///< injected in tests (ManualClock)
-    Transport& transport;                 ///< publish() is thread-safe; buffered while offline
-    DriverRunner& driver;                 ///< deadlines, serialization
-    const ModelSource& model;             ///< model.current(): the snapshot to serve
-    SampleTap& sample_tap;                ///< sampled rows, for events watching the sample stream
-    ValueGuard& values;                   ///< chapter 7 checks of every value a driver returns
+    std::shared_ptr<const Clock> clock;  ///< injected in tests (ManualClock)
+    Transport& transport;                ///< publish() is thread-safe; buffered while offline
+    DriverRunner& driver;                ///< deadlines, serialization
+    const ModelSource& model;            ///< model.current(): the snapshot to serve
+    SampleTap& sample_tap;               ///< sampled rows, for events watching the sample stream
+    ValueGuard& values;                  ///< chapter 7 checks of every value a driver returns
     /// Publishes a reply on the response topic(s) mirroring `request` (both
     /// spellings where docs/wire.md says so) and updates the host's state.
     std::function<void(const ParsedTopic& request, const Json& reply)> respond;
@@ -59,7 +59,7 @@ struct FeatureHost {
     // section of the configuration (SamplingConfig, ...) is handed to its
     // factory by whoever composes the features, never held here: adding a
     // feature does not touch the host.
-    const std::string& persistence_dir;   ///< "" = nothing persisted
+    const std::string& persistence_dir;  ///< "" = nothing persisted
     std::chrono::milliseconds driver_timeout;
     /// Gateway mode: shared timer threads for periodic work (e.g. the
     /// sampling scheduler and uploader); null: each feature runs its own threads.

@@ -23,8 +23,8 @@ namespace nclink::detail {
 struct ModelState {
     std::shared_ptr<const Model> model;
     const Device* device = nullptr;
-    std::vector<Problem> problems;             ///< conformance problems and warnings of this model
-    std::shared_ptr<ValueStore> store;         ///< SDK-held items (fixed values, unclaimed configs)
+    std::vector<Problem> problems;      ///< conformance problems and warnings of this model
+    std::shared_ptr<ValueStore> store;  ///< SDK-held items (fixed values, unclaimed configs)
     /// The model as provided (the vendor's file, or the Probe/Set text), sent
     /// verbatim as `probe` in Probe/Query (8.2.8): not the normalized model.
     std::shared_ptr<const std::string> probe_text;

@@ -24,8 +24,7 @@ namespace nclink::detail {
 class SampleTap {
 public:
     /// `values[i]` belongs to `ids[i]`; text values are borrowed for the call.
-    using Observer = std::function<void(const std::vector<std::string>& ids, const SampleValue* values,
-                                        std::int64_t time_ms)>;
+    using Observer = std::function<void(const std::vector<std::string>& ids, const SampleValue* values, std::int64_t time_ms)>;
 
     /// Thread-safe. Returns a handle for remove().
     std::uint64_t add(Observer observer) {

@@ -45,9 +45,10 @@ void ValueGuard::report(const ValueRule& rule, std::string_view source, ErrorCod
         std::lock_guard<std::mutex> lock(mutex_);
         if (!logged_.insert(rule.id()).second) return;
     }
-    logger_.warn("value of item {} refused on {} (chapter 7; answered {}): {}. Further refusals of this item are only "
-                 "counted (nclink stats: values.refused)",
-                 rule.id(), source, to_int(code), message);
+    logger_.warn(
+        "value of item {} refused on {} (chapter 7; answered {}): {}. Further refusals of this item are only "
+        "counted (nclink stats: values.refused)",
+        rule.id(), source, to_int(code), message);
 }
 
 }  // namespace nclink::detail

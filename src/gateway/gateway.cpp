@@ -36,8 +36,8 @@ void raise_open_file_limit(std::size_t machines, const Logger& logger) {
     if (limit.rlim_cur > before && ::setrlimit(RLIMIT_NOFILE, &limit) == 0)
         logger.info("gateway: open file limit raised from {} to {} for {} machine(s)", before, limit.rlim_cur, machines);
     if (limit.rlim_cur < wanted)
-        logger.warn("gateway: {} machine(s) may need {} open files, the limit is {} (raise LimitNOFILE / ulimit -n)",
-                    machines, wanted, limit.rlim_cur);
+        logger.warn("gateway: {} machine(s) may need {} open files, the limit is {} (raise LimitNOFILE / ulimit -n)", machines,
+                    wanted, limit.rlim_cur);
 }
 
 SharedThreadsOptions shared_options(const GatewayConfig& config) {
@@ -61,8 +61,8 @@ struct NCLINK_LOCAL Gateway::Impl {
 
     mutable std::mutex mutex;
     std::map<std::string, std::shared_ptr<Adapter>> running;  // by machine id
-    std::map<std::string, std::string> guid_owner;           // dev_uuid -> machine id
-    std::set<std::string> reserved;                          // ids being started or stopped
+    std::map<std::string, std::string> guid_owner;            // dev_uuid -> machine id
+    std::set<std::string> reserved;                           // ids being started or stopped
     bool started = false;
     bool stopped = false;
 
@@ -139,8 +139,7 @@ struct NCLINK_LOCAL Gateway::Impl {
         {
             std::lock_guard<std::mutex> lock(mutex);
             const auto it = running.find(id);
-            if (it == running.end())
-                return make_error(ErrorCode::node_not_exists, fmt::format("no machine '{}'", id));
+            if (it == running.end()) return make_error(ErrorCode::node_not_exists, fmt::format("no machine '{}'", id));
             adapter = it->second;
             running.erase(it);
             reserved.insert(id);  // not added again until its connection is closed
@@ -148,8 +147,7 @@ struct NCLINK_LOCAL Gateway::Impl {
         adapter->stop(flush);  // publishes its offline state, closes its connection
         std::lock_guard<std::mutex> lock(mutex);
         reserved.erase(id);
-        for (auto it = guid_owner.begin(); it != guid_owner.end();)
-            it = it->second == id ? guid_owner.erase(it) : std::next(it);
+        for (auto it = guid_owner.begin(); it != guid_owner.end();) it = it->second == id ? guid_owner.erase(it) : std::next(it);
         logger.info("gateway: machine {} removed", id);
         return ok_result();
     }
@@ -241,10 +239,8 @@ GatewayReload Gateway::reload(GatewayConfig next) {  // `next` is taken apart: m
         const std::string id = m.id;
         const std::shared_ptr<Adapter> adapter = machine(id);
         if (!adapter) {
-            if (auto r = impl_->add(std::move(m)); r)
-                report.added.push_back(id);
-            else
-                report.errors.push_back(r.error().message);
+            if (auto r = impl_->add(std::move(m)); r) report.added.push_back(id);
+            else report.errors.push_back(r.error().message);
             continue;
         }
         // Adapter::reload compares with the configuration the machine runs
@@ -257,10 +253,8 @@ GatewayReload Gateway::reload(GatewayConfig next) {  // `next` is taken apart: m
         }
         impl_->logger.info("gateway: machine {} changed ({}): restarting it", id, fmt::join(changes.restart_needed, ", "));
         (void)impl_->remove(id, std::chrono::milliseconds(2000));
-        if (auto r = impl_->add(std::move(m)); r)
-            report.restarted.push_back(id);
-        else
-            report.errors.push_back(r.error().message);
+        if (auto r = impl_->add(std::move(m)); r) report.restarted.push_back(id);
+        else report.errors.push_back(r.error().message);
     }
     return report;
 }

@@ -46,13 +46,9 @@ bool ConnectionStream::wait(short events, Connection::Clock::time_point until) c
     }
 }
 
-bool ConnectionStream::is_readable() const {
-    return !connection_.pending().empty() || wait(POLLIN, read_deadline_);
-}
+bool ConnectionStream::is_readable() const { return !connection_.pending().empty() || wait(POLLIN, read_deadline_); }
 
-bool ConnectionStream::is_writable() const {
-    return wait(POLLOUT, Connection::Clock::now() + write_timeout_);
-}
+bool ConnectionStream::is_writable() const { return wait(POLLOUT, Connection::Clock::now() + write_timeout_); }
 
 ssize_t ConnectionStream::read(char* ptr, size_t size) {
     if (size == 0) return 0;

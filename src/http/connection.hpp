@@ -59,8 +59,7 @@ struct Connection {
 /// so a client that reads slowly cannot hold a worker for long.
 class ConnectionStream final : public httplib::Stream {
 public:
-    ConnectionStream(Connection& connection, Connection::Clock::time_point read_deadline,
-                     std::chrono::milliseconds write_timeout);
+    ConnectionStream(Connection& connection, Connection::Clock::time_point read_deadline, std::chrono::milliseconds write_timeout);
 
     bool is_readable() const override;
     bool is_writable() const override;

@@ -17,9 +17,9 @@ struct ConnectionCounters {
     std::size_t waiting = 0;             ///< of them, waiting in the gate (no worker holds them)
     // Filled by HttpServer::connection_counters(), not the gate: streams run
     // on threads of their own (http/http_server.hpp).
-    std::uint64_t streams_started = 0;   ///< stream answers begun
-    std::uint64_t streams_refused = 0;   ///< answered 503: max_streams running already
-    std::size_t streams = 0;             ///< streams running now
+    std::uint64_t streams_started = 0;  ///< stream answers begun
+    std::uint64_t streams_refused = 0;  ///< answered 503: max_streams running already
+    std::size_t streams = 0;            ///< streams running now
 };
 
 }  // namespace nclink::http

@@ -39,8 +39,7 @@ constexpr std::string_view request_timeout_answer =
 
 }  // namespace
 
-ConnectionGate::ConnectionGate(GateOptions options, Logger logger)
-    : options_(options), logger_(std::move(logger)) {}
+ConnectionGate::ConnectionGate(GateOptions options, Logger logger) : options_(options), logger_(std::move(logger)) {}
 
 ConnectionGate::~ConnectionGate() {
     stop();
@@ -73,8 +72,7 @@ Result<int> ConnectionGate::bind(const std::string& host, int port) {
         ::close(fd);
     }
     ::freeaddrinfo(found);
-    if (listen_fd_ < 0)
-        return make_error(ErrorCode::unavailable, "http: cannot bind " + host + ":" + service + " (" + why + ")");
+    if (listen_fd_ < 0) return make_error(ErrorCode::unavailable, "http: cannot bind " + host + ":" + service + " (" + why + ")");
     sockaddr_storage bound{};
     socklen_t length = sizeof bound;
     ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &length);

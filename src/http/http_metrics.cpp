@@ -22,8 +22,7 @@ void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix)
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [key, n] : requests_)
         out.counter(requests, requests_help,
-                    {{"method", std::get<0>(key)}, {"route", std::get<1>(key)}, {"code", std::to_string(std::get<2>(key))}},
-                    n);
+                    {{"method", std::get<0>(key)}, {"route", std::get<1>(key)}, {"code", std::to_string(std::get<2>(key))}}, n);
     for (const auto& [route, histogram] : latency_)
         out.histogram(duration, duration_help, {{"route", route}}, histogram->snapshot());
 }
@@ -42,8 +41,8 @@ void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix,
     out.counter(closed, closed_help, {{"reason", "header_timeout"}}, c.header_timeouts);
     out.counter(closed, closed_help, {{"reason", "idle"}}, c.idle_closed);
     out.gauge(prefix + "_http_connections_open", "HTTP connections open now", {}, static_cast<double>(c.open));
-    out.gauge(prefix + "_http_connections_waiting", "HTTP connections open now that wait for a whole request head, without a worker",
-              {}, static_cast<double>(c.waiting));
+    out.gauge(prefix + "_http_connections_waiting",
+              "HTTP connections open now that wait for a whole request head, without a worker", {}, static_cast<double>(c.waiting));
     out.counter(prefix + "_http_streams_total", "Streaming answers begun (SSE, MTConnect interval=)", {}, c.streams_started);
     out.counter(prefix + "_http_streams_refused_total", "Streaming answers refused with 503: the stream cap was reached", {},
                 c.streams_refused);

@@ -123,9 +123,7 @@ bool same_secret(std::string_view given, std::string_view expected) {
     return diff == 0;
 }
 
-bool is_write(std::string_view method) {
-    return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
-}
+bool is_write(std::string_view method) { return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE"; }
 
 // "http://host:port" -> "host:port"; "" when it is no http(s) origin.
 std::string_view origin_authority(std::string_view origin) {
@@ -210,9 +208,7 @@ namespace {
 // value is never used as a socket, as listen() and stop() are never called).
 class Engine final : public httplib::Server {
 public:
-    bool serve_one(httplib::Stream& stream, bool last, bool& closed) {
-        return process_request(stream, last, closed, nullptr);
-    }
+    bool serve_one(httplib::Stream& stream, bool last, bool& closed) { return process_request(stream, last, closed, nullptr); }
     void serving(bool on) { svr_sock_ = on ? 0 : INVALID_SOCKET; }
 };
 
@@ -348,8 +344,8 @@ struct HttpServer::Impl {
         bool ok_ = true;
     };
 
-    void observe(std::string_view method, std::string_view route, int status,
-                 std::chrono::steady_clock::time_point begun, bool stream) const {
+    void observe(std::string_view method, std::string_view route, int status, std::chrono::steady_clock::time_point begun,
+                 bool stream) const {
         if (!observer) return;
         try {
             observer(RequestRecord{method, route, status, std::chrono::steady_clock::now() - begun, stream});
@@ -420,8 +416,8 @@ struct HttpServer::Impl {
         if (match.kind == Router::Match::Kind::no_method) {
             std::string allow;
             for (const auto& m : match.allowed) allow += (allow.empty() ? "" : ", ") + m;
-            auto response = error_response(405, request, request.method + " is not served at " + request.path +
-                                                             " (allowed: " + allow + ")");
+            auto response =
+                error_response(405, request, request.method + " is not served at " + request.path + " (allowed: " + allow + ")");
             response.headers.emplace_back("Allow", allow);
             observe(request.method, "", 405, begun, false);
             apply(std::move(response), res);
@@ -443,8 +439,7 @@ struct HttpServer::Impl {
             } else if (++streams > options.max_streams) {
                 --streams;
                 ++streams_refused;
-                response = error_response(503, request, "too many streams at once (" +
-                                                            std::to_string(options.max_streams) + ")");
+                response = error_response(503, request, "too many streams at once (" + std::to_string(options.max_streams) + ")");
             } else {
                 ++streams_started;
                 // The stream keeps this thread; a new worker takes its place.
@@ -499,11 +494,10 @@ Result<void> HttpServer::start() {
     svr.Options(".*", handler);
     // Answers httplib makes itself (413 body too large, 414, 400 for an
     // unknown method or a malformed request): give them our body.
-    svr.set_error_handler(httplib::Server::HandlerWithResponse([&impl](const httplib::Request& req,
-                                                                       httplib::Response& res) {
+    svr.set_error_handler(httplib::Server::HandlerWithResponse([&impl](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty() || res.content_provider_) return httplib::Server::HandlerResponse::Unhandled;
-        std::string reason = res.status == 413   ? "request body larger than " +
-                                                       std::to_string(impl.options.max_body_bytes) + " bytes"
+        std::string reason = res.status == 413
+                                 ? "request body larger than " + std::to_string(impl.options.max_body_bytes) + " bytes"
                              : res.status == 414 ? "request URI too long"
                                                  : "malformed request";
         auto response = impl.error_response(res.status, Impl::convert(req), reason);

@@ -120,10 +120,10 @@ bool is_loopback_host(std::string_view host);
 std::optional<std::pair<std::string, std::string>> parse_basic_authorization(std::string_view header);
 
 struct HttpRequest {
-    std::string method;  ///< "GET", "POST", ... (HEAD is served by the GET route)
-    std::string path;    ///< decoded path, no query
-    std::map<std::string, std::string> path_params;  ///< "{dev}" -> value
-    std::multimap<std::string, std::string> query;   ///< decoded query parameters
+    std::string method;                               ///< "GET", "POST", ... (HEAD is served by the GET route)
+    std::string path;                                 ///< decoded path, no query
+    std::map<std::string, std::string> path_params;   ///< "{dev}" -> value
+    std::multimap<std::string, std::string> query;    ///< decoded query parameters
     std::multimap<std::string, std::string> headers;  ///< names as sent (look up with header())
     std::string body;
     std::string remote_addr;

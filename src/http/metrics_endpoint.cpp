@@ -19,11 +19,9 @@ Result<std::pair<std::string, int>> parse_listen_address(const std::string& text
     return std::make_pair(host, port);
 }
 
-Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::string& listen,
-                                                                 std::function<std::string()> text,
-                                                                 const std::string& prefix,
-                                                                 std::optional<BasicAuth> auth, Logger logger,
-                                                                 EndpointLimits limits) {
+Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::string& listen, std::function<std::string()> text,
+                                                                const std::string& prefix, std::optional<BasicAuth> auth,
+                                                                Logger logger, EndpointLimits limits) {
     auto address = parse_listen_address(listen);
     if (!address) return std::move(address).error();
     std::unique_ptr<MetricsEndpoint> endpoint(new MetricsEndpoint());

@@ -35,8 +35,8 @@ public:
     /// the endpoint's own requests and its connection counters
     /// (HttpMetrics::render).
     static Result<std::unique_ptr<MetricsEndpoint>> start(const std::string& listen, std::function<std::string()> text,
-                                                          const std::string& prefix, std::optional<BasicAuth> auth,
-                                                          Logger logger, EndpointLimits limits = {});
+                                                          const std::string& prefix, std::optional<BasicAuth> auth, Logger logger,
+                                                          EndpointLimits limits = {});
     ~MetricsEndpoint();
     int port() const noexcept { return server_->port(); }
     const std::string& host() const noexcept { return host_; }

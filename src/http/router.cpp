@@ -21,9 +21,7 @@ std::vector<std::string_view> split_path(std::string_view path) {
 }
 
 namespace {
-bool is_param(std::string_view segment) {
-    return segment.size() > 2 && segment.front() == '{' && segment.back() == '}';
-}
+bool is_param(std::string_view segment) { return segment.size() > 2 && segment.front() == '{' && segment.back() == '}'; }
 }  // namespace
 
 std::size_t Router::add(std::string method, std::string_view pattern) {

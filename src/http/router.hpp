@@ -18,9 +18,9 @@ public:
 
     struct Match {
         enum class Kind { found, no_path, no_method } kind = Kind::no_path;
-        std::size_t route = 0;                        ///< found: the route index
-        std::map<std::string, std::string> params;    ///< found: path parameters
-        std::vector<std::string> allowed;             ///< no_method: methods the path has (sorted, HEAD with GET)
+        std::size_t route = 0;                      ///< found: the route index
+        std::map<std::string, std::string> params;  ///< found: path parameters
+        std::vector<std::string> allowed;           ///< no_method: methods the path has (sorted, HEAD with GET)
     };
     /// The route for `method` and `path` (HEAD uses the GET routes). Among
     /// several matching patterns the one with the most literal segments wins,

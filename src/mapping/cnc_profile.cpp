@@ -137,13 +137,13 @@ bool listed(std::string_view list, std::string_view word) {
 }
 
 template <std::size_t N>
-constexpr std::size_t size(const CncSlot (&)[N]) { return N; }
+constexpr std::size_t size(const CncSlot (&)[N]) {
+    return N;
+}
 
 }  // namespace
 
-std::string UaDeviceBuilder::cnc_type(std::string_view name) const {
-    return numeric_node_id(cnc_ns_, cnc_type_id(name));
-}
+std::string UaDeviceBuilder::cnc_type(std::string_view name) const { return numeric_node_id(cnc_ns_, cnc_type_id(name)); }
 
 CncRole UaDeviceBuilder::cnc_role(const PlannedComponent& c) const {
     if (c.type == "CONTROLLER") return CncRole::channel;
@@ -177,8 +177,7 @@ void UaDeviceBuilder::cnc_prepare() {
     const auto match = [&](const auto& self, const std::vector<PlannedComponent>& list) -> void {
         for (const auto& c : list) {
             const CncRole role = cnc_role(c);
-            if (role != CncRole::none)
-                cnc_match(c, role, role == CncRole::channel ? channel_index_[c.component] : 0);
+            if (role != CncRole::none) cnc_match(c, role, role == CncRole::channel ? channel_index_[c.component] : 0);
             self(self, c.children);
         }
     };
@@ -195,8 +194,7 @@ void UaDeviceBuilder::cnc_match(const PlannedComponent& c, CncRole role, int cha
             const std::string path = fmt::format("{}/{}", type, slot.name);
             if (slot.kind == K::position && type == "CncAxisType" && slot.name == "PosDirect") {
                 for (const auto& child : kPosDirect)
-                    if (!child.matches.empty())
-                        cnc_claim(c, child, fmt::format("{}/{}", path, child.name), false);
+                    if (!child.matches.empty()) cnc_claim(c, child, fmt::format("{}/{}", path, child.name), false);
             } else if (!slot.matches.empty()) {
                 cnc_claim(c, slot, path, device_items);
             }
@@ -213,8 +211,7 @@ void UaDeviceBuilder::cnc_match(const PlannedComponent& c, CncRole role, int cha
     }
 }
 
-void UaDeviceBuilder::cnc_claim(const PlannedComponent& c, const CncSlot& slot,
-                                const std::string& path, bool with_device_items) {
+void UaDeviceBuilder::cnc_claim(const PlannedComponent& c, const CncSlot& slot, const std::string& path, bool with_device_items) {
     const PlannedItem* item = cnc_candidate(c, slot.matches);
     if (item == nullptr && with_device_items) item = cnc_candidate(device_.items, slot.matches);
     if (item == nullptr) return;
@@ -222,19 +219,16 @@ void UaDeviceBuilder::cnc_claim(const PlannedComponent& c, const CncSlot& slot,
     slot_items_[{c.component, path}] = item->object;
 }
 
-const PlannedItem* UaDeviceBuilder::cnc_candidate(const std::vector<PlannedItem>& items,
-                                                  std::string_view matches) const {
+const PlannedItem* UaDeviceBuilder::cnc_candidate(const std::vector<PlannedItem>& items, std::string_view matches) const {
     for (const auto& item : items)
-        if (item.known_type && item.object->kind == DataKind::single &&
-            listed(matches, item.type) && fills_.count(item.object) == 0)
+        if (item.known_type && item.object->kind == DataKind::single && listed(matches, item.type) && fills_.count(item.object) == 0)
             return &item;
     return nullptr;
 }
 
 /// The component's own items, then those of components below it that are
 /// not CNC objects themselves (an axis' SCREW or MOTOR).
-const PlannedItem* UaDeviceBuilder::cnc_candidate(const PlannedComponent& c,
-                                                  std::string_view matches) const {
+const PlannedItem* UaDeviceBuilder::cnc_candidate(const PlannedComponent& c, std::string_view matches) const {
     if (const PlannedItem* item = cnc_candidate(c.items, matches)) return item;
     for (const auto& child : c.children)
         if (cnc_role(child) == CncRole::none)
@@ -271,14 +265,11 @@ void UaDeviceBuilder::cnc_interface(std::size_t device_object) {
     };
     property(iface, node_id(base + ".VendorName"), qualified(cnc_ns_, "VendorName"), "String",
              text(cnc_static_text("MANUFACTURER")));
-    property(iface, node_id(base + ".VendorRevision"), qualified(cnc_ns_, "VendorRevision"),
-             "String", text(cnc_static_text("VERSION")));
-    property(iface, node_id(base + ".Version"), qualified(cnc_ns_, "Version"), "String",
-             text("1.0.0"));
+    property(iface, node_id(base + ".VendorRevision"), qualified(cnc_ns_, "VendorRevision"), "String",
+             text(cnc_static_text("VERSION")));
+    property(iface, node_id(base + ".Version"), qualified(cnc_ns_, "Version"), "String", text("1.0.0"));
     const std::string model = cnc_static_text("MODEL");
-    if (!model.empty())
-        property(iface, node_id(base + ".CncTypeName"), qualified(cnc_ns_, "CncTypeName"),
-                 "String", text(model));
+    if (!model.empty()) property(iface, node_id(base + ".CncTypeName"), qualified(cnc_ns_, "CncTypeName"), "String", text(model));
 }
 
 /// A fixed value of the first CONTROLLER (else the device) with this type.
@@ -313,8 +304,8 @@ void UaDeviceBuilder::cnc_structure(const PlannedComponent& c, CncRole role, std
     }
 }
 
-void UaDeviceBuilder::cnc_slots(const PlannedComponent& c, const CncSlot* slots, std::size_t count,
-                                std::string_view type_name, std::size_t object) {
+void UaDeviceBuilder::cnc_slots(const PlannedComponent& c, const CncSlot* slots, std::size_t count, std::string_view type_name,
+                                std::size_t object) {
     for (std::size_t i = 0; i < count; ++i) {
         const CncSlot& slot = slots[i];
         if (slot.kind == K::position) {
@@ -330,8 +321,8 @@ void UaDeviceBuilder::cnc_slots(const PlannedComponent& c, const CncSlot* slots,
     }
 }
 
-std::size_t UaDeviceBuilder::cnc_position(const PlannedComponent& c, std::string_view name,
-                                          std::string_view type_name, std::size_t object) {
+std::size_t UaDeviceBuilder::cnc_position(const PlannedComponent& c, std::string_view name, std::string_view type_name,
+                                          std::size_t object) {
     const std::string id = fmt::format("{}.{}", c.component->id, name);
     UaNode n;
     n.node_class = UaNodeClass::variable;
@@ -345,8 +336,7 @@ std::size_t UaDeviceBuilder::cnc_position(const PlannedComponent& c, std::string
     const bool direct = type_name == "CncAxisType" && name == "PosDirect";
     const UnitRow* unit = nullptr;
     for (const auto& child : direct ? kPosDirect : kPosition) {
-        const auto filled =
-            slot_items_.find({c.component, fmt::format("{}/{}/{}", type_name, name, child.name)});
+        const auto filled = slot_items_.find({c.component, fmt::format("{}/{}/{}", type_name, name, child.name)});
         if (filled != slot_items_.end()) {
             fills_[filled->second].parent = position;
             if (child.name == "ActPos") unit = fills_[filled->second].item->unit;
@@ -358,8 +348,8 @@ std::size_t UaDeviceBuilder::cnc_position(const PlannedComponent& c, std::string
     return position;
 }
 
-std::size_t UaDeviceBuilder::cnc_placeholder(const CncSlot& slot, std::size_t parent,
-                                             const std::string& id, const PlannedComponent& c) {
+std::size_t UaDeviceBuilder::cnc_placeholder(const CncSlot& slot, std::size_t parent, const std::string& id,
+                                             const PlannedComponent& c) {
     UaValue value;
     if (slot.derived == "is_rotational") {
         value.kind = UaValue::Kind::boolean;
@@ -374,26 +364,23 @@ std::size_t UaDeviceBuilder::cnc_placeholder(const CncSlot& slot, std::size_t pa
         value.integer = channel_index_[c.component];
     }
     if (slot.kind == K::property)
-        return property(parent, node_id(id), qualified(cnc_ns_, slot.name),
-                        std::string(slot.data_type), value);
+        return property(parent, node_id(id), qualified(cnc_ns_, slot.name), std::string(slot.data_type), value);
     UaNode n;
     n.node_class = UaNodeClass::variable;
     n.node_id = node_id(id);
     n.browse_name = qualified(cnc_ns_, slot.name);
     n.display_name = std::string(slot.name);
-    n.description = value.kind == UaValue::Kind::none
-                        ? "OPC 40502 placeholder: no NC-Link data object of the model supplies it"
-                        : "OPC 40502 value derived from the NC-Link model";
+    n.description = value.kind == UaValue::Kind::none ? "OPC 40502 placeholder: no NC-Link data object of the model supplies it"
+                                                      : "OPC 40502 value derived from the NC-Link model";
     n.data_type = std::string(slot.data_type);
     n.value_rank = slot.value_rank;
     n.array_dimensions = std::string(slot.array_dimensions);
     n.value = std::move(value);
     const std::size_t index = doc_.nodes.add(std::move(n));
     doc_.nodes.link(parent, index, "HasComponent");
-    const std::string_view type_definition =
-        slot.kind == K::analog || slot.kind == K::analog_range ? ua::analog_item_type
-        : slot.kind == K::base                                 ? ua::base_data_variable_type
-                                                               : ua::data_item_type;
+    const std::string_view type_definition = slot.kind == K::analog || slot.kind == K::analog_range ? ua::analog_item_type
+                                             : slot.kind == K::base                                 ? ua::base_data_variable_type
+                                                                                                    : ua::data_item_type;
     doc_.nodes.reference(index, "HasTypeDefinition", std::string(type_definition), true);
     if (slot.kind == K::analog || slot.kind == K::analog_range)
         analog_properties(index, id, nullptr, nullptr, slot.kind == K::analog, 0);

@@ -38,7 +38,8 @@ constexpr UnitRow kUnits[] = {
     {"mm/s", Dimension::velocity, 1, 0, "", "C16", 4403510, "mm/s", "millimetre per second"},
     {"MILLIMETER/SECOND", Dimension::velocity, 1, 0, "", "C16", 4403510, "mm/s", "millimetre per second"},
     {"mm/min", Dimension::velocity, 1.0 / 60, 0, "MILLIMETER/MINUTE", "H81", 4732977, "mm/min", "millimetre per minute"},
-    {"MILLIMETER/MINUTE", Dimension::velocity, 1.0 / 60, 0, "MILLIMETER/MINUTE", "H81", 4732977, "mm/min", "millimetre per minute"},
+    {"MILLIMETER/MINUTE", Dimension::velocity, 1.0 / 60, 0, "MILLIMETER/MINUTE", "H81", 4732977, "mm/min",
+     "millimetre per minute"},
     {"m/min", Dimension::velocity, 1000.0 / 60, 0, "x:METER_PER_MINUTE", "2X", 12888, "m/min", "metre per minute"},
     // acceleration
     {"mm/s²", Dimension::acceleration, 1, 0, "", "M41", 5059633, "mm/s²", "millimetre per second squared"},
@@ -56,14 +57,19 @@ constexpr UnitRow kUnits[] = {
     {"DEGREE/MINUTE", Dimension::angular_velocity, 1.0 / 60, 0, "DEGREE/MINUTE", "", 0, "°/min", "degree per minute"},
     {"RADIAN/MINUTE", Dimension::angular_velocity, kRadToDeg / 60, 0, "RADIAN/MINUTE", "", 0, "rad/min", "radian per minute"},
     // angular acceleration
-    {"rad/s²", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²", "radian per second squared"},
-    {"rad/s^2", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²", "radian per second squared"},
-    {"RADIAN/SECOND^2", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²", "radian per second squared"},
-    {"DEGREE/SECOND^2", Dimension::angular_acceleration, 1, 0, "", "M45", 5059637, "°/s²", "degree [unit of angle] per second squared"},
+    {"rad/s²", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²",
+     "radian per second squared"},
+    {"rad/s^2", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²",
+     "radian per second squared"},
+    {"RADIAN/SECOND^2", Dimension::angular_acceleration, kRadToDeg, 0, "RADIAN/SECOND^2", "2B", 12866, "rad/s²",
+     "radian per second squared"},
+    {"DEGREE/SECOND^2", Dimension::angular_acceleration, 1, 0, "", "M45", 5059637, "°/s²",
+     "degree [unit of angle] per second squared"},
     // rotational speed
     {"r/min", Dimension::rotational_speed, 1, 0, "", "RPM", 5394509, "r/min", "revolutions per minute"},
     {"REVOLUTION/MINUTE", Dimension::rotational_speed, 1, 0, "", "RPM", 5394509, "r/min", "revolutions per minute"},
-    {"REVOLUTION/SECOND", Dimension::rotational_speed, 60, 0, "REVOLUTION/SECOND", "RPS", 5394515, "r/s", "revolutions per second"},
+    {"REVOLUTION/SECOND", Dimension::rotational_speed, 60, 0, "REVOLUTION/SECOND", "RPS", 5394515, "r/s",
+     "revolutions per second"},
     // current
     {"A", Dimension::current, 1, 0, "", "AMP", 4279632, "A", "ampere"},
     {"AMPERE", Dimension::current, 1, 0, "", "AMP", 4279632, "A", "ampere"},
@@ -154,10 +160,8 @@ constexpr UnitRow kUnits[] = {
 
 // ------------------------------------------------------------------ values
 
-constexpr ValuePair kStatusExecution[] = {
-    {"running", "ACTIVE"}, {"free", "READY"}, {"holding", "FEED_HOLD"}};
-constexpr ValuePair kStatusActuator[] = {
-    {"running", "ACTIVE"}, {"free", "INACTIVE"}, {"holding", "INACTIVE"}};
+constexpr ValuePair kStatusExecution[] = {{"running", "ACTIVE"}, {"free", "READY"}, {"holding", "FEED_HOLD"}};
+constexpr ValuePair kStatusActuator[] = {{"running", "ACTIVE"}, {"free", "INACTIVE"}, {"holding", "INACTIVE"}};
 constexpr ValuePair kWorkMode[] = {{"manual", "MANUAL"}, {"auto", "AUTOMATIC"}};
 constexpr ValuePair kEmergency[] = {{"true", "TRIGGERED"}, {"false", "ARMED"}};
 constexpr ValuePair kDoor[] = {{"true", "CLOSED"}, {"false", "OPEN"}};
@@ -166,15 +170,13 @@ constexpr ValuePair kFeedHold[] = {{"true", "FEED_HOLD"}, {"false", "READY"}};
 constexpr ValuePair kOnOff[] = {{"true", "ON"}, {"false", "OFF"}};
 constexpr ValuePair kActive[] = {{"true", "ACTIVE"}, {"false", "INACTIVE"}};
 constexpr ValuePair kFixture[] = {{"tight", "ACTIVE"}, {"loose", "INACTIVE"}};
-constexpr ValuePair kSpindleDirection[] = {
-    {"forward", "CLOCKWISE"}, {"reverse", "COUNTER_CLOCKWISE"}, {"stop", "UNAVAILABLE"}};
+constexpr ValuePair kSpindleDirection[] = {{"forward", "CLOCKWISE"}, {"reverse", "COUNTER_CLOCKWISE"}, {"stop", "UNAVAILABLE"}};
 
 // Words of table 15 (and 16 for CATAGORY), in the order that gives the
 // MultiStateDiscreteType index; for two-state text items [0] is true.
 constexpr std::string_view kStatusWords[] = {"running", "free", "holding"};
 constexpr std::string_view kThreeWay[] = {"forward", "stop", "reverse"};
-constexpr std::string_view kUserRoles[] = {"operator", "manager", "machine_manufacturer",
-                                           "cnc_manufacturer", "system_manager"};
+constexpr std::string_view kUserRoles[] = {"operator", "manager", "machine_manufacturer", "cnc_manufacturer", "system_manager"};
 constexpr std::string_view kMachineKinds[] = {"lathe", "milling", "grinder", "planer", "other"};
 constexpr std::string_view kAxisKinds[] = {"rotary", "linear"};
 constexpr std::string_view kWorkModes[] = {"auto", "manual"};
@@ -184,18 +186,40 @@ constexpr std::string_view kToolChange[] = {"auto", "manual"};
 // ------------------------------------------------------------------ row builders
 
 template <std::size_t N>
-constexpr std::size_t count_of(const ValuePair (&)[N]) { return N; }
+constexpr std::size_t count_of(const ValuePair (&)[N]) {
+    return N;
+}
 template <std::size_t N>
-constexpr std::size_t count_of(const std::string_view (&)[N]) { return N; }
+constexpr std::size_t count_of(const std::string_view (&)[N]) {
+    return N;
+}
 
 /// A SAMPLE with units: OPC UA AnalogItemType, Double (B.8).
-constexpr DataTypeRow sample(std::string_view type, std::string_view units,
-                             std::string_view mt_type, std::string_view sub_type,
-                             std::string_view element, Dimension dimension,
-                             std::string_view clause, Context context = Context::any) {
-    return {type, context, ValueType::number, units, false, MtCategory::sample, mt_type,
-            sub_type, element, MtValueForm::number, dimension, nullptr, 0, clause,
-            UaKind::analog, "Double", {}, {}, nullptr, 0, std::nullopt, std::nullopt};
+constexpr DataTypeRow sample(std::string_view type, std::string_view units, std::string_view mt_type, std::string_view sub_type,
+                             std::string_view element, Dimension dimension, std::string_view clause,
+                             Context context = Context::any) {
+    return {type,
+            context,
+            ValueType::number,
+            units,
+            false,
+            MtCategory::sample,
+            mt_type,
+            sub_type,
+            element,
+            MtValueForm::number,
+            dimension,
+            nullptr,
+            0,
+            clause,
+            UaKind::analog,
+            "Double",
+            {},
+            {},
+            nullptr,
+            0,
+            std::nullopt,
+            std::nullopt};
 }
 
 constexpr DataTypeRow with_range(DataTypeRow row, double low, double high) {
@@ -205,57 +229,145 @@ constexpr DataTypeRow with_range(DataTypeRow row, double low, double high) {
 }
 
 /// A numeric EVENT in percent (overrides): AnalogItemType.
-constexpr DataTypeRow override_event(std::string_view type, std::string_view mt_type,
-                                     std::string_view sub_type, std::string_view element,
-                                     std::string_view clause) {
-    return {type, Context::any, ValueType::number, "PERCENT", false, MtCategory::event, mt_type,
-            sub_type, element, MtValueForm::number, Dimension::ratio, nullptr, 0, clause,
-            UaKind::analog, "Double", {}, {}, nullptr, 0, std::nullopt, std::nullopt};
+constexpr DataTypeRow override_event(std::string_view type, std::string_view mt_type, std::string_view sub_type,
+                                     std::string_view element, std::string_view clause) {
+    return {type,
+            Context::any,
+            ValueType::number,
+            "PERCENT",
+            false,
+            MtCategory::event,
+            mt_type,
+            sub_type,
+            element,
+            MtValueForm::number,
+            Dimension::ratio,
+            nullptr,
+            0,
+            clause,
+            UaKind::analog,
+            "Double",
+            {},
+            {},
+            nullptr,
+            0,
+            std::nullopt,
+            std::nullopt};
 }
 
 /// A Boolean EVENT with an enumerated MTConnect value: TwoStateDiscreteType (B.10).
 template <std::size_t N>
-constexpr DataTypeRow boolean_event(std::string_view type, std::string_view mt_type,
-                                    std::string_view sub_type, std::string_view element,
-                                    const ValuePair (&values)[N], std::string_view clause,
+constexpr DataTypeRow boolean_event(std::string_view type, std::string_view mt_type, std::string_view sub_type,
+                                    std::string_view element, const ValuePair (&values)[N], std::string_view clause,
                                     std::string_view true_state, std::string_view false_state) {
-    return {type, Context::any, ValueType::boolean, "", false, MtCategory::event, mt_type,
-            sub_type, element, MtValueForm::enumerated, Dimension::none, values, N, clause,
-            UaKind::two_state, "Boolean", true_state, false_state, nullptr, 0, std::nullopt,
+    return {type,
+            Context::any,
+            ValueType::boolean,
+            "",
+            false,
+            MtCategory::event,
+            mt_type,
+            sub_type,
+            element,
+            MtValueForm::enumerated,
+            Dimension::none,
+            values,
+            N,
+            clause,
+            UaKind::two_state,
+            "Boolean",
+            true_state,
+            false_state,
+            nullptr,
+            0,
+            std::nullopt,
             std::nullopt};
 }
 
 /// A text EVENT with an enumerated value; OPC UA two-state (2 words, B.10) or
 /// multi-state (more, B.11) over `words`.
 template <std::size_t N, std::size_t W>
-constexpr DataTypeRow word_event(std::string_view type, Context context, std::string_view mt_type,
-                                 std::string_view sub_type, std::string_view element,
-                                 const ValuePair (&values)[N], const std::string_view (&words)[W],
+constexpr DataTypeRow word_event(std::string_view type, Context context, std::string_view mt_type, std::string_view sub_type,
+                                 std::string_view element, const ValuePair (&values)[N], const std::string_view (&words)[W],
                                  std::string_view clause) {
     const bool two = W == 2;
-    return {type, context, ValueType::string, "", false, MtCategory::event, mt_type, sub_type,
-            element, MtValueForm::enumerated, Dimension::none, values, N, clause,
-            two ? UaKind::two_state : UaKind::multi_state, two ? "Boolean" : "UInt32",
-            two ? words[0] : std::string_view{}, two ? words[1] : std::string_view{}, words, W,
-            std::nullopt, std::nullopt};
+    return {type,
+            context,
+            ValueType::string,
+            "",
+            false,
+            MtCategory::event,
+            mt_type,
+            sub_type,
+            element,
+            MtValueForm::enumerated,
+            Dimension::none,
+            values,
+            N,
+            clause,
+            two ? UaKind::two_state : UaKind::multi_state,
+            two ? "Boolean" : "UInt32",
+            two ? words[0] : std::string_view{},
+            two ? words[1] : std::string_view{},
+            words,
+            W,
+            std::nullopt,
+            std::nullopt};
 }
 
 /// A free-text or integer EVENT: DataItemType (B.7).
-constexpr DataTypeRow text_event(std::string_view type, ValueType value_type,
-                                 std::string_view mt_type, std::string_view sub_type,
-                                 std::string_view element, MtValueForm form,
-                                 std::string_view ua_data_type, std::string_view clause) {
-    return {type, Context::any, value_type, "", false, MtCategory::event, mt_type, sub_type,
-            element, form, Dimension::none, nullptr, 0, clause, UaKind::data_item, ua_data_type,
-            {}, {}, nullptr, 0, std::nullopt, std::nullopt};
+constexpr DataTypeRow text_event(std::string_view type, ValueType value_type, std::string_view mt_type, std::string_view sub_type,
+                                 std::string_view element, MtValueForm form, std::string_view ua_data_type,
+                                 std::string_view clause) {
+    return {type,
+            Context::any,
+            value_type,
+            "",
+            false,
+            MtCategory::event,
+            mt_type,
+            sub_type,
+            element,
+            form,
+            Dimension::none,
+            nullptr,
+            0,
+            clause,
+            UaKind::data_item,
+            ua_data_type,
+            {},
+            {},
+            nullptr,
+            0,
+            std::nullopt,
+            std::nullopt};
 }
 
 /// No MTConnect 1.4 type: EVENT MESSAGE, subType x:<TYPE> (fallback rule).
 constexpr DataTypeRow fallback(std::string_view type, ValueType value_type, std::string_view reason,
                                std::string_view ua_data_type, Context context = Context::any) {
-    return {type, context, value_type, "", true, MtCategory::event, "MESSAGE", "", "Message",
-            MtValueForm::text, Dimension::none, nullptr, 0, reason, UaKind::data_item,
-            ua_data_type, {}, {}, nullptr, 0, std::nullopt, std::nullopt};
+    return {type,
+            context,
+            value_type,
+            "",
+            true,
+            MtCategory::event,
+            "MESSAGE",
+            "",
+            "Message",
+            MtValueForm::text,
+            Dimension::none,
+            nullptr,
+            0,
+            reason,
+            UaKind::data_item,
+            ua_data_type,
+            {},
+            {},
+            nullptr,
+            0,
+            std::nullopt,
+            std::nullopt};
 }
 
 /// A row whose MTConnect side falls back while its OPC UA side stays.
@@ -271,8 +383,7 @@ constexpr DataTypeRow mtconnect_fallback(DataTypeRow row, std::string_view reaso
 }
 
 /// A fallback whose OPC UA form is a Boolean TwoStateDiscreteType.
-constexpr DataTypeRow fallback_flag(std::string_view type, std::string_view reason,
-                                    std::string_view true_state = "on",
+constexpr DataTypeRow fallback_flag(std::string_view type, std::string_view reason, std::string_view true_state = "on",
                                     std::string_view false_state = "off") {
     DataTypeRow row = fallback(type, ValueType::boolean, reason, "Boolean");
     row.ua_kind = UaKind::two_state;
@@ -283,8 +394,8 @@ constexpr DataTypeRow fallback_flag(std::string_view type, std::string_view reas
 
 /// A fallback whose OPC UA form is a discrete type over `words`.
 template <std::size_t W>
-constexpr DataTypeRow fallback_words(std::string_view type, const std::string_view (&words)[W],
-                                     std::string_view reason, Context context = Context::any) {
+constexpr DataTypeRow fallback_words(std::string_view type, const std::string_view (&words)[W], std::string_view reason,
+                                     Context context = Context::any) {
     DataTypeRow row = fallback(type, ValueType::string, reason, W == 2 ? "Boolean" : "UInt32", context);
     row.ua_kind = W == 2 ? UaKind::two_state : UaKind::multi_state;
     if (W == 2) {
@@ -308,18 +419,16 @@ const DataTypeRow kRows[] = {
     sample("ACCELERATION", "mm/s²", "ACCELERATION", "", "Acceleration", Dimension::acceleration,
            "MTConnect ACCELERATION (no A.5 row)"),
     sample("ANGLE", "rad", "ANGLE", "", "Angle", Dimension::angle, "A.5 0x211B, A.6 0x100D"),
-    sample("ANGULAR_ACCELERATION", "rad/s²", "ANGULAR_ACCELERATION", "", "AngularAcceleration",
-           Dimension::angular_acceleration, "MTConnect ANGULAR_ACCELERATION (no A.5 row)"),
-    sample("ANGULAR_VELOCITY", "rad/s", "ANGULAR_VELOCITY", "", "AngularVelocity",
-           Dimension::angular_velocity, "A.6 0x1102"),
-    with_range(sample("CONCENTRATION", "m/m", "CONCENTRATION", "", "Concentration",
-                      Dimension::ratio, "MTConnect CONCENTRATION (no A.5 row)"),
+    sample("ANGULAR_ACCELERATION", "rad/s²", "ANGULAR_ACCELERATION", "", "AngularAcceleration", Dimension::angular_acceleration,
+           "MTConnect ANGULAR_ACCELERATION (no A.5 row)"),
+    sample("ANGULAR_VELOCITY", "rad/s", "ANGULAR_VELOCITY", "", "AngularVelocity", Dimension::angular_velocity, "A.6 0x1102"),
+    with_range(sample("CONCENTRATION", "m/m", "CONCENTRATION", "", "Concentration", Dimension::ratio,
+                      "MTConnect CONCENTRATION (no A.5 row)"),
                0, 1),
     sample("CONDUCTIVITY", "S/m", "CONDUCTIVITY", "", "Conductivity", Dimension::conductivity,
            "MTConnect CONDUCTIVITY (no A.5 row)"),
     sample("CURRENT", "A", "AMPERAGE", "ACTUAL", "Amperage", Dimension::current, "A.6 0x100A"),
-    sample("DISPLACEMENT", "mm", "DISPLACEMENT", "", "Displacement", Dimension::length,
-           "A.5 0x5002"),
+    sample("DISPLACEMENT", "mm", "DISPLACEMENT", "", "Displacement", Dimension::length, "A.5 0x5002"),
     sample("ENERGY", "kW·h", "ELECTRICAL_ENERGY", "", "ElectricalEnergy", Dimension::energy,
            "MTConnect ELECTRICAL_ENERGY (no A.5 row)"),
     sample("FLOW", "L/s", "FLOW", "", "Flow", Dimension::flow, "A.5 0x5005"),
@@ -330,35 +439,27 @@ const DataTypeRow kRows[] = {
     mtconnect_fallback(sample("MASS", "kg", "MASS", "", "Mass", Dimension::mass, ""),
                        "MTConnect 1.4 Devices lists MASS, but its Streams schema has no Mass "
                        "element"),
-    sample("PERIOD", "s", "ACCUMULATED_TIME", "", "AccumulatedTime", Dimension::time,
-           "A.5 0x5018, 0x5019"),
-    sample("POSITION", "mm", "POSITION", "ACTUAL", "Position", Dimension::length,
-           "A.5 0x2106-0x210B, 0x2112-0x2117"),
+    sample("PERIOD", "s", "ACCUMULATED_TIME", "", "AccumulatedTime", Dimension::time, "A.5 0x5018, 0x5019"),
+    sample("POSITION", "mm", "POSITION", "ACTUAL", "Position", Dimension::length, "A.5 0x2106-0x210B, 0x2112-0x2117"),
     sample("POWER", "W", "WATTAGE", "ACTUAL", "Wattage", Dimension::power, "A.5 0x5004, 0x501F"),
-    with_range(sample("POWER_FACTOR", "1", "POWER_FACTOR", "", "PowerFactor", Dimension::ratio,
-                      "MTConnect POWER_FACTOR (no A.5 row)"),
-               -1, 1),
+    with_range(
+        sample("POWER_FACTOR", "1", "POWER_FACTOR", "", "PowerFactor", Dimension::ratio, "MTConnect POWER_FACTOR (no A.5 row)"),
+        -1, 1),
     sample("PRESSURE", "Pa", "PRESSURE", "", "Pressure", Dimension::pressure, "A.5 0x5001"),
-    sample("RESISTANCE", "Ω", "RESISTANCE", "", "Resistance", Dimension::resistance,
-           "MTConnect RESISTANCE (no A.5 row)"),
-    sample("ROTATION_SPEED", "r/min", "ROTARY_VELOCITY", "ACTUAL", "RotaryVelocity",
-           Dimension::rotational_speed, "A.5 0x2008"),
-    sample("SPEED", "mm/min", "AXIS_FEEDRATE", "ACTUAL", "AxisFeedrate", Dimension::velocity,
-           "A.5 0x212A (axis feedrate)", Context::axis),
+    sample("RESISTANCE", "Ω", "RESISTANCE", "", "Resistance", Dimension::resistance, "MTConnect RESISTANCE (no A.5 row)"),
+    sample("ROTATION_SPEED", "r/min", "ROTARY_VELOCITY", "ACTUAL", "RotaryVelocity", Dimension::rotational_speed, "A.5 0x2008"),
+    sample("SPEED", "mm/min", "AXIS_FEEDRATE", "ACTUAL", "AxisFeedrate", Dimension::velocity, "A.5 0x212A (axis feedrate)",
+           Context::axis),
     sample("SPEED", "mm/min", "VELOCITY", "", "Velocity", Dimension::velocity, "A.6 0x1101"),
-    sample("TEMPERATURE", "°C", "TEMPERATURE", "", "Temperature", Dimension::temperature,
-           "A.5 0x5000"),
+    sample("TEMPERATURE", "°C", "TEMPERATURE", "", "Temperature", Dimension::temperature, "A.5 0x5000"),
     sample("TORQUE", "N·m", "TORQUE", "", "Torque", Dimension::torque, "A.6 0x2103"),
     sample("VISCOSITY", "Pa·s", "VISCOSITY", "", "Viscosity", Dimension::viscosity, "A.5 0x5003"),
-    sample("VOLT_AMPERE", "VA", "VOLT_AMPERE", "", "VoltAmpere", Dimension::apparent_power,
-           "MTConnect VOLT_AMPERE (no A.5 row)"),
+    sample("VOLT_AMPERE", "VA", "VOLT_AMPERE", "", "VoltAmpere", Dimension::apparent_power, "MTConnect VOLT_AMPERE (no A.5 row)"),
 
     // ---- table 12: general
-    fallback_words("CATAGORY", kAxisKinds,
-                   "axis kind: a fixed value chooses Linear/Rotary (A.2 row 3); no DataItem type",
+    fallback_words("CATAGORY", kAxisKinds, "axis kind: a fixed value chooses Linear/Rotary (A.2 row 3); no DataItem type",
                    Context::axis_owner),
-    fallback_words("CATAGORY", kMachineKinds,
-                   "machine kind (table 16): no MTConnect 1.4 DataItem type", Context::device),
+    fallback_words("CATAGORY", kMachineKinds, "machine kind (table 16): no MTConnect 1.4 DataItem type", Context::device),
     fallback("CATAGORY", ValueType::string, kNoType, "String"),
     fallback("CREATE_TIME", ValueType::string, kNoType, "String"),
     fallback("CREATOR", ValueType::string, kNoType, "String"),
@@ -373,26 +474,43 @@ const DataTypeRow kRows[] = {
              "String"),
     fallback("NAME", ValueType::string, kNoType, "String"),
     fallback("PARAMETER", ValueType::dict, kNoType, "String"),
-    text_event("SERIAL_NUMBER", ValueType::number, "SERIAL_NUMBER", "", "SerialNumber",
-               MtValueForm::text, "String", "A.1/A.3 row 5 (fixed: Description@serialNumber)"),
-    word_event("STATUS", Context::machine, "EXECUTION", "", "Execution", kStatusExecution,
-               kStatusWords, "A.5 0x0111, 0x0112, 0x4005; A.6 0x9007"),
-    word_event("STATUS", Context::any, "ACTUATOR_STATE", "", "ActuatorState", kStatusActuator,
-               kStatusWords, "A.5 0x0100, 0x4004, 0x5007"),
+    text_event("SERIAL_NUMBER", ValueType::number, "SERIAL_NUMBER", "", "SerialNumber", MtValueForm::text, "String",
+               "A.1/A.3 row 5 (fixed: Description@serialNumber)"),
+    word_event("STATUS", Context::machine, "EXECUTION", "", "Execution", kStatusExecution, kStatusWords,
+               "A.5 0x0111, 0x0112, 0x4005; A.6 0x9007"),
+    word_event("STATUS", Context::any, "ACTUATOR_STATE", "", "ActuatorState", kStatusActuator, kStatusWords,
+               "A.5 0x0100, 0x4004, 0x5007"),
     fallback("UPPER_LIMIT", ValueType::number, kNoType, "Double"),
     fallback_words("USER_ROLE", kUserRoles, kNoType),
     fallback("VARIABLE", ValueType::list, kNoType, "String"),
     fallback("VERSION", ValueType::string, kNoType, "String"),
-    {"WARNING", Context::any, ValueType::object, "", false, MtCategory::condition, "SYSTEM", "", "",
-     MtValueForm::condition, Dimension::none, nullptr, 0, "A.5 0x0108, 0x010A, 0x010E",
-     UaKind::data_item, "String", {}, {}, nullptr, 0, std::nullopt, std::nullopt},
-    word_event("WORK_MODE", Context::any, "CONTROLLER_MODE", "", "ControllerMode", kWorkMode,
-               kWorkModes, "A.5 0x0101"),
+    {"WARNING",
+     Context::any,
+     ValueType::object,
+     "",
+     false,
+     MtCategory::condition,
+     "SYSTEM",
+     "",
+     "",
+     MtValueForm::condition,
+     Dimension::none,
+     nullptr,
+     0,
+     "A.5 0x0108, 0x010A, 0x010E",
+     UaKind::data_item,
+     "String",
+     {},
+     {},
+     nullptr,
+     0,
+     std::nullopt,
+     std::nullopt},
+    word_event("WORK_MODE", Context::any, "CONTROLLER_MODE", "", "ControllerMode", kWorkMode, kWorkModes, "A.5 0x0101"),
 
     // ---- table 13: special
     fallback_flag("AUTO_MODE", kModeFlag),
-    sample("AXIS_BACKLASH", "mm", "DISPLACEMENT", "", "Displacement", Dimension::length,
-           "A.5 0x211E-0x2123"),
+    sample("AXIS_BACKLASH", "mm", "DISPLACEMENT", "", "Displacement", Dimension::length, "A.5 0x211E-0x2123"),
     sample("AXIS_LOAD", "kg", "LOAD", "", "Load", Dimension::ratio, "A.5 0x2124-0x2129, 0x200A"),
     fallback_flag("AXIS_TOREFPOINT", "A.5 0x0119 gives no type", "referenced", "not referenced"),
     fallback_flag("BLOCK_SKIP_MODE",
@@ -403,79 +521,57 @@ const DataTypeRow kRows[] = {
                    "component)"),
     fallback("COMPACITY", ValueType::integer, kNoType, "Int32"),
     fallback("CONSOLE", ValueType::string, kNoType, "String"),
-    boolean_event("COOLANT_ON", "ACTUATOR_STATE", "", "ActuatorState", kActive,
-                  "A.5 0x5007 (pump state)", "on", "off"),
+    boolean_event("COOLANT_ON", "ACTUATOR_STATE", "", "ActuatorState", kActive, "A.5 0x5007 (pump state)", "on", "off"),
     fallback("COORDINATE", ValueType::object, kNoType, "String"),
-    boolean_event("CYCLE_START", "EXECUTION", "", "Execution", kCycleStart, "A.5 0x4006", "on",
-                  "off"),
-    boolean_event("DOOR_CLOSED", "DOOR_STATE", "", "DoorState", kDoor,
-                  "MTConnect DOOR_STATE (no A.5 row)", "closed", "open"),
+    boolean_event("CYCLE_START", "EXECUTION", "", "Execution", kCycleStart, "A.5 0x4006", "on", "off"),
+    boolean_event("DOOR_CLOSED", "DOOR_STATE", "", "DoorState", kDoor, "MTConnect DOOR_STATE (no A.5 row)", "closed", "open"),
     fallback_flag("EDIT_MODE", kModeFlag),
-    boolean_event("EMG", "EMERGENCY_STOP", "", "EmergencyStop", kEmergency, "A.5 0x4002",
-                  "triggered", "armed"),
+    boolean_event("EMG", "EMERGENCY_STOP", "", "EmergencyStop", kEmergency, "A.5 0x4002", "triggered", "armed"),
     boolean_event("FEED_HOLD", "EXECUTION", "", "Execution", kFeedHold, "A.5 0x4005", "on", "off"),
-    override_event("FEED_OVERRIDE", "PATH_FEEDRATE_OVERRIDE", "PROGRAMMED", "PathFeedrateOverride",
-                   "A.5 0x212E"),
-    sample("FEED_SPEED", "mm/s", "PATH_FEEDRATE", "ACTUAL", "PathFeedrate", Dimension::velocity,
-           "A.5 0x212D"),
+    override_event("FEED_OVERRIDE", "PATH_FEEDRATE_OVERRIDE", "PROGRAMMED", "PathFeedrateOverride", "A.5 0x212E"),
+    sample("FEED_SPEED", "mm/s", "PATH_FEEDRATE", "ACTUAL", "PathFeedrate", Dimension::velocity, "A.5 0x212D"),
     fallback("FILE", ValueType::file, kNoType, "String"),
-    word_event("FIXTURE_MODE", Context::any, "ACTUATOR_STATE", "", "ActuatorState", kFixture,
-               kFixtureModes, "A.5 0x7005"),
+    word_event("FIXTURE_MODE", Context::any, "ACTUATOR_STATE", "", "ActuatorState", kFixture, kFixtureModes, "A.5 0x7005"),
     fallback_flag("HANDLE_MODE", kModeFlag),
     fallback_flag("INCREMENTAL_MODE", kModeFlag),
     fallback_flag("JOG_MODE", kModeFlag),
-    boolean_event("LIGHTING_ON", "POWER_STATE", "", "PowerState", kOnOff,
-                  "MTConnect POWER_STATE (no A.5 row)", "on", "off"),
-    text_event("LINE_NUMBER", ValueType::string, "LINE_NUMBER", "ABSOLUTE", "LineNumber",
-               MtValueForm::integer, "String", "A.5 0x100B"),
-    boolean_event("LUBRICANT_ON", "ACTUATOR_STATE", "", "ActuatorState", kActive,
-                  "A.5 0x5011 (state of a supply system)", "on", "off"),
-    boolean_event("MACHINE_LOCKED", "CONTROLLER_MODE_OVERRIDE", "MACHINE_AXIS_LOCK",
-                  "ControllerModeOverride", kOnOff, "A.5 0x0113 (type per MTConnect 1.4)", "on",
+    boolean_event("LIGHTING_ON", "POWER_STATE", "", "PowerState", kOnOff, "MTConnect POWER_STATE (no A.5 row)", "on", "off"),
+    text_event("LINE_NUMBER", ValueType::string, "LINE_NUMBER", "ABSOLUTE", "LineNumber", MtValueForm::integer, "String",
+               "A.5 0x100B"),
+    boolean_event("LUBRICANT_ON", "ACTUATOR_STATE", "", "ActuatorState", kActive, "A.5 0x5011 (state of a supply system)", "on",
                   "off"),
+    boolean_event("MACHINE_LOCKED", "CONTROLLER_MODE_OVERRIDE", "MACHINE_AXIS_LOCK", "ControllerModeOverride", kOnOff,
+                  "A.5 0x0113 (type per MTConnect 1.4)", "on", "off"),
     fallback_flag("MDI_MODE", kModeFlag),
-    fallback_flag("MST_LOCKED",
-                  "A.5 0x0114/0x4008 give EXECUTION, whose values cannot carry a lock flag"),
-    boolean_event("OPT_STOP_MODE", "CONTROLLER_MODE_OVERRIDE", "OPTIONAL_STOP",
-                  "ControllerModeOverride", kOnOff, "A.5 0x0116 (type per MTConnect 1.4)", "on",
-                  "off"),
-    sample("PATH_LEFT_LENGTH", "mm", "LENGTH", "REMAINING", "Length", Dimension::length,
-           "A.5 0x2118-0x211A"),
+    fallback_flag("MST_LOCKED", "A.5 0x0114/0x4008 give EXECUTION, whose values cannot carry a lock flag"),
+    boolean_event("OPT_STOP_MODE", "CONTROLLER_MODE_OVERRIDE", "OPTIONAL_STOP", "ControllerModeOverride", kOnOff,
+                  "A.5 0x0116 (type per MTConnect 1.4)", "on", "off"),
+    sample("PATH_LEFT_LENGTH", "mm", "LENGTH", "REMAINING", "Length", Dimension::length, "A.5 0x2118-0x211A"),
     fallback("PART", ValueType::object, kNoType, "String"),
-    text_event("PART_COUNT", ValueType::string, "PART_COUNT", "ALL", "PartCount",
-               MtValueForm::integer, "String", "A.5 0x1007"),
-    text_event("PROGRAM", ValueType::string, "PROGRAM", "", "Program", MtValueForm::text, "String",
-               "A.5 0x1000"),
+    text_event("PART_COUNT", ValueType::string, "PART_COUNT", "ALL", "PartCount", MtValueForm::integer, "String", "A.5 0x1007"),
+    text_event("PROGRAM", ValueType::string, "PROGRAM", "", "Program", MtValueForm::text, "String", "A.5 0x1000"),
     fallback("PROGRAM_MODE", ValueType::string, kNoType, "String"),
-    text_event("PROGRAM_NUMBER", ValueType::integer, "PROGRAM", "", "Program", MtValueForm::text,
-               "Int32", "A.6 0x9003"),
+    text_event("PROGRAM_NUMBER", ValueType::integer, "PROGRAM", "", "Program", MtValueForm::text, "Int32", "A.6 0x9003"),
     override_event("RAPID_OVERRIDE", "PATH_FEEDRATE_OVERRIDE", "RAPID", "PathFeedrateOverride",
                    "A.5 0x212B (type corrected: an override, not AXIS_FEEDRATE)"),
     fallback_flag("REF_MODE", kModeFlag),
     fallback_flag("RESET_MODE", "A.5 0x4003 gives no type"),
-    sample("RESIDUAL", "mm", "LENGTH", "REMAINING", "Length", Dimension::length,
-           "A.5 0x2118-0x211D"),
+    sample("RESIDUAL", "mm", "LENGTH", "REMAINING", "Length", Dimension::length, "A.5 0x2118-0x211D"),
     fallback("SHELF_UNIT", ValueType::list, kNoType, "String"),
-    boolean_event("SINGLE_BLOCK_MODE", "CONTROLLER_MODE_OVERRIDE", "SINGLE_BLOCK",
-                  "ControllerModeOverride", kOnOff, "A.5 0x0117 (type per MTConnect 1.4)", "on",
-                  "off"),
+    boolean_event("SINGLE_BLOCK_MODE", "CONTROLLER_MODE_OVERRIDE", "SINGLE_BLOCK", "ControllerModeOverride", kOnOff,
+                  "A.5 0x0117 (type per MTConnect 1.4)", "on", "off"),
     fallback("SITE", ValueType::string, kNoType, "String"),
-    word_event("SPINDLE_MODE", Context::any, "DIRECTION", "ROTARY", "Direction", kSpindleDirection,
-               kThreeWay, "A.5 0x200B"),
+    word_event("SPINDLE_MODE", Context::any, "DIRECTION", "ROTARY", "Direction", kSpindleDirection, kThreeWay, "A.5 0x200B"),
     override_event("SPINDLE_OVERRIDE", "ROTARY_VELOCITY_OVERRIDE", "", "RotaryVelocityOverride",
                    "A.5 0x2009 (type per MTConnect 1.4: the spindle speed override)"),
-    sample("SPINDLE_SPEED", "r/min", "ROTARY_VELOCITY", "ACTUAL", "RotaryVelocity",
-           Dimension::rotational_speed, "A.5 0x2008"),
-    text_event("SUBPROGRAM", ValueType::string, "PROGRAM", "", "Program", MtValueForm::text,
-               "String", "A.5 0x1001"),
-    fallback("TOOL", ValueType::list, "tools are MTConnect assets (A.2 row 11), not DataItems",
-             "String"),
+    sample("SPINDLE_SPEED", "r/min", "ROTARY_VELOCITY", "ACTUAL", "RotaryVelocity", Dimension::rotational_speed, "A.5 0x2008"),
+    text_event("SUBPROGRAM", ValueType::string, "PROGRAM", "", "Program", MtValueForm::text, "String", "A.5 0x1001"),
+    fallback("TOOL", ValueType::list, "tools are MTConnect assets (A.2 row 11), not DataItems", "String"),
     fallback_words("TOOL_CHANGE", kToolChange, kNoType),
     fallback_flag("TOOL_CHANGING", kNoType),
-    fallback("TOOL_PARAM", ValueType::object,
-             "tool parameters are MTConnect assets (A.2 row 11), not DataItems", "String"),
-    text_event("TOOL_NUMBER", ValueType::integer, "TOOL_NUMBER", "", "ToolNumber",
-               MtValueForm::text, "Int32", "A.5 0x6003 (TOOL_NUMBER rather than TOOL_ASSET_ID)"),
+    fallback("TOOL_PARAM", ValueType::object, "tool parameters are MTConnect assets (A.2 row 11), not DataItems", "String"),
+    text_event("TOOL_NUMBER", ValueType::integer, "TOOL_NUMBER", "", "ToolNumber", MtValueForm::text, "Int32",
+               "A.5 0x6003 (TOOL_NUMBER rather than TOOL_ASSET_ID)"),
     fallback("TOOL_POSITION", ValueType::integer, kNoType, "Int32"),
 
     // ---- appendix A `ValueTypeNames` only
@@ -483,8 +579,7 @@ const DataTypeRow kRows[] = {
 };
 
 const DataTypeRow kUnknownType =
-    fallback("", ValueType::any,
-             "not a chapter-7 type: BaseDataVariableType / EVENT MESSAGE fallback", "BaseDataType");
+    fallback("", ValueType::any, "not a chapter-7 type: BaseDataVariableType / EVENT MESSAGE fallback", "BaseDataType");
 
 // ------------------------------------------------------------------ components
 

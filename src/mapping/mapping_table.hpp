@@ -56,9 +56,9 @@ std::string_view mtconnect_units(Dimension dimension) noexcept;
 
 /// One NC-Link unit spelling.
 struct UnitRow {
-    std::string_view spelling;      ///< as written in `units` (tables 10, 11, appendix A)
+    std::string_view spelling;  ///< as written in `units` (tables 10, 11, appendix A)
     Dimension dimension;
-    double scale;                   ///< to mtconnect_units(dimension): v * scale + offset
+    double scale;  ///< to mtconnect_units(dimension): v * scale + offset
     double offset;
     std::string_view native_units;  ///< MTConnect nativeUnits ("" = same as units)
     std::string_view unece;         ///< UN/CEFACT Rec. 20 common code ("" = none)
@@ -103,20 +103,20 @@ struct DataTypeRow {
     ValueType value_type;
     std::string_view default_units;  ///< table 10/13 "数据单位" ("" = none)
     // MTConnect (appendix A, tables A.4-A.6)
-    bool mt_fallback;                ///< no 1.4 type: EVENT MESSAGE, subType x:<TYPE>
+    bool mt_fallback;  ///< no 1.4 type: EVENT MESSAGE, subType x:<TYPE>
     MtCategory category;
     std::string_view mt_type;
     std::string_view mt_sub_type;
-    std::string_view element;        ///< Streams element
+    std::string_view element;  ///< Streams element
     MtValueForm value_form;
-    Dimension dimension;             ///< what the value measures (number forms)
-    const ValuePair* values;         ///< enumerated: NC-Link word -> MTConnect value
+    Dimension dimension;      ///< what the value measures (number forms)
+    const ValuePair* values;  ///< enumerated: NC-Link word -> MTConnect value
     std::size_t value_count;
-    std::string_view clause;         ///< the appendix A row it follows, or why it falls back
+    std::string_view clause;  ///< the appendix A row it follows, or why it falls back
     // OPC UA (appendix B)
     UaKind ua_kind;
-    std::string_view ua_data_type;   ///< "Double", "Int32", "Boolean", "String"
-    std::string_view true_state;     ///< two_state: TrueState text (and, for text items, the true word)
+    std::string_view ua_data_type;  ///< "Double", "Int32", "Boolean", "String"
+    std::string_view true_state;    ///< two_state: TrueState text (and, for text items, the true word)
     std::string_view false_state;
     const std::string_view* enum_strings;  ///< multi_state / text two_state: the NC-Link words
     std::size_t enum_count;
@@ -149,8 +149,8 @@ enum class UaObjectKind { device, component, controller, axes, door, actuator };
 /// One component type of table 8.
 struct ComponentRow {
     std::string_view type;
-    std::string_view element;    ///< MTConnect element; AXIS: "Linear", resolved per axis
-    bool in_axes;                ///< grouped under an Axes container (table A.2)
+    std::string_view element;  ///< MTConnect element; AXIS: "Linear", resolved per axis
+    bool in_axes;              ///< grouped under an Axes container (table A.2)
     UaObjectKind ua_kind;
     std::string_view clause;
 };

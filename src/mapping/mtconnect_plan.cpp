@@ -28,8 +28,7 @@ TypeChoice choose_type(const DataTypeRow& row, const UnitRow* unit) {
     if (unit == nullptr || unit->dimension == row.dimension) return c;
     const Dimension u = unit->dimension;
     const std::string_view keep_sub = row.mt_sub_type == "ACTUAL" ? "ACTUAL" : "";
-    if (row.dimension == Dimension::length && u == Dimension::angle)
-        return {"ANGLE", keep_sub, "Angle", u};
+    if (row.dimension == Dimension::length && u == Dimension::angle) return {"ANGLE", keep_sub, "Angle", u};
     if (row.dimension == Dimension::velocity && u == Dimension::angular_velocity)
         return {"ANGULAR_VELOCITY", "", "AngularVelocity", u};
     if (row.dimension == Dimension::velocity && u == Dimension::rotational_speed)
@@ -93,9 +92,8 @@ private:
     Result<void> resolve_component(const PlannedComponent& c) {
         if (auto r = take(id(c.component->id), c.component->id); !r) return r;
         if (!c.known_type)
-            out_.unmapped.push_back(UnmappedItem{c.component->id, c.component->type,
-                                                 std::string(c.row->element),
-                                                 std::string(c.row->clause)});
+            out_.unmapped.push_back(
+                UnmappedItem{c.component->id, c.component->type, std::string(c.row->element), std::string(c.row->clause)});
         Owner owner;
         for (const auto& item : c.items)
             if (auto r = resolve(item, owner); !r) return r;
@@ -128,8 +126,7 @@ private:
                 return add(std::move(m), item);
             }
             // Table A.2 row 3: the axis kind chose the element.
-            if (item.type == "CATAGORY" && item.placement.on_axis &&
-                (value == "linear" || value == "rotary")) {
+            if (item.type == "CATAGORY" && item.placement.on_axis && (value == "linear" || value == "rotary")) {
                 m.target = MtTarget::component_element;
                 return add(std::move(m), item);
             }
@@ -139,12 +136,9 @@ private:
         m.name = nmtoken(d.name);
         std::string reason;
         if (!item.known_type || row.mt_fallback) {
-            reason = item.known_type ? std::string(row.clause)
-                                     : "not a chapter-7 type (GB/T 41970 tables 10, 12, 13)";
-        } else if (d.kind != DataKind::single && row.value_form != MtValueForm::text &&
-                   row.value_form != MtValueForm::condition) {
-            reason = fmt::format("datatype {}: a {} value cannot carry a {}", to_string(d.kind),
-                                 row.mt_type, to_string(d.kind));
+            reason = item.known_type ? std::string(row.clause) : "not a chapter-7 type (GB/T 41970 tables 10, 12, 13)";
+        } else if (d.kind != DataKind::single && row.value_form != MtValueForm::text && row.value_form != MtValueForm::condition) {
+            reason = fmt::format("datatype {}: a {} value cannot carry a {}", to_string(d.kind), row.mt_type, to_string(d.kind));
         }
         if (!reason.empty()) {
             m.target = MtTarget::fallback;
@@ -153,8 +147,7 @@ private:
             m.sub_type = extension_name(item.type);
             m.element = "Message";
             m.value_form = MtValueForm::text;
-            out_.unmapped.push_back(UnmappedItem{d.id, d.type, "EVENT MESSAGE " + m.sub_type,
-                                                 std::move(reason)});
+            out_.unmapped.push_back(UnmappedItem{d.id, d.type, "EVENT MESSAGE " + m.sub_type, std::move(reason)});
         } else {
             m.target = MtTarget::data_item;
             m.category = row.category;
@@ -179,9 +172,8 @@ private:
         if (unit != nullptr) {
             if (unit->dimension != choice.dimension) {
                 dimension = unit->dimension;
-                note(item.object->id,
-                     fmt::format("units \"{}\" do not measure what {} does: reported in {}",
-                                 unit->spelling, m.type, mtconnect_units(dimension)));
+                note(item.object->id, fmt::format("units \"{}\" do not measure what {} does: reported in {}", unit->spelling,
+                                                  m.type, mtconnect_units(dimension)));
             }
             m.scale = unit->scale;
             m.offset = unit->offset;
@@ -212,9 +204,7 @@ private:
     Result<void> take(const std::string& id, const std::string& nclink_id) {
         if (id.empty()) return ok_result();
         if (!used_.insert(id).second)
-            return make_error(ErrorCode::key_error,
-                              fmt::format("MTConnect id \"{}\" of \"{}\" is used twice", id,
-                                          nclink_id));
+            return make_error(ErrorCode::key_error, fmt::format("MTConnect id \"{}\" of \"{}\" is used twice", id, nclink_id));
         return ok_result();
     }
 
@@ -258,8 +248,7 @@ private:
 
     /// Components of one parent; AXIS components grouped in an Axes
     /// container (table A.2) unless the parent is an axis itself.
-    std::vector<MtNode> nodes(const std::vector<PlannedComponent>& components,
-                              const std::string& parent_id, bool parent_is_axis) {
+    std::vector<MtNode> nodes(const std::vector<PlannedComponent>& components, const std::string& parent_id, bool parent_is_axis) {
         std::vector<MtNode> out;
         std::size_t axes = SIZE_MAX;
         for (const auto& c : components) {
@@ -282,12 +271,9 @@ private:
 
     MtNode component_node(const PlannedComponent& c) {
         MtNode node;
-        node.element = c.type == "AXIS"
-                           ? (c.axis_kind == AxisKind::rotary ? "Rotary" : "Linear")
-                           : std::string(c.row->element);
+        node.element = c.type == "AXIS" ? (c.axis_kind == AxisKind::rotary ? "Rotary" : "Linear") : std::string(c.row->element);
         node.id = id(c.component->id);
-        node.name = nmtoken(c.type == "AXIS" && !c.component->number.empty() ? c.component->number
-                                                                              : c.component->name);
+        node.name = nmtoken(c.type == "AXIS" && !c.component->number.empty() ? c.component->number : c.component->name);
         node.description = description(c.items, c.component->description);
         std::vector<std::size_t> items = data_items(c.items);
         if (c.type == "CONTROLLER") {
@@ -298,10 +284,8 @@ private:
             path.name = "path";
             for (const std::size_t i : items) {
                 const MtDataItem& m = MtConnectMappingBuilder::items(out_.mapping)[i];
-                if (m.category == MtCategory::condition || m.type == "EMERGENCY_STOP")
-                    node.items.push_back(i);
-                else
-                    path.items.push_back(i);
+                if (m.category == MtCategory::condition || m.type == "EMERGENCY_STOP") node.items.push_back(i);
+                else path.items.push_back(i);
             }
             place(node.items, node.id, node.element, node.name);
             if (!path.items.empty()) {
@@ -313,13 +297,11 @@ private:
             node.items = std::move(items);
             place(node.items, node.id, node.element, node.name);
         }
-        for (auto& child : nodes(c.children, node.id, c.type == "AXIS"))
-            node.children.push_back(std::move(child));
+        for (auto& child : nodes(c.children, node.id, c.type == "AXIS")) node.children.push_back(std::move(child));
         return node;
     }
 
-    void place(const std::vector<std::size_t>& items, const std::string& id,
-               const std::string& element, const std::string& name) {
+    void place(const std::vector<std::size_t>& items, const std::string& id, const std::string& element, const std::string& name) {
         for (const std::size_t i : items) {
             MtDataItem& m = MtConnectMappingBuilder::items(out_.mapping)[i];
             m.component_id = id;
@@ -332,9 +314,7 @@ private:
         return MtConnectMappingBuilder::items(out_.mapping)[index_.at(item.object)];
     }
 
-    void note(const std::string& id, std::string message) {
-        out_.notes.push_back(MappingNote{id, std::move(message)});
-    }
+    void note(const std::string& id, std::string message) { out_.notes.push_back(MappingNote{id, std::move(message)}); }
 
     MtPlan& out_;
     const std::string prefix_;

@@ -36,9 +36,7 @@ struct MtDescription {
     std::string serial_number;
     std::string text;
 
-    bool empty() const {
-        return manufacturer.empty() && model.empty() && serial_number.empty() && text.empty();
-    }
+    bool empty() const { return manufacturer.empty() && model.empty() && serial_number.empty() && text.empty(); }
 };
 
 struct MtNode {

@@ -34,8 +34,8 @@ void write_data_item(XmlWriter& w, const MtDataItem& m, const PlannedItem* sourc
     // A.4 c): a value fixed in the model is the constraint's only Value.
     if (source != nullptr && source->fixed_scalar()) {
         const auto observations = mtconnect_observations(m, *source->object->value);
-        if (observations.size() == 1 && observations[0].exact &&
-            observations[0].value != "UNAVAILABLE" && m.category != MtCategory::condition) {
+        if (observations.size() == 1 && observations[0].exact && observations[0].value != "UNAVAILABLE" &&
+            m.category != MtCategory::condition) {
             w.start("Constraints");
             w.element("Value", observations[0].value);
             w.end();
@@ -46,8 +46,7 @@ void write_data_item(XmlWriter& w, const MtDataItem& m, const PlannedItem* sourc
 
 class Writer {
 public:
-    Writer(const MtPlan& plan, const std::vector<const PlannedItem*>& sources)
-        : plan_(plan), sources_(sources) {}
+    Writer(const MtPlan& plan, const std::vector<const PlannedItem*>& sources) : plan_(plan), sources_(sources) {}
 
     void items(XmlWriter& w, const std::vector<std::size_t>& indexes) {
         const auto& all = plan_.mapping.items();
@@ -87,8 +86,7 @@ std::string write_mtconnect(const MtPlan& plan, const MappingOptions& options) {
     w.start("MTConnectDevices");
     w.attr("xmlns", kDevicesNs);
     w.attr("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance");
-    w.attr("xsi:schemaLocation",
-           std::string(kDevicesNs) + " http://schemas.mtconnect.org/schemas/MTConnectDevices_1.4.xsd");
+    w.attr("xsi:schemaLocation", std::string(kDevicesNs) + " http://schemas.mtconnect.org/schemas/MTConnectDevices_1.4.xsd");
     w.start("Header");
     w.attr("creationTime", creation_time(options));
     w.attr("sender", options.sender.empty() ? "nclink" : options.sender);

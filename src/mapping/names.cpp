@@ -9,9 +9,7 @@
 namespace nclink {
 namespace {
 
-bool ascii_alnum(unsigned char c) {
-    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
-}
+bool ascii_alnum(unsigned char c) { return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); }
 
 /// Bytes mtconnect_id keeps as they are inside an escaped id.
 bool kept(unsigned char c) { return ascii_alnum(c) || c == '.' || c == '-'; }
@@ -25,8 +23,7 @@ int hex_value(char c) {
 }  // namespace
 
 std::string mtconnect_id(std::string_view nclink_id) {
-    if (mapping_detail::is_ascii_ncname(nclink_id) && nclink_id.front() != '_')
-        return std::string(nclink_id);
+    if (mapping_detail::is_ascii_ncname(nclink_id) && nclink_id.front() != '_') return std::string(nclink_id);
     static constexpr char kHex[] = "0123456789ABCDEF";
     std::string out = "_";
     for (const char ch : nclink_id) {
@@ -73,8 +70,7 @@ namespace mapping_detail {
 bool is_ascii_ncname(std::string_view text) noexcept {
     if (text.empty()) return false;
     const auto first = static_cast<unsigned char>(text.front());
-    if (!((first >= 'A' && first <= 'Z') || (first >= 'a' && first <= 'z') || first == '_'))
-        return false;
+    if (!((first >= 'A' && first <= 'Z') || (first >= 'a' && first <= 'z') || first == '_')) return false;
     for (const char ch : text) {
         const auto c = static_cast<unsigned char>(ch);
         if (!(ascii_alnum(c) || c == '.' || c == '-' || c == '_')) return false;
@@ -105,12 +101,9 @@ std::string nmtoken(std::string_view name) {
             cp = (cp << 6) | (b & 0x3F);
         }
         if (!valid) len = 1;
-        const bool letter = valid && ((cp >= 0xC0 && cp <= 0xFF && cp != 0xD7 && cp != 0xF7) ||
-                                      (cp >= 0x4E00 && cp <= 0x9FA5));
-        if (letter)
-            out.append(name.substr(i, len));
-        else
-            out += '_';
+        const bool letter = valid && ((cp >= 0xC0 && cp <= 0xFF && cp != 0xD7 && cp != 0xF7) || (cp >= 0x4E00 && cp <= 0x9FA5));
+        if (letter) out.append(name.substr(i, len));
+        else out += '_';
         i += len;
     }
     return out;
@@ -121,12 +114,9 @@ std::string extension_name(std::string_view type) {
     std::string out = "x:";
     for (const char ch : type) {
         const auto c = static_cast<unsigned char>(ch);
-        if (c >= 'a' && c <= 'z')
-            out += static_cast<char>(c - 'a' + 'A');
-        else if ((c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_')
-            out += ch;
-        else
-            out += '_';
+        if (c >= 'a' && c <= 'z') out += static_cast<char>(c - 'a' + 'A');
+        else if ((c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_') out += ch;
+        else out += '_';
     }
     return out;
 }

@@ -14,10 +14,8 @@ namespace {
 constexpr std::string_view kUnavailable = "UNAVAILABLE";
 
 std::string trim(std::string_view text) {
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())))
-        text.remove_prefix(1);
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
-        text.remove_suffix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);
     return std::string(text);
 }
 
@@ -43,8 +41,7 @@ std::optional<long long> integer_of(const Json& value) {
     if (value.is_number_integer()) return value.get<long long>();
     if (value.is_number_float()) {
         const double d = value.get<double>();
-        if (std::isfinite(d) && std::floor(d) == d && std::fabs(d) < 9e18)
-            return static_cast<long long>(d);
+        if (std::isfinite(d) && std::floor(d) == d && std::fabs(d) < 9e18) return static_cast<long long>(d);
         return std::nullopt;
     }
     if (value.is_string()) {
@@ -83,8 +80,7 @@ MtObservation fault(const Json& alarm) {
 /// No active alarm: null-like or empty values.
 bool no_alarm(const Json& value) {
     return (value.is_object() && value.empty()) || (value.is_array() && value.empty()) ||
-           (value.is_boolean() && !value.get<bool>()) ||
-           (value.is_string() && value.get_ref<const std::string&>().empty()) ||
+           (value.is_boolean() && !value.get<bool>()) || (value.is_string() && value.get_ref<const std::string&>().empty()) ||
            (value.is_number() && value.get<double>() == 0);
 }
 
@@ -132,15 +128,14 @@ std::vector<MtObservation> mtconnect_observations(const MtDataItem& item, const 
             return {MtObservation{item.element, std::to_string(*n), {}, true}};
         }
         case MtValueForm::enumerated: {
-            const std::string key = value.is_string() ? trim(value.get_ref<const std::string&>())
-                                                      : mapping_detail::scalar_text(value);
+            const std::string key =
+                value.is_string() ? trim(value.get_ref<const std::string&>()) : mapping_detail::scalar_text(value);
             for (const auto& [nclink, mtconnect] : item.values)
                 if (nclink == key) return {MtObservation{item.element, mtconnect, {}, true}};
             return {unavailable(item, false)};
         }
         case MtValueForm::text:
-        case MtValueForm::condition:
-            break;
+        case MtValueForm::condition: break;
     }
     if (value.is_string()) return {MtObservation{item.element, value.get<std::string>(), {}, true}};
     if (value.is_number() || value.is_boolean())

@@ -28,21 +28,21 @@ enum class CncSlotKind {
 
 /// One child an OPC 40502 type declares (cnc_profile.cpp has the tables).
 struct CncSlot {
-    std::string_view name;       ///< BrowseName in the CNC namespace
+    std::string_view name;  ///< BrowseName in the CNC namespace
     CncSlotKind kind;
     std::string_view data_type;  ///< alias: Double, Boolean, UInt32, String, NodeId, Cnc...
     int value_rank;
     std::string_view array_dimensions;
     bool mandatory;
-    std::string_view matches;    ///< NC-Link types that fill it, space separated
-    std::string_view derived;    ///< placeholder value from the model: see cnc_profile.cpp
+    std::string_view matches;  ///< NC-Link types that fill it, space separated
+    std::string_view derived;  ///< placeholder value from the model: see cnc_profile.cpp
 };
 
 /// An NC-Link data object that fills a slot of an OPC 40502 object.
 struct CncFill {
     const CncSlot* slot = nullptr;
     const PlannedItem* item = nullptr;
-    std::string path;            ///< "CncAxisType/PosDirect/ActPos"
+    std::string path;               ///< "CncAxisType/PosDirect/ActPos"
     std::size_t parent = SIZE_MAX;  ///< node the item hangs below (set when the object is built)
     int browse_ns = 0;
 };
@@ -58,30 +58,25 @@ public:
 private:
     // ---- appendix B (opcua_plan.cpp)
     void types();
-    std::size_t object_type(int id, std::string_view name, std::string_view supertype,
-                            std::string_view description);
-    void declaration(std::size_t type, int id, std::string_view name, UaNodeClass node_class,
-                     std::string_view reference, std::string_view type_definition,
-                     std::string_view data_type, std::string_view rule);
+    std::size_t object_type(int id, std::string_view name, std::string_view supertype, std::string_view description);
+    void declaration(std::size_t type, int id, std::string_view name, UaNodeClass node_class, std::string_view reference,
+                     std::string_view type_definition, std::string_view data_type, std::string_view rule);
     std::size_t device_object();
     void component(const PlannedComponent& c, std::size_t nclink_parent);
     std::size_t item(const PlannedItem& item, std::size_t owner);
     /// A property (PropertyType) below `parent`.
-    std::size_t property(std::size_t parent, std::string node_id, std::string browse_name,
-                         std::string data_type, UaValue value);
+    std::size_t property(std::size_t parent, std::string node_id, std::string browse_name, std::string data_type, UaValue value);
     /// EngineeringUnits / EURange of an analog variable (`ns` of the browse names).
     /// EURange (mandatory, B.8) always has a value: `model_range` (the
     /// item's limits in its own unit) if given, else the quantity's range
     /// (row), else the default of the unit's dimension, else +-kNoLimit
     /// (docs/opcua.md "EURange").
-    void analog_properties(std::size_t variable, const std::string& id, const UnitRow* unit,
-                           const DataTypeRow* row, bool always_units, int browse_ns,
-                           std::optional<std::pair<double, double>> model_range = std::nullopt);
+    void analog_properties(std::size_t variable, const std::string& id, const UnitRow* unit, const DataTypeRow* row,
+                           bool always_units, int browse_ns, std::optional<std::pair<double, double>> model_range = std::nullopt);
     /// The limits the model gives an analog item (its minimum/maximum, or an
     /// UPPER_LIMIT/LOWER_LIMIT config beside it in the same unit dimension), in its unit.
     std::optional<std::pair<double, double>> model_range(const PlannedItem& item) const;
-    std::string unique_browse_name(std::size_t parent, const std::string& wanted,
-                                   const std::string& fallback);
+    std::string unique_browse_name(std::size_t parent, const std::string& wanted, const std::string& fallback);
     std::string node_id(std::string_view id) const { return string_node_id(ns_, id); }
 
     // ---- OPC 40502 (cnc_profile.cpp)
@@ -92,19 +87,15 @@ private:
     /// The mandatory children of a CNC object: filled slots recorded for the
     /// items, placeholders (or values derived from the model) for the rest.
     void cnc_structure(const PlannedComponent& c, CncRole role, std::size_t object);
-    void cnc_slots(const PlannedComponent& c, const CncSlot* slots, std::size_t count,
-                   std::string_view type_name, std::size_t object);
-    std::size_t cnc_position(const PlannedComponent& c, std::string_view name,
-                             std::string_view type_name, std::size_t object);
-    std::size_t cnc_placeholder(const CncSlot& slot, std::size_t parent, const std::string& id,
-                                const PlannedComponent& c);
+    void cnc_slots(const PlannedComponent& c, const CncSlot* slots, std::size_t count, std::string_view type_name,
+                   std::size_t object);
+    std::size_t cnc_position(const PlannedComponent& c, std::string_view name, std::string_view type_name, std::size_t object);
+    std::size_t cnc_placeholder(const CncSlot& slot, std::size_t parent, const std::string& id, const PlannedComponent& c);
     std::string cnc_type(std::string_view name) const;
     void cnc_match(const PlannedComponent& c, CncRole role, int channel);
-    void cnc_claim(const PlannedComponent& c, const CncSlot& slot, const std::string& path,
-                   bool with_device_items);
+    void cnc_claim(const PlannedComponent& c, const CncSlot& slot, const std::string& path, bool with_device_items);
     const PlannedItem* cnc_candidate(const PlannedComponent& c, std::string_view matches) const;
-    const PlannedItem* cnc_candidate(const std::vector<PlannedItem>& items,
-                                     std::string_view matches) const;
+    const PlannedItem* cnc_candidate(const std::vector<PlannedItem>& items, std::string_view matches) const;
     std::string cnc_static_text(std::string_view type) const;
 
     UaDocument& doc_;

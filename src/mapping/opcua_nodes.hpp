@@ -34,7 +34,7 @@ struct UaValue {
         boolean,
         int32,
         uint32,
-        number,          ///< Double
+        number,  ///< Double
         string,
         localized,       ///< LocalizedText
         localized_list,  ///< ListOfLocalizedText
@@ -67,8 +67,8 @@ struct UaNode {
     std::string browse_name;  ///< "1:X axis", "EngineeringUnits"
     std::string display_name;
     std::string description;
-    std::string parent;       ///< ParentNodeId ("" = none)
-    std::string data_type;    ///< variables
+    std::string parent;     ///< ParentNodeId ("" = none)
+    std::string data_type;  ///< variables
     int value_rank = -1;
     std::string array_dimensions;
     int access_level = 1;

@@ -19,16 +19,13 @@ namespace nclink::mapping_detail {
 
 // ------------------------------------------------------------------ node list
 
-std::string string_node_id(int ns, std::string_view id) {
-    return fmt::format("ns={};s={}", ns, id);
-}
+std::string string_node_id(int ns, std::string_view id) { return fmt::format("ns={};s={}", ns, id); }
 std::string numeric_node_id(int ns, int id) { return fmt::format("ns={};i={}", ns, id); }
 std::string qualified(int ns, std::string_view name) { return fmt::format("{}:{}", ns, name); }
 
 std::size_t UaNodeList::add(UaNode node) {
     const std::size_t index = nodes_.size();
-    if (!index_.emplace(node.node_id, index).second && collision_.empty())
-        collision_ = node.node_id;
+    if (!index_.emplace(node.node_id, index).second && collision_.empty()) collision_ = node.node_id;
     nodes_.push_back(std::move(node));
     return index;
 }
@@ -37,13 +34,11 @@ void UaNodeList::link(std::size_t source, std::size_t target, std::string_view t
     nodes_[source].references.push_back(UaReference{std::string(type), nodes_[target].node_id, true});
     nodes_[target].references.push_back(UaReference{std::string(type), nodes_[source].node_id, false});
     const bool hierarchical = type == "HasComponent" || type == "HasProperty" || type == "Organizes";
-    if (hierarchical && nodes_[target].parent.empty() &&
-        nodes_[target].node_class != UaNodeClass::object_type)
+    if (hierarchical && nodes_[target].parent.empty() && nodes_[target].node_class != UaNodeClass::object_type)
         nodes_[target].parent = nodes_[source].node_id;
 }
 
-void UaNodeList::reference(std::size_t source, std::string_view type, std::string target,
-                           bool forward) {
+void UaNodeList::reference(std::size_t source, std::string_view type, std::string target, bool forward) {
     nodes_[source].references.push_back(UaReference{std::string(type), std::move(target), forward});
 }
 
@@ -102,9 +97,7 @@ UaValue localized(std::string text) {
     return v;
 }
 
-std::string json_text(const Json& value) {
-    return value.dump(-1, ' ', false, Json::error_handler_t::replace);
-}
+std::string json_text(const Json& value) { return value.dump(-1, ' ', false, Json::error_handler_t::replace); }
 
 /// The fixed value of a data object in the variable's DataType; kind none
 /// when there is no fixed value or it does not convert.
@@ -113,8 +106,7 @@ UaValue fixed_value(const DataObject& d, const UaVariable& v) {
     if (!d.value || d.value->is_null()) return out;
     const Json& j = *d.value;
     switch (v.encoding) {
-        case UaEncoding::json:
-            return string_value(json_text(j));
+        case UaEncoding::json: return string_value(json_text(j));
         case UaEncoding::enum_index:
             if (j.is_string())
                 for (std::size_t i = 0; i < v.enum_strings.size(); ++i)
@@ -135,8 +127,7 @@ UaValue fixed_value(const DataObject& d, const UaVariable& v) {
                 }
             }
             return out;
-        case UaEncoding::scalar:
-            break;
+        case UaEncoding::scalar: break;
     }
     if (v.data_type == "Double" && j.is_number()) {
         out.kind = UaValue::Kind::number;
@@ -144,8 +135,7 @@ UaValue fixed_value(const DataObject& d, const UaVariable& v) {
     } else if ((v.data_type == "Int32" || v.data_type == "UInt32") && j.is_number()) {
         const double n = j.get<double>();
         const bool is_unsigned = v.data_type == "UInt32";
-        if (std::floor(n) == n && n >= (is_unsigned ? 0.0 : -2147483648.0) &&
-            n <= (is_unsigned ? 4294967295.0 : 2147483647.0)) {
+        if (std::floor(n) == n && n >= (is_unsigned ? 0.0 : -2147483648.0) && n <= (is_unsigned ? 4294967295.0 : 2147483647.0)) {
             out.kind = is_unsigned ? UaValue::Kind::uint32 : UaValue::Kind::int32;
             out.integer = static_cast<long long>(n);
         }
@@ -153,8 +143,7 @@ UaValue fixed_value(const DataObject& d, const UaVariable& v) {
         out.kind = UaValue::Kind::boolean;
         out.flag = j.get<bool>();
     } else if (v.data_type == "String") {
-        out = string_value(j.is_string() ? j.get<std::string>()
-                                         : (j.is_primitive() ? scalar_text(j) : json_text(j)));
+        out = string_value(j.is_string() ? j.get<std::string>() : (j.is_primitive() ? scalar_text(j) : json_text(j)));
     } else if (v.data_type == "BaseDataType") {
         if (j.is_boolean()) {
             out.kind = UaValue::Kind::boolean;
@@ -176,16 +165,16 @@ std::string dev_name(const Device& d) { return d.name.empty() ? d.id : d.name; }
 /// reaches, so a value outside means a fault, not a bigger machine.
 std::optional<std::pair<double, double>> default_range(Dimension dimension) {
     switch (dimension) {
-        case Dimension::length: return std::make_pair(-10000.0, 10000.0);            // mm: 10 m each way
-        case Dimension::velocity: return std::make_pair(-10000.0, 10000.0);          // mm/s: 600 m/min
-        case Dimension::acceleration: return std::make_pair(-100000.0, 100000.0);    // mm/s^2: 10 g
-        case Dimension::angle: return std::make_pair(-3600.0, 3600.0);               // degrees: ten turns
+        case Dimension::length: return std::make_pair(-10000.0, 10000.0);              // mm: 10 m each way
+        case Dimension::velocity: return std::make_pair(-10000.0, 10000.0);            // mm/s: 600 m/min
+        case Dimension::acceleration: return std::make_pair(-100000.0, 100000.0);      // mm/s^2: 10 g
+        case Dimension::angle: return std::make_pair(-3600.0, 3600.0);                 // degrees: ten turns
         case Dimension::angular_velocity: return std::make_pair(-600000.0, 600000.0);  // deg/s: 100000 r/min
         case Dimension::rotational_speed: return std::make_pair(-100000.0, 100000.0);  // r/min
-        case Dimension::current: return std::make_pair(-1000.0, 1000.0);             // A
-        case Dimension::voltage: return std::make_pair(-1000.0, 1000.0);             // V
-        case Dimension::ratio: return std::make_pair(0.0, 200.0);                    // percent: loads, overrides
-        case Dimension::temperature: return std::make_pair(-50.0, 500.0);            // degrees Celsius
+        case Dimension::current: return std::make_pair(-1000.0, 1000.0);               // A
+        case Dimension::voltage: return std::make_pair(-1000.0, 1000.0);               // V
+        case Dimension::ratio: return std::make_pair(0.0, 200.0);                      // percent: loads, overrides
+        case Dimension::temperature: return std::make_pair(-50.0, 500.0);              // degrees Celsius
         default: return std::nullopt;
     }
 }
@@ -217,8 +206,7 @@ void UaDeviceBuilder::build() {
     for (const auto& i : device_.items) item(i, data_items_folder_);
 }
 
-std::size_t UaDeviceBuilder::object_type(int id, std::string_view name, std::string_view supertype,
-                                         std::string_view description) {
+std::size_t UaDeviceBuilder::object_type(int id, std::string_view name, std::string_view supertype, std::string_view description) {
     UaNode n;
     n.node_class = UaNodeClass::object_type;
     n.node_id = numeric_node_id(ns_, id);
@@ -230,9 +218,8 @@ std::size_t UaDeviceBuilder::object_type(int id, std::string_view name, std::str
     return index;
 }
 
-void UaDeviceBuilder::declaration(std::size_t type, int id, std::string_view name,
-                                  UaNodeClass node_class, std::string_view reference,
-                                  std::string_view type_definition, std::string_view data_type,
+void UaDeviceBuilder::declaration(std::size_t type, int id, std::string_view name, UaNodeClass node_class,
+                                  std::string_view reference, std::string_view type_definition, std::string_view data_type,
                                   std::string_view rule) {
     UaNode n;
     n.node_class = node_class;
@@ -251,8 +238,8 @@ void UaDeviceBuilder::declaration(std::size_t type, int id, std::string_view nam
 void UaDeviceBuilder::types() {
     const auto V = UaNodeClass::variable;
     const auto O = UaNodeClass::object;
-    const std::size_t device = object_type(kDeviceType, "DeviceType", ua::folder_type,
-                                           "GB/T 39561.3 table B.1: a numerically controlled device");
+    const std::size_t device =
+        object_type(kDeviceType, "DeviceType", ua::folder_type, "GB/T 39561.3 table B.1: a numerically controlled device");
     declaration(device, 1101, "Availability", V, "HasComponent", ua::data_item_type, "String", ua::mandatory);
     declaration(device, 1102, "Manufacturer", V, "HasProperty", ua::property_type, "String", ua::mandatory);
     declaration(device, 1103, "SerialNumber", V, "HasProperty", ua::property_type, "String", ua::mandatory);
@@ -262,31 +249,27 @@ void UaDeviceBuilder::types() {
     declaration(device, 1107, "Components", O, "HasComponent", ua::folder_type, "", ua::mandatory);
     declaration(device, 1108, "Conditions", O, "HasComponent", ua::folder_type, "", ua::optional);
 
-    const std::size_t component = object_type(kComponentType, "ComponentType", ua::folder_type,
-                                              "GB/T 39561.3 table B.2: a component of a device");
+    const std::size_t component =
+        object_type(kComponentType, "ComponentType", ua::folder_type, "GB/T 39561.3 table B.2: a component of a device");
     declaration(component, 1111, "Model", V, "HasProperty", ua::property_type, "String", ua::optional);
     declaration(component, 1112, "Station", V, "HasProperty", ua::property_type, "String", ua::optional);
 
     const std::string base = numeric_node_id(ns_, kComponentType);
     object_type(kControllerType, "ControllerType", base, "GB/T 39561.3 table B.3: a controller");
-    const std::size_t axes = object_type(kAxesType, "AxesType", base,
-                                         "GB/T 39561.3 table B.4: a linear or rotary axis");
+    const std::size_t axes = object_type(kAxesType, "AxesType", base, "GB/T 39561.3 table B.4: a linear or rotary axis");
     int id = 1131;
-    for (const char* name : {"RotaryAxesX", "RotaryAxesY", "RotaryAxesZ", "RotaryAxesA",
-                             "RotaryAxesB", "RotaryAxesC"})
+    for (const char* name : {"RotaryAxesX", "RotaryAxesY", "RotaryAxesZ", "RotaryAxesA", "RotaryAxesB", "RotaryAxesC"})
         declaration(axes, id++, name, V, "HasProperty", ua::property_type, "String", ua::optional);
     const std::size_t door = object_type(kDoorType, "DoorType", base, "GB/T 39561.3 table B.5: a door");
     declaration(door, 1121, "DoorState", V, "HasProperty", ua::property_type, "String", ua::optional);
-    const std::size_t actuator = object_type(kActuatorType, "ActuatorType", base,
-                                             "GB/T 39561.3 table B.6: a drive or actuator");
+    const std::size_t actuator = object_type(kActuatorType, "ActuatorType", base, "GB/T 39561.3 table B.6: a drive or actuator");
     declaration(actuator, 1141, "LinearAxesX", V, "HasProperty", ua::property_type, "String", ua::optional);
     // B.3.1-B.3.5 derive each from its parent; link the subtypes both ways.
     for (const int sub : {kControllerType, kAxesType, kDoorType, kActuatorType})
         doc_.nodes.reference(component, "HasSubtype", numeric_node_id(ns_, sub), true);
 }
 
-std::size_t UaDeviceBuilder::property(std::size_t parent, std::string node_id,
-                                      std::string browse_name, std::string data_type,
+std::size_t UaDeviceBuilder::property(std::size_t parent, std::string node_id, std::string browse_name, std::string data_type,
                                       UaValue value) {
     UaNode n;
     n.node_class = UaNodeClass::variable;
@@ -335,14 +318,13 @@ std::size_t UaDeviceBuilder::device_object() {
         if (i.type == "MANUFACTURER" && manufacturer.empty()) manufacturer = scalar_text(*i.object->value);
         if (i.type == "SERIAL_NUMBER" && serial.empty()) serial = scalar_text(*i.object->value);
     }
-    property(device, node_id(device_.dev_uuid + ".Manufacturer"), qualified(ns_, "Manufacturer"),
-             "String", string_value(manufacturer));
-    property(device, node_id(device_.dev_uuid + ".SerialNumber"), qualified(ns_, "SerialNumber"),
-             "String", string_value(serial));
+    property(device, node_id(device_.dev_uuid + ".Manufacturer"), qualified(ns_, "Manufacturer"), "String",
+             string_value(manufacturer));
+    property(device, node_id(device_.dev_uuid + ".SerialNumber"), qualified(ns_, "SerialNumber"), "String", string_value(serial));
     browse_names_[device].insert({qualified(ns_, "Manufacturer"), qualified(ns_, "SerialNumber")});
 
-    for (const auto& [name, out] : {std::pair<const char*, std::size_t*>{"DataItems", &data_items_folder_},
-                                    {"Components", &components_folder_}}) {
+    for (const auto& [name, out] :
+         {std::pair<const char*, std::size_t*>{"DataItems", &data_items_folder_}, {"Components", &components_folder_}}) {
         UaNode f;
         f.node_id = node_id(device_.dev_uuid + "." + name);
         f.browse_name = qualified(ns_, name);
@@ -376,12 +358,9 @@ void UaDeviceBuilder::component(const PlannedComponent& c, std::size_t nclink_pa
                              true);
         cnc_structure(c, role, object);
     } else {
-        doc_.nodes.reference(object, "HasTypeDefinition",
-                             numeric_node_id(ns_, object_type_id(c.row->ua_kind)), true);
+        doc_.nodes.reference(object, "HasTypeDefinition", numeric_node_id(ns_, object_type_id(c.row->ua_kind)), true);
     }
-    if (!c.known_type)
-        doc_.unmapped.push_back(UnmappedItem{comp.id, comp.type, "ComponentType",
-                                             std::string(c.row->clause)});
+    if (!c.known_type) doc_.unmapped.push_back(UnmappedItem{comp.id, comp.type, "ComponentType", std::string(c.row->clause)});
     siblings_ = &c.items;
     for (const auto& i : c.items) item(i, object);
     for (const auto& child : c.children) component(child, object);
@@ -401,17 +380,15 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
     v.namespace_uri = OpcUaMappingBuilder::namespaces(doc_.mapping)[ns_ - 1].uri;
     v.access_level = d.setable ? 3 : 1;
     v.minimum_sampling_interval = planned.sample_interval_ms;
-    const bool json = d.kind != DataKind::single || row.value_type == ValueType::object ||
-                      row.value_type == ValueType::list || row.value_type == ValueType::dict ||
-                      row.value_type == ValueType::file;
+    const bool json = d.kind != DataKind::single || row.value_type == ValueType::object || row.value_type == ValueType::list ||
+                      row.value_type == ValueType::dict || row.value_type == ValueType::file;
     int value_rank = -1;
     if (!planned.known_type) {
         v.fallback = true;
         v.type_definition = "BaseDataVariableType";
         v.data_type = "BaseDataType";
         value_rank = -2;
-        doc_.unmapped.push_back(UnmappedItem{d.id, d.type, "BaseDataVariableType (BaseDataType)",
-                                             std::string(row.clause)});
+        doc_.unmapped.push_back(UnmappedItem{d.id, d.type, "BaseDataVariableType (BaseDataType)", std::string(row.clause)});
     } else if (json) {
         v.type_definition = "DataItemType";
         v.data_type = "String";
@@ -435,8 +412,7 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
             }
         } else if (row.ua_kind == UaKind::multi_state) {
             v.encoding = UaEncoding::enum_index;
-            for (std::size_t i = 0; i < row.enum_count; ++i)
-                v.enum_strings.emplace_back(row.enum_strings[i]);
+            for (std::size_t i = 0; i < row.enum_count; ++i) v.enum_strings.emplace_back(row.enum_strings[i]);
         }
     }
     if (cnc != nullptr) {
@@ -449,8 +425,7 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
     n.node_class = UaNodeClass::variable;
     n.node_id = v.node_id;
     const std::string label = d.name.empty() ? d.id : d.name;
-    n.browse_name = cnc != nullptr ? qualified(cnc->browse_ns, cnc->slot->name)
-                                   : unique_browse_name(parent, label, d.id);
+    n.browse_name = cnc != nullptr ? qualified(cnc->browse_ns, cnc->slot->name) : unique_browse_name(parent, label, d.id);
     if (cnc == nullptr) v.browse_name = n.browse_name.substr(n.browse_name.find(':') + 1);
     n.display_name = cnc != nullptr ? std::string(cnc->slot->name) : label;
     n.description = d.description;
@@ -471,8 +446,7 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
     const std::size_t index = doc_.nodes.add(std::move(n));
     doc_.nodes.link(parent, index, "HasComponent");
     if (parent != owner) doc_.nodes.link(owner, index, "Organizes");
-    doc_.nodes.reference(index, "HasTypeDefinition",
-                         std::string(type_definition_id(v.type_definition)), true);
+    doc_.nodes.reference(index, "HasTypeDefinition", std::string(type_definition_id(v.type_definition)), true);
 
     // Properties of tables B.8, B.10, B.11.
     if (v.type_definition == "AnalogItemType") {
@@ -501,22 +475,16 @@ std::size_t UaDeviceBuilder::item(const PlannedItem& planned, std::size_t owner)
     return index;
 }
 
-void UaDeviceBuilder::analog_properties(std::size_t variable, const std::string& id,
-                                        const UnitRow* unit, const DataTypeRow* row,
-                                        bool always_units, int browse_ns,
-                                        std::optional<std::pair<double, double>> model_range) {
-    const auto browse = [&](const char* name) {
-        return browse_ns == 0 ? std::string(name) : qualified(browse_ns, name);
-    };
+void UaDeviceBuilder::analog_properties(std::size_t variable, const std::string& id, const UnitRow* unit, const DataTypeRow* row,
+                                        bool always_units, int browse_ns, std::optional<std::pair<double, double>> model_range) {
+    const auto browse = [&](const char* name) { return browse_ns == 0 ? std::string(name) : qualified(browse_ns, name); };
     if (unit != nullptr && !unit->unece.empty()) {
         UaValue eu;
         eu.kind = UaValue::Kind::eu_information;
         eu.unit = unit;
-        property(variable, node_id(id + ".EngineeringUnits"), browse("EngineeringUnits"),
-                 "EUInformation", eu);
+        property(variable, node_id(id + ".EngineeringUnits"), browse("EngineeringUnits"), "EUInformation", eu);
     } else if (always_units) {
-        property(variable, node_id(id + ".EngineeringUnits"), browse("EngineeringUnits"),
-                 "EUInformation", UaValue{});
+        property(variable, node_id(id + ".EngineeringUnits"), browse("EngineeringUnits"), "EUInformation", UaValue{});
     }
     // EURange is mandatory (table B.8) and a client scales and deadbands with
     // it (OPC 10000-8 5.3.2.2 PercentDeadband), so it always has a value.
@@ -529,9 +497,7 @@ void UaDeviceBuilder::analog_properties(std::size_t variable, const std::string&
         range.low = *row->range_low;
         range.high = *row->range_high;
     } else {
-        const Dimension dimension = unit != nullptr ? unit->dimension
-                                    : row != nullptr ? row->dimension
-                                                     : Dimension::none;
+        const Dimension dimension = unit != nullptr ? unit->dimension : row != nullptr ? row->dimension : Dimension::none;
         const auto fallback = default_range(dimension);
         range.low = fallback ? in_unit(fallback->first, unit) : -kNoLimit;
         range.high = fallback ? in_unit(fallback->second, unit) : kNoLimit;
@@ -574,14 +540,12 @@ std::optional<std::pair<double, double>> UaDeviceBuilder::model_range(const Plan
     return std::make_pair(lo, hi);
 }
 
-std::string UaDeviceBuilder::unique_browse_name(std::size_t parent, const std::string& wanted,
-                                                const std::string& fallback) {
+std::string UaDeviceBuilder::unique_browse_name(std::size_t parent, const std::string& wanted, const std::string& fallback) {
     auto& taken = browse_names_[parent];
     std::string name = qualified(ns_, wanted);
     if (!taken.insert(name).second) {
         name = qualified(ns_, fallback);
-        for (int n = 2; !taken.insert(name).second; ++n)
-            name = qualified(ns_, fmt::format("{} ({})", fallback, n));
+        for (int n = 2; !taken.insert(name).second; ++n) name = qualified(ns_, fmt::format("{} ({})", fallback, n));
     }
     return name;
 }
@@ -598,24 +562,34 @@ Result<UaDocument> plan_opcua(const Model& model, const MappingOptions& options)
     auto& namespaces = OpcUaMappingBuilder::namespaces(doc.mapping);
     for (const auto& d : doc.plan.devices)
         namespaces.push_back(UaNamespace{"urn:nclink:device:" + d.dev_uuid, d.device->id, d.dev_uuid});
-    doc.aliases = {{"Boolean", "i=1"},           {"Int32", "i=6"},
-                   {"UInt32", "i=7"},            {"Double", "i=11"},
-                   {"String", "i=12"},           {"NodeId", "i=17"},
-                   {"LocalizedText", "i=21"},    {"BaseDataType", "i=24"},
-                   {"Duration", "i=290"},        {"Range", "i=884"},
-                   {"EUInformation", "i=887"},   {"Organizes", "i=35"},
-                   {"HasModellingRule", "i=37"}, {"HasTypeDefinition", "i=40"},
-                   {"HasSubtype", "i=45"},       {"HasProperty", "i=46"},
+    doc.aliases = {{"Boolean", "i=1"},
+                   {"Int32", "i=6"},
+                   {"UInt32", "i=7"},
+                   {"Double", "i=11"},
+                   {"String", "i=12"},
+                   {"NodeId", "i=17"},
+                   {"LocalizedText", "i=21"},
+                   {"BaseDataType", "i=24"},
+                   {"Duration", "i=290"},
+                   {"Range", "i=884"},
+                   {"EUInformation", "i=887"},
+                   {"Organizes", "i=35"},
+                   {"HasModellingRule", "i=37"},
+                   {"HasTypeDefinition", "i=40"},
+                   {"HasSubtype", "i=45"},
+                   {"HasProperty", "i=46"},
                    {"HasComponent", "i=47"}};
     if (options.opcua_profile == OpcUaProfile::cnc) {
         namespaces.push_back(UaNamespace{std::string(cnc_namespace_uri), "", ""});
         doc.cnc_namespace = static_cast<int>(namespaces.size());
         // OPC 40502 data types (CNC nodeset 1.0.0 NodeIds).
-        for (const auto& [alias, id] :
-             {std::pair<const char*, int>{"CncSpindleTurnDirection", 3001},
-              {"CncChannelProgramStatus", 3002}, {"CncChannelStatus", 3003},
-              {"CncAxisStatus", 3004}, {"CncSpindleStatus", 3005},
-              {"CncOperationMode", 3006}, {"CncPositionDataType", 3007}})
+        for (const auto& [alias, id] : {std::pair<const char*, int>{"CncSpindleTurnDirection", 3001},
+                                        {"CncChannelProgramStatus", 3002},
+                                        {"CncChannelStatus", 3003},
+                                        {"CncAxisStatus", 3004},
+                                        {"CncSpindleStatus", 3005},
+                                        {"CncOperationMode", 3006},
+                                        {"CncPositionDataType", 3007}})
             doc.aliases.emplace_back(alias, numeric_node_id(doc.cnc_namespace, id));
     }
     for (std::size_t i = 0; i < doc.plan.devices.size(); ++i) {
@@ -624,10 +598,9 @@ Result<UaDocument> plan_opcua(const Model& model, const MappingOptions& options)
     }
     OpcUaMappingBuilder::index(doc.mapping);
     if (!doc.nodes.collision().empty())
-        return make_error(ErrorCode::key_error,
-                          fmt::format("OPC UA NodeId \"{}\" is generated twice (an NC-Link id "
-                                      "equals a generated one)",
-                                      doc.nodes.collision()));
+        return make_error(ErrorCode::key_error, fmt::format("OPC UA NodeId \"{}\" is generated twice (an NC-Link id "
+                                                            "equals a generated one)",
+                                                            doc.nodes.collision()));
     return doc;
 }
 
@@ -635,9 +608,7 @@ Result<UaDocument> plan_opcua(const Model& model, const MappingOptions& options)
 
 namespace nclink {
 
-std::string_view to_string(OpcUaProfile profile) noexcept {
-    return profile == OpcUaProfile::cnc ? "cnc" : "basic";
-}
+std::string_view to_string(OpcUaProfile profile) noexcept { return profile == OpcUaProfile::cnc ? "cnc" : "basic"; }
 
 std::optional<OpcUaProfile> opcua_profile_from_string(std::string_view text) noexcept {
     if (text == "basic") return OpcUaProfile::basic;

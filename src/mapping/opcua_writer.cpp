@@ -99,8 +99,7 @@ void write_node(XmlWriter& w, const UaNode& n) {
             w.attr("AccessLevel", std::to_string(n.access_level));
             w.attr("UserAccessLevel", std::to_string(n.access_level));
         }
-        if (n.minimum_sampling_interval > 0)
-            w.attr("MinimumSamplingInterval", number_text(n.minimum_sampling_interval));
+        if (n.minimum_sampling_interval > 0) w.attr("MinimumSamplingInterval", number_text(n.minimum_sampling_interval));
     }
     w.element("DisplayName", n.display_name);
     if (!n.description.empty()) w.element("Description", n.description);
@@ -133,10 +132,9 @@ std::string write_opcua(const UaDocument& doc, const MappingOptions& options) {
     const std::string time = creation_time(options);
     XmlWriter w;
     w.declaration();
-    w.comment(doc.cnc_namespace != 0
-                  ? "Written by nclink from an NC-Link model, GB/T 39561.3-2020 appendix B with "
-                    "OPC 40502 (CNC Systems); load the CNC nodeset first"
-                  : "Written by nclink from an NC-Link model, GB/T 39561.3-2020 appendix B");
+    w.comment(doc.cnc_namespace != 0 ? "Written by nclink from an NC-Link model, GB/T 39561.3-2020 appendix B with "
+                                       "OPC 40502 (CNC Systems); load the CNC nodeset first"
+                                     : "Written by nclink from an NC-Link model, GB/T 39561.3-2020 appendix B");
     w.start("UANodeSet");
     w.attr("xmlns", "http://opcfoundation.org/UA/2011/03/UANodeSet.xsd");
     w.attr("xmlns:uax", "http://opcfoundation.org/UA/2008/02/Types.xsd");

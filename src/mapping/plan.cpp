@@ -43,8 +43,7 @@ private:
         out.component = &c;
         out.type = normalize_component_type(c.type);
         if (out.type != c.type)
-            note(c.id, fmt::format("component type \"{}\" read as {} (GB/T 41970 table 8)", c.type,
-                                   out.type));
+            note(c.id, fmt::format("component type \"{}\" read as {} (GB/T 41970 table 8)", c.type, out.type));
         out.row = find_component_row(out.type);
         out.known_type = out.row != nullptr;
         if (!out.known_type) out.row = &unknown_component_row();
@@ -55,8 +54,7 @@ private:
         placement.in_axis = below_axis;
         out.items = items(c.children, placement);
         for (const auto& id : c.children.components)
-            if (const Component* child = model_.component(id))
-                out.children.push_back(component(*child, below_axis || axis));
+            if (const Component* child = model_.component(id)) out.children.push_back(component(*child, below_axis || axis));
         if (axis) classify_axis(out);
         return out;
     }
@@ -75,13 +73,11 @@ private:
         out.placement = placement;
         out.type = normalize_data_type(d.type);
         if (out.type != d.type)
-            note(d.id, fmt::format("type \"{}\" read as {} (GB/T 41970 tables 10, 12, 13)", d.type,
-                                   out.type));
+            note(d.id, fmt::format("type \"{}\" read as {} (GB/T 41970 tables 10, 12, 13)", d.type, out.type));
         out.row = find_data_row(out.type, placement);
         out.known_type = out.row != nullptr;
         if (!out.known_type) out.row = &unknown_type_row();
-        if (const auto it = interval_.find(d.id); it != interval_.end())
-            out.sample_interval_ms = it->second;
+        if (const auto it = interval_.find(d.id); it != interval_.end()) out.sample_interval_ms = it->second;
         if (!d.units.empty()) {
             out.unit = find_unit(d.units);
             out.units_unknown = out.unit == nullptr;
@@ -99,16 +95,14 @@ private:
     void classify_axis(PlannedComponent& axis) {
         const std::string& number = axis.component->number;
         const bool s_number = !number.empty() && (number[0] == 'S' || number[0] == 's') &&
-                              std::all_of(number.begin() + 1, number.end(),
-                                          [](char c) { return c >= '0' && c <= '9'; });
+                              std::all_of(number.begin() + 1, number.end(), [](char c) { return c >= '0' && c <= '9'; });
         axis.spindle = s_number || holds_spindle_item(axis);
         if (axis.spindle) {
             axis.axis_kind = AxisKind::rotary;
             return;
         }
         for (const auto& item : axis.items) {
-            if (item.type != "CATAGORY" || !item.object->value || !item.object->value->is_string())
-                continue;
+            if (item.type != "CATAGORY" || !item.object->value || !item.object->value->is_string()) continue;
             const auto& word = item.object->value->get_ref<const std::string&>();
             if (word == "rotary") {
                 axis.axis_kind = AxisKind::rotary;
@@ -120,36 +114,29 @@ private:
             }
         }
         // Table 9: X, Y, Z linear; A, B, C rotary; U, V, W swivel; Jn joints.
-        const char letter = number.empty()
-                                ? '\0'
-                                : static_cast<char>(std::toupper(static_cast<unsigned char>(number[0])));
+        const char letter = number.empty() ? '\0' : static_cast<char>(std::toupper(static_cast<unsigned char>(number[0])));
         if (letter == 'X' || letter == 'Y' || letter == 'Z') {
             axis.axis_kind = AxisKind::linear;
-        } else if (letter == 'A' || letter == 'B' || letter == 'C' || letter == 'U' ||
-                   letter == 'V' || letter == 'W' || letter == 'J') {
+        } else if (letter == 'A' || letter == 'B' || letter == 'C' || letter == 'U' || letter == 'V' || letter == 'W' ||
+                   letter == 'J') {
             axis.axis_kind = AxisKind::rotary;
         } else {
             axis.axis_kind = AxisKind::linear;
-            note(axis.component->id,
-                 fmt::format("axis kind unknown (number \"{}\", no CATAGORY linear/rotary): "
-                             "taken as linear",
-                             number));
+            note(axis.component->id, fmt::format("axis kind unknown (number \"{}\", no CATAGORY linear/rotary): "
+                                                 "taken as linear",
+                                                 number));
         }
     }
 
     static bool holds_spindle_item(const PlannedComponent& c) {
         for (const auto& item : c.items)
-            if (item.type == "SPINDLE_SPEED" || item.type == "SPINDLE_OVERRIDE" ||
-                item.type == "SPINDLE_MODE")
-                return true;
+            if (item.type == "SPINDLE_SPEED" || item.type == "SPINDLE_OVERRIDE" || item.type == "SPINDLE_MODE") return true;
         for (const auto& child : c.children)
             if (child.type != "AXIS" && holds_spindle_item(child)) return true;
         return false;
     }
 
-    void note(const std::string& id, std::string message) {
-        notes_.push_back(MappingNote{id, std::move(message)});
-    }
+    void note(const std::string& id, std::string message) { notes_.push_back(MappingNote{id, std::move(message)}); }
 
     const Model& model_;
     std::vector<MappingNote>& notes_;
@@ -159,24 +146,18 @@ private:
 }  // namespace
 
 bool PlannedItem::fixed_scalar() const {
-    return object->value && (object->value->is_string() || object->value->is_number() ||
-                             object->value->is_boolean());
+    return object->value && (object->value->is_string() || object->value->is_number() || object->value->is_boolean());
 }
 
 Result<Plan> make_plan(const Model& model, const MappingOptions& options) {
     std::vector<const Device*> selected;
     for (const auto& d : model.devices())
-        if (options.device.empty() || d.id == options.device ||
-            resolve_dev_uuid(d) == options.device)
-            selected.push_back(&d);
-    if (model.devices().empty())
-        return make_error(ErrorCode::parameter_missing, "the model has no device");
+        if (options.device.empty() || d.id == options.device || resolve_dev_uuid(d) == options.device) selected.push_back(&d);
+    if (model.devices().empty()) return make_error(ErrorCode::parameter_missing, "the model has no device");
     if (selected.empty())
-        return make_error(ErrorCode::node_not_exists,
-                          fmt::format("no device \"{}\" in the model", options.device));
+        return make_error(ErrorCode::node_not_exists, fmt::format("no device \"{}\" in the model", options.device));
     if (!options.dev_uuid.empty() && selected.size() > 1)
-        return make_error(ErrorCode::arguments_nimiety,
-                          "a terminal id override needs exactly one device (select one)");
+        return make_error(ErrorCode::arguments_nimiety, "a terminal id override needs exactly one device (select one)");
 
     Plan plan;
     // Never dropped silently: what no device holds, and methods (MTConnect is
@@ -192,16 +173,14 @@ Result<Plan> make_plan(const Model& model, const MappingOptions& options) {
                                              "and no OPC UA variable (B.5 e) Method nodes are "
                                              "the OPC UA server's)"});
     Planner planner(model, plan.notes);
-    for (const Device* d : selected)
-        plan.devices.push_back(planner.device(*d, resolve_dev_uuid(*d, options.dev_uuid)));
+    for (const Device* d : selected) plan.devices.push_back(planner.device(*d, resolve_dev_uuid(*d, options.dev_uuid)));
     for (std::size_t i = 0; i < plan.devices.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (plan.devices[i].dev_uuid == plan.devices[j].dev_uuid)
                 return make_error(ErrorCode::key_error,
                                   fmt::format("devices \"{}\" and \"{}\" share the terminal id "
                                               "\"{}\"",
-                                              plan.devices[j].device->id,
-                                              plan.devices[i].device->id, plan.devices[i].dev_uuid));
+                                              plan.devices[j].device->id, plan.devices[i].device->id, plan.devices[i].dev_uuid));
     return plan;
 }
 

@@ -22,11 +22,11 @@ struct PlannedItem {
     bool known_type = true;            ///< in chapter 7
     const DataTypeRow* row = nullptr;  ///< never null (unknown_type_row() for unknown types)
     Placement placement;
-    double sample_interval_ms = 0;     ///< smallest sampleInterval of a channel naming it; 0 = none
+    double sample_interval_ms = 0;  ///< smallest sampleInterval of a channel naming it; 0 = none
     /// The unit of the value: `units` if given and known, else the row's
     /// default; nullptr when there is none or `units` is unknown.
     const UnitRow* unit = nullptr;
-    bool units_unknown = false;        ///< `units` given but not in the unit table
+    bool units_unknown = false;  ///< `units` given but not in the unit table
     /// True when the value is fixed in the model and a scalar (string, number, boolean).
     bool fixed_scalar() const;
 };

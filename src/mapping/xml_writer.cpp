@@ -66,8 +66,7 @@ std::string xml_escape(std::string_view text) {
             default:
                 if (cp < 0x20 || cp == 0xFFFE || cp == 0xFFFF)
                     out += kReplacement;  // not a Char of XML 1.0, not even as a reference
-                else
-                    out.append(text.substr(i, len));
+                else out.append(text.substr(i, len));
         }
         i += len;
     }
@@ -83,8 +82,7 @@ void XmlWriter::comment(std::string_view text) {
     if (!stack_.empty()) stack_.back().children = true;
     newline();
     std::string body = xml_escape(text);
-    for (std::size_t p = body.find("--"); p != std::string::npos; p = body.find("--", p))
-        body.replace(p, 2, "- -");
+    for (std::size_t p = body.find("--"); p != std::string::npos; p = body.find("--", p)) body.replace(p, 2, "- -");
     out_ += "<!-- " + body + " -->";
 }
 

@@ -57,17 +57,15 @@ std::optional<std::map<std::string, Param>> declared(const Json& args) {
 Result<Json> check_method_args(const Method& method, const std::optional<Json>& call_args) {
     Json args = call_args && !call_args->is_null() ? *call_args : Json::object();
     if (!args.is_object())
-        return make_error(ErrorCode::value_type, fmt::format("args of method {} must be an object, not {}", method.id,
-                                                             args.type_name()));
+        return make_error(ErrorCode::value_type,
+                          fmt::format("args of method {} must be an object, not {}", method.id, args.type_name()));
     const auto params = declared(method.args);
     if (!params) return args;
     std::vector<std::string> missing, unknown;
     for (const auto& [name, param] : *params) {
         if (args.contains(name)) continue;
-        if (param.fallback)
-            args[name] = *param.fallback;
-        else if (param.required)
-            missing.push_back(name);
+        if (param.fallback) args[name] = *param.fallback;
+        else if (param.required) missing.push_back(name);
     }
     for (auto it = args.begin(); it != args.end(); ++it)
         if (!params->count(it.key())) unknown.push_back(it.key());

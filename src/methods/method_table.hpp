@@ -55,8 +55,8 @@ public:
     /// once shutting down. Publishes Method/Status "waiting" (the acceptance,
     /// 8.2.22.3), then starts the method thread, which calls the driver.
     /// `method` carries the handle the driver's bind() gave the METHOD.
-    Result<std::shared_ptr<MethodRun>> start(const PointRef& method, const ParsedTopic& call_topic,
-                                             const MessageId& call_id, Json args, std::shared_ptr<Driver> driver);
+    Result<std::shared_ptr<MethodRun>> start(const PointRef& method, const ParsedTopic& call_topic, const MessageId& call_id,
+                                             Json args, std::shared_ptr<Driver> driver);
     /// The runs of `method_id` not finished yet, oldest first.
     std::vector<std::shared_ptr<MethodRun>> running(const std::string& method_id) const;
     std::vector<std::shared_ptr<MethodRun>> running() const;
@@ -80,8 +80,7 @@ private:
         Clock::Steady next_status{};
     };
 
-    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
-                PollHost* work);
+    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock, PollHost* work);
 
     void execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver);
     MethodResult result_of(const MethodRun& run, const Result<Json>& outcome) const;

@@ -12,8 +12,7 @@ Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
     NCLINK_TRY(r.duration("stop_grace_ms", out.stop_grace));
     NCLINK_TRY(r.no_unknown_keys());
     // A zero period would publish Method/Status in a busy loop.
-    if (out.status_period.count() <= 0)
-        return r.fail(ErrorCode::out_of_range, "status_period_ms", "must be positive");
+    if (out.status_period.count() <= 0) return r.fail(ErrorCode::out_of_range, "status_period_ms", "must be positive");
     return ok_result();
 }
 

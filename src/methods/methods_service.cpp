@@ -56,10 +56,8 @@ public:
 
     // Thread: a request worker.
     void handle(const ParsedTopic& topic, const std::string& payload) override {
-        if (topic.kind == TopicKind::method_call)
-            on_call(topic, payload);
-        else
-            on_control(topic, payload);
+        if (topic.kind == TopicKind::method_call) on_call(topic, payload);
+        else on_control(topic, payload);
     }
 
     // A paused run whose application is gone would hold its slot for ever:
@@ -139,8 +137,8 @@ private:
         }
         const auto action = parse_action(request->action);
         if (!action) {
-            const Error e = make_error(ErrorCode::method_action_type,
-                                       "action \"" + request->action + "\" is not stop, resume or cancel");
+            const Error e =
+                make_error(ErrorCode::method_action_type, "action \"" + request->action + "\" is not stop, resume or cancel");
             return answer(&e);
         }
         const auto targets = targets_of(topic, *request);
@@ -167,9 +165,9 @@ private:
         auto runs = table_->running(request.id);
         if (request.private_info && request.private_info->is_object() && request.private_info->contains("call")) {
             const Json& call = (*request.private_info)["call"];
-            runs.erase(std::remove_if(runs.begin(), runs.end(),
-                                      [&](const auto& run) { return !run->call_id || *run->call_id != call; }),
-                       runs.end());
+            runs.erase(
+                std::remove_if(runs.begin(), runs.end(), [&](const auto& run) { return !run->call_id || *run->call_id != call; }),
+                runs.end());
         }
         std::vector<std::shared_ptr<MethodRun>> own;
         for (const auto& run : runs)

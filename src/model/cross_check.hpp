@@ -17,7 +17,6 @@ namespace nclink::model_detail {
 /// (value_rules.hpp): a conformance problem at the value.
 void check_fixed_values(const Model& model, Problems& problems);
 
-void check_channel_references(const Model& model, const std::vector<ChannelReference>& refs,
-                              Problems& problems);
+void check_channel_references(const Model& model, const std::vector<ChannelReference>& refs, Problems& problems);
 
 }  // namespace nclink::model_detail

@@ -10,9 +10,9 @@ bool ModelBuilder::index(ObjectInfo info, std::size_t typed) {
     const auto found = m.by_id_.find(info.id);
     if (found != m.by_id_.end()) {
         const ObjectInfo& first = m.objects_[found->second.object];
-        problems_.fatal(model_detail::pointer_append(info.pointer, "id"),
-                        fmt::format("duplicate id \"{}\" (first defined at {})", info.id,
-                                    first.pointer.empty() ? "/" : first.pointer));
+        problems_.fatal(
+            model_detail::pointer_append(info.pointer, "id"),
+            fmt::format("duplicate id \"{}\" (first defined at {})", info.id, first.pointer.empty() ? "/" : first.pointer));
         return false;
     }
     m.by_id_.emplace(info.id, Model::Slot{m.objects_.size(), typed});
@@ -78,21 +78,20 @@ const ObjectInfo* Model::find(std::string_view id) const {
 }
 
 // One lookup per typed vector; the kinds listed are those stored in it.
-#define NCLINK_MODEL_LOOKUP(Type, name, vector, ...)                                   \
-    const Type* Model::name(std::string_view id) const {                              \
-        const auto found = by_id_.find(std::string(id));                              \
-        if (found == by_id_.end()) return nullptr;                                    \
-        const ObjectKind kind = objects_[found->second.object].kind;                  \
-        const ObjectKind kinds[] = {__VA_ARGS__};                                     \
-        for (ObjectKind k : kinds)                                                    \
-            if (k == kind) return &vector[found->second.typed];                       \
-        return nullptr;                                                               \
+#define NCLINK_MODEL_LOOKUP(Type, name, vector, ...)                 \
+    const Type* Model::name(std::string_view id) const {             \
+        const auto found = by_id_.find(std::string(id));             \
+        if (found == by_id_.end()) return nullptr;                   \
+        const ObjectKind kind = objects_[found->second.object].kind; \
+        const ObjectKind kinds[] = {__VA_ARGS__};                    \
+        for (ObjectKind k : kinds)                                   \
+            if (k == kind) return &vector[found->second.typed];      \
+        return nullptr;                                              \
     }
 
 NCLINK_MODEL_LOOKUP(Device, device, devices_, ObjectKind::device)
 NCLINK_MODEL_LOOKUP(Component, component, components_, ObjectKind::component)
-NCLINK_MODEL_LOOKUP(DataObject, data_object, data_objects_, ObjectKind::data_item,
-                    ObjectKind::config_item)
+NCLINK_MODEL_LOOKUP(DataObject, data_object, data_objects_, ObjectKind::data_item, ObjectKind::config_item)
 NCLINK_MODEL_LOOKUP(SampleChannel, channel, channels_, ObjectKind::sample_channel)
 NCLINK_MODEL_LOOKUP(Method, method, methods_, ObjectKind::method)
 #undef NCLINK_MODEL_LOOKUP

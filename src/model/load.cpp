@@ -29,10 +29,8 @@ std::size_t nesting_depth(std::string_view text) {
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
         if (in_string) {
-            if (c == '\\')
-                ++i;
-            else if (c == '"')
-                in_string = false;
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
         } else if (c == '"') {
             in_string = true;
         } else if (c == '[' || c == '{') {
@@ -53,8 +51,7 @@ std::string parse_error_message(const std::string& what) {
 LoadResult parse_utf8(std::string_view text, model_detail::Problems& problems) {
     LoadResult result;
     if (nesting_depth(text) > kMaxDepth) {
-        problems.fatal("", fmt::format("not a usable model: JSON nested deeper than {} levels",
-                                       kMaxDepth));
+        problems.fatal("", fmt::format("not a usable model: JSON nested deeper than {} levels", kMaxDepth));
         result.problems = problems.take();
         return result;
     }
@@ -92,8 +89,9 @@ LoadResult parse_model(std::string_view text) {
             problems.fatal("", "not a usable model: the file is neither UTF-8 nor GBK");
             return LoadResult{problems.take(), nullptr, nullptr};
         }
-        problems.conformance("", "file is GBK-encoded, converted to UTF-8 (the standard "
-                                 "requires UTF-8)");
+        problems.conformance("",
+                             "file is GBK-encoded, converted to UTF-8 (the standard "
+                             "requires UTF-8)");
         return parse_utf8(*converted, problems);
     } catch (const std::bad_alloc&) {
         model_detail::Problems oom;

@@ -12,8 +12,7 @@ namespace nclink {
 
 class ModelBuilder {
 public:
-    explicit ModelBuilder(model_detail::Problems& problems)
-        : problems_(problems), model_(std::make_shared<Model>()) {}
+    explicit ModelBuilder(model_detail::Problems& problems) : problems_(problems), model_(std::make_shared<Model>()) {}
 
     /// Each add_* indexes the object; on a duplicate id it reports a fatal
     /// problem at info.pointer and returns false (the object is not added).

@@ -8,12 +8,9 @@ std::string pointer_append(std::string_view base, std::string_view token) {
     out.reserve(out.size() + token.size() + 1);
     out += '/';
     for (char c : token) {
-        if (c == '~')
-            out += "~0";
-        else if (c == '/')
-            out += "~1";
-        else
-            out += c;
+        if (c == '~') out += "~0";
+        else if (c == '/') out += "~1";
+        else out += c;
     }
     return out;
 }

@@ -21,15 +21,11 @@ public:
     void add(Severity severity, std::string pointer, std::string message) {
         list_.push_back(Problem{severity, std::move(pointer), std::move(message)});
     }
-    void fatal(std::string pointer, std::string message) {
-        add(Severity::fatal, std::move(pointer), std::move(message));
-    }
+    void fatal(std::string pointer, std::string message) { add(Severity::fatal, std::move(pointer), std::move(message)); }
     void conformance(std::string pointer, std::string message) {
         add(Severity::conformance, std::move(pointer), std::move(message));
     }
-    void warning(std::string pointer, std::string message) {
-        add(Severity::warning, std::move(pointer), std::move(message));
-    }
+    void warning(std::string pointer, std::string message) { add(Severity::warning, std::move(pointer), std::move(message)); }
     bool has_fatal() const noexcept {
         for (const auto& p : list_)
             if (p.severity == Severity::fatal) return true;

@@ -133,12 +133,11 @@ public:
 
 private:
     void read_device(const Json& obj, const std::string& ptr, const std::string& root_id);
-    void read_component(const Json& obj, const std::string& ptr, const std::string& device_id,
-                        const std::string& parent_id, const std::string& parent_path);
+    void read_component(const Json& obj, const std::string& ptr, const std::string& device_id, const std::string& parent_id,
+                        const std::string& parent_path);
     void read_list(const Json& holder, const std::string& holder_ptr, const Context& ctx);
-    void read_components(const Json& holder, const std::string& holder_ptr,
-                         const std::string& device_id, const std::string& parent_id,
-                         const std::string& parent_path);
+    void read_components(const Json& holder, const std::string& holder_ptr, const std::string& device_id,
+                         const std::string& parent_id, const std::string& parent_path);
     void read_data_object(const Json& obj, const std::string& ptr, const Context& ctx);
     void read_channel(const Json& obj, const std::string& ptr, const Context& ctx);
     void read_method(const Json& obj, const std::string& ptr, const Context& ctx);
@@ -148,11 +147,9 @@ private:
     std::string read_type(const Json& obj, const std::string& ptr);
     std::string read_version(const Json& obj, const std::string& ptr, bool protocol);
     std::optional<double> read_interval(const Json& obj, const std::string& ptr, const char* key);
-    Json unknown_attributes(const Json& obj, const std::string& ptr,
-                            std::initializer_list<std::string_view> known,
+    Json unknown_attributes(const Json& obj, const std::string& ptr, std::initializer_list<std::string_view> known,
                             std::initializer_list<std::string_view> tolerated = {});
-    const Json* array_attribute(const Json& holder, const std::string& holder_ptr,
-                                const char* key);
+    const Json* array_attribute(const Json& holder, const std::string& holder_ptr, const char* key);
     void append_child(const std::string& parent_id, ListKind list, const std::string& id);
     void append_component(const std::string& parent_id, const std::string& id);
 
@@ -172,13 +169,13 @@ std::optional<std::string> Reader::read_id(const Json& obj, const std::string& p
         return std::nullopt;
     }
     if (it->is_number()) {
-        problems_.conformance(at, fmt::format("\"id\" should be a string, not the number {}",
-                                              it->dump()));
+        problems_.conformance(at, fmt::format("\"id\" should be a string, not the number {}", it->dump()));
         return it->dump();
     }
     if (!it->is_string()) {
         problems_.fatal(at, fmt::format("\"id\" must be a string, not {}: the object cannot "
-                                        "be indexed", it->type_name()));
+                                        "be indexed",
+                                        it->type_name()));
         return std::nullopt;
     }
     std::string id = it->get<std::string>();
@@ -196,11 +193,11 @@ std::string Reader::read_string(const Json& obj, const std::string& ptr, const c
     const std::string at = pointer_append(ptr, key);
     if (it->is_number() || it->is_boolean()) {
         problems_.conformance(at, fmt::format("\"{}\" should be a string, not {} (taken as "
-                                              "\"{}\")", key, it->type_name(), it->dump()));
+                                              "\"{}\")",
+                                              key, it->type_name(), it->dump()));
         return it->dump();
     }
-    problems_.conformance(at, fmt::format("\"{}\" should be a string, not {}; ignored", key,
-                                          it->type_name()));
+    problems_.conformance(at, fmt::format("\"{}\" should be a string, not {}; ignored", key, it->type_name()));
     return {};
 }
 
@@ -218,14 +215,14 @@ std::string Reader::read_version(const Json& obj, const std::string& ptr, bool p
     const std::string at = pointer_append(ptr, "version");
     if (!obj.contains("version")) {
         problems_.conformance(at, fmt::format("missing required attribute \"version\" (taken "
-                                              "as {})", kDefaultVersion));
+                                              "as {})",
+                                              kDefaultVersion));
         return std::string(kDefaultVersion);
     }
     std::string text = read_string(obj, ptr, "version");
     if (text.empty()) {
         if (obj["version"].is_string())
-            problems_.conformance(at, fmt::format("empty \"version\" (taken as {})",
-                                                  kDefaultVersion));
+            problems_.conformance(at, fmt::format("empty \"version\" (taken as {})", kDefaultVersion));
         return std::string(kDefaultVersion);
     }
     // Table 1 (protocol) and table 2 (model file) both write the form
@@ -238,8 +235,8 @@ std::string Reader::read_version(const Json& obj, const std::string& ptr, bool p
         problems_.conformance(at, fmt::format("version \"{}\" is not of the form 1.x.x ({})", text, table));
         return text;
     }
-    const bool leading_zero = std::any_of(parts->begin(), parts->end(),
-                                          [](const std::string& p) { return p.size() > 1 && p[0] == '0'; });
+    const bool leading_zero =
+        std::any_of(parts->begin(), parts->end(), [](const std::string& p) { return p.size() > 1 && p[0] == '0'; });
     const bool bad_major = (*parts)[0] != "1";
     if (parts->size() != 3 || bad_major || leading_zero) {
         // Reported, but kept as written: the version is the vendor's text,
@@ -251,8 +248,7 @@ std::string Reader::read_version(const Json& obj, const std::string& ptr, bool p
     return text;
 }
 
-std::optional<double> Reader::read_interval(const Json& obj, const std::string& ptr,
-                                            const char* key) {
+std::optional<double> Reader::read_interval(const Json& obj, const std::string& ptr, const char* key) {
     const std::string at = pointer_append(ptr, key);
     const auto it = obj.find(key);
     if (it == obj.end()) {
@@ -261,23 +257,25 @@ std::optional<double> Reader::read_interval(const Json& obj, const std::string& 
     }
     if (!it->is_number()) {
         problems_.fatal(at, fmt::format("\"{}\" must be a positive number of milliseconds, not "
-                                        "{}", key, it->type_name()));
+                                        "{}",
+                                        key, it->type_name()));
         return std::nullopt;
     }
     const double value = it->get<double>();
     if (!std::isfinite(value) || value <= 0) {
         problems_.fatal(at, fmt::format("\"{}\" must be a positive number of milliseconds, not "
-                                        "{}", key, it->dump()));
+                                        "{}",
+                                        key, it->dump()));
         return std::nullopt;
     }
     if (!it->is_number_integer() && !it->is_number_unsigned() && std::floor(value) != value)
         problems_.conformance(at, fmt::format("\"{}\" {} is not an integer (appendix A: "
-                                              "positive integer milliseconds)", key, it->dump()));
+                                              "positive integer milliseconds)",
+                                              key, it->dump()));
     return value;
 }
 
-Json Reader::unknown_attributes(const Json& obj, const std::string& ptr,
-                                std::initializer_list<std::string_view> known,
+Json Reader::unknown_attributes(const Json& obj, const std::string& ptr, std::initializer_list<std::string_view> known,
                                 std::initializer_list<std::string_view> tolerated) {
     Json extra = Json::object();
     for (auto it = obj.begin(); it != obj.end(); ++it) {
@@ -285,20 +283,17 @@ Json Reader::unknown_attributes(const Json& obj, const std::string& ptr,
         if (std::find(known.begin(), known.end(), key) != known.end()) continue;
         extra[key] = it.value();
         if (std::find(tolerated.begin(), tolerated.end(), key) != tolerated.end()) continue;
-        problems_.warning(pointer_append(ptr, key),
-                          fmt::format("unknown attribute \"{}\" (kept)", key));
+        problems_.warning(pointer_append(ptr, key), fmt::format("unknown attribute \"{}\" (kept)", key));
     }
     return extra;
 }
 
-const Json* Reader::array_attribute(const Json& holder, const std::string& holder_ptr,
-                                    const char* key) {
+const Json* Reader::array_attribute(const Json& holder, const std::string& holder_ptr, const char* key) {
     const auto it = holder.find(key);
     if (it == holder.end()) return nullptr;
     if (!it->is_array()) {
         problems_.conformance(pointer_append(holder_ptr, key),
-                              fmt::format("\"{}\" should be an array, not {}; ignored", key,
-                                          it->type_name()));
+                              fmt::format("\"{}\" should be an array, not {}; ignored", key, it->type_name()));
         return nullptr;
     }
     return &*it;
@@ -317,8 +312,7 @@ void Reader::append_component(const std::string& parent_id, const std::string& i
 
 void Reader::read_root(const Json& doc) {
     if (!doc.is_object()) {
-        problems_.fatal("", fmt::format("the model must be a JSON object, not {}",
-                                        doc.type_name()));
+        problems_.fatal("", fmt::format("the model must be a JSON object, not {}", doc.type_name()));
         return;
     }
     Root root;
@@ -328,19 +322,18 @@ void Reader::read_root(const Json& doc) {
     if (doc.contains("type")) {
         root.type = read_string(doc, "", "type");
         if (root.type != kRootType && doc["type"].is_string())
-            problems_.conformance("/type", fmt::format("root type must be {}, not \"{}\"",
-                                                       kRootType, root.type));
+            problems_.conformance("/type", fmt::format("root type must be {}, not \"{}\"", kRootType, root.type));
         if (root.type.empty()) root.type = kRootType;
     } else {
         problems_.conformance("/type", fmt::format("missing required attribute \"type\" (taken "
-                                                   "as {})", kRootType));
+                                                   "as {})",
+                                                   kRootType));
         root.type = kRootType;
     }
     root_type_ = root.type;
     root.description = read_string(doc, "", "description");
     root.version = read_version(doc, "", true);
-    root.extra = unknown_attributes(
-        doc, "", {"id", "name", "type", "description", "version", "configs", "devices"});
+    root.extra = unknown_attributes(doc, "", {"id", "name", "type", "description", "version", "configs", "devices"});
 
     const std::string root_id = id.value_or("");
     if (id) {
@@ -358,7 +351,8 @@ void Reader::read_root(const Json& doc) {
     }
     if (!devices->is_array()) {
         problems_.fatal("/devices", fmt::format("\"devices\" must be an array, not {}: no usable "
-                                                "device", devices->type_name()));
+                                                "device",
+                                                devices->type_name()));
         return;
     }
     for (std::size_t i = 0; i < devices->size(); ++i) {
@@ -366,13 +360,13 @@ void Reader::read_root(const Json& doc) {
         const Json& entry = (*devices)[i];
         if (!entry.is_object()) {
             problems_.conformance(ptr, fmt::format("device entry should be an object, not {}; "
-                                                   "ignored", entry.type_name()));
+                                                   "ignored",
+                                                   entry.type_name()));
             continue;
         }
         read_device(entry, ptr, root_id);
     }
-    if (builder_.model().devices().empty())
-        problems_.fatal("/devices", "no usable device");
+    if (builder_.model().devices().empty()) problems_.fatal("/devices", "no usable device");
 }
 
 void Reader::read_device(const Json& obj, const std::string& ptr, const std::string& root_id) {
@@ -387,28 +381,25 @@ void Reader::read_device(const Json& obj, const std::string& ptr, const std::str
         // chapter 7: conformance. A type of its own is an extension the
         // standard allows: warning.
         const auto near = hint ? hint : nearest_device_type(device.type);
-        problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
-                          fmt::format("device type \"{}\" is not in table 7{}", device.type,
-                                      near ? " (did you mean " + *near + "?)" : ""));
+        problems_.add(
+            hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
+            fmt::format("device type \"{}\" is not in table 7{}", device.type, near ? " (did you mean " + *near + "?)" : ""));
     }
     device.description = read_string(obj, ptr, "description");
     device.number = read_string(obj, ptr, "number");
     if (obj.contains("guid")) {
         std::string guid = read_string(obj, ptr, "guid");
         if (guid.empty())
-            problems_.conformance(pointer_append(ptr, "guid"),
-                                  "empty \"guid\": the terminal id falls back to the device id");
-        else
-            device.guid = std::move(guid);
+            problems_.conformance(pointer_append(ptr, "guid"), "empty \"guid\": the terminal id falls back to the device id");
+        else device.guid = std::move(guid);
     } else {
         problems_.conformance(pointer_append(ptr, "guid"),
                               "no \"guid\": the terminal id (dev_uuid) falls back to the "
                               "device id");
     }
     device.version = read_version(obj, ptr, false);
-    device.extra = unknown_attributes(obj, ptr,
-                                      {"id", "name", "type", "description", "number", "guid",
-                                       "version", "configs", "dataItems", "components"});
+    device.extra = unknown_attributes(
+        obj, ptr, {"id", "name", "type", "description", "number", "guid", "version", "configs", "dataItems", "components"});
     const std::string path = "/" + path_segment(device.type, device.number);
     // A device that cannot be indexed is fatal already; its children are
     // still read (under no parent) so every other problem gets reported too.
@@ -425,9 +416,8 @@ void Reader::read_device(const Json& obj, const std::string& ptr, const std::str
     read_components(obj, ptr, self, self, path);
 }
 
-void Reader::read_components(const Json& holder, const std::string& holder_ptr,
-                             const std::string& device_id, const std::string& parent_id,
-                             const std::string& parent_path) {
+void Reader::read_components(const Json& holder, const std::string& holder_ptr, const std::string& device_id,
+                             const std::string& parent_id, const std::string& parent_path) {
     const Json* list = array_attribute(holder, holder_ptr, "components");
     if (list == nullptr) return;
     const std::string list_ptr = pointer_append(holder_ptr, "components");
@@ -436,15 +426,16 @@ void Reader::read_components(const Json& holder, const std::string& holder_ptr,
         const Json& entry = (*list)[i];
         if (!entry.is_object()) {
             problems_.conformance(ptr, fmt::format("component entry should be an object, not "
-                                                   "{}; ignored", entry.type_name()));
+                                                   "{}; ignored",
+                                                   entry.type_name()));
             continue;
         }
         read_component(entry, ptr, device_id, parent_id, parent_path);
     }
 }
 
-void Reader::read_component(const Json& obj, const std::string& ptr, const std::string& device_id,
-                            const std::string& parent_id, const std::string& parent_path) {
+void Reader::read_component(const Json& obj, const std::string& ptr, const std::string& device_id, const std::string& parent_id,
+                            const std::string& parent_path) {
     Component component;
     const auto id = read_id(obj, ptr);
     if (id) component.id = *id;
@@ -457,18 +448,15 @@ void Reader::read_component(const Json& obj, const std::string& ptr, const std::
         // standard allows: warning.
         const auto near = hint ? hint : nearest_component_type(component.type);
         problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
-                          fmt::format("component type \"{}\" is not in table 8{}",
-                                      component.type,
-                                      near ? " (did you mean " + *near + "?)" : ""));
+                      fmt::format("component type \"{}\" is not in table 8{}", component.type,
+                                  near ? " (did you mean " + *near + "?)" : ""));
     }
     component.description = read_string(obj, ptr, "description");
     component.number = read_string(obj, ptr, "number");
     component.device_id = device_id;
     // appendix A lists `guid` for components although table 3 does not: kept, not reported.
     component.extra = unknown_attributes(
-        obj, ptr,
-        {"id", "name", "type", "description", "number", "configs", "dataItems", "components"},
-        {"guid"});
+        obj, ptr, {"id", "name", "type", "description", "number", "configs", "dataItems", "components"}, {"guid"});
     const std::string path = parent_path + "/" + path_segment(component.type, component.number);
     std::string self;  // "" when not indexed: children are read, attached nowhere
     if (id) {
@@ -491,31 +479,36 @@ void Reader::read_list(const Json& holder, const std::string& holder_ptr, const 
         const std::string ptr = pointer_append(list_ptr, i);
         const Json& entry = (*list)[i];
         if (!entry.is_object()) {
-            problems_.conformance(ptr, fmt::format("{} entry should be an object, not {}; ignored",
-                                                   ctx.list_key, entry.type_name()));
+            problems_.conformance(ptr,
+                                  fmt::format("{} entry should be an object, not {}; ignored", ctx.list_key, entry.type_name()));
             continue;
         }
         const auto type = entry.find("type");
         const bool typed = type != entry.end() && type->is_string();
         if (typed && *type == kChannelType) {
             if (ctx.list == ListKind::root_configs)
-                problems_.conformance(ptr, "SAMPLE_CHANNEL object in the root configs: channels "
-                                           "belong in device or component configs (6.2.3)");
+                problems_.conformance(ptr,
+                                      "SAMPLE_CHANNEL object in the root configs: channels "
+                                      "belong in device or component configs (6.2.3)");
             else if (ctx.list == ListKind::data_items)
-                problems_.conformance(ptr, "SAMPLE_CHANNEL object in dataItems: channels belong "
-                                           "in configs (6.2.3)");
+                problems_.conformance(ptr,
+                                      "SAMPLE_CHANNEL object in dataItems: channels belong "
+                                      "in configs (6.2.3)");
             else if (ctx.list == ListKind::component_configs)
-                problems_.conformance(ptr, "SAMPLE_CHANNEL object in a component's configs: "
-                                           "channels belong in the device's configs (table 2; "
-                                           "table 3 lists data objects only)");
+                problems_.conformance(ptr,
+                                      "SAMPLE_CHANNEL object in a component's configs: "
+                                      "channels belong in the device's configs (table 2; "
+                                      "table 3 lists data objects only)");
             read_channel(entry, ptr, ctx);
         } else if (typed && *type == kMethodType) {
             if (ctx.list == ListKind::configs || ctx.list == ListKind::component_configs)
-                problems_.conformance(ptr, "METHOD object outside the root configs: methods may "
-                                           "only be defined in the root configs (6.2.7)");
+                problems_.conformance(ptr,
+                                      "METHOD object outside the root configs: methods may "
+                                      "only be defined in the root configs (6.2.7)");
             else if (ctx.list == ListKind::data_items)
-                problems_.conformance(ptr, "METHOD object in dataItems: methods may only be "
-                                           "defined in the root configs (6.2.7)");
+                problems_.conformance(ptr,
+                                      "METHOD object in dataItems: methods may only be "
+                                      "defined in the root configs (6.2.7)");
             read_method(entry, ptr, ctx);
         } else {
             read_data_object(entry, ptr, ctx);
@@ -536,8 +529,8 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
         // standard allows: warning.
         const auto near = hint ? hint : nearest_data_type(data.type);
         problems_.add(hint ? Severity::conformance : Severity::warning, pointer_append(ptr, "type"),
-                          fmt::format("data type \"{}\" is not in tables 10, 12, 13{}", data.type,
-                                      near ? " (did you mean " + *near + "?)" : ""));
+                      fmt::format("data type \"{}\" is not in tables 10, 12, 13{}", data.type,
+                                  near ? " (did you mean " + *near + "?)" : ""));
     }
     data.description = read_string(obj, ptr, "description");
     data.source = read_string(obj, ptr, "source");
@@ -552,18 +545,15 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
     if (!data.units.empty() && !is_known_unit(data.units)) {
         const auto near = nearest_unit(data.units);
         problems_.warning(pointer_append(ptr, "units"),
-                          fmt::format("units \"{}\" are not in tables 10/11 or appendix A{} (docs/vocabulary.md)",
-                                      data.units, near ? " (did you mean " + *near + "?)" : ""));
+                          fmt::format("units \"{}\" are not in tables 10/11 or appendix A{} (docs/vocabulary.md)", data.units,
+                                      near ? " (did you mean " + *near + "?)" : ""));
     }
 
     // datatype: chapter 6 spells it `datatype` with "list"/"dict"; HNC files
     // and appendix B write `dataType` with "LIST"/"DICT".
-    const char* datatype_key = obj.contains("datatype") ? "datatype"
-                               : obj.contains("dataType") ? "dataType"
-                                                          : nullptr;
+    const char* datatype_key = obj.contains("datatype") ? "datatype" : obj.contains("dataType") ? "dataType" : nullptr;
     if (obj.contains("datatype") && obj.contains("dataType"))
-        problems_.conformance(pointer_append(ptr, "dataType"),
-                              "both \"datatype\" and \"dataType\" given; \"dataType\" ignored");
+        problems_.conformance(pointer_append(ptr, "dataType"), "both \"datatype\" and \"dataType\" given; \"dataType\" ignored");
     if (datatype_key != nullptr) {
         const Json& v = obj[datatype_key];
         const std::string at = pointer_append(ptr, datatype_key);
@@ -582,7 +572,8 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
                 data.datatype_file = low == "file";
                 if (alias || text != low)
                     problems_.conformance(at, fmt::format("\"{}\": \"{}\" should be \"datatype\": "
-                                                          "\"{}\"", datatype_key, text, low));
+                                                          "\"{}\"",
+                                                          datatype_key, text, low));
             } else {
                 problems_.conformance(at, fmt::format("unknown {} \"{}\" (list, dict or file; absent "
                                                       "means single); taken as single",
@@ -594,21 +585,16 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
     if (const auto it = obj.find("value"); it != obj.end()) {
         data.value = *it;
         if (data.kind == DataKind::list && !it->is_array())
-            problems_.conformance(pointer_append(ptr, "value"),
-                                  fmt::format("value is {} but datatype is list", it->type_name()));
+            problems_.conformance(pointer_append(ptr, "value"), fmt::format("value is {} but datatype is list", it->type_name()));
         if (data.kind == DataKind::dict && !it->is_object())
-            problems_.conformance(pointer_append(ptr, "value"),
-                                  fmt::format("value is {} but datatype is dict", it->type_name()));
+            problems_.conformance(pointer_append(ptr, "value"), fmt::format("value is {} but datatype is dict", it->type_name()));
     }
 
     // setable: a boolean per table 4; deployed files write `settable` and
     // the standard's own example 6.2.5 writes the string "true".
-    const char* setable_key = obj.contains("setable") ? "setable"
-                              : obj.contains("settable") ? "settable"
-                                                         : nullptr;
+    const char* setable_key = obj.contains("setable") ? "setable" : obj.contains("settable") ? "settable" : nullptr;
     if (obj.contains("setable") && obj.contains("settable"))
-        problems_.conformance(pointer_append(ptr, "settable"),
-                              "both \"setable\" and \"settable\" given; \"settable\" ignored");
+        problems_.conformance(pointer_append(ptr, "settable"), "both \"setable\" and \"settable\" given; \"settable\" ignored");
     if (setable_key != nullptr) {
         const Json& v = obj[setable_key];
         const std::string at = pointer_append(ptr, setable_key);
@@ -617,30 +603,28 @@ void Reader::read_data_object(const Json& obj, const std::string& ptr, const Con
         if (v.is_boolean()) {
             data.setable = v.get<bool>();
             if (alias) problems_.conformance(at, spelled);
-        } else if (v.is_string() && (lower(v.get<std::string>()) == "true" ||
-                                     lower(v.get<std::string>()) == "false")) {
+        } else if (v.is_string() && (lower(v.get<std::string>()) == "true" || lower(v.get<std::string>()) == "false")) {
             data.setable = lower(v.get<std::string>()) == "true";
             problems_.conformance(at, fmt::format("{}{}setable should be the boolean {}, not the "
-                                                  "string {}", spelled, alias ? "; " : "",
-                                                  data.setable ? "true" : "false", v.dump()));
+                                                  "string {}",
+                                                  spelled, alias ? "; " : "", data.setable ? "true" : "false", v.dump()));
         } else {
             problems_.conformance(at, fmt::format("{}{}setable should be a boolean, not {}; "
-                                                  "taken as false", spelled, alias ? "; " : "",
-                                                  v.type_name()));
+                                                  "taken as false",
+                                                  spelled, alias ? "; " : "", v.type_name()));
         }
     }
 
     data.config = ctx.list != ListKind::data_items;
     data.device_id = ctx.device_id;
-    data.extra = unknown_attributes(obj, ptr,
-                                    {"id", "name", "type", "description", "datatype", "dataType",
-                                     "value", "source", "units", "setable", "settable"});
+    data.extra = unknown_attributes(
+        obj, ptr,
+        {"id", "name", "type", "description", "datatype", "dataType", "value", "source", "units", "setable", "settable"});
     if (!id) return;
     const std::string path = ctx.parent_path + "/" + path_segment(data.type, "");
     const ObjectKind kind = data.config ? ObjectKind::config_item : ObjectKind::data_item;
     ObjectInfo info{kind, *id, ctx.device_id, ctx.parent_id, path, ptr, data.source};
-    if (builder_.add_data_object(std::move(data), std::move(info)))
-        append_child(ctx.parent_id, ctx.list, *id);
+    if (builder_.add_data_object(std::move(data), std::move(info))) append_child(ctx.parent_id, ctx.list, *id);
 }
 
 void Reader::read_channel(const Json& obj, const std::string& ptr, const Context& ctx) {
@@ -650,7 +634,8 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
     if (id && id->size() > kMaxChannelIdBytes)
         problems_.conformance(pointer_append(ptr, "id"),
                               fmt::format("sample channel id \"{}\" is {} bytes; tables 36 and 42 allow at "
-                                          "most {}", *id, id->size(), kMaxChannelIdBytes));
+                                          "most {}",
+                                          *id, id->size(), kMaxChannelIdBytes));
     channel.name = read_string(obj, ptr, "name");
     channel.description = read_string(obj, ptr, "description");
     channel.device_id = ctx.device_id;
@@ -661,8 +646,7 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
     if (ids == obj.end()) {
         problems_.conformance(ids_ptr, "missing required attribute \"ids\"");
     } else if (!ids->is_array()) {
-        problems_.conformance(ids_ptr, fmt::format("\"ids\" should be an array, not {}; ignored",
-                                                   ids->type_name()));
+        problems_.conformance(ids_ptr, fmt::format("\"ids\" should be an array, not {}; ignored", ids->type_name()));
     } else {
         for (std::size_t i = 0; i < ids->size(); ++i) {
             const Json& entry = (*ids)[i];
@@ -671,8 +655,9 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
             if (entry.is_object() && entry.contains("id") && entry["id"].is_string()) {
                 item = entry["id"].get<std::string>();
             } else if (entry.is_string()) {
-                problems_.conformance(at, "ids entry should be an object {\"id\": ...}, not a "
-                                          "string");
+                problems_.conformance(at,
+                                      "ids entry should be an object {\"id\": ...}, not a "
+                                      "string");
                 item = entry.get<std::string>();
             }
             if (item.empty()) {
@@ -696,13 +681,10 @@ void Reader::read_channel(const Json& obj, const std::string& ptr, const Context
                         fmt::format("uploadInterval {} is shorter than sampleInterval {}: the channel "
                                     "cannot upload what it samples",
                                     *upload, *sample));
-    channel.extra = unknown_attributes(obj, ptr,
-                                       {"id", "name", "type", "description", "ids",
-                                        "sampleInterval", "uploadInterval"});
+    channel.extra = unknown_attributes(obj, ptr, {"id", "name", "type", "description", "ids", "sampleInterval", "uploadInterval"});
     if (!id) return;
     const std::string path = ctx.parent_path + "/" + std::string(kChannelType);
-    ObjectInfo info{ObjectKind::sample_channel, *id, ctx.device_id, ctx.parent_id, path, ptr,
-                    ""};
+    ObjectInfo info{ObjectKind::sample_channel, *id, ctx.device_id, ctx.parent_id, path, ptr, ""};
     if (builder_.add_channel(std::move(channel), std::move(info))) {
         append_child(ctx.parent_id, ctx.list, *id);
         references_.insert(references_.end(), refs.begin(), refs.end());
@@ -721,19 +703,16 @@ void Reader::read_method(const Json& obj, const std::string& ptr, const Context&
     } else if (!args->is_object() && !args->is_array()) {
         // Table 6 says array, its example and appendix A an object: accept both.
         problems_.conformance(pointer_append(ptr, "args"),
-                              fmt::format("\"args\" should be an object or array, not {}",
-                                          args->type_name()));
+                              fmt::format("\"args\" should be an object or array, not {}", args->type_name()));
         method.args = *args;
     } else {
         method.args = *args;
     }
-    method.extra =
-        unknown_attributes(obj, ptr, {"id", "name", "type", "description", "args"});
+    method.extra = unknown_attributes(obj, ptr, {"id", "name", "type", "description", "args"});
     if (!id) return;
     const std::string path = ctx.parent_path + "/" + std::string(kMethodType);
     ObjectInfo info{ObjectKind::method, *id, ctx.device_id, ctx.parent_id, path, ptr, ""};
-    if (builder_.add_method(std::move(method), std::move(info)))
-        append_child(ctx.parent_id, ctx.list, *id);
+    if (builder_.add_method(std::move(method), std::move(info))) append_child(ctx.parent_id, ctx.list, *id);
 }
 
 }  // namespace

@@ -23,8 +23,7 @@ void put_extra(Ordered& out, const Json& extra) {
 
 // Integral intervals are written as integers ("sampleInterval": 1, not 1.0).
 Ordered number(double value) {
-    if (std::floor(value) == value && std::fabs(value) < 9.0e15)
-        return Ordered(static_cast<std::int64_t>(value));
+    if (std::floor(value) == value && std::fabs(value) < 9.0e15) return Ordered(static_cast<std::int64_t>(value));
     return Ordered(value);
 }
 

@@ -46,7 +46,10 @@ Result<MachineKind> machine_kind_from_string(const std::string& text) {
 Result<Json> make_starter_model(const StarterModelOptions& o) {
     const bool lathe = o.kind == MachineKind::lathe, mc = o.kind == MachineKind::machining_center;
     std::vector<std::string> axes = o.axes;
-    if (axes.empty()) axes = lathe ? std::vector<std::string>{"X", "Z"} : mc ? std::vector<std::string>{"X", "Y", "Z"} : std::vector<std::string>{};
+    if (axes.empty())
+        axes = lathe ? std::vector<std::string>{"X", "Z"}
+               : mc  ? std::vector<std::string>{"X", "Y", "Z"}
+                     : std::vector<std::string>{};
     const int spindles = o.spindles >= 0 ? o.spindles : (o.kind == MachineKind::generic ? 0 : 1);
     const int channels = o.channels >= 0 ? o.channels : (o.kind == MachineKind::generic ? 0 : 1);
     if (spindles > 9 || channels > 9)
@@ -59,15 +62,19 @@ Result<Json> make_starter_model(const StarterModelOptions& o) {
     for (auto& a : axes) {
         for (char& c : a) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
         if (!std::regex_match(a, axis_number))
-            return make_error(ErrorCode::value_type,
-                              fmt::format("axis '{}' is not a table 9 number (X Y Z, A B C, U V W, optionally followed by digits)", a));
+            return make_error(
+                ErrorCode::value_type,
+                fmt::format("axis '{}' is not a table 9 number (X Y Z, A B C, U V W, optionally followed by digits)", a));
         if (!seen.insert(a).second) return make_error(ErrorCode::value_type, fmt::format("axis '{}' given twice", a));
     }
 
     const std::string kind_name = lathe ? "lathe" : mc ? "machining center" : "machine";
     const std::string name = o.name.empty() ? fmt::format("{} {}", o.manufacturer, kind_name) : o.name;
     Json configs = Json::array({
-        fixed("machine_category", "Machine kind", "CATAGORY", lathe ? "lathe" : mc ? "milling" : "other"),
+        fixed("machine_category", "Machine kind", "CATAGORY",
+              lathe ? "lathe"
+              : mc  ? "milling"
+                    : "other"),
         fixed("manufacturer", "Machine builder", "MANUFACTURER", o.manufacturer),
         fixed("machine_model", "Machine model", "MODEL", "MODEL-1"),
     });
@@ -79,32 +86,33 @@ Result<Json> make_starter_model(const StarterModelOptions& o) {
         const bool rot = rotary(a);
         Json data = Json::array({item(l + "_position", a + " actual position", rot ? "ANGLE" : "POSITION", rot ? "DEGREE" : "mm"),
                                  item(l + "_load", a + " drive load", "AXIS_LOAD", "PERCENT")});
-        components.push_back(Json{{"id", "axis_" + l},
-                                  {"name", a + " axis"},
-                                  {"type", "AXIS"},
-                                  {"number", a},
-                                  {"configs", Json::array({fixed(l + "_category", a + " axis kind", "CATAGORY", rot ? "rotary" : "linear")})},
-                                  {"dataItems", data}});
+        components.push_back(
+            Json{{"id", "axis_" + l},
+                 {"name", a + " axis"},
+                 {"type", "AXIS"},
+                 {"number", a},
+                 {"configs", Json::array({fixed(l + "_category", a + " axis kind", "CATAGORY", rot ? "rotary" : "linear")})},
+                 {"dataItems", data}});
         sampled.push_back(Json{{"id", l + "_position"}});
     }
     for (int s = 1; s <= spindles; ++s) {
         const std::string number = spindles == 1 ? "S" : fmt::format("S{}", s);
         const std::string p = spindles == 1 ? "spindle" : fmt::format("spindle{}", s);
-        components.push_back(Json{
-            {"id", p},
-            {"name", spindles == 1 ? std::string("Spindle") : fmt::format("Spindle {}", s)},
-            {"type", "AXIS"},
-            {"number", number},
-            {"description", "Spindle (an axis numbered S)"},
-            {"configs", Json::array({fixed(p + "_max_speed", "Spindle speed limit", "UPPER_LIMIT", lathe ? 4000 : 12000)})},
-            {"dataItems", Json::array({item(p + "_speed", "Spindle actual speed", "SPINDLE_SPEED", "r/min"),
-                                       item(p + "_load", "Spindle load", "AXIS_LOAD", "PERCENT"),
-                                       [&] {
-                                           Json j = item(p + "_override", "Spindle override", "SPINDLE_OVERRIDE", "PERCENT");
-                                           j["setable"] = true;
-                                           return j;
-                                       }(),
-                                       item(p + "_mode", "Spindle direction", "SPINDLE_MODE")})}});
+        components.push_back(
+            Json{{"id", p},
+                 {"name", spindles == 1 ? std::string("Spindle") : fmt::format("Spindle {}", s)},
+                 {"type", "AXIS"},
+                 {"number", number},
+                 {"description", "Spindle (an axis numbered S)"},
+                 {"configs", Json::array({fixed(p + "_max_speed", "Spindle speed limit", "UPPER_LIMIT", lathe ? 4000 : 12000)})},
+                 {"dataItems", Json::array({item(p + "_speed", "Spindle actual speed", "SPINDLE_SPEED", "r/min"),
+                                            item(p + "_load", "Spindle load", "AXIS_LOAD", "PERCENT"),
+                                            [&] {
+                                                Json j = item(p + "_override", "Spindle override", "SPINDLE_OVERRIDE", "PERCENT");
+                                                j["setable"] = true;
+                                                return j;
+                                            }(),
+                                            item(p + "_mode", "Spindle direction", "SPINDLE_MODE")})}});
         sampled.push_back(Json{{"id", p + "_speed"}});
     }
     for (int c = 1; c <= channels; ++c) {
@@ -117,13 +125,11 @@ Result<Json> make_starter_model(const StarterModelOptions& o) {
             {"type", "CONTROLLER"},
             {"configs", Json::array({fixed("cnc_model" + sfx, "CNC model", "MODEL", "CNC-1"),
                                      fixed("cnc_version" + sfx, "CNC software version", "VERSION", "1.0")})},
-            {"dataItems", Json::array({item("status" + sfx, "Run status", "STATUS"),
-                                       item("work_mode" + sfx, "Work mode", "WORK_MODE"),
-                                       item("program" + sfx, "Main program", "PROGRAM"),
-                                       item("line_number" + sfx, "Program line", "LINE_NUMBER"),
-                                       item("part_count" + sfx, "Parts made", "PART_COUNT"),
-                                       feed,
-                                       item("alarm" + sfx, "Current alarm", "WARNING")})}});
+            {"dataItems",
+             Json::array(
+                 {item("status" + sfx, "Run status", "STATUS"), item("work_mode" + sfx, "Work mode", "WORK_MODE"),
+                  item("program" + sfx, "Main program", "PROGRAM"), item("line_number" + sfx, "Program line", "LINE_NUMBER"),
+                  item("part_count" + sfx, "Parts made", "PART_COUNT"), feed, item("alarm" + sfx, "Current alarm", "WARNING")})}});
         sampled.push_back(Json{{"id", "status" + sfx}});
     }
     Json device_items = Json::array();
@@ -140,10 +146,14 @@ Result<Json> make_starter_model(const StarterModelOptions& o) {
                            {"uploadInterval", o.upload_interval_ms},
                            {"ids", sampled}});
 
-    Json device{{"id", o.id},          {"name", name},
-                {"type", "MACHINE"},   {"description", fmt::format("{} ({} axes, {} spindle(s), {} channel(s))", name, axes.size(), spindles, channels)},
-                {"number", "0001"},    {"guid", o.id + "-0001"},
-                {"version", "1.0.0"},  {"configs", configs}};
+    Json device{{"id", o.id},
+                {"name", name},
+                {"type", "MACHINE"},
+                {"description", fmt::format("{} ({} axes, {} spindle(s), {} channel(s))", name, axes.size(), spindles, channels)},
+                {"number", "0001"},
+                {"guid", o.id + "-0001"},
+                {"version", "1.0.0"},
+                {"configs", configs}};
     if (!device_items.empty()) device["dataItems"] = device_items;
     if (!components.empty()) device["components"] = components;
     return Json{{"id", o.id + "-root"},

@@ -67,8 +67,7 @@ bool key_shape_ok(ValueShape shape, const Json& value, std::string* why) {
         case ValueShape::array: return value.is_array();
         case ValueShape::dict: return value.is_object() || value.is_array();
         case ValueShape::number_or_string: return value.is_number() || value.is_string();
-        case ValueShape::file:
-            return check_object(detail::file_object(), value, {}, why) == ValueFault::none;
+        case ValueShape::file: return check_object(detail::file_object(), value, {}, why) == ValueFault::none;
     }
     return true;
 }
@@ -96,8 +95,9 @@ ValueFault check_object(const ObjectSpec& spec, const Json& value, const std::ve
         const auto known = std::find_if(spec.keys.begin(), spec.keys.end(), [&](const KeySpec& k) { return k.key == name; });
         if (known != spec.keys.end()) {
             if (!key_shape_ok(known->shape, member, why)) {
-                if (why) say(why, fmt::format("\"{}\" of a {} is a {}, not {}", name, spec.name, shape_name(known->shape),
-                                     member.type_name()));
+                if (why)
+                    say(why, fmt::format("\"{}\" of a {} is a {}, not {}", name, spec.name, shape_name(known->shape),
+                                         member.type_name()));
                 return ValueFault::key_type;
             }
             continue;
@@ -110,8 +110,9 @@ ValueFault check_object(const ObjectSpec& spec, const Json& value, const std::ve
         if (!axes.empty() && std::find(axes.begin(), axes.end(), upper(name)) == axes.end()) {
             std::string list;
             for (const auto& a : axes) list += (list.empty() ? "" : ", ") + a;
-            if (why) say(why, fmt::format("\"{}\" names axis {}, but the device declares the axes {} (AXIS components, table 9)", name,
-                                 upper(name), list));
+            if (why)
+                say(why, fmt::format("\"{}\" names axis {}, but the device declares the axes {} (AXIS components, table 9)", name,
+                                     upper(name), list));
             return ValueFault::axis;
         }
     }
@@ -221,10 +222,8 @@ ValueRules::ValueRules(const Model& model) {
     for (const auto& object : model.data_objects()) {
         std::string_view parent_type;
         if (const ObjectInfo* info = model.find(object.id)) {
-            if (const Component* c = model.component(info->parent_id))
-                parent_type = c->type;
-            else if (const Device* d = model.device(info->parent_id))
-                parent_type = d->type;
+            if (const Component* c = model.component(info->parent_id)) parent_type = c->type;
+            else if (const Device* d = model.device(info->parent_id)) parent_type = d->type;
         }
         const auto found = axes.find(object.device_id);
         rules_.emplace(object.id, ValueRule::compile(object, parent_type, found != axes.end() ? found->second : none));
@@ -258,7 +257,7 @@ ValueFault ValueRule::check_element(const Json& value, std::string* why) const {
                 if (enumeration_.empty()) return ValueFault::none;
                 const auto& text = value.get_ref<const std::string&>();
                 return std::find(enumeration_.begin(), enumeration_.end(), text) != enumeration_.end() ? ValueFault::none
-                                                                                                      : ValueFault::enumeration;
+                                                                                                       : ValueFault::enumeration;
             }
             if (!int_enumeration_.empty() && value.is_number_integer()) {
                 const auto n = value.get<std::int64_t>();
@@ -324,7 +323,7 @@ ValueFault ValueRule::check_scalar(const SampleValue& value) const noexcept {
             if (!has_min_ && !has_max_) return ValueFault::none;
             const double v = kind == SampleValue::Kind::float64 ? value.as_double()
                              : kind == SampleValue::Kind::int64 ? static_cast<double>(value.as_int64())
-                                                                 : static_cast<double>(value.as_uint64());
+                                                                : static_cast<double>(value.as_uint64());
             return (has_min_ && v < min_) || (has_max_ && v > max_) ? ValueFault::range : ValueFault::none;
         }
         case ValueShape::string:
@@ -411,7 +410,8 @@ std::string ValueRule::explain(ValueFault fault) const {
         }
         case ValueFault::missing_key:
         case ValueFault::key_type:
-        case ValueFault::axis: return fmt::format("{}: its object does not follow {}", item, where_.empty() ? "table 14" : where_);
+        case ValueFault::axis:
+            return fmt::format("{}: its object does not follow {}", item, where_.empty() ? "table 14" : where_);
     }
     return item;
 }

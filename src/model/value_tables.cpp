@@ -44,11 +44,8 @@ const ObjectSpec kToolParam{"TOOL_PARAM",
                              {"radius_abaration", S::number_or_string},
                              {"length_abaration", S::number_or_string},
                              {"key_value", S::object}}};
-const ObjectSpec kWarning{"WARNING",
-                          {{"number", S::string, true},
-                           {"text", S::string, true},
-                           {"emerge_time", S::number},
-                           {"key_value", S::object}}};
+const ObjectSpec kWarning{
+    "WARNING", {{"number", S::string, true}, {"text", S::string, true}, {"emerge_time", S::number}, {"key_value", S::object}}};
 // FILE: 6.2.1 names "file" a data type without giving its form, appendix A
 // makes it a DICT. nclink's file object (docs/values.md): the file's name
 // (required), where it is, its size in bytes (8.2.24's example gives sizes
@@ -98,8 +95,8 @@ const std::map<std::string_view, TypeSpec>& specs() {
         std::map<std::string_view, TypeSpec> m;
         // Table 10: physical quantities, numbers. Those that cannot be
         // negative keep their lower bound of 0.
-        for (auto type : {"ACCELERATION", "ANGLE", "ANGULAR_ACCELERATION", "ANGULAR_VELOCITY", "CURRENT", "DISPLACEMENT",
-                          "FLOW", "POSITION", "POWER", "PRESSURE", "ROTATION_SPEED", "SPEED", "TORQUE"})
+        for (auto type : {"ACCELERATION", "ANGLE", "ANGULAR_ACCELERATION", "ANGULAR_VELOCITY", "CURRENT", "DISPLACEMENT", "FLOW",
+                          "POSITION", "POWER", "PRESSURE", "ROTATION_SPEED", "SPEED", "TORQUE"})
             m[type] = number("table 10");
         for (auto type : {"CONCENTRATION", "CONDUCTIVITY", "ENERGY", "FREQUENCY", "LENGTH", "MASS", "PERIOD", "RESISTANCE",
                           "VISCOSITY", "VOLT_AMPERE"})
@@ -131,16 +128,18 @@ const std::map<std::string_view, TypeSpec>& specs() {
         m["WORK_MODE"] = enumerated({"manual", "auto"});
 
         // Table 13: special items.
-        for (auto type : {"AUTO_MODE", "AXIS_TOREFPOINT", "BLOCK_SKIP_MODE", "COOLANT_ON", "CYCLE_START", "DOOR_CLOSED",
-                          "EDIT_MODE", "EMG", "FEED_HOLD", "HANDLE_MODE", "INCREMENTAL_MODE", "JOG_MODE", "LIGHTING_ON",
-                          "LUBRICANT_ON", "MACHINE_LOCKED", "MDI_MODE", "MST_LOCKED", "OPT_STOP_MODE", "REF_MODE",
-                          "RESET_MODE", "SINGLE_BLOCK_MODE", "TOOL_CHANGING"})
+        for (auto type : {"AUTO_MODE",         "AXIS_TOREFPOINT", "BLOCK_SKIP_MODE",  "COOLANT_ON",
+                          "CYCLE_START",       "DOOR_CLOSED",     "EDIT_MODE",        "EMG",
+                          "FEED_HOLD",         "HANDLE_MODE",     "INCREMENTAL_MODE", "JOG_MODE",
+                          "LIGHTING_ON",       "LUBRICANT_ON",    "MACHINE_LOCKED",   "MDI_MODE",
+                          "MST_LOCKED",        "OPT_STOP_MODE",   "REF_MODE",         "RESET_MODE",
+                          "SINGLE_BLOCK_MODE", "TOOL_CHANGING"})
             m[type] = shape(S::boolean, "table 13");
         for (auto type : {"CONSOLE", "LINE_NUMBER", "PART_COUNT", "PROGRAM", "PROGRAM_MODE", "SITE", "SUBPROGRAM"})
             m[type] = shape(S::string, "table 13");
         for (auto type : {"AXIS_LOAD", "FEED_SPEED", "SPINDLE_SPEED"}) m[type] = number("table 13");
-        for (auto type : {"AXIS_BACKLASH", "COMPACITY", "FEED_OVERRIDE", "PATH_LEFT_LENGTH", "PROGRAM_NUMBER",
-                          "RAPID_OVERRIDE", "RESIDUAL", "SPINDLE_OVERRIDE", "TOOL_NUMBER", "TOOL_POSITION"})
+        for (auto type : {"AXIS_BACKLASH", "COMPACITY", "FEED_OVERRIDE", "PATH_LEFT_LENGTH", "PROGRAM_NUMBER", "RAPID_OVERRIDE",
+                          "RESIDUAL", "SPINDLE_OVERRIDE", "TOOL_NUMBER", "TOOL_POSITION"})
             m[type] = number("table 13", true);
         m["CHIP_REMOVAL"] = enumerated({"forward", "stop", "reverse"});
         m["FIXTURE_MODE"] = enumerated({"loose", "tight"});

@@ -31,7 +31,7 @@ struct ObjectSpec {
 /// A data object type's value as chapter 7 gives it.
 struct TypeSpec {
     ValueShape shape = ValueShape::any;
-    std::string_view where;  ///< the table that says so, for messages
+    std::string_view where;                     ///< the table that says so, for messages
     std::vector<std::string_view> enumeration;  ///< table 15 (empty = any string)
     std::vector<std::int64_t> int_enumeration;  ///< appendix A's STATUS 0/1/2
     bool has_min = false;

@@ -73,7 +73,8 @@ const std::vector<VocabularyTerm>& vocabulary_data_types() {
         {"VISCOSITY", "table 10", "viscosity", "number", "Pa·s", ""},
         {"VOLT_AMPERE", "table 10", "apparent power", "number", "VA", ""},
         // table 12: general items
-        {"CATAGORY", "table 12", "category (spelt so by the standard)", "string", "", "under AXIS: rotary, linear; under MACHINE: lathe, milling, grinder, planer, other (table 16)"},
+        {"CATAGORY", "table 12", "category (spelt so by the standard)", "string", "",
+         "under AXIS: rotary, linear; under MACHINE: lathe, milling, grinder, planer, other (table 16)"},
         {"CREATE_TIME", "table 12", "creation time", "string", "", ""},
         {"CREATOR", "table 12", "creator", "string", "", ""},
         {"IP", "table 12", "network IP address", "string", "", ""},
@@ -84,7 +85,8 @@ const std::vector<VocabularyTerm>& vocabulary_data_types() {
         {"SERIAL_NUMBER", "table 12", "serial number", "number", "", ""},
         {"STATUS", "table 12", "running state of a device or component", "string", "", "running, free, holding (table 15)"},
         {"UPPER_LIMIT", "table 12", "upper limit of a quantity", "number", "", ""},
-        {"USER_ROLE", "table 12", "user role", "string", "", "operator, manager, machine_manufacturer, cnc_manufacturer, system_manager (table 15)"},
+        {"USER_ROLE", "table 12", "user role", "string", "",
+         "operator, manager, machine_manufacturer, cnc_manufacturer, system_manager (table 15)"},
         {"VARIABLE", "table 12", "run-time variables", "list", "", ""},
         {"VERSION", "table 12", "version", "string", "", ""},
         {"WARNING", "tables 12, 13", "alarm", "object: number, text, emerge_time, key_value (table 14)", "", ""},
@@ -120,7 +122,8 @@ const std::vector<VocabularyTerm>& vocabulary_data_types() {
         {"MST_LOCKED", "table 13", "MST lock", "Boolean", "", ""},
         {"OPT_STOP_MODE", "table 13", "optional stop mode", "Boolean", "", ""},
         {"PATH_LEFT_LENGTH", "table 13", "remaining feed distance", "number", "mm", ""},
-        {"PART", "table 13", "workpiece", "object: id, name, material, length, width, height, snap_shot, geometry_file, key_value (table 14)", "", ""},
+        {"PART", "table 13", "workpiece",
+         "object: id, name, material, length, width, height, snap_shot, geometry_file, key_value (table 14)", "", ""},
         {"PART_COUNT", "table 13", "parts machined", "string", "", ""},
         {"PROGRAM", "table 13", "main program name", "string", "", ""},
         {"PROGRAM_MODE", "table 13", "program mode", "string", "", ""},
@@ -154,18 +157,55 @@ const std::vector<VocabularyUnits>& vocabulary_units() {
     // either), and the appendix A `unitType` names.
     static const std::vector<VocabularyUnits> table{
         {"tables 10, 13 (default units)",
-         {"mm/s²", "rad", "rad/s²", "rad/s", "m/m", "S/m", "A", "mm", "kW·h", "L/s", "Hz", "kg", "s", "W", "Pa", "Ω",
-          "r/min", "mm/min", "°C", "N·m", "Pa·s", "VA", "mm/s"}},
-        {"table 11 (other common units)",
-         {"mA", "μA", "µA", "m", "μm", "µm", "W·h", "W·s", "mL/s", "kHz", "MHz", "GHz", "g", "mg", "kW", "mW", "kΩ",
-          "MΩ", "m/min", "°F", "kVA"}},
+         {"mm/s²", "rad", "rad/s²", "rad/s", "m/m",   "S/m",    "A",  "mm",  "kW·h", "L/s", "Hz",  "kg",
+          "s",     "W",   "Pa",     "Ω",     "r/min", "mm/min", "°C", "N·m", "Pa·s", "VA",  "mm/s"}},
+        {"table 11 (other common units)", {"mA",  "μA", "µA", "m",  "μm", "µm", "W·h", "W·s",   "mL/s", "kHz", "MHz",
+                                           "GHz", "g",  "mg", "kW", "mW", "kΩ", "MΩ",  "m/min", "°F",   "kVA"}},
         {"appendix A (unitType)",
-         {"AMPERE", "CELSIUS", "COUNT", "DEGREE", "DEGREE/SECOND", "DEGREE/SECOND^2", "HERTZ", "JOULE", "KILOGRAM",
-          "LITER", "LITER/SECOND", "MILLIMETER", "MILLIMETER/SECOND", "MILLIMETER/SECOND^2", "MILLIMETER_3D",
-          "NEWTON", "NEWTON_METER", "PASCAL", "PERCENT", "PH", "REVOLUTION/MINUTE", "SECOND", "VOLT", "WATT", "OHM",
-          "SOUND_LEVEL", "SIEMENS/METER", "MICRO_RADIAN", "PASCAL_SECOND", "VOLT_AMPERE", "VOLT_AMPERE_REACTIVE",
-          "WATT_SECOND", "DECIBEL", "CENTIPOISE", "DEGREE/MINUTE", "FAHRENHEIT", "KILOWATT", "KILOWATT_HOUR",
-          "MILLIMETER/MINUTE", "RADIAN", "RADIAN/MINUTE", "RADIAN/SECOND", "RADIAN/SECOND^2", "REVOLUTION/SECOND",
+         {"AMPERE",
+          "CELSIUS",
+          "COUNT",
+          "DEGREE",
+          "DEGREE/SECOND",
+          "DEGREE/SECOND^2",
+          "HERTZ",
+          "JOULE",
+          "KILOGRAM",
+          "LITER",
+          "LITER/SECOND",
+          "MILLIMETER",
+          "MILLIMETER/SECOND",
+          "MILLIMETER/SECOND^2",
+          "MILLIMETER_3D",
+          "NEWTON",
+          "NEWTON_METER",
+          "PASCAL",
+          "PERCENT",
+          "PH",
+          "REVOLUTION/MINUTE",
+          "SECOND",
+          "VOLT",
+          "WATT",
+          "OHM",
+          "SOUND_LEVEL",
+          "SIEMENS/METER",
+          "MICRO_RADIAN",
+          "PASCAL_SECOND",
+          "VOLT_AMPERE",
+          "VOLT_AMPERE_REACTIVE",
+          "WATT_SECOND",
+          "DECIBEL",
+          "CENTIPOISE",
+          "DEGREE/MINUTE",
+          "FAHRENHEIT",
+          "KILOWATT",
+          "KILOWATT_HOUR",
+          "MILLIMETER/MINUTE",
+          "RADIAN",
+          "RADIAN/MINUTE",
+          "RADIAN/SECOND",
+          "RADIAN/SECOND^2",
+          "REVOLUTION/SECOND",
           "OTHER"}},
         {"ASCII spellings (hand-written files)",
          {"mm/s^2", "rad/s^2", "kW.h", "N.m", "Pa.s", "W.h", "W.s", "um", "uA", "ohm", "kohm", "Mohm"}},
@@ -236,8 +276,7 @@ std::optional<std::string> hint_or_nearest(const std::vector<std::string_view>& 
     for (const auto& h : vocabulary_hints()) {
         if (h.used != text) continue;
         const bool axis = std::string_view(h.meant).rfind("AXIS ", 0) == 0;  // "AXIS with number ..."
-        if ((axis && components) || std::find(names.begin(), names.end(), h.meant) != names.end())
-            return std::string(h.meant);
+        if ((axis && components) || std::find(names.begin(), names.end(), h.meant) != names.end()) return std::string(h.meant);
     }
     return detail::nearest_name(text, names);
 }
@@ -261,9 +300,7 @@ bool is_known_unit(std::string_view units) noexcept {
 
 std::optional<std::string> suggest_data_type(std::string_view type) { return suggest(vocabulary_data_types(), type); }
 std::optional<std::string> suggest_device_type(std::string_view type) { return suggest(vocabulary_device_types(), type); }
-std::optional<std::string> suggest_component_type(std::string_view type) {
-    return suggest(vocabulary_component_types(), type);
-}
+std::optional<std::string> suggest_component_type(std::string_view type) { return suggest(vocabulary_component_types(), type); }
 
 std::optional<std::string> nearest_data_type(std::string_view type) {
     return hint_or_nearest(names(vocabulary_data_types()), type);

@@ -50,11 +50,12 @@ std::string vocabulary_markdown() {
     out += "\n## Component types (table 8)\n\nThe `type` of a component object.\n\n";
     terms(out, vocabulary_component_types());
 
-    out += "\n## Data object types (tables 10, 12, 13)\n\n"
-           "The `type` of a data object (an item in `dataItems` or `configs`), the value the\n"
-           "table gives it, its default units (give `units` only when the value uses others),\n"
-           "and its fixed values.\n\n"
-           "| type | defined in | meaning | value | default units | fixed values |\n|---|---|---|---|---|---|\n";
+    out +=
+        "\n## Data object types (tables 10, 12, 13)\n\n"
+        "The `type` of a data object (an item in `dataItems` or `configs`), the value the\n"
+        "table gives it, its default units (give `units` only when the value uses others),\n"
+        "and its fixed values.\n\n"
+        "| type | defined in | meaning | value | default units | fixed values |\n|---|---|---|---|---|---|\n";
     for (const auto& t : vocabulary_data_types())
         out += fmt::format("| {} | {} | {} | {} | {} | {} |\n", code(t.name), t.source, cell(t.meaning), cell(t.value),
                            t.units.empty() ? "—" : code(t.units), cell(t.values));
@@ -66,17 +67,18 @@ std::string vocabulary_markdown() {
         out += "\n";
     }
 
-    out += "\n## Spellings taken as standard types\n\n"
-           "Seen in deployed files; the validator reads them as the standard type and reports a\n"
-           "conformance problem.\n\n| written | standard | why |\n|---|---|---|\n";
+    out +=
+        "\n## Spellings taken as standard types\n\n"
+        "Seen in deployed files; the validator reads them as the standard type and reports a\n"
+        "conformance problem.\n\n| written | standard | why |\n|---|---|---|\n";
     for (const auto& a : vocabulary_type_aliases())
         out += fmt::format("| {} | {} | {} |\n", code(a.used), code(a.meant), cell(a.why));
 
-    out += "\n## Common names the validator suggests\n\n"
-           "Not standard; a model using them gets a warning with the standard name as a hint.\n\n"
-           "| written | standard | where |\n|---|---|---|\n";
-    for (const auto& a : vocabulary_hints())
-        out += fmt::format("| {} | {} | {} |\n", code(a.used), cell(a.meant), cell(a.why));
+    out +=
+        "\n## Common names the validator suggests\n\n"
+        "Not standard; a model using them gets a warning with the standard name as a hint.\n\n"
+        "| written | standard | where |\n|---|---|---|\n";
+    for (const auto& a : vocabulary_hints()) out += fmt::format("| {} | {} | {} |\n", code(a.used), cell(a.meant), cell(a.why));
     return out;
 }
 

@@ -37,10 +37,10 @@ public:
           link_(logger_, options_.broker_url, options_.client_id),
           client_(std::make_unique<mqtt::async_client>(
               options_.broker_url, options_.client_id,
-              mqtt::create_options(options_.mqtt_version, static_cast<int>(options_.outbox.max_in_flight) + 16),
-              nullptr)),
-          outbox_(options_.outbox,
-                  [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
+              mqtt::create_options(options_.mqtt_version, static_cast<int>(options_.outbox.max_in_flight) + 16), nullptr)),
+          outbox_(
+              options_.outbox,
+              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
           watchdog_(detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {}
 
     ~MqttTransport() override {
@@ -162,9 +162,7 @@ private:
         }
         outbox_.delivered(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
     }
-    void on_failure(const mqtt::token& tok) override {
-        outbox_.failed(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
-    }
+    void on_failure(const mqtt::token& tok) override { outbox_.failed(reinterpret_cast<std::uintptr_t>(tok.get_user_context())); }
 
     // Thread: paho callback thread.
     void deliver(const mqtt::const_message_ptr& msg) {
@@ -244,10 +242,8 @@ private:
             // paho holds QoS>0 messages back beyond its own window while QoS 0
             // ones pass: keep its window at least ours so order is preserved.
             .max_inflight(static_cast<int>(options_.outbox.max_in_flight));
-        if (options_.mqtt_version >= 5)
-            builder.clean_start(options_.clean_session);
-        else
-            builder.clean_session(options_.clean_session);
+        if (options_.mqtt_version >= 5) builder.clean_start(options_.clean_session);
+        else builder.clean_session(options_.clean_session);
         if (!options_.username.empty()) builder.user_name(options_.username).password(options_.password);
         if (options_.last_will) {
             const auto& w = *options_.last_will;
@@ -277,8 +273,8 @@ private:
         if (rc == 4 || reason == 0x86) return connect_failed("the broker refused the user name or password", true, delay);
         // mosquitto answers a wrong password with this one too.
         if (rc == 5 || reason == 0x87)
-            return connect_failed("the broker refused the connection: not authorized (user name, password or certificate)",
-                                  true, delay);
+            return connect_failed("the broker refused the connection: not authorized (user name, password or certificate)", true,
+                                  delay);
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
 #if NCLINK_WITH_TLS
         if (options_.tls) {
@@ -348,8 +344,8 @@ private:
                 try {
                     auto token = client_->connect(opts);
                     ok = token->wait_for(options_.connect_timeout + milliseconds(500));
-                    if (!ok) connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()),
-                                            false, retry);
+                    if (!ok)
+                        connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()), false, retry);
                     if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
                     if (ok && !options_.clean_session) check_session(*token);
                 } catch (const mqtt::exception& e) {

@@ -11,8 +11,8 @@
 namespace nclink::detail {
 
 struct WireFailure {
-    ResponseStatus status;            ///< NG, error and reason per table 19
-    std::optional<Json> private_info; ///< {"message": ...} when there is text to carry
+    ResponseStatus status;             ///< NG, error and reason per table 19
+    std::optional<Json> private_info;  ///< {"message": ...} when there is text to carry
 };
 
 /// - a table-19 code: `error` = the code, `reason` = its table-19 string

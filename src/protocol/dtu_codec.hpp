@@ -46,9 +46,9 @@ public:
     const Json& require_array(std::string_view key) const;
     std::optional<Json> optional_any(std::string_view key) const;
 
-    MessageId message_id() const;          ///< "@id": any scalar
+    MessageId message_id() const;  ///< "@id": any scalar
     std::optional<Json> private_info() const { return optional_any("privateInfo"); }
-    ResponseStatus status() const;         ///< code (required), reason, error
+    ResponseStatus status() const;  ///< code (required), reason, error
     std::optional<ResponseStatus> optional_status() const;
 
     const Json& object() const { return object_; }
@@ -118,26 +118,26 @@ Result<T> decode_payload(std::string_view payload, bool empty_is_object) {
 
 /// Defines the decode<Type> specializations declared in dtu.hpp, for a type
 /// whose read(const Json&, Tag<Type>) is visible. Use inside namespace nclink.
-#define NCLINK_DEFINE_DECODE_JSON(Type)                                                      \
-    template <>                                                                               \
-    Result<Type> decode<Type>(const Json& dtu) {                                              \
-        return protocol_detail::decode_json<Type>(dtu);                                       \
+#define NCLINK_DEFINE_DECODE_JSON(Type)                 \
+    template <>                                         \
+    Result<Type> decode<Type>(const Json& dtu) {        \
+        return protocol_detail::decode_json<Type>(dtu); \
     }
-#define NCLINK_DEFINE_DECODE(Type, empty_is_object)                                          \
-    NCLINK_DEFINE_DECODE_JSON(Type)                                                           \
-    template <>                                                                               \
-    Result<Type> decode<Type>(std::string_view payload) {                                     \
-        return protocol_detail::decode_payload<Type>(payload, empty_is_object);               \
+#define NCLINK_DEFINE_DECODE(Type, empty_is_object)                             \
+    NCLINK_DEFINE_DECODE_JSON(Type)                                             \
+    template <>                                                                 \
+    Result<Type> decode<Type>(std::string_view payload) {                       \
+        return protocol_detail::decode_payload<Type>(payload, empty_is_object); \
     }
 
 /// As NCLINK_DEFINE_DECODE, for a request read from text by `fast(payload)`
 /// first (a scan or stream that answers nullopt for anything it cannot prove
 /// the tree reads the same); the tree decodes the rest and gives every
 /// refusal its table-19 code and message.
-#define NCLINK_DEFINE_DECODE_FAST(Type, fast)                                                \
-    NCLINK_DEFINE_DECODE_JSON(Type)                                                           \
-    template <>                                                                               \
-    Result<Type> decode<Type>(std::string_view payload) {                                     \
-        if (auto read = fast(payload)) return std::move(*read);                               \
-        return protocol_detail::decode_payload<Type>(payload, false);                         \
+#define NCLINK_DEFINE_DECODE_FAST(Type, fast)                         \
+    NCLINK_DEFINE_DECODE_JSON(Type)                                   \
+    template <>                                                       \
+    Result<Type> decode<Type>(std::string_view payload) {             \
+        if (auto read = fast(payload)) return std::move(*read);       \
+        return protocol_detail::decode_payload<Type>(payload, false); \
     }

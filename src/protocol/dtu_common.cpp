@@ -80,16 +80,15 @@ void Reader::missing(std::string_view key) const {
     for (const auto& item : object_.items()) {
         const std::string_view name = item.key();
         if (std::find(known_.begin(), known_.end(), name) == known_.end())
-            fail(ErrorCode::keys_of_arguments,
-                 fmt::format("{}: \"{}\" missing, unknown key \"{}\"", what_, key, name));
+            fail(ErrorCode::keys_of_arguments, fmt::format("{}: \"{}\" missing, unknown key \"{}\"", what_, key, name));
     }
     fail(ErrorCode::parameter_missing, fmt::format("{}: \"{}\" missing", what_, key));
 }
 
 void Reader::wrong_type(std::string_view key, std::string_view expected) const {
     const Json* value = find(key);
-    fail(ErrorCode::value_type, fmt::format("{}: \"{}\" must be {}, got {}", what_, key, expected,
-                                            value ? value->type_name() : "nothing"));
+    fail(ErrorCode::value_type,
+         fmt::format("{}: \"{}\" must be {}, got {}", what_, key, expected, value ? value->type_name() : "nothing"));
 }
 
 std::string Reader::require_string(std::string_view key) const {
@@ -187,8 +186,7 @@ ResponseStatus Reader::status() const {
     status.reason = optional_string("reason");
     if (has("error")) {
         const auto number = optional_integer("error");
-        if (*number < std::numeric_limits<int>::min() || *number > std::numeric_limits<int>::max())
-            wrong_type("error", "an int");
+        if (*number < std::numeric_limits<int>::min() || *number > std::numeric_limits<int>::max()) wrong_type("error", "an int");
         status.error = static_cast<int>(*number);
     }
     return status;

@@ -57,8 +57,7 @@ MethodStatus read(const Json& dtu, Tag<MethodStatus>) {
 }
 
 MethodResult read(const Json& dtu, Tag<MethodResult>) {
-    Reader r(dtu, {"@id", "guid", "id", "result", "code", "reason", "error", "return", "privateInfo"},
-             "Method/Result");
+    Reader r(dtu, {"@id", "guid", "id", "result", "code", "reason", "error", "return", "privateInfo"}, "Method/Result");
     MethodResult out;
     out.msg_id = r.message_id();
     out.guid = r.string_or_empty("guid");

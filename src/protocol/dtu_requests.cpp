@@ -20,9 +20,7 @@ void put_header(Json& out, const MessageId& msg_id, const std::string& guid) {
 }
 
 /// The "id" of an ids/values entry: an object with "id" (or a bare id string for Query).
-const Json& entry_object(const Json& entry, std::string_view what) {
-    return expect_object(entry, ErrorCode::value_type, what);
-}
+const Json& entry_object(const Json& entry, std::string_view what) { return expect_object(entry, ErrorCode::value_type, what); }
 
 }  // namespace
 
@@ -113,8 +111,7 @@ SetRequest read(const Json& dtu, Tag<SetRequest>) {
 }
 
 SampleRegisterRequest read(const Json& dtu, Tag<SampleRegisterRequest>) {
-    Reader r(dtu, {"@id", "guid", "sampleInterval", "uploadInterval", "ids", "privateInfo"},
-             "Register/Sample request");
+    Reader r(dtu, {"@id", "guid", "sampleInterval", "uploadInterval", "ids", "privateInfo"}, "Register/Sample request");
     SampleRegisterRequest out;
     out.msg_id = r.message_id();
     out.guid = request_guid(r);
@@ -165,8 +162,7 @@ MethodControlRequest read(const Json& dtu, Tag<MethodControlRequest>) {
 }
 
 EventRegisterRequest read(const Json& dtu, Tag<EventRegisterRequest>) {
-    Reader r(dtu, {"@id", "guid", "id", "key", "index", "filters", "triggerType", "privateInfo"},
-             "Register/Event request");
+    Reader r(dtu, {"@id", "guid", "id", "key", "index", "filters", "triggerType", "privateInfo"}, "Register/Event request");
     EventRegisterRequest out;
     out.msg_id = r.message_id();
     out.guid = request_guid(r);
@@ -176,8 +172,7 @@ EventRegisterRequest read(const Json& dtu, Tag<EventRegisterRequest>) {
     if (r.has("filters")) {
         const Json& filters = r.require_array("filters");
         out.filters.emplace();
-        for (const Json& filter : filters)
-            out.filters->push_back(expect_object(filter, ErrorCode::value_type, "filters entry"));
+        for (const Json& filter : filters) out.filters->push_back(expect_object(filter, ErrorCode::value_type, "filters entry"));
     }
     out.trigger_type = r.require_string("triggerType");
     out.private_info = r.private_info();

@@ -224,9 +224,7 @@ Json to_json(const DiscoveryResponse& dtu) {
     if (dtu.device_list) {
         Json list = Json::array();
         for (const auto& device : *dtu.device_list) {
-            Json entry = {{"guid", device.guid},
-                          {"status", device.status},
-                          {"lastAliveTimeStamp", device.last_alive_time_stamp}};
+            Json entry = {{"guid", device.guid}, {"status", device.status}, {"lastAliveTimeStamp", device.last_alive_time_stamp}};
             put_if(entry, "privateInfo", device.private_info);
             list.push_back(std::move(entry));
         }
@@ -344,8 +342,7 @@ Json to_json(const DevUnreachable& dtu) {
     return out;
 }
 
-std::optional<Json> make_error_reply(TopicKind request_kind, const MessageId& msg_id, std::string_view dev,
-                                     const Error& error) {
+std::optional<Json> make_error_reply(TopicKind request_kind, const MessageId& msg_id, std::string_view dev, const Error& error) {
     const ResponseStatus status(error);
     const std::string guid(dev);
     auto reply = [&](auto response) -> Json {

@@ -7,8 +7,7 @@
 namespace nclink::protocol_detail {
 
 nlohmann::detail::serializer<Json>& JsonTextWriter::serializer() {
-    if (!serializer_)
-        serializer_.emplace(nlohmann::detail::output_adapter<char>(out_), ' ', Json::error_handler_t::replace);
+    if (!serializer_) serializer_.emplace(nlohmann::detail::output_adapter<char>(out_), ' ', Json::error_handler_t::replace);
     return *serializer_;
 }
 
@@ -131,8 +130,8 @@ void JsonTextWriter::result_fields(const ResponseStatus& status, const std::stri
     reason(status);
 }
 
-void JsonTextWriter::response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status,
-                                   const std::string& guid, const std::optional<Json>& private_info) {
+void JsonTextWriter::response_head(const MessageId& msg_id, const std::optional<ResponseStatus>& status, const std::string& guid,
+                                   const std::optional<Json>& private_info) {
     out_ += '{';
     if (msg_id) {
         raw("\"@id\":");

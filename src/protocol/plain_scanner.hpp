@@ -148,8 +148,7 @@ bool plain_list(PlainScanner& scan, ReadEntry&& entry) {
 /// keys in any order, each once, "@id" (a string) and "guid" optional, the
 /// list required and read by `list(scan)`; nothing after the object.
 template <typename ReadList>
-bool plain_request(std::string_view payload, std::string_view list_key, MessageId& msg_id, std::string& guid,
-                   ReadList&& list) {
+bool plain_request(std::string_view payload, std::string_view list_key, MessageId& msg_id, std::string& guid, ReadList&& list) {
     PlainScanner scan(payload);
     bool seen_at_id = false, seen_guid = false, seen_list = false;
     if (!scan.take('{') || scan.next_is('}')) return false;

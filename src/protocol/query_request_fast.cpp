@@ -107,16 +107,13 @@ public:
         }
         if (skipping_) return ++skipping_, true;
         switch (where_) {
-            case Where::outside:
-                where_ = Where::top;
-                return true;
+            case Where::outside: where_ = Where::top; return true;
             case Where::ids:
                 where_ = Where::entry;
                 item_ = QueryItem{};
                 seen_id_ = seen_params_ = false;
                 return true;
-            default:
-                return open_free(Json::object());
+            default: return open_free(Json::object());
         }
     }
     bool start_array(std::size_t) {
@@ -139,7 +136,11 @@ public:
         }
         if (skipping_) return true;
         if (where_ == Where::top) {
-            key_ = k == "@id" ? Key::at_id : k == "guid" ? Key::guid : k == "ids" ? Key::ids : k == "privateInfo" ? Key::private_info : Key::other;
+            key_ = k == "@id"           ? Key::at_id
+                   : k == "guid"        ? Key::guid
+                   : k == "ids"         ? Key::ids
+                   : k == "privateInfo" ? Key::private_info
+                                        : Key::other;
             return once(key_ == Key::at_id, seen_at_id_) && once(key_ == Key::guid, seen_guid_) &&
                    once(key_ == Key::ids, seen_ids_) && once(key_ == Key::private_info, seen_private_info_);
         }
@@ -202,13 +203,9 @@ private:
             case Key::at_id:
                 request_.msg_id = std::move(v);  // any scalar is echoed verbatim
                 return true;
-            case Key::private_info:
-                request_.private_info = std::move(v);
-                return true;
-            case Key::other:
-                return true;
-            default:
-                return false;  // a guid that is no string, ids that are no array
+            case Key::private_info: request_.private_info = std::move(v); return true;
+            case Key::other: return true;
+            default: return false;  // a guid that is no string, ids that are no array
         }
     }
 
@@ -228,10 +225,8 @@ private:
 
     bool finish_free(bool complete) {
         if (!complete) return true;
-        if (where_ == Where::top)
-            request_.private_info = builder_.take();
-        else
-            item_.params = builder_.take();
+        if (where_ == Where::top) request_.private_info = builder_.take();
+        else item_.params = builder_.take();
         return true;
     }
 

@@ -211,8 +211,7 @@ struct Strided {
 };
 
 template <class ColumnAt>
-std::string_view encode_columns(std::string& buffer, const SampleDtuHeader& header, std::size_t count,
-                                ColumnAt column_at) {
+std::string_view encode_columns(std::string& buffer, const SampleDtuHeader& header, std::size_t count, ColumnAt column_at) {
     Writer w(buffer);
     write_header(w, header);
     for (std::size_t c = 0; c < count; ++c) {
@@ -260,10 +259,8 @@ std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const Samp
     });
 }
 
-std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleColumn* columns,
-                                       std::size_t count) {
-    return encode_columns(buffer_, header, count,
-                          [&](std::size_t p) { return Strided{columns[p].values, columns[p].size, 1}; });
+std::string_view SampleEncoder::encode(const SampleDtuHeader& header, const SampleColumn* columns, std::size_t count) {
+    return encode_columns(buffer_, header, count, [&](std::size_t p) { return Strided{columns[p].values, columns[p].size, 1}; });
 }
 
 namespace {

@@ -35,14 +35,26 @@ constexpr std::array<Shape, 31> kShapes{{
     {TopicKind::probe_set_response, {"Probe", "Set", "Response"}, 3, Params::dev_opt_ex, "probe_set_response"},
     {TopicKind::sample_register_request, {"Register", "Sample", "Request"}, 3, Params::dev_opt_ex, "sample_register_request"},
     {TopicKind::sample_register_response, {"Register", "Sample", "Response"}, 3, Params::dev_opt_ex, "sample_register_response"},
-    {TopicKind::sample_unregister_request, {"Unregister", "Sample", "Request"}, 3, Params::dev_opt_ex, "sample_unregister_request"},
-    {TopicKind::sample_unregister_response, {"Unregister", "Sample", "Response"}, 3, Params::dev_opt_ex, "sample_unregister_response"},
+    {TopicKind::sample_unregister_request,
+     {"Unregister", "Sample", "Request"},
+     3,
+     Params::dev_opt_ex,
+     "sample_unregister_request"},
+    {TopicKind::sample_unregister_response,
+     {"Unregister", "Sample", "Response"},
+     3,
+     Params::dev_opt_ex,
+     "sample_unregister_response"},
     {TopicKind::method_control_request, {"Method", "Control", "Request"}, 3, Params::dev_opt_ex, "method_control_request"},
     {TopicKind::method_control_response, {"Method", "Control", "Response"}, 3, Params::dev_opt_ex, "method_control_response"},
     {TopicKind::event_register_request, {"Register", "Event", "Request"}, 3, Params::dev_opt_ex, "event_register_request"},
     {TopicKind::event_register_response, {"Register", "Event", "Response"}, 3, Params::dev_opt_ex, "event_register_response"},
     {TopicKind::event_unregister_request, {"Unregister", "Event", "Request"}, 3, Params::dev_opt_ex, "event_unregister_request"},
-    {TopicKind::event_unregister_response, {"Unregister", "Event", "Response"}, 3, Params::dev_opt_ex, "event_unregister_response"},
+    {TopicKind::event_unregister_response,
+     {"Unregister", "Event", "Response"},
+     3,
+     Params::dev_opt_ex,
+     "event_unregister_response"},
     {TopicKind::register_request, {"Register", "Request", {}}, 2, Params::none, "register_request"},
     {TopicKind::register_response, {"Register", "Response", {}}, 2, Params::one, "register_response"},
     {TopicKind::discovery_request, {"Discovery", "Request", {}}, 2, Params::ex_only, "discovery_request"},
@@ -292,9 +304,7 @@ std::string query_request(std::string_view dev, OptEx ex) {
 std::string query_response(std::string_view dev, OptEx ex) {
     return build(TopicKind::query_response, dev, ex, {}, Spelling::standard);
 }
-std::string set_request(std::string_view dev, OptEx ex) {
-    return build(TopicKind::set_request, dev, ex, {}, Spelling::standard);
-}
+std::string set_request(std::string_view dev, OptEx ex) { return build(TopicKind::set_request, dev, ex, {}, Spelling::standard); }
 std::string set_response(std::string_view dev, OptEx ex) {
     return build(TopicKind::set_response, dev, ex, {}, Spelling::standard);
 }
@@ -315,9 +325,7 @@ std::string sample_unregister_request(std::string_view dev, OptEx ex, Spelling s
 std::string sample_unregister_response(std::string_view dev, OptEx ex, Spelling s) {
     return build(TopicKind::sample_unregister_response, dev, ex, {}, s);
 }
-std::string method_call(std::string_view dev, OptEx ex) {
-    return build(TopicKind::method_call, dev, ex, {}, Spelling::standard);
-}
+std::string method_call(std::string_view dev, OptEx ex) { return build(TopicKind::method_call, dev, ex, {}, Spelling::standard); }
 std::string method_status(std::string_view dev, OptEx ex) {
     return build(TopicKind::method_status, dev, ex, {}, Spelling::standard);
 }
@@ -352,9 +360,9 @@ std::vector<std::string> adapter_subscriptions(std::string_view dev) {
         out.push_back(base);
         out.push_back(base + "/+");
     };
-    for (TopicKind kind : {TopicKind::probe_version_response, TopicKind::probe_query_request,
-                           TopicKind::probe_set_request, TopicKind::query_request, TopicKind::set_request,
-                           TopicKind::method_call, TopicKind::method_control_request})
+    for (TopicKind kind :
+         {TopicKind::probe_version_response, TopicKind::probe_query_request, TopicKind::probe_set_request,
+          TopicKind::query_request, TopicKind::set_request, TopicKind::method_call, TopicKind::method_control_request})
         both(kind, Spelling::standard);
     for (TopicKind kind : {TopicKind::sample_register_request, TopicKind::sample_unregister_request,
                            TopicKind::event_register_request, TopicKind::event_unregister_request}) {

@@ -105,9 +105,9 @@ public:
     }
 
     // ---- lifecycle flags (engine mutex writes; anyone reads)
-    std::atomic<bool> open_{false};           // push() accepted
-    std::atomic<bool> removed{false};         // remove_channel() was called
-    std::atomic<bool> producer_done{false};   // the sampler will not write again (after removal)
+    std::atomic<bool> open_{false};          // push() accepted
+    std::atomic<bool> removed{false};        // remove_channel() was called
+    std::atomic<bool> producer_done{false};  // the sampler will not write again (after removal)
 
     // ---- counters
     SingleWriterCounter rows_sampled, overruns, skipped_ticks, null_values, max_lateness_us;

@@ -64,14 +64,12 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
     for (const auto& id : request.ids) {
         const DataObject* item = state->item(id);
         if (!item || item->config) {
-            host_.logger.info("Register/Sample from {} refused: {} is not a data item of {} (401)", *topic.ex, id,
-                              host_.dev);
+            host_.logger.info("Register/Sample from {} refused: {} is not a data item of {} (401)", *topic.ex, id, host_.dev);
             return refuse(response, ErrorCode::node_not_exists);
         }
         spec.points.push_back(PointRef{item->id, item->kind});
     }
-    if (!(request.sample_interval > 0) || !(request.upload_interval > 0) ||
-        request.upload_interval < request.sample_interval) {
+    if (!(request.sample_interval > 0) || !(request.upload_interval > 0) || request.upload_interval < request.sample_interval) {
         host_.logger.info("Register/Sample from {} refused: sampleInterval {} / uploadInterval {} (411)", *topic.ex,
                           request.sample_interval, request.upload_interval);
         return refuse(response, ErrorCode::attribute_error);
@@ -83,8 +81,7 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (owners_.size() >= config_.max_dynamic_channels) {
-        host_.logger.info("Register/Sample from {} refused: {} dynamic channel(s) in use (415)", *topic.ex,
-                          owners_.size());
+        host_.logger.info("Register/Sample from {} refused: {} dynamic channel(s) in use (415)", *topic.ex, owners_.size());
         return refuse(response, ErrorCode::insufficient_dynamic_sampling);
     }
     do {
@@ -93,15 +90,14 @@ Json DynamicChannels::register_channel(const ParsedTopic& topic, const SampleReg
     spec.topic = topics::dynamic_sample(host_.dev, *topic.ex, spec.id);
     const std::string id = spec.id;
     if (auto added = engine_.add_channel(std::move(spec)); !added) {
-        host_.logger.warn("Register/Sample from {}: the engine refused channel {}: {}", *topic.ex, id,
-                          added.error().describe());
+        host_.logger.warn("Register/Sample from {}: the engine refused channel {}: {}", *topic.ex, id, added.error().describe());
         return refuse(response, added.error().code);
     }
     owners_[id] = *topic.ex;
     items_[id] = request.ids;
     ++registered_;
-    host_.logger.info("dynamic channel {} for {}: {} item(s), sample {} ms, upload {} ms", id, *topic.ex,
-                      request.ids.size(), request.sample_interval, request.upload_interval);
+    host_.logger.info("dynamic channel {} for {}: {} item(s), sample {} ms, upload {} ms", id, *topic.ex, request.ids.size(),
+                      request.sample_interval, request.upload_interval);
     response.id = id;
     return to_json(response);
 }
@@ -112,8 +108,7 @@ Json DynamicChannels::unregister_channel(const ParsedTopic& topic, const SampleU
     auto it = owners_.find(request.id);
     if (it == owners_.end()) {
         // A model channel exists but is not the application's to remove.
-        return refuse(response, engine_.has_channel(request.id) ? ErrorCode::permission_denied
-                                                                : ErrorCode::node_not_exists);
+        return refuse(response, engine_.has_channel(request.id) ? ErrorCode::permission_denied : ErrorCode::node_not_exists);
     }
     if (!topic.ex || *topic.ex != it->second) {
         host_.logger.info("Unregister/Sample of {} by {} refused: it belongs to {} (301)", request.id,
@@ -151,8 +146,7 @@ void DynamicChannels::on_model(const std::shared_ptr<const ModelState>& state) {
         }
     }
     for (const auto& [channel, owner] : released) {
-        host_.logger.info("dynamic channel {} of {} released: an item of it is gone from the new model (401)", channel,
-                          owner);
+        host_.logger.info("dynamic channel {} of {} released: an item of it is gone from the new model (401)", channel, owner);
         SampleRegisterResponse response;
         response.guid = host_.dev;
         response.id = channel;
@@ -201,8 +195,7 @@ Json DynamicChannels::stats() const {
                 {"owners", owners}};
 }
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine,
-                                                         const SamplingConfig& config) {
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config) {
     return std::make_unique<DynamicChannels>(host, engine, config);
 }
 

@@ -64,13 +64,12 @@ private:
     const SamplingConfig& config_;  // the service's, which outlives its extensions
 
     mutable std::mutex mutex_;
-    std::map<std::string, std::string> owners_;  // channel id -> ex_cid
+    std::map<std::string, std::string> owners_;              // channel id -> ex_cid
     std::map<std::string, std::vector<std::string>> items_;  // channel id -> its data item ids
     std::uint64_t next_id_ = 1;
     std::uint64_t registered_ = 0, unregistered_ = 0, released_ = 0, refused_ = 0;
 };
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine,
-                                                         const SamplingConfig& config);
+std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config);
 
 }  // namespace nclink::detail

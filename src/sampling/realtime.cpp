@@ -29,9 +29,7 @@ struct SchedAttr {
     std::uint32_t util_max = 0;
 };
 
-bool get_attr(SchedAttr& attr) {
-    return syscall(SYS_sched_getattr, 0, &attr, sizeof(attr), 0) == 0;
-}
+bool get_attr(SchedAttr& attr) { return syscall(SYS_sched_getattr, 0, &attr, sizeof(attr), 0) == 0; }
 
 // EEVDF (Linux 6.6) gives every fair task a virtual deadline one slice after
 // it becomes eligible; since 6.12 a task may ask for its own slice through
@@ -68,10 +66,8 @@ RealtimeStatus apply_realtime(const SamplingConfig& config, const Logger& logger
     status.cpu = config.cpu;
     if (config.timer_slack_ns > 0) {
         status.timer_slack_granted = prctl(PR_SET_TIMERSLACK, static_cast<unsigned long>(config.timer_slack_ns), 0, 0, 0) == 0;
-        if (status.timer_slack_granted)
-            logger.info("sampling thread: timer slack {} ns", config.timer_slack_ns);
-        else
-            logger.warn("sampling thread: timer slack {} ns refused: {}", config.timer_slack_ns, std::strerror(errno));
+        if (status.timer_slack_granted) logger.info("sampling thread: timer slack {} ns", config.timer_slack_ns);
+        else logger.warn("sampling thread: timer slack {} ns refused: {}", config.timer_slack_ns, std::strerror(errno));
     }
     if (config.cpu >= 0) {
         cpu_set_t set;
@@ -79,18 +75,15 @@ RealtimeStatus apply_realtime(const SamplingConfig& config, const Logger& logger
         CPU_SET(config.cpu, &set);
         const int rc = pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
         status.cpu_granted = rc == 0;
-        if (status.cpu_granted)
-            logger.info("sampling thread: pinned to CPU {}", config.cpu);
-        else
-            logger.warn("sampling thread: pinning to CPU {} refused: {}", config.cpu, std::strerror(rc));
+        if (status.cpu_granted) logger.info("sampling thread: pinned to CPU {}", config.cpu);
+        else logger.warn("sampling thread: pinning to CPU {} refused: {}", config.cpu, std::strerror(rc));
     }
     if (config.rt_priority > 0) {
         sched_param param{};
         param.sched_priority = config.rt_priority;
         const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
         status.fifo_granted = rc == 0;
-        if (status.fifo_granted)
-            logger.info("sampling thread: SCHED_FIFO priority {}", config.rt_priority);
+        if (status.fifo_granted) logger.info("sampling thread: SCHED_FIFO priority {}", config.rt_priority);
         else
             logger.warn("sampling thread: SCHED_FIFO priority {} refused: {} (needs CAP_SYS_NICE or RLIMIT_RTPRIO)",
                         config.rt_priority, std::strerror(rc));
@@ -99,10 +92,8 @@ RealtimeStatus apply_realtime(const SamplingConfig& config, const Logger& logger
     if (config.slice_us > 0 && !status.fifo_granted) {
         status.slice_us = config.slice_us;
         status.slice_granted = set_slice(config.slice_us);
-        if (status.slice_granted)
-            logger.debug("sampling thread: time slice {} us", config.slice_us);
-        else
-            logger.info("sampling thread: time slice {} us not set (needs Linux >= 6.12 and a fair policy)", config.slice_us);
+        if (status.slice_granted) logger.debug("sampling thread: time slice {} us", config.slice_us);
+        else logger.info("sampling thread: time slice {} us not set (needs Linux >= 6.12 and a fair policy)", config.slice_us);
     }
     return status;
 }

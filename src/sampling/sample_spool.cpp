@@ -18,10 +18,11 @@ constexpr auto kDiskRetry = std::chrono::seconds(10);
 }  // namespace
 
 Json to_json(const SpoolStats& s) {
-    return Json{{"spooled", s.spooled},         {"replayed", s.replayed},         {"dropped", s.dropped},
-                {"dropped_bytes", s.dropped_bytes}, {"spilled", s.spilled},       {"disk_errors", s.disk_errors},
-                {"pending", s.pending},         {"memory_bytes", s.memory_bytes}, {"disk_bytes", s.disk_bytes},
-                {"disk_segments", s.disk_segments}};
+    return Json{{"spooled", s.spooled},       {"replayed", s.replayed},
+                {"dropped", s.dropped},       {"dropped_bytes", s.dropped_bytes},
+                {"spilled", s.spilled},       {"disk_errors", s.disk_errors},
+                {"pending", s.pending},       {"memory_bytes", s.memory_bytes},
+                {"disk_bytes", s.disk_bytes}, {"disk_segments", s.disk_segments}};
 }
 
 std::string mark_replayed(std::string payload) {
@@ -40,10 +41,8 @@ std::string mark_replayed(std::string payload) {
     Json dtu = Json::parse(payload, nullptr, false);
     if (dtu.is_discarded() || !dtu.is_object()) return payload;
     Json& info = dtu["privateInfo"];
-    if (info.is_null())
-        info = Json::object();
-    else if (!info.is_object())
-        info = Json{{"value", info}};
+    if (info.is_null()) info = Json::object();
+    else if (!info.is_object()) info = Json{{"value", info}};
     info["replayed"] = true;
     return dtu.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
@@ -86,8 +85,8 @@ Result<void> SampleSpool::start() {
                 segments_.push_back(std::move(segment));
             }
             if (dtus > 0)
-                logger_.info("sample spool: {} DTU(s) spooled by a previous run in {} are replayed after connecting",
-                             dtus, options_.disk_dir);
+                logger_.info("sample spool: {} DTU(s) spooled by a previous run in {} are replayed after connecting", dtus,
+                             options_.disk_dir);
             enforce_disk_budget_locked();
         }
     }
@@ -168,9 +167,9 @@ void SampleSpool::enqueue_locked(Message message) {
         counters_.dropped_bytes += size;
         if (drop_burst_++ == 0)
             logger_.warn("sample spool: {}: dropping Sample DTUs, first on {}",
-                         stopped_                       ? "stopped"
-                         : options_.memory_bytes == 0   ? "offline and no spool configured"
-                                                        : "a DTU larger than the whole spool",
+                         stopped_                     ? "stopped"
+                         : options_.memory_bytes == 0 ? "offline and no spool configured"
+                                                      : "a DTU larger than the whole spool",
                          message.topic);
         return;
     }
@@ -185,9 +184,8 @@ void SampleSpool::enqueue_locked(Message message) {
 void SampleSpool::drop_memory_front_locked() {
     const std::size_t size = cost(memory_.front());
     if (drop_burst_++ == 0)
-        logger_.warn("sample spool full ({} bytes RAM{}): dropping the oldest Sample DTUs, first on {}",
-                     options_.memory_bytes, disk_enabled() ? fmt::format(", {} bytes disk", options_.disk_bytes) : "",
-                     memory_.front().topic);
+        logger_.warn("sample spool full ({} bytes RAM{}): dropping the oldest Sample DTUs, first on {}", options_.memory_bytes,
+                     disk_enabled() ? fmt::format(", {} bytes disk", options_.disk_bytes) : "", memory_.front().topic);
     memory_used_ -= size;
     ++counters_.dropped;
     counters_.dropped_bytes += size;
@@ -240,8 +238,8 @@ void SampleSpool::spill_one_segment(std::unique_lock<std::mutex>& lock) {
     if (!written) {
         ++counters_.disk_errors;
         disk_retry_at_ = std::chrono::steady_clock::now() + kDiskRetry;
-        logger_.error("sample spool: cannot write a segment ({}); keeping DTUs in RAM, retrying in {} s",
-                      written.error().message, kDiskRetry.count());
+        logger_.error("sample spool: cannot write a segment ({}); keeping DTUs in RAM, retrying in {} s", written.error().message,
+                      kDiskRetry.count());
         for (auto it = batch.rbegin(); it != batch.rend(); ++it) {
             memory_used_ += cost(*it);
             memory_.push_front(std::move(*it));
@@ -265,8 +263,8 @@ void SampleSpool::enforce_disk_budget_locked() {
         counters_.dropped += oldest.records;
         counters_.dropped_bytes += oldest.bytes;
         if (drop_burst_++ == 0)
-            logger_.warn("sample spool disk budget full ({} bytes): dropping the oldest segment ({} DTUs)",
-                         options_.disk_bytes, oldest.records);
+            logger_.warn("sample spool disk budget full ({} bytes): dropping the oldest segment ({} DTUs)", options_.disk_bytes,
+                         oldest.records);
     }
 }
 
@@ -279,8 +277,7 @@ bool SampleSpool::load_next_segment(std::unique_lock<std::mutex>& lock) {
     lock.lock();
     if (contents.damaged > 0) {
         counters_.dropped += contents.damaged;
-        logger_.error("sample spool: {} damaged: {} of {} DTU(s) unreadable, dropped", next.path, contents.damaged,
-                      next.records);
+        logger_.error("sample spool: {} damaged: {} of {} DTU(s) unreadable, dropped", next.path, contents.damaged, next.records);
     }
     next.records = contents.messages.size();  // pending counts what can be replayed
     loaded_info_ = std::move(next);
@@ -327,10 +324,8 @@ bool SampleSpool::replay_one() {
         next.payload = mark_replayed(std::move(next.payload));
         const auto sent = transport_.publish(std::move(next));
         std::lock_guard<std::mutex> lock(mutex_);
-        if (sent)
-            ++counters_.replayed;
-        else
-            ++counters_.dropped;
+        if (sent) ++counters_.replayed;
+        else ++counters_.dropped;
     }
     return true;
 }
@@ -363,8 +358,7 @@ void SampleSpool::persist_on_stop() {
         }
         enforce_disk_budget_locked();
         if (!memory_.empty()) {
-            logger_.warn("sample spool: {} Sample DTU(s) could not be written to disk at stop and are lost",
-                         memory_.size());
+            logger_.warn("sample spool: {} Sample DTU(s) could not be written to disk at stop and are lost", memory_.size());
             counters_.dropped += memory_.size();
             memory_.clear();
             memory_used_ = 0;

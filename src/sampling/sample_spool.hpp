@@ -75,13 +75,13 @@ struct SpoolOptions {
 
 /// Counters only grow; pending/bytes are current levels.
 struct SpoolStats {
-    std::uint64_t spooled = 0;        ///< DTUs that entered the spool
-    std::uint64_t replayed = 0;       ///< DTUs handed to the transport from the spool (marked)
-    std::uint64_t dropped = 0;        ///< DTUs dropped: budget full (oldest first), no spool, or unreadable on disk
+    std::uint64_t spooled = 0;   ///< DTUs that entered the spool
+    std::uint64_t replayed = 0;  ///< DTUs handed to the transport from the spool (marked)
+    std::uint64_t dropped = 0;   ///< DTUs dropped: budget full (oldest first), no spool, or unreadable on disk
     std::uint64_t dropped_bytes = 0;
-    std::uint64_t spilled = 0;        ///< DTUs written to disk segments
-    std::uint64_t disk_errors = 0;    ///< failed segment writes (RAM then holds the DTUs)
-    std::size_t pending = 0;          ///< DTUs waiting in the spool (RAM + disk)
+    std::uint64_t spilled = 0;      ///< DTUs written to disk segments
+    std::uint64_t disk_errors = 0;  ///< failed segment writes (RAM then holds the DTUs)
+    std::size_t pending = 0;        ///< DTUs waiting in the spool (RAM + disk)
     std::size_t memory_bytes = 0;
     std::size_t disk_bytes = 0;
     std::size_t disk_segments = 0;
@@ -157,14 +157,14 @@ private:
     bool stopping_ = false;
     bool started_ = false;
     bool stopped_ = false;
-    std::deque<Message> memory_;      // newest spooled DTUs
+    std::deque<Message> memory_;  // newest spooled DTUs
     std::size_t memory_used_ = 0;
     std::deque<SegmentInfo> segments_;  // on disk, oldest first, not loaded
-    std::deque<Message> loaded_;      // the oldest segment, being replayed
+    std::deque<Message> loaded_;        // the oldest segment, being replayed
     SegmentInfo loaded_info_;
     bool has_loaded_ = false;
     std::size_t disk_used_ = 0;
-    std::size_t spilling_ = 0;        // DTUs being written to a segment right now
+    std::size_t spilling_ = 0;  // DTUs being written to a segment right now
     std::uint64_t next_seq_ = 1;
     std::chrono::steady_clock::time_point disk_retry_at_{};
     SpoolStats counters_;

@@ -9,44 +9,51 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
     if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.boolean("enabled", out.enabled));
     NCLINK_TRY(r.count("max_dynamic_channels", out.max_dynamic_channels));
-    NCLINK_TRY(r.read("push_channels", out.push_channels,
-                      [](const Json& j) {
-                          if (!j.is_array()) return false;
-                          for (const auto& e : j)
-                              if (!e.is_string()) return false;
-                          return true;
-                      },
-                      "an array of channel ids"));
-    const auto qos_value = [](const Json& j) { return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1); };
+    NCLINK_TRY(r.read(
+        "push_channels", out.push_channels,
+        [](const Json& j) {
+            if (!j.is_array()) return false;
+            for (const auto& e : j)
+                if (!e.is_string()) return false;
+            return true;
+        },
+        "an array of channel ids"));
+    const auto qos_value = [](const Json& j) {
+        return j.is_number_integer() && (j.get<long long>() == 0 || j.get<long long>() == 1);
+    };
     NCLINK_TRY(r.read("qos", out.qos, qos_value, "0 or 1"));
-    NCLINK_TRY(r.read("channel_qos", out.channel_qos,
-                      [&](const Json& j) {
-                          if (!j.is_object()) return false;
-                          for (const auto& q : j)
-                              if (!qos_value(q)) return false;
-                          return true;
-                      },
-                      "an object of channel id: 0 or 1"));
+    NCLINK_TRY(r.read(
+        "channel_qos", out.channel_qos,
+        [&](const Json& j) {
+            if (!j.is_object()) return false;
+            for (const auto& q : j)
+                if (!qos_value(q)) return false;
+            return true;
+        },
+        "an object of channel id: 0 or 1"));
     NCLINK_TRY(r.str("full_policy", out.full_policy));
     if (out.full_policy != "drop_oldest" && out.full_policy != "block")
         return r.fail(ErrorCode::out_of_range, "full_policy", "must be \"drop_oldest\" or \"block\"");
-    NCLINK_TRY(r.read("ring_periods", out.ring_periods, [](const Json& j) { return j.is_number() && j.get<double>() > 0; },
-                      "a positive number"));
+    NCLINK_TRY(r.read(
+        "ring_periods", out.ring_periods, [](const Json& j) { return j.is_number() && j.get<double>() > 0; },
+        "a positive number"));
     NCLINK_TRY(r.count("ring_max_rows", out.ring_max_rows));
     NCLINK_TRY(r.boolean("direct_reads", out.direct_reads));
-    NCLINK_TRY(r.read("rt_priority", out.rt_priority,
-                      [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= 0 && j.get<long long>() <= 99; },
-                      "an integer 0..99"));
+    NCLINK_TRY(r.read(
+        "rt_priority", out.rt_priority,
+        [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= 0 && j.get<long long>() <= 99; },
+        "an integer 0..99"));
     NCLINK_TRY(r.count("timer_slack_ns", out.timer_slack_ns));
-    NCLINK_TRY(r.read("cpu", out.cpu, [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= -1; },
-                      "-1 or a CPU number"));
-    NCLINK_TRY(r.read("slice_us", out.slice_us,
-                      [](const Json& j) {
-                          if (!j.is_number_integer()) return false;
-                          const long long v = j.get<long long>();
-                          return v == 0 || (v >= 100 && v <= 100000);
-                      },
-                      "0 or an integer 100..100000"));
+    NCLINK_TRY(r.read(
+        "cpu", out.cpu, [](const Json& j) { return j.is_number_integer() && j.get<long long>() >= -1; }, "-1 or a CPU number"));
+    NCLINK_TRY(r.read(
+        "slice_us", out.slice_us,
+        [](const Json& j) {
+            if (!j.is_number_integer()) return false;
+            const long long v = j.get<long long>();
+            return v == 0 || (v >= 100 && v <= 100000);
+        },
+        "0 or an integer 100..100000"));
     NCLINK_TRY(r.duration("overrun_log_interval_ms", out.overrun_log_interval));
     NCLINK_TRY(r.count("text_budget_bytes", out.text_budget_bytes));
     NCLINK_TRY(r.count("max_dtu_bytes", out.max_dtu_bytes));

@@ -163,8 +163,8 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
     if (!std::isfinite(spec.sample_interval_ms) || !std::isfinite(spec.upload_interval_ms) || spec.sample_interval_ms <= 0 ||
         spec.upload_interval_ms <= 0 || spec.sample_interval_ms * 1e6 < 1)
         return make_error(ErrorCode::unsupported_get_length,
-                          fmt::format("sample channel {}: intervals must be positive (sampleInterval {}, uploadInterval {})", spec.id,
-                                      spec.sample_interval_ms, spec.upload_interval_ms));
+                          fmt::format("sample channel {}: intervals must be positive (sampleInterval {}, uploadInterval {})",
+                                      spec.id, spec.sample_interval_ms, spec.upload_interval_ms));
     if (spec.upload_interval_ms < spec.sample_interval_ms)
         return make_error(ErrorCode::unsupported_get_length,
                           fmt::format("sample channel {}: uploadInterval {} is shorter than sampleInterval {}", spec.id,
@@ -174,7 +174,8 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
     const double rows_per_upload = std::max(1.0, std::floor(spec.upload_interval_ms / spec.sample_interval_ms));
     const double wanted = std::ceil(rows_per_upload * config.ring_periods);
     // Capped at half of size_t, so the double converts back exactly.
-    const std::size_t max_rows = std::min(std::max<std::size_t>(64, config.ring_max_rows), std::numeric_limits<std::size_t>::max() / 2);
+    const std::size_t max_rows =
+        std::min(std::max<std::size_t>(64, config.ring_max_rows), std::numeric_limits<std::size_t>::max() / 2);
     const std::size_t capacity = static_cast<std::size_t>(std::clamp(wanted, 64.0, static_cast<double>(max_rows)));
     // The ring is allocated whole, now: one that cannot be addressed (more
     // than half the address space; a large ring_max_rows on a 32-bit

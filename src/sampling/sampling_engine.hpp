@@ -43,14 +43,14 @@ namespace nclink::detail {
 using nclink::ChannelStats;
 
 struct ChannelSpec {
-    std::string id;                 ///< channel id (model SAMPLE_CHANNEL id, or an allocated dynamic id)
-    std::vector<PointRef> points;   ///< data items in column order
+    std::string id;                ///< channel id (model SAMPLE_CHANNEL id, or an allocated dynamic id)
+    std::vector<PointRef> points;  ///< data items in column order
     double sample_interval_ms = 0;
     double upload_interval_ms = 0;
-    std::string topic;              ///< Sample/{dev}/{channel} or Sample/{dev}/{ex}/{channel}
+    std::string topic;  ///< Sample/{dev}/{channel} or Sample/{dev}/{ex}/{channel}
     int qos = 0;
-    std::string owner_ex;           ///< "" for model channels, the ex_cid for dynamic ones
-    bool push = false;              ///< push mode: rows come from push(), not from reads
+    std::string owner_ex;  ///< "" for model channels, the ex_cid for dynamic ones
+    bool push = false;     ///< push mode: rows come from push(), not from reads
 };
 
 /// Called on the uploader thread, one Sample DTU at a time.
@@ -58,15 +58,15 @@ using DtuSink = std::function<void(Message)>;
 
 /// Everything the engine needs. References/pointers must outlive the engine.
 struct EngineDeps {
-    DriverRunner* driver = nullptr;       ///< may be null when every channel is push-mode or SDK-held
+    DriverRunner* driver = nullptr;                            ///< may be null when every channel is push-mode or SDK-held
     std::function<std::shared_ptr<const ModelState>()> model;  ///< current snapshot (may return null)
-    std::shared_ptr<const Clock> clock;   ///< monotonic deadlines + wall timestamps
-    std::shared_ptr<Sleeper> sleeper;     ///< how the sampling/uploader threads wait (fake in tests)
+    std::shared_ptr<const Clock> clock;                        ///< monotonic deadlines + wall timestamps
+    std::shared_ptr<Sleeper> sleeper;                          ///< how the sampling/uploader threads wait (fake in tests)
     Logger logger;
     SamplingConfig config;
-    std::string dev;                      ///< guid in the DTUs
+    std::string dev;  ///< guid in the DTUs
     DtuSink sink;
-    SampleTap* tap = nullptr;             ///< optional: rows for watchers
+    SampleTap* tap = nullptr;  ///< optional: rows for watchers
     /// Optional: checks every sampled value against chapter 7 (a breaking
     /// value is sent as null and counted; value_guard.hpp). Null: unchecked.
     ValueGuard* values = nullptr;

@@ -47,9 +47,7 @@ SamplingService::SamplingService(FeatureHost& host, SamplingConfig config) : hos
 
 SamplingService::~SamplingService() { stop(); }
 
-void SamplingService::add_extension(std::unique_ptr<SamplingExtension> extension) {
-    extensions_.push_back(std::move(extension));
-}
+void SamplingService::add_extension(std::unique_ptr<SamplingExtension> extension) { extensions_.push_back(std::move(extension)); }
 
 void SamplingService::wrap_sink(const std::function<DtuSink(DtuSink)>& wrapper) { sink_ = wrapper(std::move(sink_)); }
 
@@ -101,7 +99,8 @@ void SamplingService::start_model_channels(const ModelState& state) {
     if (!state.model || !state.device) return;
     const auto& config = config_;
     for (const auto& id : config.push_channels)
-        if (!state.model->channel(id)) host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
+        if (!state.model->channel(id))
+            host_.logger.warn("sampling.push_channels names {}, which is no sample channel of the model", id);
     for (const auto& entry : config.channel_qos)
         if (!state.model->channel(entry.first))
             host_.logger.warn("sampling.channel_qos names {}, which is no sample channel of the model", entry.first);
@@ -125,8 +124,9 @@ void SamplingService::start_model_channels(const ModelState& state) {
             continue;
         }
         model_channels_.push_back(channel.id);
-        host_.logger.info("sample channel {}: {} item(s) every {} ms, published every {} ms on {}{}", channel.id, spec.points.size(),
-                          spec.sample_interval_ms, spec.upload_interval_ms, spec.topic, spec.push ? " (push mode)" : "");
+        host_.logger.info("sample channel {}: {} item(s) every {} ms, published every {} ms on {}{}", channel.id,
+                          spec.points.size(), spec.sample_interval_ms, spec.upload_interval_ms, spec.topic,
+                          spec.push ? " (push mode)" : "");
     }
 }
 
@@ -211,8 +211,8 @@ Json to_json(const SamplingStats& stats) {
     for (const auto& c : stats.channels) {
         Json lateness = Json::object();
         for (std::size_t i = 0; i < c.lateness.size(); ++i) {
-            const std::string key =
-                i < kLatenessBoundsUs.size() ? "lt_" + std::to_string(kLatenessBoundsUs[i]) : "ge_" + std::to_string(kLatenessBoundsUs.back());
+            const std::string key = i < kLatenessBoundsUs.size() ? "lt_" + std::to_string(kLatenessBoundsUs[i])
+                                                                 : "ge_" + std::to_string(kLatenessBoundsUs.back());
             lateness[key] = c.lateness[i];
         }
         Json entry = {{"id", c.id},
@@ -236,10 +236,14 @@ Json to_json(const SamplingStats& stats) {
         channels.push_back(std::move(entry));
     }
     const auto& rt = stats.realtime;
-    Json realtime = {{"fifo_priority", rt.fifo_priority}, {"fifo_granted", rt.fifo_granted},
-                     {"timer_slack_ns", rt.timer_slack_ns}, {"timer_slack_granted", rt.timer_slack_granted},
-                     {"cpu", rt.cpu}, {"cpu_granted", rt.cpu_granted},
-                     {"slice_us", rt.slice_us}, {"slice_granted", rt.slice_granted}};
+    Json realtime = {{"fifo_priority", rt.fifo_priority},
+                     {"fifo_granted", rt.fifo_granted},
+                     {"timer_slack_ns", rt.timer_slack_ns},
+                     {"timer_slack_granted", rt.timer_slack_granted},
+                     {"cpu", rt.cpu},
+                     {"cpu_granted", rt.cpu_granted},
+                     {"slice_us", rt.slice_us},
+                     {"slice_granted", rt.slice_granted}};
     return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
 }
 

@@ -81,7 +81,7 @@ private:
     std::unique_ptr<SamplingEngine> engine_;
     std::vector<std::unique_ptr<SamplingExtension>> extensions_;
     std::vector<std::string> model_channels_;  // ids started from the model (on_model/start: request worker/owner)
-    std::mutex mutex_;                          // model_channels_, started_
+    std::mutex mutex_;                         // model_channels_, started_
     bool started_ = false;
     std::atomic<std::uint64_t> publish_errors_{0};
 };

@@ -12,8 +12,7 @@ SampleValue to_sample_value(const Json& value, ChannelCore& channel) {
         case Json::value_t::number_float: return SampleValue::float64(value.get<double>());
         case Json::value_t::string: return channel.intern_text(value.get_ref<const std::string&>(), false);
         case Json::value_t::array:
-        case Json::value_t::object:
-            return channel.intern_text(value.dump(-1, ' ', false, Json::error_handler_t::replace), true);
+        case Json::value_t::object: return channel.intern_text(value.dump(-1, ' ', false, Json::error_handler_t::replace), true);
         default: return SampleValue::null();
     }
 }
@@ -56,8 +55,7 @@ void Scheduler::refresh(Clock::Steady now) {
         // a gateway sit elsewhere in the period).
         const std::int64_t grid = std::min<std::int64_t>(core->sample_interval_ns(), 1'000'000'000);
         const auto shift = static_cast<std::int64_t>(shared_.deps.phase * static_cast<double>(grid));
-        const std::int64_t since =
-            std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count() - shift;
+        const std::int64_t since = std::chrono::duration_cast<std::chrono::nanoseconds>(now.time_since_epoch()).count() - shift;
         const std::int64_t phase = ((since % grid) + grid) % grid;
         const std::int64_t delay = phase == 0 ? 0 : grid - phase;
         lane.t0 = now + std::chrono::nanoseconds(delay);
@@ -116,13 +114,17 @@ Clock::Steady Scheduler::poll() {
 Clock::Steady Scheduler::serve(Lane& lane, Clock::Steady now) {
     ChannelCore& core = *lane.core;
     const std::int64_t interval = core.sample_interval_ns();
-    const auto deadline = [&](std::uint64_t k) { return lane.t0 + std::chrono::nanoseconds(static_cast<std::int64_t>(k) * interval); };
+    const auto deadline = [&](std::uint64_t k) {
+        return lane.t0 + std::chrono::nanoseconds(static_cast<std::int64_t>(k) * interval);
+    };
     if (deadline(lane.next_k) > now) return deadline(lane.next_k);
 
     // The newest due tick; older due ticks are overruns.
     const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(now - lane.t0).count();
     const std::uint64_t newest = static_cast<std::uint64_t>(elapsed / interval);
-    const auto late_of = [&](std::uint64_t k) { return std::chrono::duration_cast<std::chrono::nanoseconds>(now - deadline(k)).count(); };
+    const auto late_of = [&](std::uint64_t k) {
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(now - deadline(k)).count();
+    };
     core.record_lateness(late_of(lane.next_k));  // how late the pass came for the oldest due tick
     const auto& observer = shared_.deps.tick_observer;
 
@@ -141,7 +143,8 @@ Clock::Steady Scheduler::serve(Lane& lane, Clock::Steady now) {
             lane.burst_overruns = 0;
         }
         while (lane.next_k < newest) {
-            if (!produce_null_row(lane, lane.next_k)) return now + std::chrono::nanoseconds(std::min<std::int64_t>(interval, 1'000'000));
+            if (!produce_null_row(lane, lane.next_k))
+                return now + std::chrono::nanoseconds(std::min<std::int64_t>(interval, 1'000'000));
             if (observer) observer(core.spec().id, late_of(lane.next_k));
             core.overruns.add();
             lane.burst_overruns++;
@@ -180,7 +183,8 @@ bool Scheduler::produce_read_row(Lane& lane, std::uint64_t k) {
     if (!lane.driver_points.empty()) nulls += read_driver_columns(lane, row);
     for (std::size_t i = 0; i < lane.store_ids.size(); ++i) {
         SampleValue& slot = row[lane.store_columns[i]];
-        auto value = lane.model && lane.model->store ? lane.model->store->get(lane.store_ids[i]) : Result<Json>(make_error(ErrorCode::unavailable));
+        auto value = lane.model && lane.model->store ? lane.model->store->get(lane.store_ids[i])
+                                                     : Result<Json>(make_error(ErrorCode::unavailable));
         slot = value ? to_sample_value(value.value(), core) : SampleValue::null();
         if (slot.is_null()) ++nulls;
     }
@@ -264,9 +268,9 @@ std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
     if (direct) {
         driver->read_direct(lane.driver_points, lane.results, wait, lane.generation);
     } else {
-        lane.results = driver->read(lane.driver_points,
-                                    std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)),
-                                    lane.generation);
+        lane.results = driver->read(
+            lane.driver_points,
+            std::max(std::chrono::milliseconds(1), std::chrono::duration_cast<std::chrono::milliseconds>(wait)), lane.generation);
     }
     for (std::size_t i = 0; i < n; ++i) {
         SampleValue& slot = row[lane.driver_columns[i]];

@@ -48,17 +48,17 @@ private:
         std::uint64_t next_k = 0;
         std::uint64_t model_version = 0;
         // read plan: which columns come from the driver, which from the store
-        std::vector<PointRef> driver_points;    // with the handles of the model's binding
+        std::vector<PointRef> driver_points;  // with the handles of the model's binding
         std::vector<std::size_t> driver_columns;
         std::uint64_t generation = 0;           // of that binding
         std::vector<std::size_t> null_columns;  // points the driver does not serve: always null
         std::vector<std::string> store_ids;
         std::vector<std::size_t> store_columns;
         std::shared_ptr<const ModelState> model;
-        std::vector<Result<Json>> results;     // read() path
-        std::vector<SampleValue> samples;       // read_samples() path, when columns are not the whole row
-        bool typed = true;                      // the driver may implement read_samples()
-        bool identity_columns = false;          // driver column i is row slot i
+        std::vector<Result<Json>> results;  // read() path
+        std::vector<SampleValue> samples;   // read_samples() path, when columns are not the whole row
+        bool typed = true;                  // the driver may implement read_samples()
+        bool identity_columns = false;      // driver column i is row slot i
         bool in_burst = false;
         std::uint64_t burst_overruns = 0;
     };

@@ -21,7 +21,8 @@ SpoolOptions spool_options(const FeatureHost& host, const SamplingConfig& config
 class SpoolExtension final : public SamplingExtension {
 public:
     SpoolExtension(FeatureHost& host, SamplingService& service)
-        : engine_(service.engine()), spool_(std::make_shared<SampleSpool>(spool_options(host, service.config()), host.transport, host.logger, host.work)) {
+        : engine_(service.engine()),
+          spool_(std::make_shared<SampleSpool>(spool_options(host, service.config()), host.transport, host.logger, host.work)) {
         // The sink holds the spool: the engine may flush into it until it is
         // destroyed, whatever the order members go in.
         service.wrap_sink([spool = spool_](DtuSink) { return DtuSink([spool](Message m) { spool->publish(std::move(m)); }); });

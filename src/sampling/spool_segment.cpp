@@ -46,12 +46,9 @@ bool parse_name(const std::string& name, std::uint64_t& seq, std::size_t& record
     for (std::size_t i = 0; i < 16; ++i) {
         const char c = name[i];
         int d = 0;
-        if (c >= '0' && c <= '9')
-            d = c - '0';
-        else if (c >= 'a' && c <= 'f')
-            d = c - 'a' + 10;
-        else
-            return false;
+        if (c >= '0' && c <= '9') d = c - '0';
+        else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
+        else return false;
         seq = (seq << 4) | static_cast<std::uint64_t>(d);
     }
     records = 0;
@@ -105,8 +102,7 @@ SegmentContents decode_segment(const std::string& bytes, std::size_t expected) {
             const std::size_t topic_len = get_u32(bytes, at);
             const std::size_t payload_len = get_u32(bytes, at + 4);
             const std::size_t body = kRecordHeader + topic_len + payload_len;
-            if (topic_len > bytes.size() || payload_len > bytes.size() || at + body + kRecordTrailer > bytes.size())
-                break;
+            if (topic_len > bytes.size() || payload_len > bytes.size() || at + body + kRecordTrailer > bytes.size()) break;
             if (crc32(bytes.data() + at, body) != get_u32(bytes, at + body)) break;
             Message m;
             m.qos = static_cast<unsigned char>(bytes[at + 8]);

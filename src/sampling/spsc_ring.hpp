@@ -50,7 +50,9 @@ enum class FullPolicy { drop_oldest, block };
 /// instruction on the hot path), readable from any thread.
 class SingleWriterCounter {
 public:
-    void add(std::uint64_t n = 1) noexcept { value_.store(value_.load(std::memory_order_relaxed) + n, std::memory_order_relaxed); }
+    void add(std::uint64_t n = 1) noexcept {
+        value_.store(value_.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
+    }
     std::uint64_t get() const noexcept { return value_.load(std::memory_order_relaxed); }
 
 private:
@@ -82,9 +84,8 @@ public:
                 if (policy_ == FullPolicy::block) return nullptr;
                 // drop_oldest: free the oldest row unless the consumer is reading.
                 std::uint64_t expected = word;
-                if ((word & 1u) != 0 ||
-                    !tail_.value.compare_exchange_strong(expected, word + 2, std::memory_order_acq_rel,
-                                                         std::memory_order_acquire)) {
+                if ((word & 1u) != 0 || !tail_.value.compare_exchange_strong(expected, word + 2, std::memory_order_acq_rel,
+                                                                             std::memory_order_acquire)) {
                     drops_.add();
                     return nullptr;
                 }

@@ -24,7 +24,8 @@ void Uploader::refresh(Clock::Steady now) {
         const auto upload = std::chrono::nanoseconds(core->upload_interval_ns());
         // Drain at least 4 times per ring's worth of rows, so the ring only
         // fills when this thread is starved.
-        const auto ring_time = std::chrono::nanoseconds(core->sample_interval_ns() * static_cast<std::int64_t>(core->ring().capacity()));
+        const auto ring_time =
+            std::chrono::nanoseconds(core->sample_interval_ns() * static_cast<std::int64_t>(core->ring().capacity()));
         lane.drain_period = std::max(std::chrono::nanoseconds(std::chrono::microseconds(100)), std::min(upload, ring_time / 4));
         lane.next_publish = now + upload;
         lane.next_drain = now + lane.drain_period;
@@ -190,7 +191,9 @@ void Uploader::refuse(Lane& lane, const ValueRule& rule, ValueFault fault, Sampl
     ChannelCore& core = *lane.core;
     std::string shown;
     switch (value.kind()) {
-        case SampleValue::Kind::text: shown = Json(std::string(value.as_text())).dump(-1, ' ', false, Json::error_handler_t::replace); break;
+        case SampleValue::Kind::text:
+            shown = Json(std::string(value.as_text())).dump(-1, ' ', false, Json::error_handler_t::replace);
+            break;
         case SampleValue::Kind::json: shown = std::string(value.as_text()); break;
         case SampleValue::Kind::boolean: shown = value.as_bool() ? "true" : "false"; break;
         case SampleValue::Kind::int64: shown = std::to_string(value.as_int64()); break;

@@ -83,8 +83,7 @@ Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int sampl
     // The second connection answers every request at once (QoS 1, as an
     // adapter answers), from its callback thread.
     Transport* b_raw = b.get();
-    b->set_message_handler(
-        [b_raw, topic_a](const Message& m) { (void)b_raw->publish(Message{topic_a, m.payload, 1, false}); });
+    b->set_message_handler([b_raw, topic_a](const Message& m) { (void)b_raw->publish(Message{topic_a, m.payload, 1, false}); });
     if (auto r = a->subscribe({topic_a}, 1); !r) return std::move(r).error();
     if (auto r = b->subscribe({topic_b}, 1); !r) return std::move(r).error();
     struct Stop {
@@ -119,8 +118,8 @@ Result<BrokerRoundTrip> measure_broker_round_trip(MqttOptions options, int sampl
             std::this_thread::sleep_for(milliseconds(10));
         }
         if (std::chrono::steady_clock::now() > deadline)
-            return make_error(ErrorCode::unavailable, fmt::format("cannot reach the broker at {} within {} ms",
-                                                                  options.broker_url, timeout.count()));
+            return make_error(ErrorCode::unavailable,
+                              fmt::format("cannot reach the broker at {} within {} ms", options.broker_url, timeout.count()));
     }
     auto once = [&](const std::string& tag, const std::string& topic, int qos) -> Result<microseconds> {
         const auto sent = std::chrono::steady_clock::now();

@@ -18,13 +18,13 @@ namespace nclink::transport_detail {
 
 struct BrokerSettings {
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
-    std::string client_id;                           ///< "client_id"
-    std::string username;                            ///< "username"
-    std::string password;                            ///< "password"
-    std::optional<MqttTlsOptions> tls;               ///< "tls"
-    int mqtt_version = 4;                            ///< "mqtt_version"
-    std::chrono::seconds keep_alive{20};             ///< "keep_alive_s"
-    bool clean_session = true;                       ///< "clean_session" (adapter only; others keep the default)
+    std::string client_id;                            ///< "client_id"
+    std::string username;                             ///< "username"
+    std::string password;                             ///< "password"
+    std::optional<MqttTlsOptions> tls;                ///< "tls"
+    int mqtt_version = 4;                             ///< "mqtt_version"
+    std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
+    bool clean_session = true;                        ///< "clean_session" (adapter only; others keep the default)
 
     /// The broker settings of a configuration (AdapterConfig, AgentConfig,
     /// BridgeConfig) or of MqttOptions: the fields of the same names; a

@@ -18,15 +18,12 @@ Result<void> check_broker_url(const std::string& url) {
     if (detail::parse_broker_url(url, host, port, scheme)) return ok_result();
     std::string why;
     const auto sep = url.find("://");
-    if (url.empty())
-        why = "it is empty";
-    else if (sep == std::string::npos)
-        why = fmt::format("it has no scheme (did you mean tcp://{}?)", url);
+    if (url.empty()) why = "it is empty";
+    else if (sep == std::string::npos) why = fmt::format("it has no scheme (did you mean tcp://{}?)", url);
     else if (const std::string s = url.substr(0, sep);
              s != "tcp" && s != "mqtt" && s != "ssl" && s != "mqtts" && s != "ws" && s != "wss")
         why = fmt::format("unknown scheme '{}'", s);
-    else
-        why = "no host, or a port that is not a number from 1 to 65535";
+    else why = "no host, or a port that is not a number from 1 to 65535";
     return make_error(ErrorCode::value_type, fmt::format("unusable broker URL '{}': {}; expected {}", url, why, kForm));
 }
 

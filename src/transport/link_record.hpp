@@ -58,17 +58,19 @@ public:
     /// docs/delivery.md cannot cover, so it is never silent.
     void session_lost() {
         ++sessions_lost_;
-        logger_.warn("mqtt: the broker kept no session for client id '{}': what it held for us while we were away is "
-                     "lost (broker restarted without working persistence, or the session expired)",
-                     client_id_);
+        logger_.warn(
+            "mqtt: the broker kept no session for client id '{}': what it held for us while we were away is "
+            "lost (broker restarted without working persistence, or the session expired)",
+            client_id_);
     }
     void received() { ++received_; }
     /// The link was dropped as dead: nothing in flight acknowledged for `waited`.
     void stalled(std::chrono::milliseconds waited, std::size_t in_flight) {
         ++stalled_links_;
-        logger_.warn("mqtt: {} message(s) in flight to {} and none acknowledged for {} ms although the link is up: "
-                     "taking it for dead, reconnecting and sending them again",
-                     in_flight, broker_url_, waited.count());
+        logger_.warn(
+            "mqtt: {} message(s) in flight to {} and none acknowledged for {} ms although the link is up: "
+            "taking it for dead, reconnecting and sending them again",
+            in_flight, broker_url_, waited.count());
     }
     void nodelay_sockets(int n) { nodelay_sockets_ = n; }
 

@@ -56,7 +56,9 @@ struct NCLINK_LOCAL LoopbackBroker::Impl {
     std::mutex dispatch;
     std::thread thread;
 
-    Impl() { thread = std::thread([this] { run(); }); }
+    Impl() {
+        thread = std::thread([this] { run(); });
+    }
     ~Impl() {
         {
             std::lock_guard<std::mutex> lock(mutex);
@@ -109,10 +111,8 @@ struct NCLINK_LOCAL LoopbackBroker::Impl {
     void route_locked(const Message& m) {
         ++routed;
         if (m.retained) {
-            if (m.payload.empty())
-                retained.erase(m.topic);
-            else
-                retained[m.topic] = m;
+            if (m.payload.empty()) retained.erase(m.topic);
+            else retained[m.topic] = m;
         }
         for (auto& [id, s] : sessions) {
             if (!s.connected) continue;
@@ -177,10 +177,8 @@ struct NCLINK_LOCAL LoopbackBroker::Impl {
                 if (auto it = sessions.find(id); !id.empty() && it != sessions.end()) target = it->second.client;
             }
             if (!target) continue;
-            if (auto* d = std::get_if<Deliver>(&e))
-                target->on_message(d->message);
-            else if (auto* l = std::get_if<Link>(&e))
-                target->on_link(l->state, l->detail);
+            if (auto* d = std::get_if<Deliver>(&e)) target->on_message(d->message);
+            else if (auto* l = std::get_if<Link>(&e)) target->on_link(l->state, l->detail);
         }
     }
 };
@@ -198,10 +196,8 @@ void LoopbackBroker::set_online(bool online) {
     if (impl_->online == online) return;
     impl_->online = online;
     for (auto& [id, s] : impl_->sessions) {
-        if (online)
-            impl_->connect_locked(s);
-        else
-            impl_->lose_locked(s, "broker went away", true);
+        if (online) impl_->connect_locked(s);
+        else impl_->lose_locked(s, "broker went away", true);
     }
 }
 
@@ -237,8 +233,9 @@ public:
         : broker_(broker),
           options_(std::move(options)),
           logger_(std::move(logger)),
-          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); },
-                  logger_) {}
+          outbox_(
+              options_.outbox,
+              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_) {}
 
     ~LoopbackTransport() override { stop(std::chrono::milliseconds(0)); }
 

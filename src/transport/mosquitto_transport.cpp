@@ -56,7 +56,9 @@ public:
           logger_(std::move(logger)),
           loop_(std::move(loop)),
           link_(logger_, options_.broker_url, options_.client_id),
-          outbox_(options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work),
+          outbox_(
+              options_.outbox,
+              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work),
           watchdog_(ack_limit(options_)) {}
 
     ~MosquittoTransport() override {
@@ -151,8 +153,8 @@ private:
         std::shared_lock<std::shared_mutex> client(client_mutex_);
         if (mosq_ == nullptr || link_.state() != LinkState::connected) return false;
         int mid = 0;
-        const int rc = mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()),
-                                         m.payload.data(), m.qos, m.retained);
+        const int rc = mosquitto_publish(mosq_, &mid, m.topic.c_str(), static_cast<int>(m.payload.size()), m.payload.data(),
+                                         m.qos, m.retained);
         if (rc != MOSQ_ERR_SUCCESS) {
             logger_.debug("mqtt: publish to {} refused: {}", m.topic, mosquitto_strerror(rc));
             return false;
@@ -160,10 +162,8 @@ private:
         bool done = false;
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
-            if (early_acks_.erase(mid) > 0)
-                done = true;
-            else
-                in_flight_[mid] = attempt;
+            if (early_acks_.erase(mid) > 0) done = true;
+            else in_flight_[mid] = attempt;
         }
         if (done) outbox_.delivered(attempt);
         loop_->wake(this);
@@ -240,8 +240,8 @@ private:
             const auto* ssl = static_cast<const SSL*>(mosquitto_ssl_get(mosq_));
             const long verify = ssl != nullptr ? SSL_get_verify_result(ssl) : X509_V_OK;
             if (verify != X509_V_OK)
-                return connect_failed(fmt::format("the broker's certificate did not verify: {}", X509_verify_cert_error_string(verify)),
-                                      true);
+                return connect_failed(
+                    fmt::format("the broker's certificate did not verify: {}", X509_verify_cert_error_string(verify)), true);
             // The verdict of an earlier attempt's own handshake stands until a connection succeeds.
             if (tls_verdict_) return connect_failed(*tls_verdict_, true);
             connect_failed("the TLS handshake with the broker failed", false);
@@ -249,10 +249,10 @@ private:
             // verdict: a handshake of our own names it, off this thread (it
             // may take up to the connect timeout; the loop serves everyone).
             if (!diagnosis_.valid())
-                diagnosis_ = std::async(std::launch::async, [host = host_, port = port_, tls = *options_.tls,
-                                                             timeout = options_.connect_timeout] {
-                    return tls_handshake_problem(host, port, tls, timeout);
-                });
+                diagnosis_ = std::async(std::launch::async,
+                                        [host = host_, port = port_, tls = *options_.tls, timeout = options_.connect_timeout] {
+                                            return tls_handshake_problem(host, port, tls, timeout);
+                                        });
             return;
         }
 #endif
@@ -317,13 +317,13 @@ private:
         mosquitto_threaded_set(m, true);
         mosquitto_int_option(m, MOSQ_OPT_PROTOCOL_VERSION, protocol_ >= 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
         mosquitto_int_option(m, MOSQ_OPT_TCP_NODELAY, options_.tcp_nodelay ? 1 : 0);
-        mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM, static_cast<int>(std::min<std::size_t>(options_.outbox.max_in_flight, 65535)));
+        mosquitto_int_option(m, MOSQ_OPT_SEND_MAXIMUM,
+                             static_cast<int>(std::min<std::size_t>(options_.outbox.max_in_flight, 65535)));
         mosquitto_connect_v5_callback_set(m, &MosquittoTransport::on_connack);
         mosquitto_disconnect_callback_set(m, &MosquittoTransport::on_disconnected);
         mosquitto_publish_callback_set(m, &MosquittoTransport::on_published);
         mosquitto_message_callback_set(m, &MosquittoTransport::on_received);
-        if (!options_.username.empty())
-            mosquitto_username_pw_set(m, options_.username.c_str(), options_.password.c_str());
+        if (!options_.username.empty()) mosquitto_username_pw_set(m, options_.username.c_str(), options_.password.c_str());
         if (options_.last_will) {
             const auto& w = *options_.last_will;
             mosquitto_will_set(m, w.topic.c_str(), static_cast<int>(w.payload.size()), w.payload.data(), w.qos, w.retained);
@@ -336,11 +336,10 @@ private:
                 return connect_failed(*problem, true);
             }
             // No CA file: the system's trust store, as paho does.
-            const int rc = mosquitto_tls_set(m, t.ca_file.empty() ? nullptr : t.ca_file.c_str(),
-                                             t.ca_file.empty() ? "/etc/ssl/certs" : nullptr,
-                                             t.cert_file.empty() ? nullptr : t.cert_file.c_str(),
-                                             t.key_file.empty() ? nullptr : t.key_file.c_str(),
-                                             t.key_password.empty() ? nullptr : &MosquittoTransport::key_password);
+            const int rc = mosquitto_tls_set(
+                m, t.ca_file.empty() ? nullptr : t.ca_file.c_str(), t.ca_file.empty() ? "/etc/ssl/certs" : nullptr,
+                t.cert_file.empty() ? nullptr : t.cert_file.c_str(), t.key_file.empty() ? nullptr : t.key_file.c_str(),
+                t.key_password.empty() ? nullptr : &MosquittoTransport::key_password);
             if (rc != MOSQ_ERR_SUCCESS) {
                 mosquitto_destroy(m);
                 return connect_failed(fmt::format("TLS files not usable: {}", mosquitto_strerror(rc)), true);
@@ -422,12 +421,10 @@ private:
                 return;
             }
             // 3.1.1 return codes (3.2.2.3) and MQTT 5 reason codes (3.2.2.2).
-            if (rc == 4 || rc == 0x86)
-                connect_failed("the broker refused the user name or password", true);
+            if (rc == 4 || rc == 0x86) connect_failed("the broker refused the user name or password", true);
             else if (rc == 5 || rc == 0x87)
                 connect_failed("the broker refused the connection: not authorized (user name, password or certificate)", true);
-            else if (rc == 2 || rc == 0x85)
-                connect_failed("the broker refused the client id", true);
+            else if (rc == 2 || rc == 0x85) connect_failed("the broker refused the client id", true);
             else
                 connect_failed(fmt::format("the broker refused the connection: {}",
                                            protocol_ >= 5 ? mosquitto_reason_string(rc) : mosquitto_connack_string(rc)),
@@ -513,7 +510,7 @@ private:
 #endif
 
     friend Result<std::unique_ptr<Transport>> detail::make_mosquitto_transport(MqttOptions, Logger, std::shared_ptr<MqttLoop>,
-                                                                              PollHost*);
+                                                                               PollHost*);
 
     const MqttOptions options_;
     const Logger logger_;
@@ -557,7 +554,7 @@ private:
     bool protocol_settled_ = false;  ///< a CONNACK accepted protocol_
     std::atomic<bool> connected_{false};
     std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way
-    std::optional<std::string> tls_verdict_;              // what it found
+    std::optional<std::string> tls_verdict_;             // what it found
 };
 
 }  // namespace

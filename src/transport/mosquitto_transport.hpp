@@ -19,8 +19,8 @@ bool mosquitto_supports(const std::string& broker_url);
 
 /// `work`: the shared work threads its outbox's sender runs on (a
 /// gateway's, core/serial_work.hpp), or null for a sender thread of its own.
-Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger,
-                                                            std::shared_ptr<MqttLoop> loop, PollHost* work = nullptr);
+Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop,
+                                                            PollHost* work = nullptr);
 
 /// make_mqtt_transport() (a loop of its own, one I/O thread) with its
 /// outbox's sender on `work` (a gateway's shared work threads; null: a

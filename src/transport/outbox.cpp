@@ -49,8 +49,7 @@ Result<void> Outbox::push(Message message) {
 }
 
 bool Outbox::can_send_locked() const {
-    return link_up_ && !stopping_ && in_flight_ < window_ &&
-           std::chrono::steady_clock::now() >= paused_until_;
+    return link_up_ && !stopping_ && in_flight_ < window_ && std::chrono::steady_clock::now() >= paused_until_;
 }
 
 // Caller holds send_mutex_, which keeps hand-overs in pick (= publish) order
@@ -115,8 +114,7 @@ void Outbox::link_down() {
 void Outbox::delivered(std::uint64_t attempt) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        auto it = std::find_if(entries_.begin(), entries_.end(),
-                               [attempt](const Entry& e) { return e.attempt == attempt; });
+        auto it = std::find_if(entries_.begin(), entries_.end(), [attempt](const Entry& e) { return e.attempt == attempt; });
         if (it == entries_.end()) return;  // a late answer for an attempt already put back
         bytes_ -= cost(*it->message);
         --in_flight_;

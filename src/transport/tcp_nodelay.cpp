@@ -115,8 +115,7 @@ std::vector<PeerSocket> sockets_connected_to(const std::string& host, int port) 
         if (fstat(static_cast<int>(fd), &st) != 0 || !S_ISSOCK(st.st_mode)) continue;
         int type = 0;
         socklen_t type_len = sizeof type;
-        if (getsockopt(static_cast<int>(fd), SOL_SOCKET, SO_TYPE, &type, &type_len) != 0 || type != SOCK_STREAM)
-            continue;
+        if (getsockopt(static_cast<int>(fd), SOL_SOCKET, SO_TYPE, &type, &type_len) != 0 || type != SOCK_STREAM) continue;
         sockaddr_storage peer{};
         socklen_t peer_len = sizeof peer;
         if (getpeername(static_cast<int>(fd), reinterpret_cast<sockaddr*>(&peer), &peer_len) != 0) continue;

@@ -135,8 +135,7 @@ std::optional<std::string> tls_handshake_problem(const std::string& host, int po
     } else {
         SSL_CTX_set_default_verify_paths(ctx.get());
     }
-    if (!tls.key_password.empty())
-        SSL_CTX_set_default_passwd_cb_userdata(ctx.get(), const_cast<char*>(tls.key_password.c_str()));
+    if (!tls.key_password.empty()) SSL_CTX_set_default_passwd_cb_userdata(ctx.get(), const_cast<char*>(tls.key_password.c_str()));
     if (!tls.cert_file.empty() && SSL_CTX_use_certificate_chain_file(ctx.get(), tls.cert_file.c_str()) != 1)
         return fmt::format("cannot load the client certificate {}: {}", tls.cert_file, openssl_reason());
     const std::string& key = tls.key_file.empty() ? tls.cert_file : tls.key_file;
@@ -156,18 +155,15 @@ std::optional<std::string> tls_handshake_problem(const std::string& host, int po
     SSL_set_fd(ssl.get(), fd);
     if (!is_ip_literal(host)) SSL_set_tlsext_host_name(ssl.get(), host.c_str());
     if (tls.verify_server) {
-        if (is_ip_literal(host))
-            X509_VERIFY_PARAM_set1_ip_asc(SSL_get0_param(ssl.get()), host.c_str());
-        else
-            SSL_set1_host(ssl.get(), host.c_str());
+        if (is_ip_literal(host)) X509_VERIFY_PARAM_set1_ip_asc(SSL_get0_param(ssl.get()), host.c_str());
+        else SSL_set1_host(ssl.get(), host.c_str());
     }
     std::optional<std::string> problem;
     if (SSL_connect(ssl.get()) != 1) {
         const long verify = SSL_get_verify_result(ssl.get());
         if (tls.verify_server && verify != X509_V_OK)
             problem = fmt::format("the broker's certificate did not verify: {}", X509_verify_cert_error_string(verify));
-        else
-            problem = "the TLS handshake failed: " + openssl_reason();
+        else problem = "the TLS handshake failed: " + openssl_reason();
     } else {
         // TLS 1.3: the broker judges our certificate after our side of the
         // handshake is done; its verdict (an alert) is the first thing read.
@@ -179,8 +175,7 @@ std::optional<std::string> tls_handshake_problem(const std::string& host, int po
         const int got = SSL_read(ssl.get(), &byte, 1);
         if (got <= 0 && SSL_get_error(ssl.get(), got) == SSL_ERROR_SSL)
             problem = "the broker refused our certificate: " + openssl_reason();
-        else
-            SSL_shutdown(ssl.get());
+        else SSL_shutdown(ssl.get());
     }
     ERR_clear_error();
     ::close(fd);

@@ -30,25 +30,21 @@ std::size_t byte_of(const std::string& text, std::size_t index) {
     return text.size();
 }
 
-Result<void> check_span(std::size_t offset, std::size_t length, std::size_t size,
-                        std::string_view unit, const std::string& where) {
-    if (offset > size)
-        return fail(ErrorCode::out_of_range, "offset {} is beyond the {} {} of {}", offset, size, unit, where);
+Result<void> check_span(std::size_t offset, std::size_t length, std::size_t size, std::string_view unit, const std::string& where) {
+    if (offset > size) return fail(ErrorCode::out_of_range, "offset {} is beyond the {} {} of {}", offset, size, unit, where);
     if (length > size - offset)
-        return fail(ErrorCode::out_of_range, "offset {} + length {} is beyond the {} {} of {}", offset,
-                    length, size, unit, where);
+        return fail(ErrorCode::out_of_range, "offset {} + length {} is beyond the {} {} of {}", offset, length, size, unit, where);
     return ok_result();
 }
 
 Result<Json> patch_string(const std::string& text, const Json& value, std::size_t offset,
                           const std::optional<std::size_t>& length, const std::string& where) {
     if (!value.is_string())
-        return fail(ErrorCode::value_type, "a partial write of the string {} needs a string value, got {}",
-                    where, json_type_name(value));
+        return fail(ErrorCode::value_type, "a partial write of the string {} needs a string value, got {}", where,
+                    json_type_name(value));
     const auto& insert = value.get_ref<const std::string&>();
     const std::size_t count = length.value_or(code_points(insert));
-    if (auto span = check_span(offset, count, code_points(text), "characters", where); !span)
-        return std::move(span).error();
+    if (auto span = check_span(offset, count, code_points(text), "characters", where); !span) return std::move(span).error();
     const std::size_t begin = byte_of(text, offset);
     const std::size_t end = byte_of(text, offset + count);
     std::string out;
@@ -57,13 +53,12 @@ Result<Json> patch_string(const std::string& text, const Json& value, std::size_
     return Json(std::move(out));
 }
 
-Result<Json> patch_array(const Json& array, const Json& value, std::size_t offset,
-                         const std::optional<std::size_t>& length, const std::string& where) {
+Result<Json> patch_array(const Json& array, const Json& value, std::size_t offset, const std::optional<std::size_t>& length,
+                         const std::string& where) {
     // An array value is spliced element by element; anything else is one element.
     const Json insert = value.is_array() ? value : Json::array({value});
     const std::size_t count = length.value_or(insert.size());
-    if (auto span = check_span(offset, count, array.size(), "elements", where); !span)
-        return std::move(span).error();
+    if (auto span = check_span(offset, count, array.size(), "elements", where); !span) return std::move(span).error();
     Json out = Json::array();
     for (std::size_t i = 0; i < offset; ++i) out.push_back(array[i]);
     for (const auto& element : insert) out.push_back(element);
@@ -99,15 +94,14 @@ Result<Json> patch_bits(const Json& number, const Json& value, const std::option
         if (value.is_boolean()) on = value.get<bool>();
         else if (value.is_number()) on = value.get<double>() != 0.0;
         else
-            return fail(ErrorCode::value_type, "setting bit {} of {} needs a boolean or number, got {}", at,
-                        where, json_type_name(value));
+            return fail(ErrorCode::value_type, "setting bit {} of {} needs a boolean or number, got {}", at, where,
+                        json_type_name(value));
         const std::uint64_t mask = std::uint64_t{1} << at;
         return register_json(number, on ? (*bits | mask) : (*bits & ~mask));
     }
     const std::size_t width = *length;
     if (width == 0 || width > 64 || at >= 64 || width > 64 - at)
-        return fail(ErrorCode::out_of_range, "bit field offset {} length {} does not fit the 64 bits of {}", at,
-                    width, where);
+        return fail(ErrorCode::out_of_range, "bit field offset {} length {} does not fit the 64 bits of {}", at, width, where);
     std::uint64_t field = 0;
     if (value.is_boolean()) {
         field = value.get<bool>() ? 1 : 0;
@@ -121,23 +115,20 @@ Result<Json> patch_bits(const Json& number, const Json& value, const std::option
         const double d = value.get<double>();
         if (!std::isfinite(d) || d != std::floor(d))
             return fail(ErrorCode::value_type, "bit field value {} is not an integer", d);
-        if (d < 0 || d >= 18446744073709551616.0)
-            return fail(ErrorCode::out_of_range, "bit field value {} does not fit", d);
+        if (d < 0 || d >= 18446744073709551616.0) return fail(ErrorCode::out_of_range, "bit field value {} does not fit", d);
         field = static_cast<std::uint64_t>(d);
     } else {
-        return fail(ErrorCode::value_type, "a bit field of {} needs an integer value, got {}", where,
-                    json_type_name(value));
+        return fail(ErrorCode::value_type, "a bit field of {} needs an integer value, got {}", where, json_type_name(value));
     }
     const std::uint64_t mask = width == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << width) - 1);
-    if ((field & ~mask) != 0)
-        return fail(ErrorCode::out_of_range, "value {} does not fit a bit field of {} bits", field, width);
+    if ((field & ~mask) != 0) return fail(ErrorCode::out_of_range, "value {} does not fit a bit field of {} bits", field, width);
     return register_json(number, (*bits & ~(mask << at)) | (field << at));
 }
 
 }  // namespace
 
-Result<Json> element_part(const Json& element, const std::optional<std::size_t>& offset,
-                          const std::optional<std::size_t>& length, const std::string& where) {
+Result<Json> element_part(const Json& element, const std::optional<std::size_t>& offset, const std::optional<std::size_t>& length,
+                          const std::string& where) {
     const std::size_t at = offset.value_or(0);
     if (element.is_string()) {
         const auto& text = element.get_ref<const std::string&>();
@@ -159,8 +150,7 @@ Result<Json> element_part(const Json& element, const std::optional<std::size_t>&
         if (!bits) return std::move(bits).error();
         const std::size_t width = length.value_or(1);
         if (width == 0 || width > 64 || at >= 64 || width > 64 - at)
-            return fail(ErrorCode::out_of_range, "bit field offset {} length {} does not fit the 64 bits of {}", at,
-                        width, where);
+            return fail(ErrorCode::out_of_range, "bit field offset {} length {} does not fit the 64 bits of {}", at, width, where);
         const std::uint64_t mask = width == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << width) - 1);
         return Json((*bits >> at) & mask);
     }
@@ -173,16 +163,14 @@ Result<Json> patch_element(const Json& element, const Json& value, const std::op
                            const std::optional<std::size_t>& length, const std::string& where) {
     if (!offset && !length) {
         if (!same_value_type(element, value))
-            return fail(ErrorCode::value_type, "{} holds a {}, the new value is a {}", where,
-                        json_type_name(element), json_type_name(value));
+            return fail(ErrorCode::value_type, "{} holds a {}, the new value is a {}", where, json_type_name(element),
+                        json_type_name(value));
         return value;
     }
-    if (element.is_string())
-        return patch_string(element.get_ref<const std::string&>(), value, offset.value_or(0), length, where);
+    if (element.is_string()) return patch_string(element.get_ref<const std::string&>(), value, offset.value_or(0), length, where);
     if (element.is_array()) return patch_array(element, value, offset.value_or(0), length, where);
     if (element.is_number()) return patch_bits(element, value, offset, length, where);
-    if (element.is_null())
-        return fail(ErrorCode::unavailable, "{} is not known, a partial write needs its current value", where);
+    if (element.is_null()) return fail(ErrorCode::unavailable, "{} is not known, a partial write needs its current value", where);
     return fail(ErrorCode::value_type, "offset/length apply to strings, arrays and integers, {} is a {}", where,
                 json_type_name(element));
 }

@@ -41,8 +41,7 @@ bool to_size(std::string_view digits, std::size_t& out) {
 Result<std::size_t> parse_count(const Json& value, std::string_view what) {
     if (value.is_number_unsigned()) {
         const auto n = value.get<std::uint64_t>();
-        if (n > std::numeric_limits<std::size_t>::max())
-            return fail(ErrorCode::out_of_range, "{} {} is too large", what, n);
+        if (n > std::numeric_limits<std::size_t>::max()) return fail(ErrorCode::out_of_range, "{} {} is too large", what, n);
         return static_cast<std::size_t>(n);
     }
     if (value.is_number_integer()) {
@@ -52,12 +51,10 @@ Result<std::size_t> parse_count(const Json& value, std::string_view what) {
     }
     if (value.is_number_float()) {
         const double d = value.get<double>();
-        if (!std::isfinite(d) || d != std::floor(d))
-            return fail(ErrorCode::value_type, "{} must be an integer, got {}", what, d);
+        if (!std::isfinite(d) || d != std::floor(d)) return fail(ErrorCode::value_type, "{} must be an integer, got {}", what, d);
         if (d < 0) return fail(ErrorCode::out_of_range, "{} {} is negative", what, d);
         // 2^64 as a double; anything at or above it does not fit.
-        if (d >= 18446744073709551616.0 ||
-            d > static_cast<double>(std::numeric_limits<std::size_t>::max()))
+        if (d >= 18446744073709551616.0 || d > static_cast<double>(std::numeric_limits<std::size_t>::max()))
             return fail(ErrorCode::out_of_range, "{} {} is too large", what, d);
         return static_cast<std::size_t>(d);
     }
@@ -65,14 +62,12 @@ Result<std::size_t> parse_count(const Json& value, std::string_view what) {
         const std::string_view text = trim(value.get_ref<const std::string&>());
         if (!text.empty() && text.front() == '-' && all_digits(text.substr(1)))
             return fail(ErrorCode::out_of_range, "{} \"{}\" is negative", what, text);
-        if (!all_digits(text))
-            return fail(ErrorCode::value_type, "{} \"{}\" is not a number", what, text);
+        if (!all_digits(text)) return fail(ErrorCode::value_type, "{} \"{}\" is not a number", what, text);
         std::size_t n = 0;
         if (!to_size(text, n)) return fail(ErrorCode::out_of_range, "{} \"{}\" is too large", what, text);
         return n;
     }
-    return fail(ErrorCode::value_type, "{} must be a number or a numeric string, got {}", what,
-                json_type_name(value));
+    return fail(ErrorCode::value_type, "{} must be a number or a numeric string, got {}", what, json_type_name(value));
 }
 
 }  // namespace values_detail
@@ -94,11 +89,9 @@ Result<IndexRange> parse_index(const Json& entry) {
     const std::string_view text = values_detail::trim(entry.get_ref<const std::string&>());
     const auto dash = text.find('-');
     if (dash == std::string_view::npos) {
-        if (!values_detail::all_digits(text))
-            return fail(ErrorCode::value_type, "index \"{}\" is not a number", text);
+        if (!values_detail::all_digits(text)) return fail(ErrorCode::value_type, "index \"{}\" is not a number", text);
         std::size_t n = 0;
-        if (!values_detail::to_size(text, n))
-            return fail(ErrorCode::out_of_range, "index \"{}\" is too large", text);
+        if (!values_detail::to_size(text, n)) return fail(ErrorCode::out_of_range, "index \"{}\" is too large", text);
         return IndexRange{n, n};
     }
     // A range "first-last": both ends required, digits only, first <= last.
@@ -109,8 +102,7 @@ Result<IndexRange> parse_index(const Json& entry) {
     IndexRange range;
     if (!values_detail::to_size(first_text, range.first) || !values_detail::to_size(last_text, range.last))
         return fail(ErrorCode::out_of_range, "index range \"{}\" is too large", text);
-    if (range.first > range.last)
-        return fail(ErrorCode::syntax_error, "index range \"{}\" ends before it starts", text);
+    if (range.first > range.last) return fail(ErrorCode::syntax_error, "index range \"{}\" ends before it starts", text);
     return range;
 }
 
@@ -124,8 +116,7 @@ std::size_t index_count(const std::vector<IndexRange>& ranges) noexcept {
     return total;
 }
 
-Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges,
-                                                std::size_t length) {
+Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& ranges, std::size_t length) {
     for (const auto& range : ranges) {
         if (range.last >= length) {
             const auto bad = range.first >= length ? range.first : range.last;
@@ -134,8 +125,7 @@ Result<std::vector<std::size_t>> expand_indexes(const std::vector<IndexRange>& r
     }
     const std::size_t total = index_count(ranges);
     if (total > max_selected_indexes)
-        return fail(ErrorCode::memory_configured, "{} indexes selected, at most {} are served", total,
-                    max_selected_indexes);
+        return fail(ErrorCode::memory_configured, "{} indexes selected, at most {} are served", total, max_selected_indexes);
     std::vector<std::size_t> out;
     out.reserve(total);
     for (const auto& range : ranges)

@@ -48,15 +48,13 @@ Result<Json> evaluate(const QueryParams& request, const Json& current, DataKind 
             for (const auto& entry : current.items()) out.push_back(entry.key());
             return out;
         case QueryOperation::get_length:
-            if (kind != DataKind::list)
-                return fail(ErrorCode::unsupported_get_length, "get_length needs a list item");
+            if (kind != DataKind::list) return fail(ErrorCode::unsupported_get_length, "get_length needs a list item");
             out.push_back(current.size());
             return out;
         case QueryOperation::get_value:
         case QueryOperation::get_attributes: break;
     }
-    if (kind == DataKind::single)
-        return fail(ErrorCode::arguments_nimiety, "a single-valued item is accessed only as a whole");
+    if (kind == DataKind::single) return fail(ErrorCode::arguments_nimiety, "a single-valued item is accessed only as a whole");
     if (kind == DataKind::dict) {
         if (!request.indexes.empty()) return fail(ErrorCode::arguments_nimiety, "a dict item takes keys");
         if (request.keys.empty()) return fail(ErrorCode::no_key, "{} needs keys", to_string(request.operation));

@@ -31,8 +31,7 @@ struct RawParams {
 };
 
 Result<RawParams> scan(const Json& params, bool for_set) {
-    if (!params.is_object())
-        return fail(ErrorCode::syntax_error, "params must be a JSON object, got {}", json_type_name(params));
+    if (!params.is_object()) return fail(ErrorCode::syntax_error, "params must be a JSON object, got {}", json_type_name(params));
     RawParams raw;
     for (const auto& [name, item] : params.items()) {
         const Json* const present = (item.is_null() && name != "value") ? nullptr : &item;
@@ -45,17 +44,14 @@ Result<RawParams> scan(const Json& params, bool for_set) {
         else if (for_set && name == "values") raw.values = present;
         else if (name == "offset") raw.offset = present;  // Set, and appendix A's Query_Params
         else if (name == "length") raw.length = present;
-        else
-            return fail(ErrorCode::keys_of_arguments, "unknown parameter \"{}\" in {} params", name,
-                        for_set ? "Set" : "Query");
+        else return fail(ErrorCode::keys_of_arguments, "unknown parameter \"{}\" in {} params", name, for_set ? "Set" : "Query");
     }
     return raw;
 }
 
 std::string lower(const std::string& text) {
     std::string out = text;
-    std::transform(out.begin(), out.end(), out.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return out;
 }
 
@@ -74,13 +70,11 @@ Result<std::vector<std::string>> parse_keys(const RawParams& raw) {
         keys.push_back(given.get<std::string>());
     } else if (given.is_array()) {
         for (const auto& key : given) {
-            if (!key.is_string())
-                return fail(ErrorCode::value_type, "keys must be strings, got {}", json_type_name(key));
+            if (!key.is_string()) return fail(ErrorCode::value_type, "keys must be strings, got {}", json_type_name(key));
             keys.push_back(key.get<std::string>());
         }
     } else {
-        return fail(ErrorCode::value_type, "key must be a string or an array of strings, got {}",
-                    json_type_name(given));
+        return fail(ErrorCode::value_type, "key must be a string or an array of strings, got {}", json_type_name(given));
     }
     if (keys.empty()) return fail(ErrorCode::no_key, "the keys array is empty");
     return keys;
@@ -108,8 +102,7 @@ Result<std::vector<IndexRange>> parse_indexes(const RawParams& raw) {
     return ranges;
 }
 
-Result<void> parse_selectors(const RawParams& raw, std::vector<std::string>& keys,
-                             std::vector<IndexRange>& indexes) {
+Result<void> parse_selectors(const RawParams& raw, std::vector<std::string>& keys, std::vector<IndexRange>& indexes) {
     if (raw.has_keys()) {
         auto parsed = parse_keys(raw);
         if (!parsed) return std::move(parsed).error();
@@ -188,13 +181,11 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind) {
     switch (request.operation) {
         case QueryOperation::get_keys:
             if (kind != DataKind::dict)
-                return fail(ErrorCode::unsupported_get_keys, "get_keys needs a dict item, this one is {}",
-                            to_string(kind));
+                return fail(ErrorCode::unsupported_get_keys, "get_keys needs a dict item, this one is {}", to_string(kind));
             break;
         case QueryOperation::get_length:
             if (kind != DataKind::list)
-                return fail(ErrorCode::unsupported_get_length, "get_length needs a list item, this one is {}",
-                            to_string(kind));
+                return fail(ErrorCode::unsupported_get_length, "get_length needs a list item, this one is {}", to_string(kind));
             break;
         case QueryOperation::get_attributes:
             if (kind == DataKind::single)
@@ -204,8 +195,8 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind) {
         case QueryOperation::get_value: break;
     }
     if (auto ok = check_selector_kind(raw, kind); !ok) return std::move(ok).error();
-    const bool takes_selectors = request.operation == QueryOperation::get_value ||
-                                 request.operation == QueryOperation::get_attributes;
+    const bool takes_selectors =
+        request.operation == QueryOperation::get_value || request.operation == QueryOperation::get_attributes;
     if (!takes_selectors && (raw.has_keys() || raw.has_indexes()))
         return fail(ErrorCode::arguments_nimiety, "{} takes no key/index", to_string(request.operation));
     if (auto ok = parse_selectors(raw, request.keys, request.indexes); !ok) return std::move(ok).error();
@@ -218,8 +209,7 @@ Result<QueryParams> parse_query(const Json& params, DataKind kind) {
     // Appendix A Query_Params offset/length: a part of list elements, read
     // as a Set writes it (8.2.13 example 3).
     if (raw.offset || raw.length) {
-        if (kind != DataKind::list)
-            return fail(ErrorCode::arguments_nimiety, "offset/length apply only to list elements");
+        if (kind != DataKind::list) return fail(ErrorCode::arguments_nimiety, "offset/length apply only to list elements");
         if (request.operation != QueryOperation::get_value)
             return fail(ErrorCode::arguments_nimiety, "{} takes no offset/length", to_string(request.operation));
         if (request.indexes.empty()) return fail(ErrorCode::no_index, "offset/length need the index of an element");
@@ -259,14 +249,12 @@ Result<SetParams> parse_set(const Json& params, DataKind kind) {
 
     if (auto ok = check_selector_kind(raw, kind); !ok) return std::move(ok).error();
     const bool partial = raw.offset || raw.length;
-    if (partial && kind != DataKind::list)
-        return fail(ErrorCode::arguments_nimiety, "offset/length apply only to list elements");
+    if (partial && kind != DataKind::list) return fail(ErrorCode::arguments_nimiety, "offset/length apply only to list elements");
     if (partial && op != SetOperation::set_value)
         return fail(ErrorCode::arguments_nimiety, "{} takes no offset/length", to_string(op));
     if (raw.value && raw.values) return fail(ErrorCode::arguments_nimiety, "both value and values given");
     const bool has_value = raw.value || raw.values;
-    if (op == SetOperation::remove && has_value)
-        return fail(ErrorCode::arguments_nimiety, "delete takes no value");
+    if (op == SetOperation::remove && has_value) return fail(ErrorCode::arguments_nimiety, "delete takes no value");
 
     if (auto ok = parse_selectors(raw, request.keys, request.indexes); !ok) return std::move(ok).error();
 
@@ -303,10 +291,8 @@ Result<SetParams> parse_set(const Json& params, DataKind kind) {
     const std::size_t targets = request.target_count();
     const std::size_t given = request.values.size();
     if (given == 0) return fail(ErrorCode::parameter_missing, "the values array is empty");
-    if (given != 1 && given < targets)
-        return fail(ErrorCode::parameter_missing, "{} values for {} targets", given, targets);
-    if (given > targets)
-        return fail(ErrorCode::arguments_nimiety, "{} values for {} target(s)", given, targets);
+    if (given != 1 && given < targets) return fail(ErrorCode::parameter_missing, "{} values for {} targets", given, targets);
+    if (given > targets) return fail(ErrorCode::arguments_nimiety, "{} values for {} target(s)", given, targets);
     return request;
 }
 

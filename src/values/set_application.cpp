@@ -29,8 +29,7 @@ Result<void> check_request(const SetParams& request, DataKind kind) {
     const bool partial = request.offset || request.length;
     if (partial && (kind != DataKind::list || op != SetOperation::set_value))
         return fail(ErrorCode::arguments_nimiety, "offset/length apply only to set_value on list elements");
-    if (partial && request.whole_item())
-        return fail(ErrorCode::no_index, "offset/length need the index of an element");
+    if (partial && request.whole_item()) return fail(ErrorCode::no_index, "offset/length need the index of an element");
     if (op != SetOperation::set_value && request.whole_item()) {
         if (kind == DataKind::dict) return fail(ErrorCode::no_key, "{} needs a key", to_string(op));
         return fail(ErrorCode::no_index, "{} needs an index", to_string(op));
@@ -42,8 +41,7 @@ Result<void> check_request(const SetParams& request, DataKind kind) {
     const auto targets = request.target_count();
     const auto given = request.values.size();
     if (given == 0) return fail(ErrorCode::parameter_missing, "{} needs a value", to_string(op));
-    if (given != 1 && given < targets)
-        return fail(ErrorCode::parameter_missing, "{} values for {} targets", given, targets);
+    if (given != 1 && given < targets) return fail(ErrorCode::parameter_missing, "{} values for {} targets", given, targets);
     if (given > targets) return fail(ErrorCode::arguments_nimiety, "{} values for {} target(s)", given, targets);
     return ok_result();
 }
@@ -62,8 +60,7 @@ Result<void> set_whole(const SetParams& request, Json& current, DataKind kind) {
 }
 
 Result<void> set_dict(const SetParams& request, Json& current) {
-    if (!current.is_object())
-        return fail(ErrorCode::unavailable, "the dict value is {}, not an object", json_type_name(current));
+    if (!current.is_object()) return fail(ErrorCode::unavailable, "the dict value is {}, not an object", json_type_name(current));
     const auto& keys = request.keys;
     switch (request.operation) {
         case SetOperation::set_value: {
@@ -71,10 +68,9 @@ Result<void> set_dict(const SetParams& request, Json& current) {
             changes.reserve(keys.size());
             for (std::size_t i = 0; i < keys.size(); ++i) {
                 const auto found = current.find(keys[i]);
-                if (found == current.end())
-                    return fail(ErrorCode::key_error, "key \"{}\" is not in the dict", keys[i]);
-                auto element = patch_element(*found, request.value_for(i), std::nullopt, std::nullopt,
-                                             fmt::format("key \"{}\"", keys[i]));
+                if (found == current.end()) return fail(ErrorCode::key_error, "key \"{}\" is not in the dict", keys[i]);
+                auto element =
+                    patch_element(*found, request.value_for(i), std::nullopt, std::nullopt, fmt::format("key \"{}\"", keys[i]));
                 if (!element) return std::move(element).error();
                 changes.emplace_back(&keys[i], std::move(*element));
             }
@@ -85,8 +81,7 @@ Result<void> set_dict(const SetParams& request, Json& current) {
             std::set<std::string_view> adding;
             for (const auto& key : keys) {
                 if (current.contains(key)) return fail(ErrorCode::key_error, "key \"{}\" already exists", key);
-                if (!adding.insert(key).second)
-                    return fail(ErrorCode::key_error, "key \"{}\" is added twice", key);
+                if (!adding.insert(key).second) return fail(ErrorCode::key_error, "key \"{}\" is added twice", key);
             }
             for (std::size_t i = 0; i < keys.size(); ++i) current[keys[i]] = request.value_for(i);
             return ok_result();
@@ -102,8 +97,7 @@ Result<void> set_dict(const SetParams& request, Json& current) {
 }
 
 Result<void> set_list(const SetParams& request, Json& current) {
-    if (!current.is_array())
-        return fail(ErrorCode::unavailable, "the list value is {}, not an array", json_type_name(current));
+    if (!current.is_array()) return fail(ErrorCode::unavailable, "the list value is {}, not an array", json_type_name(current));
     const std::size_t size = current.size();
     switch (request.operation) {
         case SetOperation::set_value: {
@@ -129,8 +123,7 @@ Result<void> set_list(const SetParams& request, Json& current) {
                 return fail(ErrorCode::arguments_nimiety, "add inserts at one index");
             const std::size_t at = request.indexes.front().first;
             if (at > size)
-                return fail(ErrorCode::out_of_range, "index {} is beyond the list length {} (add appends at {})", at,
-                            size, size);
+                return fail(ErrorCode::out_of_range, "index {} is beyond the list length {} (add appends at {})", at, size, size);
             current.insert(current.begin() + static_cast<std::ptrdiff_t>(at), request.value_for(0));
             return ok_result();
         }
@@ -152,8 +145,7 @@ Result<void> set_list(const SetParams& request, Json& current) {
 Result<void> apply(const SetParams& request, Json& current, DataKind kind, bool setable) {
     if (!setable) return fail(ErrorCode::permission_denied, "the item is not setable");
     if (auto ok = check_request(request, kind); !ok) return std::move(ok).error();
-    if (request.operation == SetOperation::set_value && request.whole_item())
-        return set_whole(request, current, kind);
+    if (request.operation == SetOperation::set_value && request.whole_item()) return set_whole(request, current, kind);
     if (kind == DataKind::dict) return set_dict(request, current);
     return set_list(request, current);
 }

@@ -27,15 +27,13 @@ bool fits_kind(const Json& value, DataKind kind) noexcept;
 /// Computes the element that results from writing `value` into `element`
 /// under the request's offset/length (or plain replacement without them),
 /// applying the set type rule. `where` names the element in messages.
-Result<Json> patch_element(const Json& element, const Json& value,
-                           const std::optional<std::size_t>& offset,
-                           const std::optional<std::size_t>& length,
-                           const std::string& where);
+Result<Json> patch_element(const Json& element, const Json& value, const std::optional<std::size_t>& offset,
+                           const std::optional<std::size_t>& length, const std::string& where);
 
 /// The part of `element` that offset/length select, as patch_element()
 /// writes it: code points of a string, elements of an array, bits of an
 /// integer (without length: the one bit at offset, 0 or 1).
-Result<Json> element_part(const Json& element, const std::optional<std::size_t>& offset,
-                          const std::optional<std::size_t>& length, const std::string& where);
+Result<Json> element_part(const Json& element, const std::optional<std::size_t>& offset, const std::optional<std::size_t>& length,
+                          const std::string& where);
 
 }  // namespace nclink::values_detail

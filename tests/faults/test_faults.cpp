@@ -136,9 +136,9 @@ TEST_CASE("broker killed -9 mid-stream: no row and no event lost or repeated") {
     const auto produced = rows_published(*adapter);
     const auto fired = adapter->stats().features["events"]["fired"].get<std::uint64_t>();
     const bool all = eventually([&] { return app.ledger.rows() >= produced && app.distinct_events() >= fired; }, 20s);
-    INFO("rows produced " << produced << ", received " << app.ledger.rows() << "; events fired " << fired
-                          << ", received " << app.distinct_events() << "; spool " << spool(*adapter).dump()
-                          << "; client " << app.client->stats().duplicates << " repeats filtered");
+    INFO("rows produced " << produced << ", received " << app.ledger.rows() << "; events fired " << fired << ", received "
+                          << app.distinct_events() << "; spool " << spool(*adapter).dump() << "; client "
+                          << app.client->stats().duplicates << " repeats filtered");
     CHECK(all);
     CHECK(app.ledger.rows() == produced);
     CHECK(app.ledger.duplicates() == 0);
@@ -153,8 +153,8 @@ TEST_CASE("adapter killed -9 mid-stream: what it published arrives once, and the
     App app(broker, "fault-adapter");
     ScratchDir dir("nclink-ftest-adapter-");
     std::filesystem::create_directories(dir.path);
-    ChildProcess sim({bin("nclink-sim"), "--broker", broker.url(), "--log-level", "warn"},
-                     (dir.path / "sim.out").string(), (dir.path / "sim.err").string());
+    ChildProcess sim({bin("nclink-sim"), "--broker", broker.url(), "--log-level", "warn"}, (dir.path / "sim.out").string(),
+                     (dir.path / "sim.err").string());
     sim.start();
     REQUIRE(eventually([&] { return app.ledger.rows("ch_slow") >= 10; }, 20s));
     sim.kill9();
@@ -163,8 +163,7 @@ TEST_CASE("adapter killed -9 mid-stream: what it published arrives once, and the
     REQUIRE(eventually([&] { return app.ledger.rows("ch_slow") >= rows_at_crash + 10; }, 20s));
     sim.terminate();  // a clean stop flushes what it sampled
     std::this_thread::sleep_for(300ms);
-    INFO("ch_slow rows " << app.ledger.rows("ch_slow") << ", gaps " << app.ledger.gaps("ch_slow").size() << "; "
-                         << sim.err());
+    INFO("ch_slow rows " << app.ledger.rows("ch_slow") << ", gaps " << app.ledger.gaps("ch_slow").size() << "; " << sim.err());
     CHECK(app.ledger.duplicates() == 0);
     // At most one hole: the rows of the killed process's last upload period
     // and the restart (none when the restart fell inside one period); none
@@ -179,8 +178,7 @@ TEST_CASE("agent killed -9 mid-stream: the data flows on, and Discovery lists th
     ScratchDir dir("nclink-ftest-agent-");
     const auto state = dir.path / "state";
     std::filesystem::create_directories(state);
-    ChildProcess agent({bin("nclink-agent"), "--broker", broker.url(), "--state-dir", state.string(), "--log-level",
-                        "info"},
+    ChildProcess agent({bin("nclink-agent"), "--broker", broker.url(), "--state-dir", state.string(), "--log-level", "info"},
                        (dir.path / "agent.out").string(), (dir.path / "agent.err").string());
     agent.start();
     App app(broker, "fault-agent");
@@ -191,15 +189,17 @@ TEST_CASE("agent killed -9 mid-stream: the data flows on, and Discovery lists th
     // start (measured from the moment the program is started).
     const auto lists_adapter = [&](std::chrono::milliseconds& took) {
         const auto begun = std::chrono::steady_clock::now();
-        const bool found = eventually([&] {
-            RequestOptions o;
-            o.timeout = 300ms;
-            auto list = app.client->discover(o);
-            if (!list) return false;
-            for (const auto& entry : *list)
-                if (entry.guid == kDev && entry.status == "online") return true;
-            return false;
-        }, 20s);
+        const bool found = eventually(
+            [&] {
+                RequestOptions o;
+                o.timeout = 300ms;
+                auto list = app.client->discover(o);
+                if (!list) return false;
+                for (const auto& entry : *list)
+                    if (entry.guid == kDev && entry.status == "online") return true;
+                return false;
+            },
+            20s);
         took = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - begun);
         return found;
     };
@@ -248,9 +248,9 @@ TEST_CASE("application killed -9 mid-stream: its persistent session keeps the ro
         REQUIRE(session->wait_connected(10s));
         std::this_thread::sleep_for(300ms);  // the SUBACK
     }
-    ChildProcess watch({bin("nclink"), "watch", "--json", "--persistent", "--client-id", "fault-app", "--device", kDev,
-                        "--broker", broker.url()},
-                       out, (dir.path / "watch.err").string());
+    ChildProcess watch(
+        {bin("nclink"), "watch", "--json", "--persistent", "--client-id", "fault-app", "--device", kDev, "--broker", broker.url()},
+        out, (dir.path / "watch.err").string());
     auto adapter = started_adapter(sim_config(broker), sim_for(sim_mill_path()));
     watch.start();
     const auto received = [&] {
@@ -266,15 +266,17 @@ TEST_CASE("application killed -9 mid-stream: its persistent session keeps the ro
     adapter->stop(5s);
     const auto produced = rows_published(*adapter);
     RowLedger ledger(kIntervals);
-    const bool all = eventually([&] {
-        RowLedger now(kIntervals);
-        read_watch_output(watch.out(), now);
-        return now.rows() >= produced;
-    }, 20s);
+    const bool all = eventually(
+        [&] {
+            RowLedger now(kIntervals);
+            read_watch_output(watch.out(), now);
+            return now.rows() >= produced;
+        },
+        20s);
     watch.terminate();
     read_watch_output(watch.out(), ledger);
-    INFO("rows produced " << produced << ", received " << ledger.rows() << ", holes " << ledger.holes()
-                          << ", repeated " << ledger.duplicates() << "; " << watch.err());
+    INFO("rows produced " << produced << ", received " << ledger.rows() << ", holes " << ledger.holes() << ", repeated "
+                          << ledger.duplicates() << "; " << watch.err());
     CHECK(all);
     CHECK(ledger.rows() == produced);
     // The one DTU being handled at the kill may come again (it was not yet

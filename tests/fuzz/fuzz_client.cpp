@@ -56,7 +56,9 @@ struct Peer {
         std::lock_guard<std::mutex> lock(mutex);
         return requests;
     }
-    void send(const std::string& topic, const std::string& payload) { (void)transport->publish(Message{topic, payload, 1, false}); }
+    void send(const std::string& topic, const std::string& payload) {
+        (void)transport->publish(Message{topic, payload, 1, false});
+    }
 };
 
 struct World {
@@ -128,7 +130,8 @@ void exchange(World& w, int which, std::string_view payload) {
             reply_topic = topics::discovery_response(kEx);
             break;
         default:
-            w.client->call_method_async(kDev, "m", Json::object(), [](const MethodStatus&) {}, complete);
+            w.client->call_method_async(
+                kDev, "m", Json::object(), [](const MethodStatus&) {}, complete);
             reply_topic = topics::method_result(kDev, kEx);
             break;
     }
@@ -136,10 +139,8 @@ void exchange(World& w, int which, std::string_view payload) {
     w.peer.send(reply_topic, with_id(payload, id));
     if (which == 5) w.peer.send(topics::method_status(kDev, kEx), with_id(payload, id));
     Json sync = {{"@id", id}, {"code", "NG"}, {"error", 202}, {"reason", "Unavailable"}};
-    if (which == 3)
-        sync["cli_uuid"] = kEx;
-    else
-        sync["guid"] = kDev;
+    if (which == 3) sync["cli_uuid"] = kEx;
+    else sync["guid"] = kDev;
     if (which == 5) {
         sync["id"] = "m";
         sync["result"] = "error";

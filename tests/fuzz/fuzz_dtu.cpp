@@ -40,7 +40,8 @@ template <class T>
 void request_as_tree(std::string_view payload) {
     std::size_t opened = 0;
     for (const char c : payload) opened += c == '[' || c == '{';
-    if (opened > static_cast<std::size_t>(nclink::max_payload_depth)) return;  // the text path refuses deep nesting (412), the tree has no such limit
+    if (opened > static_cast<std::size_t>(nclink::max_payload_depth))
+        return;  // the text path refuses deep nesting (412), the tree has no such limit
     const nclink::Json tree = nclink::Json::parse(payload.begin(), payload.end(), nullptr, false);
     if (tree.is_discarded() || !tree.is_object()) return;
     const auto from_text = nclink::decode<T>(payload);
@@ -57,12 +58,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view input(reinterpret_cast<const char*>(data), size);
 
     exercise_all<RegisterRequest, RegisterResponse, DiscoveryRequest, DiscoveryResponse, ProbeVersionRequest,
-                 ProbeVersionResponse, ProbeQueryRequest, ProbeQueryResponse, ProbeSetRequest, ProbeSetResponse,
-                 QueryRequest, QueryResponse, SetRequest, SetResponse, SampleDtu, NotifyState, SampleRegisterRequest,
-                 SampleRegisterResponse, SampleUnregisterRequest, SampleUnregisterResponse, MethodCall, MethodStatus,
-                 MethodResult, MethodControlRequest, MethodControlResponse, EventRegisterRequest,
-                 EventRegisterResponse, EventUnregisterRequest, EventUnregisterResponse, EventData, DevUnreachable>(
-        input);
+                 ProbeVersionResponse, ProbeQueryRequest, ProbeQueryResponse, ProbeSetRequest, ProbeSetResponse, QueryRequest,
+                 QueryResponse, SetRequest, SetResponse, SampleDtu, NotifyState, SampleRegisterRequest, SampleRegisterResponse,
+                 SampleUnregisterRequest, SampleUnregisterResponse, MethodCall, MethodStatus, MethodResult, MethodControlRequest,
+                 MethodControlResponse, EventRegisterRequest, EventRegisterResponse, EventUnregisterRequest,
+                 EventUnregisterResponse, EventData, DevUnreachable>(input);
     (void)peek_message_id(input);
     request_as_tree<QueryRequest>(input);
     request_as_tree<SetRequest>(input);

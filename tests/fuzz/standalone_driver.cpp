@@ -32,9 +32,9 @@ std::vector<std::string> load_corpus(const std::filesystem::path& dir) {
 }
 
 std::string mutate(std::string input, const std::vector<std::string>& corpus, std::mt19937& rng) {
-    static const char* const kTokens[] = {"{", "}", "[", "]", "\"", ":", ",", "null", "true",
-                                          "-1", "1e309", "\"\\u0000\"", "\xff\xfe", "\"id\"",
-                                          "\"ids\"", "\"@id\"", "0", "{}", "[]", "\"5-8\""};
+    static const char* const kTokens[] = {"{",       "}",       "[",  "]",     "\"",          ":",        ",",
+                                          "null",    "true",    "-1", "1e309", "\"\\u0000\"", "\xff\xfe", "\"id\"",
+                                          "\"ids\"", "\"@id\"", "0",  "{}",    "[]",          "\"5-8\""};
     const int steps = 1 + static_cast<int>(rng() % 4);
     for (int s = 0; s < steps; ++s) {
         const std::size_t pos = input.empty() ? 0 : rng() % (input.size() + 1);
@@ -75,8 +75,7 @@ int main(int argc, char** argv) {
     }
     const auto corpus = load_corpus(argv[1]);
     const long mutations = argc > 2 ? std::strtol(argv[2], nullptr, 10) : 1000;
-    for (const auto& input : corpus)
-        LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
+    for (const auto& input : corpus) LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
     std::mt19937 rng(20221012);  // fixed: the standard's publication date
     std::vector<std::string> seeds = corpus;
     if (seeds.empty()) seeds.emplace_back("{}");

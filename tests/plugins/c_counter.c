@@ -84,12 +84,9 @@ static int bind(void* self, const nclink_bind_request* request, const nclink_tex
     (void)reason;
     ++c->binds;
     for (i = 0; i < request->count; ++i) {
-        if (strcmp(request->ids[i], "hidden") == 0)
-            request->handles[i] = NCLINK_NOT_SERVED;
-        else if (c->vendor_id[0] != '\0' && strcmp(request->ids[i], c->vendor_id) == 0)
-            request->handles[i] = P_VENDOR;
-        else
-            request->handles[i] = (uint64_t)point_of_id(request->ids[i]);
+        if (strcmp(request->ids[i], "hidden") == 0) request->handles[i] = NCLINK_NOT_SERVED;
+        else if (c->vendor_id[0] != '\0' && strcmp(request->ids[i], c->vendor_id) == 0) request->handles[i] = P_VENDOR;
+        else request->handles[i] = (uint64_t)point_of_id(request->ids[i]);
     }
     nclink_logf(c->host, NCLINK_LOG_DEBUG, "bound %zu point(s)", request->count);
     return NCLINK_OK;
@@ -127,10 +124,8 @@ static void read_points(void* self, const nclink_read_request* request, const nc
                     nclink_json_end_object(&w);
                 }
                 nclink_json_end_array(&w);
-                if (nclink_json_ok(&w))
-                    out->json(out->context, i, buf, w.length);
-                else
-                    out->error(out->context, i, NCLINK_E_UNAVAILABLE, "tool table too long");
+                if (nclink_json_ok(&w)) out->json(out->context, i, buf, w.length);
+                else out->error(out->context, i, NCLINK_E_UNAVAILABLE, "tool table too long");
                 break;
             }
             case P_HANDLE: out->uint64(out->context, i, handle); break;
@@ -193,8 +188,18 @@ static int link_state(void* self, const nclink_text_output* reason) {
     return NCLINK_LINK_DISCONNECTED;
 }
 
-static const nclink_driver_descriptor descriptor = {
-    NCLINK_DRIVER_ABI_VERSION, sizeof(nclink_driver_descriptor), "c-counter", "1.2.3", 0,
-    create, destroy, read_points, bind, write_point, call_method, claims, link_state};
+static const nclink_driver_descriptor descriptor = {NCLINK_DRIVER_ABI_VERSION,
+                                                    sizeof(nclink_driver_descriptor),
+                                                    "c-counter",
+                                                    "1.2.3",
+                                                    0,
+                                                    create,
+                                                    destroy,
+                                                    read_points,
+                                                    bind,
+                                                    write_point,
+                                                    call_method,
+                                                    claims,
+                                                    link_state};
 
 __attribute__((visibility("default"))) const nclink_driver_descriptor* nclink_driver_entry(void) { return &descriptor; }

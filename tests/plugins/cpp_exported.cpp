@@ -23,14 +23,10 @@ public:
 
     void read(const std::vector<nclink::PointRef>& points, std::vector<nclink::Result<nclink::Json>>& results) override {
         for (std::size_t i = 0; i < points.size(); ++i) {
-            if (points[i].id == "h")
-                results[i] = nclink::Json(points[i].handle);
-            else if (points[i].id == "vendor")
-                results[i] = nclink::vendor_error(-3, "coolant low");
-            else if (points[i].kind == nclink::DataKind::list)
-                results[i] = nclink::Json::array({1, 2, 3});
-            else
-                results[i] = nclink::Json(prefix_ + points[i].id);
+            if (points[i].id == "h") results[i] = nclink::Json(points[i].handle);
+            else if (points[i].id == "vendor") results[i] = nclink::vendor_error(-3, "coolant low");
+            else if (points[i].kind == nclink::DataKind::list) results[i] = nclink::Json::array({1, 2, 3});
+            else results[i] = nclink::Json(prefix_ + points[i].id);
         }
     }
 

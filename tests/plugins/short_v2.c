@@ -6,7 +6,9 @@
 #include <stdint.h>
 static int create(const char* c, const nclink_host* h, void** i, const nclink_text_output* e) {
     static int instance;
-    (void)c; (void)h; (void)e;
+    (void)c;
+    (void)h;
+    (void)e;
     *i = &instance;
     return NCLINK_OK;
 }
@@ -18,6 +20,6 @@ static void read_points(void* s, const nclink_read_request* r, const nclink_read
 }
 static struct {
     nclink_driver_descriptor d;
-} descriptor = {{NCLINK_DRIVER_ABI_VERSION, (uint32_t)offsetof(nclink_driver_descriptor, link), "short", "1", 0,
-                 create, destroy, read_points, NULL, NULL, NULL, NULL, (int (*)(void*, const nclink_text_output*))(uintptr_t)1}};
+} descriptor = {{NCLINK_DRIVER_ABI_VERSION, (uint32_t)offsetof(nclink_driver_descriptor, link), "short", "1", 0, create, destroy,
+                 read_points, NULL, NULL, NULL, NULL, (int (*)(void*, const nclink_text_output*))(uintptr_t)1}};
 __attribute__((visibility("default"))) const nclink_driver_descriptor* nclink_driver_entry(void) { return &descriptor.d; }

@@ -36,8 +36,7 @@ namespace nclink::test {
 inline std::string test_model_path() { return std::string(NCLINK_TEST_DATA_DIR) + "/adapter-test-model.json"; }
 
 inline std::string scratch_dir(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("nclink-" + name + "-" + std::to_string(std::random_device{}()));
+    const auto dir = std::filesystem::temp_directory_path() / ("nclink-" + name + "-" + std::to_string(std::random_device{}()));
     std::filesystem::create_directories(dir);
     return dir.string();
 }

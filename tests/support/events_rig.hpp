@@ -26,8 +26,7 @@ struct EventsRig : AdapterFixture {
     Json register_event(Json body, const std::string& ex = "app") {
         if (!body.contains("@id")) body["@id"] = "r" + std::to_string(++counter);
         if (!body.contains("triggerType")) body["triggerType"] = "always";
-        return app->request(topics::event_register_request("test-dev", ex),
-                            topics::event_register_response("test-dev", ex), body);
+        return app->request(topics::event_register_request("test-dev", ex), topics::event_register_response("test-dev", ex), body);
     }
     /// Registers and requires OK; returns the event id.
     std::string registered(Json body, const std::string& ex = "app") {
@@ -38,8 +37,7 @@ struct EventsRig : AdapterFixture {
         return reply["id"].get<std::string>();
     }
     Json unregister_event(const std::string& id, const std::string& ex = "app") {
-        return app->request(topics::event_unregister_request("test-dev", ex),
-                            topics::event_unregister_response("test-dev", ex),
+        return app->request(topics::event_unregister_request("test-dev", ex), topics::event_unregister_response("test-dev", ex),
                             Json{{"@id", "u" + std::to_string(++counter)}, {"guid", "test-dev"}, {"id", id}});
     }
     std::vector<Json> events(const std::string& ex = "app") {

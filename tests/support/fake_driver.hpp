@@ -22,8 +22,8 @@ public:
         values["pos"] = 12.5;
         values["status"] = "running";
         values["ovr"] = 100;
-        values["tools"] = Json::array({Json{{"id", "T1"}, {"length", 50.0}}, Json{{"id", "T2"}, {"length", 75.5}},
-                                       Json{{"id", "T3"}, {"length", 20.0}}});
+        values["tools"] = Json::array(
+            {Json{{"id", "T1"}, {"length", 50.0}}, Json{{"id", "T2"}, {"length", 75.5}}, Json{{"id", "T3"}, {"length", 20.0}}});
         values["params"] = Json{{"p1", 1}, {"p2", 2.5}, {"name", "fast"}};
     }
     DriverInfo info() const override { return {"fake", "1", false}; }
@@ -32,10 +32,8 @@ public:
         std::lock_guard<std::mutex> lock(mutex);
         for (std::size_t i = 0; i < points.size(); ++i) {
             auto it = values.find(points[i].id);
-            if (it == values.end())
-                results[i] = make_error(ErrorCode::unavailable, "not wired");
-            else
-                results[i] = it->second;
+            if (it == values.end()) results[i] = make_error(ErrorCode::unavailable, "not wired");
+            else results[i] = it->second;
         }
     }
     Result<void> write(const WriteRequest& request) override {

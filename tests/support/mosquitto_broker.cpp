@@ -80,10 +80,8 @@ MosquittoBroker::MosquittoBroker(MosquittoOptions options) {
     if (options.persistent && options.save_every_change)
         conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_on_changes true\nautosave_interval "
              << options.save_after_changes << "\n";
-    else if (options.persistent)
-        conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
-    else
-        conf << "persistence false\n";
+    else if (options.persistent) conf << "persistence true\npersistence_location " << dir_ << "/\nautosave_interval 0\n";
+    else conf << "persistence false\n";
     // The settings nclink ships for a plant's broker, as a user would add them.
     if (options.shipped_settings) {
         std::ifstream shipped(std::string(NCLINK_SOURCE_DIR) + "/tools/mosquitto/nclink.conf");

@@ -18,8 +18,8 @@ struct MosquittoOptions {
     bool save_every_change = false;
     /// With save_every_change: save after this many changes (autosave_interval).
     int save_after_changes = 1;
-    int port = 0;         ///< 0 = pick a free one
-    bool start = true;    ///< false: construct stopped, call start() later
+    int port = 0;       ///< 0 = pick a free one
+    bool start = true;  ///< false: construct stopped, call start() later
     /// mosquitto acl_file to enforce ("" = none). Without a password_file
     /// clients may still connect anonymously or with any user name.
     std::string acl_file;
@@ -48,7 +48,10 @@ public:
     /// kill -9: no shutdown save, no clean goodbye to the clients.
     void crash();
     void start();
-    void restart() { stop(); start(); }
+    void restart() {
+        stop();
+        start();
+    }
     /// SIGSTOP: the broker keeps its sockets open but reads and answers
     /// nothing (a hung broker: QoS 1 messages stay unacknowledged).
     void freeze();

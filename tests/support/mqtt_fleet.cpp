@@ -70,8 +70,8 @@ struct MqttFleet::Peer {
         put_str(body, "MQTT");
         body.push_back(4);
         std::uint8_t flags = 0x02;  // clean session
-        if (config.will) flags |= static_cast<std::uint8_t>(0x04 | (config.will->qos > 0 ? 0x08 : 0) |
-                                                              (config.will->retained ? 0x20 : 0));
+        if (config.will)
+            flags |= static_cast<std::uint8_t>(0x04 | (config.will->qos > 0 ? 0x08 : 0) | (config.will->retained ? 0x20 : 0));
         body.push_back(static_cast<char>(flags));
         put_u16(body, static_cast<std::size_t>(config.keep_alive_s));
         put_str(body, config.client_id);

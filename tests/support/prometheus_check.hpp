@@ -82,9 +82,9 @@ inline std::optional<double> parse_prom_value(const std::string& text) {
 inline std::vector<std::string> exposition_problems(const std::string& text, std::vector<PromSample>* samples_out = nullptr) {
     static const std::regex metric_name("[a-zA-Z_:][a-zA-Z0-9_:]*");
     std::vector<std::string> problems;
-    std::map<std::string, std::string> types;     // family -> type
-    std::set<std::string> helped, closed;         // families with HELP; families whose samples ended
-    std::string current;                          // the family of the last line
+    std::map<std::string, std::string> types;  // family -> type
+    std::set<std::string> helped, closed;      // families with HELP; families whose samples ended
+    std::string current;                       // the family of the last line
     std::vector<PromSample> samples;
     std::istringstream in(text);
     std::string line;
@@ -140,8 +140,7 @@ inline std::vector<std::string> exposition_problems(const std::string& text, std
         s.name = line.substr(0, i);
         if (!std::regex_match(s.name, metric_name)) problems.push_back(at + "bad metric name '" + s.name + "'");
         std::string problem;
-        if (i < line.size() && line[i] == '{' && !parse_prom_labels(line, i, s.labels, problem))
-            problems.push_back(at + problem);
+        if (i < line.size() && line[i] == '{' && !parse_prom_labels(line, i, s.labels, problem)) problems.push_back(at + problem);
         if (i >= line.size() || line[i] != ' ') {
             problems.push_back(at + "no value");
             continue;

@@ -42,8 +42,7 @@ inline Message flood_message(std::size_t i, const std::string& dev, const std::s
         }
         case FloodKind::deep:
             return Message{topics::query_request(dev, ex),
-                           "{\"@id\": \"" + id + "\", \"ids\": " + std::string(300, '[') + std::string(300, ']') + "}", 0,
-                           false};
+                           "{\"@id\": \"" + id + "\", \"ids\": " + std::string(300, '[') + std::string(300, ']') + "}", 0, false};
         case FloodKind::bad_set:
         default:
             return Message{topics::set_request(dev, ex),

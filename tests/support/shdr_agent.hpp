@@ -67,9 +67,9 @@ public:
     /// What the agent shows for one DataItem.
     struct Current {
         bool available = false;
-        std::string value;        ///< the value's text (conditions: the last line's text)
-        std::string native_code;  ///< MESSAGE, ALARM, CONDITION
-        std::string level;        ///< CONDITION: normal, warning, fault
+        std::string value;             ///< the value's text (conditions: the last line's text)
+        std::string native_code;       ///< MESSAGE, ALARM, CONDITION
+        std::string level;             ///< CONDITION: normal, warning, fault
         std::set<std::string> active;  ///< CONDITION: native codes of active warnings/faults
     };
 
@@ -133,7 +133,8 @@ private:
 
     void load(const std::string& xml) {
         std::unique_ptr<xmlDoc, void (*)(xmlDocPtr)> doc(
-            xmlReadMemory(xml.data(), static_cast<int>(xml.size()), "devices.xml", "UTF-8", XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING),
+            xmlReadMemory(xml.data(), static_cast<int>(xml.size()), "devices.xml", "UTF-8",
+                          XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING),
             xmlFreeDoc);
         if (!doc) throw std::runtime_error("the Devices document does not parse");
         walk(xmlDocGetRootElement(doc.get()), nullptr);

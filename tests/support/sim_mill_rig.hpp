@@ -76,10 +76,10 @@ struct SimMillRig {
 
     MosquittoBroker broker;
     ScratchDir scratch;
-    AdapterConfig config;             ///< preset: this broker, the sim mill, quick registration retries
-    std::shared_ptr<Driver> driver;   ///< null: the simulated mill of config.model_path
+    AdapterConfig config;            ///< preset: this broker, the sim mill, quick registration retries
+    std::shared_ptr<Driver> driver;  ///< null: the simulated mill of config.model_path
     std::unique_ptr<Adapter> adapter;
-    std::unique_ptr<Client> client;   ///< the test's main application, stopped before the adapter
+    std::unique_ptr<Client> client;  ///< the test's main application, stopped before the adapter
 };
 
 }  // namespace nclink::test

@@ -16,9 +16,7 @@
 namespace nclink::test {
 namespace {
 
-bool on_path(const std::string& program) {
-    return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0;
-}
+bool on_path(const std::string& program) { return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0; }
 
 std::string shell_quoted(const std::string& s) {
     std::string out = "'";
@@ -54,7 +52,8 @@ TestPki::TestPki(const std::vector<std::string>& client_names) {
     dir_ = pattern;
     // mosquitto started as root reads its files as user mosquitto.
     ::chmod(dir_.c_str(), 0755);
-    std::string command = "bash " + shell_quoted(std::string(NCLINK_TEST_SUPPORT_DIR) + "/make-test-pki.sh") + " " + shell_quoted(dir_);
+    std::string command =
+        "bash " + shell_quoted(std::string(NCLINK_TEST_SUPPORT_DIR) + "/make-test-pki.sh") + " " + shell_quoted(dir_);
     for (const auto& name : client_names) command += " " + shell_quoted(name);
     const Command made = run_command(command);
     if (made.status != 0) throw std::runtime_error("making the test PKI failed:\n" + made.output);
@@ -70,7 +69,8 @@ std::string TestPki::password_file(const std::map<std::string, std::string>& use
     const std::string path = dir_ + "/passwd-" + std::to_string(++counter);
     { std::ofstream create(path); }
     for (const auto& [user, password] : users) {
-        const Command added = run_command("mosquitto_passwd -b " + shell_quoted(path) + " " + shell_quoted(user) + " " + shell_quoted(password));
+        const Command added =
+            run_command("mosquitto_passwd -b " + shell_quoted(path) + " " + shell_quoted(user) + " " + shell_quoted(password));
         if (added.status != 0) throw std::runtime_error("mosquitto_passwd failed: " + added.output);
     }
     ::chmod(path.c_str(), 0644);  // mosquitto_passwd leaves it 0600; the broker reads it as user mosquitto

@@ -36,9 +36,9 @@ private:
 };
 
 struct TlsListener {
-    int port = 0;                                  ///< 0 = a free one (filled in)
-    bool require_certificate = false;              ///< mutual TLS; the certificate's CN is the user name
-    std::string server_certificate = "server.pem"; ///< or "server-expired.pem"
+    int port = 0;                                   ///< 0 = a free one (filled in)
+    bool require_certificate = false;               ///< mutual TLS; the certificate's CN is the user name
+    std::string server_certificate = "server.pem";  ///< or "server-expired.pem"
 };
 
 /// mosquitto configuration lines of a TLS listener (MosquittoOptions::extra_config).

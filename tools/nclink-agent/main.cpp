@@ -104,8 +104,7 @@ int main(int argc, char** argv) {
     }
     if (o.log_level && !nclink::log_level_from_string(*o.log_level))
         return nclink::program::fail(kProgram, "unknown log level " + *o.log_level, kExitUsage);
-    if (o.check_only && !o.config_path)
-        return nclink::program::fail(kProgram, "--check-config needs --config FILE", kExitUsage);
+    if (o.check_only && !o.config_path) return nclink::program::fail(kProgram, "--check-config needs --config FILE", kExitUsage);
 
     // A configuration with a problem stops here, before anything is started
     // or written: one line naming the file, line and column.
@@ -177,8 +176,8 @@ int main(int argc, char** argv) {
         agent.stop();
         return nclink::program::fail(kProgram, "cannot connect to " + config.broker_url + ": " + *why, kExitCannotRun);
     }
-    logger.info("nclink-agent: serving on {} (share group '{}'); SIGHUP reloads, SIGINT/SIGTERM stops",
-                config.broker_url, config.share_group);
+    logger.info("nclink-agent: serving on {} (share group '{}'); SIGHUP reloads, SIGINT/SIGTERM stops", config.broker_url,
+                config.share_group);
     const int stop_signal = signals.serve([&] { reload(o, agent, logger); });
     logger.info("nclink-agent: {} received, stopping", nclink::program::Signals::name(stop_signal));
     if (metrics) metrics->stop();

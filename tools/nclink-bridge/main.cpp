@@ -151,10 +151,10 @@ int main(int argc, char** argv) {
     nclink::bridge::Bridge bridge(config, logger);
     if (auto started = bridge.start(); !started)
         return nclink::program::fail(kProgram, started.error().describe(), kExitCannotRun);
-    logger.info("nclink-bridge: MTConnect on http://{}:{}/, dashboard on http://{}:{}/dashboard, SHDR on {}:{}; "
-                "SIGHUP reloads, SIGINT/SIGTERM stops",
-                config.http_host, bridge.http_port(), config.http_host, bridge.http_port(), config.shdr_host,
-                bridge.shdr_port());
+    logger.info(
+        "nclink-bridge: MTConnect on http://{}:{}/, dashboard on http://{}:{}/dashboard, SHDR on {}:{}; "
+        "SIGHUP reloads, SIGINT/SIGTERM stops",
+        config.http_host, bridge.http_port(), config.http_host, bridge.http_port(), config.shdr_host, bridge.shdr_port());
     signals.serve([&] { reload(o, bridge, logger); });
     logger.info("nclink-bridge: stopping");
     bridge.stop();

@@ -51,7 +51,8 @@ int run(const std::vector<std::string>& args) {
     if (auto connected = wire.connect(conform::tester_subscriptions(o.run.device, o.client_id),
                                       std::max(o.run.timeout, std::chrono::milliseconds(5000)));
         !connected) {
-        std::fprintf(stderr, "nclink-conform: cannot use the broker %s: %s\n", o.broker.c_str(), connected.error().describe().c_str());
+        std::fprintf(stderr, "nclink-conform: cannot use the broker %s: %s\n", o.broker.c_str(),
+                     connected.error().describe().c_str());
         return 2;
     }
     const conform::TestRecord record = conform::run_conformance(wire, o.run);

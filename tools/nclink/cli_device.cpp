@@ -53,10 +53,8 @@ void collect_channels(const Json& node, std::vector<ChannelInfo>& out, int depth
         channel.upload_interval = number_member(node, "uploadInterval");
         if (const auto ids = node.find("ids"); ids != node.end() && ids->is_array())
             for (const auto& point : *ids) {
-                if (point.is_string())
-                    channel.points.push_back(point.get<std::string>());
-                else if (point.is_object())
-                    channel.points.push_back(string_member(point, {"id"}));
+                if (point.is_string()) channel.points.push_back(point.get<std::string>());
+                else if (point.is_object()) channel.points.push_back(string_member(point, {"id"}));
             }
         out.push_back(std::move(channel));
         return;

@@ -19,7 +19,7 @@ int run_probe(const Args& args);
 int run_query(const Args& args);
 int run_set(const Args& args);
 int run_watch(const Args& args);
-int run_top(const Args& args);  ///< watch --full-screen
+int run_top(const Args& args);        ///< watch --full-screen
 int run_probe_set(const Args& args);  // cmd_probe_set.cpp
 extern const char* const probe_set_usage;
 int run_state(const Args& args);
@@ -46,8 +46,7 @@ bool parse_device_command(const Args& args, const OptionSpec& spec, const char* 
 /// broker cannot be reached within the timeout (exit 1). `before_start`
 /// subscribes what must be in place when the link comes up: with
 /// --persistent the broker delivers what it kept right after connecting.
-std::unique_ptr<Client> connect_client(const CliOptions& options,
-                                       const std::function<void(Client&)>& before_start = {});
+std::unique_ptr<Client> connect_client(const CliOptions& options, const std::function<void(Client&)>& before_start = {});
 
 /// Set by SIGINT/SIGTERM once install_interrupt_handler() ran.
 bool interrupted();

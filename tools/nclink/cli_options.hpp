@@ -16,20 +16,20 @@ namespace nclink::cli {
 
 /// The options every device subcommand takes (a macro so each command's usage
 /// string can append it at compile time).
-#define NCLINK_CLI_GLOBAL_OPTIONS \
-    "global options:\n" \
-    "  --broker URL      MQTT broker (default tcp://127.0.0.1:1883)\n" \
-    "  --device GUID     the adapter's terminal id (dev_uuid); required\n" \
-    "  --client-id ID    this application's terminal id (default nclink-cli-<pid>)\n" \
-    "  --timeout MS      per-request timeout and broker connect timeout (default 2000)\n" \
+#define NCLINK_CLI_GLOBAL_OPTIONS                                                                    \
+    "global options:\n"                                                                              \
+    "  --broker URL      MQTT broker (default tcp://127.0.0.1:1883)\n"                               \
+    "  --device GUID     the adapter's terminal id (dev_uuid); required\n"                           \
+    "  --client-id ID    this application's terminal id (default nclink-cli-<pid>)\n"                \
+    "  --timeout MS      per-request timeout and broker connect timeout (default 2000)\n"            \
     "  --username NAME   broker user name (the ACL expects the terminal id, see docs/security.md)\n" \
-    "  --password-file F broker password: first line of F (or $NCLINK_PASSWORD)\n" \
-    "  --ca-file PEM     trust these CAs for the broker's certificate (ssl:// URLs)\n" \
-    "  --cert PEM        client certificate, for mutual TLS (--key: its key)\n" \
-    "  --key PEM         the client certificate's private key\n" \
-    "  --insecure        do not check the broker's certificate (tests only)\n" \
-    "  --json            machine-readable output\n" \
-    "  --persistent      keep the broker session (clean_session=false) under --client-id:\n" \
+    "  --password-file F broker password: first line of F (or $NCLINK_PASSWORD)\n"                   \
+    "  --ca-file PEM     trust these CAs for the broker's certificate (ssl:// URLs)\n"               \
+    "  --cert PEM        client certificate, for mutual TLS (--key: its key)\n"                      \
+    "  --key PEM         the client certificate's private key\n"                                     \
+    "  --insecure        do not check the broker's certificate (tests only)\n"                       \
+    "  --json            machine-readable output\n"                                                  \
+    "  --persistent      keep the broker session (clean_session=false) under --client-id:\n"         \
     "                    QoS 1 DTUs sent while this command is not running arrive at its next run\n" \
     "exit status: 0 success, 1 an NG or timeout answer (or no broker), 2 usage error\n"
 
@@ -45,7 +45,7 @@ struct CliOptions {
     bool json = false;
     bool persistent = false;  ///< --persistent: clean_session=false (needs --client-id)
     bool help = false;
-    std::set<std::string> flags;                 ///< command-specific flags given ("--follow")
+    std::set<std::string> flags;                ///< command-specific flags given ("--follow")
     std::map<std::string, std::string> values;  ///< command-specific valued options ("--count" -> "5")
     std::vector<std::string> positionals;
 };
@@ -72,13 +72,13 @@ inline std::uint64_t parse_count(std::string_view option, std::string_view text,
 /// after `--` is positional). Throws UsageError on unknown options and
 /// missing or malformed values.
 inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {}) {
-    static const std::set<std::string> global_valued = {"--broker",   "--device", "--client-id", "--timeout", "--username",
-                                                        "--password-file", "--ca-file", "--cert",  "--key"};
+    static const std::set<std::string> global_valued = {"--broker",        "--device",  "--client-id", "--timeout", "--username",
+                                                        "--password-file", "--ca-file", "--cert",      "--key"};
     CliOptions out;
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& arg = args[i];
-        if (options_done || arg.size() < 2 || arg[0] != '-' ) {
+        if (options_done || arg.size() < 2 || arg[0] != '-') {
             out.positionals.push_back(arg);
             continue;
         }
@@ -149,8 +149,7 @@ inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {
 /// A terminal id must be one topic level.
 inline void check_terminal_id(std::string_view what, const std::string& id) {
     if (id.empty()) throw UsageError{std::string(what) + " is required"};
-    if (id.find_first_of("/+#") != std::string::npos)
-        throw UsageError{std::string(what) + " must not contain '/', '+' or '#'"};
+    if (id.find_first_of("/+#") != std::string::npos) throw UsageError{std::string(what) + " must not contain '/', '+' or '#'"};
 }
 
 }  // namespace nclink::cli

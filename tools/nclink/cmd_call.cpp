@@ -27,8 +27,7 @@ const char* const call_usage =
     "  Ctrl-C sends Method/Control cancel for the call and waits for its result.\n"
     "  --json: one JSON object per Method/Status, then the Method/Result.\n"
     "  --no-progress: neither the bar nor the status lines, only the result.\n"
-    "  Exit status: 0 finished, 1 error, canceled or no answer, 2 usage error.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  Exit status: 0 finished, 1 error, canceled or no answer, 2 usage error.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 bool parse_method_command(const Args& args, const char* usage, CliOptions& out, const OptionSpec& spec) {
     out = parse_cli_options(args, spec);
@@ -50,10 +49,8 @@ bool parse_method_command(const Args& args, const char* usage, CliOptions& out, 
 namespace {
 
 void print_line(const MethodStatus& status) {
-    if (status.progress)
-        std::printf("status %s %g%%\n", status.status.c_str(), *status.progress);
-    else
-        std::printf("status %s\n", status.status.c_str());
+    if (status.progress) std::printf("status %s %g%%\n", status.status.c_str(), *status.progress);
+    else std::printf("status %s\n", status.status.c_str());
     std::fflush(stdout);
 }
 
@@ -119,9 +116,12 @@ int run_call(const Args& args) {
             if (call_id) control.private_info = Json{{"call", *call_id}};
         }
         std::fprintf(stderr, "\nnclink call: cancelling %s\n", method.c_str());
-        client->control_method_async(options.device, method, Client::MethodAction::cancel, [](Result<void> r) {
-            if (!r) std::fprintf(stderr, "nclink call: cancel refused: %s\n", r.error().describe().c_str());
-        }, control);
+        client->control_method_async(
+            options.device, method, Client::MethodAction::cancel,
+            [](Result<void> r) {
+                if (!r) std::fprintf(stderr, "nclink call: cancel refused: %s\n", r.error().describe().c_str());
+            },
+            control);
     }
     auto result = future.get();
     client.reset();  // no status callback after this: the bar is ours now
@@ -131,10 +131,8 @@ int run_call(const Args& args) {
         std::fprintf(stderr, "nclink call: %s\n", result.error().describe().c_str());
         return 1;
     }
-    if (options.json)
-        std::printf("%s\n", to_json(*result).dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
-    else
-        print_result(*result);
+    if (options.json) std::printf("%s\n", to_json(*result).dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
+    else print_result(*result);
     return result->result == "finished" && result->status.ok ? 0 : 1;
 }
 

@@ -88,10 +88,8 @@ int run_check(const Args& args) {
         std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
     } else {
         for (const auto& p : check.problems) {
-            if (p.line > 0)
-                std::printf("%s:%zu:%zu: error: %s\n", file.c_str(), p.line, p.column, p.message.c_str());
-            else
-                std::printf("%s: error: %s\n", file.c_str(), p.message.c_str());
+            if (p.line > 0) std::printf("%s:%zu:%zu: error: %s\n", file.c_str(), p.line, p.column, p.message.c_str());
+            else std::printf("%s: error: %s\n", file.c_str(), p.message.c_str());
         }
         if (!check.undecided.empty()) {
             std::fprintf(stderr, "nclink config: cannot tell the kind of %s: %s\n", file.c_str(), check.undecided.c_str());
@@ -99,8 +97,7 @@ int run_check(const Args& args) {
             std::printf("%s: OK (%s configuration%s)\n", file.c_str(), check.kind->name,
                         check.kind_guessed ? ", told from its keys" : "");
         } else {
-            std::printf("%s: %zu problem%s%s\n", file.c_str(), check.problems.size(),
-                        check.problems.size() == 1 ? "" : "s",
+            std::printf("%s: %zu problem%s%s\n", file.c_str(), check.problems.size(), check.problems.size() == 1 ? "" : "s",
                         check.kind ? (std::string(" (") + check.kind->name + " configuration)").c_str() : "");
         }
     }

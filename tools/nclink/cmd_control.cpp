@@ -14,8 +14,7 @@ const char* const control_usage =
     "  (Method/Control): this client id's own calls, else everybody's.\n"
     "  --call ID   only the call whose Method/Call @id is ID (see `nclink call --json`)\n"
     "  Prints OK, or NG with the error (202: the method is not running).\n"
-    "  Exit status: 0 OK, 1 NG or no answer, 2 usage error.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  Exit status: 0 OK, 1 NG or no answer, 2 usage error.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 int run_control(const Args& args) {
     CliOptions options;
@@ -36,14 +35,10 @@ int run_control(const Args& args) {
     const std::string& method = options.positionals[0];
     const std::string& action_text = options.positionals[1];
     Client::MethodAction action = Client::MethodAction::stop;
-    if (action_text == "stop")
-        action = Client::MethodAction::stop;
-    else if (action_text == "resume")
-        action = Client::MethodAction::resume;
-    else if (action_text == "cancel")
-        action = Client::MethodAction::cancel;
-    else
-        throw UsageError{"the action is stop, resume or cancel, not \"" + action_text + "\""};
+    if (action_text == "stop") action = Client::MethodAction::stop;
+    else if (action_text == "resume") action = Client::MethodAction::resume;
+    else if (action_text == "cancel") action = Client::MethodAction::cancel;
+    else throw UsageError{"the action is stop, resume or cancel, not \"" + action_text + "\""};
     RequestOptions request;
     if (call) request.private_info = Json{{"call", *call}};
     auto client = connect_client(options);

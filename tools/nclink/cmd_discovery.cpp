@@ -14,8 +14,7 @@ const char* const discovery_usage =
     "usage: nclink discovery [options]\n"
     "  Asks the agent for the adapters this client may reach (Discovery, 8.2.3/8.2.4)\n"
     "  and prints one line per adapter: guid, status, last alive time. Needs an agent\n"
-    "  (nclink-agent); exit 1 when none answers within the timeout.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  (nclink-agent); exit 1 when none answers within the timeout.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 int run_discovery(const Args& args) {
     CliOptions options = parse_cli_options(args);

@@ -30,8 +30,8 @@ const char* const events_usage =
     "  --count N         stop after N events\n"
     "  --json            one Event DTU per line\n"
     "    nclink events --device mill spindle_speed --filter greater:8000 --trigger normal\n"
-    "    nclink events --device mill parameters --key P100 --filter '{\"type\":\"change\",\"variance\":5}'\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "    nclink events --device mill parameters --key P100 --filter "
+    "'{\"type\":\"change\",\"variance\":5}'\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 
@@ -90,8 +90,7 @@ int run_events(const Args& all_args) {
         registration.trigger = it->second;
     }
     std::uint64_t count = 0;
-    if (const auto it = options.values.find("--count"); it != options.values.end())
-        count = parse_count("--count", it->second);
+    if (const auto it = options.values.find("--count"); it != options.values.end()) count = parse_count("--count", it->second);
     if (registration.trigger == "once") count = 1;  // the adapter releases it after one event
 
     install_interrupt_handler();
@@ -99,8 +98,7 @@ int run_events(const Args& all_args) {
     // client is destroyed, so the inbox must outlive it.
     Inbox<EventData> inbox;
     auto client = connect_client(options);
-    auto event_id = client->register_event(options.device, std::move(registration),
-                                           [&](const EventData& e) { inbox.push(e); });
+    auto event_id = client->register_event(options.device, std::move(registration), [&](const EventData& e) { inbox.push(e); });
     if (!event_id) {
         std::fprintf(stderr, "nclink events: %s\n", event_id.error().describe().c_str());
         return 1;
@@ -113,16 +111,13 @@ int run_events(const Args& all_args) {
         auto dtu = inbox.pop(std::chrono::steady_clock::time_point::max());
         if (!dtu) break;  // Ctrl-C
         ++seen;
-        if (options.json)
-            std::printf("%s\n", encode(*dtu).c_str());
-        else
-            std::printf("%s %s\n", format_time_ms(dtu->time).c_str(), format_event(*dtu).c_str());
+        if (options.json) std::printf("%s\n", encode(*dtu).c_str());
+        else std::printf("%s %s\n", format_time_ms(dtu->time).c_str(), format_event(*dtu).c_str());
         std::fflush(stdout);
     }
     if (client->event_registrations() > 0) {
         if (auto gone = client->unregister_event(options.device, *event_id); !gone)
-            std::fprintf(stderr, "nclink events: unregistering %s: %s\n", event_id->c_str(),
-                         gone.error().describe().c_str());
+            std::fprintf(stderr, "nclink events: unregistering %s: %s\n", event_id->c_str(), gone.error().describe().c_str());
     }
     return 0;
 }

@@ -69,24 +69,19 @@ MapArgs parse(const Args& args, bool& help) {
             name = arg.substr(0, eq);
             value = arg.substr(eq + 1);
         }
-        if (name != "--profile" && name != "--device" && name != "--dev-uuid" && name != "-o" &&
-            name != "--output" && name != "--from-mtconnect")
+        if (name != "--profile" && name != "--device" && name != "--dev-uuid" && name != "-o" && name != "--output" &&
+            name != "--from-mtconnect")
             throw UsageError{"unknown option " + arg};
         if (!value) {
             if (i + 1 >= args.size()) throw UsageError{name + " needs a value"};
             value = args[++i];
         }
         if (value->empty()) throw UsageError{name + " needs a value"};
-        if (name == "--profile")
-            out.profile = *value;
-        else if (name == "--device")
-            out.options.device = *value;
-        else if (name == "--from-mtconnect")
-            out.from_mtconnect = *value;
-        else if (name == "--dev-uuid")
-            out.options.dev_uuid = *value;
-        else
-            out.output = *value;
+        if (name == "--profile") out.profile = *value;
+        else if (name == "--device") out.options.device = *value;
+        else if (name == "--from-mtconnect") out.from_mtconnect = *value;
+        else if (name == "--dev-uuid") out.options.dev_uuid = *value;
+        else out.output = *value;
     }
     if (!out.from_mtconnect.empty()) {
         if (!positionals.empty()) throw UsageError{"--from-mtconnect takes no format or MODEL.json"};
@@ -123,23 +118,21 @@ int run_map(const Args& args) {
     if (!loaded.ok()) {
         for (const auto& p : loaded.problems)
             if (p.severity == Severity::fatal)
-                std::fprintf(stderr, "%s:%s: fatal: %s\n", a.model.c_str(),
-                             p.pointer.empty() ? "/" : p.pointer.c_str(), p.message.c_str());
+                std::fprintf(stderr, "%s:%s: fatal: %s\n", a.model.c_str(), p.pointer.empty() ? "/" : p.pointer.c_str(),
+                             p.message.c_str());
         std::fprintf(stderr, "nclink map: %s cannot be loaded\n", a.model.c_str());
         return 1;
     }
-    const Result<MappedDocument> doc = a.format == "mtconnect"
-                                           ? map_to_mtconnect(*loaded.model, a.options)
-                                           : map_to_opcua(*loaded.model, a.options);
+    const Result<MappedDocument> doc =
+        a.format == "mtconnect" ? map_to_mtconnect(*loaded.model, a.options) : map_to_opcua(*loaded.model, a.options);
     if (!doc) {
         std::fprintf(stderr, "nclink map: %s\n", doc.error().describe().c_str());
         return 1;
     }
     for (const auto& u : doc->unmapped)
-        std::fprintf(stderr, "fallback: %s (%s) -> %s: %s\n", u.id.c_str(), u.nclink_type.c_str(),
-                     u.fallback.c_str(), u.reason.c_str());
-    for (const auto& n : doc->notes)
-        std::fprintf(stderr, "note: %s: %s\n", n.id.c_str(), n.message.c_str());
+        std::fprintf(stderr, "fallback: %s (%s) -> %s: %s\n", u.id.c_str(), u.nclink_type.c_str(), u.fallback.c_str(),
+                     u.reason.c_str());
+    for (const auto& n : doc->notes) std::fprintf(stderr, "note: %s: %s\n", n.id.c_str(), n.message.c_str());
     if (a.output.empty()) {
         std::fwrite(doc->xml.data(), 1, doc->xml.size(), stdout);
         return std::fflush(stdout) == 0 ? 0 : 1;
@@ -151,8 +144,8 @@ int run_map(const Args& args) {
         std::fprintf(stderr, "nclink map: cannot write %s\n", a.output.c_str());
         return 1;
     }
-    std::fprintf(stderr, "nclink map: wrote %s (%zu fallback%s)\n", a.output.c_str(),
-                 doc->unmapped.size(), doc->unmapped.size() == 1 ? "" : "s");
+    std::fprintf(stderr, "nclink map: wrote %s (%zu fallback%s)\n", a.output.c_str(), doc->unmapped.size(),
+                 doc->unmapped.size() == 1 ? "" : "s");
     return 0;
 }
 

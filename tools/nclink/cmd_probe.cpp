@@ -14,8 +14,7 @@ const char* const probe_usage =
     "usage: nclink probe --device GUID [options]\n"
     "  Fetches the device's model (Probe/Query) and prints a summary: devices,\n"
     "  the component tree with types, data items (id, type, datatype, setable),\n"
-    "  sample channels with their intervals, and methods. --json prints the model.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  sample channels with their intervals, and methods. --json prints the model.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 
@@ -76,9 +75,7 @@ void print_ids(const Model& model, const std::vector<std::string>& ids, int dept
                 print_line(depth, line);
                 break;
             }
-            case ObjectKind::component:
-                print_component(model, *model.component(id), depth);
-                break;
+            case ObjectKind::component: print_component(model, *model.component(id), depth); break;
             case ObjectKind::device: {
                 const Device& d = *model.device(id);
                 print_line(depth, "device " + id + "  " + d.type + quoted_name(d.name) + "  dev_uuid=" + resolve_dev_uuid(d) +
@@ -88,8 +85,7 @@ void print_ids(const Model& model, const std::vector<std::string>& ids, int dept
                 print_ids(model, d.children.components, depth + 1);
                 break;
             }
-            case ObjectKind::root:
-                break;
+            case ObjectKind::root: break;
         }
     }
 }

@@ -30,8 +30,7 @@ const char* const probe_set_usage =
     "  A progress bar on a terminal; plain progress lines otherwise;\n"
     "  --no-progress: only the result lines. --timeout MS applies per device.\n"
     "  Exit status: 0 every device took the model, 1 one did not (or the model\n"
-    "  has problems), 2 usage error.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  has problems), 2 usage error.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 int run_probe_set(const Args& args) {
     CliOptions options = parse_cli_options(args, {{"--no-progress", "--strict", "--force"}, {}});
@@ -93,8 +92,7 @@ int run_probe_set(const Args& args) {
         const double done_before = static_cast<double>(i) / static_cast<double>(devices.size());
         bar.update(done_before, where);
         while (future.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) {
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
             char elapsed[32];
             std::snprintf(elapsed, sizeof elapsed, " %.1fs", seconds);
             if (mode == ProgressMode::bar) bar.update(done_before, where + elapsed);
@@ -103,8 +101,7 @@ int run_probe_set(const Args& args) {
         if (!r) ++failed;
         if (options.json)
             results.push_back({{"device", dev}, {"ok", r.ok()}, {"error", r.ok() ? Json(nullptr) : Json(r.error().describe())}});
-        else
-            bar.note(dev + ": " + (r.ok() ? std::string("OK") : "NG " + r.error().describe()));
+        else bar.note(dev + ": " + (r.ok() ? std::string("OK") : "NG " + r.error().describe()));
         bar.update(static_cast<double>(i + 1) / static_cast<double>(devices.size()), where);
     }
     bar.finish();

@@ -13,8 +13,7 @@ const char* const query_usage =
     "  Queries data items. PARAMS is a JSON object (operation, keys, indexes, ...):\n"
     "    nclink query --device mill x_position 'tools:{\"operation\":\"get_length\"}'\n"
     "  Prints `ID = VALUE` or `ID: NG ERROR REASON` per item (--json: the results).\n"
-    "  Exit status 1 when any item is NG or the request fails.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  Exit status 1 when any item is NG or the request fails.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 
@@ -49,10 +48,8 @@ int run_query(const Args& args) {
     Json out = Json::array();
     for (const auto& r : *results) {
         all_ok = all_ok && r.status.ok;
-        if (options.json)
-            out.push_back(result_json(r));
-        else
-            std::printf("%s\n", format_query_result(r).c_str());
+        if (options.json) out.push_back(result_json(r));
+        else std::printf("%s\n", format_query_result(r).c_str());
     }
     if (options.json) std::printf("%s\n", out.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
     return all_ok ? 0 : 1;

@@ -13,7 +13,7 @@
 
 namespace nclink::cli {
 
-int run_sample(const Args& args);        // main.cpp dispatches here
+int run_sample(const Args& args);  // main.cpp dispatches here
 const char* const sample_usage =
     "usage: nclink sample [options] DEV ID... --sample-ms N --upload-ms N\n"
     "       nclink sample --device DEV [options] ID... --sample-ms N --upload-ms N\n"
@@ -26,8 +26,7 @@ const char* const sample_usage =
     "  --qos 0|1         QoS of the channel's Sample DTUs (default: the adapter's sampling.qos, 1)\n"
     "  --keepalive-ms N  send a small Query every N ms so the adapter keeps the\n"
     "                    channel (its application lease; default 60000, 0 = never)\n"
-    "  --json            one Sample DTU per line, as received\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  --json            one Sample DTU per line, as received\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 

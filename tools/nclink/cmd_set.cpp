@@ -14,8 +14,7 @@ const char* const set_usage =
     "  full params object (value/values, index/indexes, key/keys, offset, ...):\n"
     "    nclink set --device mill feed_override=80 'tools:{\"index\":2,\"value\":{\"length\":10}}'\n"
     "  Prints `ID: OK` or `ID: NG ERROR REASON` per item (--json: the results).\n"
-    "  Exit status 1 when any item is NG or the request fails.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  Exit status 1 when any item is NG or the request fails.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 int run_set(const Args& args) {
     CliOptions options;

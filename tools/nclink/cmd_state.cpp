@@ -12,8 +12,7 @@ const char* const state_usage =
     "usage: nclink state --device GUID [--follow] [--count N] [options]\n"
     "  Prints the device's state from Notify/State/GUID (online/offline).\n"
     "  Without --follow: the current (retained) state; exit 1 when none arrives\n"
-    "  within the timeout. --follow: every change until Ctrl-C (or N states).\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  within the timeout. --follow: every change until Ctrl-C (or N states).\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 int run_state(const Args& args) {
     CliOptions options;
@@ -21,8 +20,7 @@ int run_state(const Args& args) {
     if (!options.positionals.empty()) throw UsageError{"unexpected argument " + options.positionals.front()};
     const bool follow = options.flags.count("--follow") > 0;
     std::uint64_t count = follow ? 0 : 1;
-    if (const auto it = options.values.find("--count"); it != options.values.end())
-        count = parse_count("--count", it->second);
+    if (const auto it = options.values.find("--count"); it != options.values.end()) count = parse_count("--count", it->second);
 
     install_interrupt_handler();
     // Before the client: its dispatch thread pushes into the inbox until the
@@ -41,10 +39,8 @@ int run_state(const Args& args) {
         ++seen;
         const std::string tid = state->tid.empty() ? options.device : state->tid;
         const std::string value = state->state.empty() ? "unknown" : state->state;
-        if (options.json)
-            std::printf("%s\n", Json{{"tid", tid}, {"state", value}}.dump().c_str());
-        else
-            std::printf("%s: %s\n", tid.c_str(), value.c_str());
+        if (options.json) std::printf("%s\n", Json{{"tid", tid}, {"state", value}}.dump().c_str());
+        else std::printf("%s: %s\n", tid.c_str(), value.c_str());
         std::fflush(stdout);
     }
     if (seen == 0 && !interrupted()) {

@@ -19,8 +19,7 @@ const char* const stats_usage =
     "  rows sampled/published, overruns, drops and lateness; every drop by cause\n"
     "  (docs/delivery.md). Read with a Query of\n"
     "  the data item ID (default nclink_stats, see sampling.stats_item).\n"
-    "  --json prints the whole statistics object.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  --json prints the whole statistics object.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 
@@ -38,8 +37,9 @@ void print_summary(const Json& stats) {
                     static_cast<unsigned long long>(num(stats, "oversized")),
                     static_cast<unsigned long long>(num(stats, "pending_requests")));
     if (const auto t = stats.find("transport"); t != stats.end())
-        std::printf("transport: published %llu, dropped %llu, buffered %llu\n", static_cast<unsigned long long>(num(*t, "published")),
-                    static_cast<unsigned long long>(num(*t, "dropped")), static_cast<unsigned long long>(num(*t, "buffered")));
+        std::printf("transport: published %llu, dropped %llu, buffered %llu\n",
+                    static_cast<unsigned long long>(num(*t, "published")), static_cast<unsigned long long>(num(*t, "dropped")),
+                    static_cast<unsigned long long>(num(*t, "buffered")));
     if (const auto d = stats.find("drops"); d != stats.end() && d->is_object()) {
         // Every loss by cause (docs/delivery.md, "Counted drops").
         std::string line;
@@ -60,12 +60,13 @@ void print_summary(const Json& stats) {
         const std::string interval = fmt::format("{}/{}", c.value("sample_interval_ms", 0.0), c.value("upload_interval_ms", 0.0));
         std::printf("%-16s %6s %9s %12llu %12llu %9llu %8llu %8llu us\n", c.value("id", "?").c_str(),
                     c.value("push", false) ? "push" : "pull", interval.c_str(),
-                    static_cast<unsigned long long>(num(c, "rows_sampled")), static_cast<unsigned long long>(num(c, "rows_published")),
-                    static_cast<unsigned long long>(num(c, "overruns")), static_cast<unsigned long long>(num(c, "drops")),
-                    static_cast<unsigned long long>(num(c, "max_lateness_us")));
+                    static_cast<unsigned long long>(num(c, "rows_sampled")),
+                    static_cast<unsigned long long>(num(c, "rows_published")), static_cast<unsigned long long>(num(c, "overruns")),
+                    static_cast<unsigned long long>(num(c, "drops")), static_cast<unsigned long long>(num(c, "max_lateness_us")));
     }
     if (const auto rt = sampling.find("realtime"); rt != sampling.end() && rt->value("fifo_priority", 0) > 0)
-        std::printf("sampling thread SCHED_FIFO %d: %s\n", rt->value("fifo_priority", 0), rt->value("fifo_granted", false) ? "granted" : "refused");
+        std::printf("sampling thread SCHED_FIFO %d: %s\n", rt->value("fifo_priority", 0),
+                    rt->value("fifo_granted", false) ? "granted" : "refused");
     if (const auto rt = sampling.find("realtime"); rt != sampling.end() && rt->value("slice_us", 0) > 0)
         std::printf("sampling thread time slice %d us: %s\n", rt->value("slice_us", 0),
                     rt->value("slice_granted", false) ? "granted" : "not set (needs Linux >= 6.12)");
@@ -91,10 +92,8 @@ int run_stats(const Args& args) {
         return 1;
     }
     const Json& stats = (*r.values)[0];
-    if (options.json)
-        std::printf("%s\n", stats.dump(2, ' ', false, Json::error_handler_t::replace).c_str());
-    else
-        print_summary(stats);
+    if (options.json) std::printf("%s\n", stats.dump(2, ' ', false, Json::error_handler_t::replace).c_str());
+    else print_summary(stats);
     return 0;
 }
 

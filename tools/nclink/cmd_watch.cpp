@@ -22,8 +22,7 @@ const char* const watch_usage =
     "  Runs until Ctrl-C, or until N DTUs with --count. --json: one DTU per line.\n"
     "  --full-screen (or `nclink top`): one row per point with its latest value\n"
     "  and age, refreshed in place; q quits, up/down (j/k), PgUp/PgDn scroll.\n"
-    "  Needs a terminal.\n"
-    NCLINK_CLI_GLOBAL_OPTIONS;
+    "  Needs a terminal.\n" NCLINK_CLI_GLOBAL_OPTIONS;
 
 namespace {
 
@@ -77,14 +76,12 @@ private:
 };
 
 std::int64_t wall_ms() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-        .count();
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 // The full-screen loop: keys every 100 ms at most, samples as they come, a
 // redraw when something changed (and every second, for the ages).
-int run_full_screen(const CliOptions& options, Inbox<SampleDtu>& inbox,
-                    std::map<std::string, std::vector<std::string>> points) {
+int run_full_screen(const CliOptions& options, Inbox<SampleDtu>& inbox, std::map<std::string, std::vector<std::string>> points) {
     LiveView view(options.device, options.broker, std::move(points));
     FullScreen screen;
     auto last_draw = std::chrono::steady_clock::time_point{};
@@ -134,8 +131,7 @@ int run_watch(const Args& args) {
     if (full_screen && options.values.count("--count")) throw UsageError{"--full-screen runs until q: no --count"};
     if (full_screen && !FullScreen::is_terminal()) throw UsageError{"--full-screen needs a terminal (use watch without it)"};
     std::uint64_t count = 0;
-    if (const auto it = options.values.find("--count"); it != options.values.end())
-        count = parse_count("--count", it->second);
+    if (const auto it = options.values.find("--count"); it != options.values.end()) count = parse_count("--count", it->second);
     std::optional<std::string> channel;
     if (const auto it = options.values.find("--channel"); it != options.values.end()) {
         check_terminal_id("--channel", it->second);
@@ -148,7 +144,8 @@ int run_watch(const Args& args) {
     Inbox<SampleDtu> inbox;
     Result<SubscriptionId> sub = make_error(ErrorCode::unavailable, "not subscribed");
     auto client = connect_client(options, [&](Client& c) {
-        sub = c.subscribe_samples(options.device, [&](const SampleDtu& s) { inbox.push(s); }, channel);
+        sub = c.subscribe_samples(
+            options.device, [&](const SampleDtu& s) { inbox.push(s); }, channel);
     });
     if (!sub) {
         std::fprintf(stderr, "nclink watch: %s\n", sub.error().describe().c_str());
@@ -159,9 +156,7 @@ int run_watch(const Args& args) {
     if (!options.json) {
         if (auto model = client->probe(options.device); model.ok())
             for (auto& c : find_channels(*model)) points[c.id] = std::move(c.points);
-        else
-            std::fprintf(stderr, "nclink watch: no model (%s); columns are numbered\n",
-                         model.error().describe().c_str());
+        else std::fprintf(stderr, "nclink watch: no model (%s); columns are numbered\n", model.error().describe().c_str());
     }
     if (full_screen) return run_full_screen(options, inbox, std::move(points));
     Table table(std::move(points));

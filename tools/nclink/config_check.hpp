@@ -16,7 +16,7 @@
 namespace nclink::cli {
 
 struct ConfigProblem {
-    std::string pointer;  ///< JSON pointer of the key or value ("" = the whole document)
+    std::string pointer;               ///< JSON pointer of the key or value ("" = the whole document)
     std::size_t line = 0, column = 0;  ///< 1-based; 0 = not located
     ErrorCode code = ErrorCode::syntax_error;
     std::string message;  ///< "broker.uri: unknown key; did you mean \"url\"? (valid keys: ...)"

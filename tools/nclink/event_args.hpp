@@ -56,8 +56,8 @@ inline std::vector<Json> parse_filter_arg(const std::string& spec) {
     const auto colon = spec.find(':');
     const std::string type = spec.substr(0, colon);
     const bool has_args = colon != std::string::npos;
-    const std::vector<std::string> args = has_args ? split_commas(std::string_view(spec).substr(colon + 1))
-                                                   : std::vector<std::string>{};
+    const std::vector<std::string> args =
+        has_args ? split_commas(std::string_view(spec).substr(colon + 1)) : std::vector<std::string>{};
     Json filter{{"type", type}};
     auto need = [&](std::size_t min, std::size_t max) {
         if (args.size() < min || args.size() > max)
@@ -84,8 +84,7 @@ inline std::vector<Json> parse_filter_arg(const std::string& spec) {
         for (const auto& a : args) values.push_back(parse_value_text(a));
         filter["values"] = std::move(values);
     } else {
-        throw UsageError{"--filter: unknown filter type \"" + type +
-                         "\" (change, equal, range, less, greater, include, or JSON)"};
+        throw UsageError{"--filter: unknown filter type \"" + type + "\" (change, equal, range, less, greater, include, or JSON)"};
     }
     return {filter};
 }

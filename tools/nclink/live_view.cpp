@@ -98,8 +98,8 @@ LiveView::Row& LiveView::row(const std::string& channel, std::size_t index) {
     if (added) {
         it->second.channel = channel;
         const auto names = channels_.find(channel);
-        it->second.point = names != channels_.end() && index < names->second.size() ? names->second[index]
-                                                                                      : "p" + std::to_string(index + 1);
+        it->second.point =
+            names != channels_.end() && index < names->second.size() ? names->second[index] : "p" + std::to_string(index + 1);
     }
     return it->second;
 }
@@ -120,18 +120,16 @@ std::vector<std::string> LiveView::render(int width, int height, std::int64_t no
     const std::size_t w = static_cast<std::size_t>(std::max(width, 1));
     const std::size_t h = static_cast<std::size_t>(std::max(height, 1));
     std::vector<std::string> lines;
-    lines.push_back(pad("nclink top  " + device_ + " on " + broker_ + "  " + format_time_ms(now_ms) + "  DTUs " +
-                            std::to_string(dtus_),
-                        w));
+    lines.push_back(
+        pad("nclink top  " + device_ + " on " + broker_ + "  " + format_time_ms(now_ms) + "  DTUs " + std::to_string(dtus_), w));
     // Columns: channel and point shrink on narrow screens; the value takes the rest.
     const std::size_t age_w = 6;
     std::size_t channel_w = 14, point_w = 22;
     if (w < 60) channel_w = 10, point_w = 14;
     const std::size_t fixed = channel_w + 1 + point_w + 1 + age_w + 1;
     const std::size_t value_w = w > fixed ? w - fixed : 1;
-    lines.push_back(pad(pad("CHANNEL", channel_w) + " " + pad("ITEM", point_w) + " " + pad("VALUE", value_w) + " " +
-                            pad("AGE", age_w),
-                        w));
+    lines.push_back(
+        pad(pad("CHANNEL", channel_w) + " " + pad("ITEM", point_w) + " " + pad("VALUE", value_w) + " " + pad("AGE", age_w), w));
     const std::size_t body = h > 3 ? h - 3 : 0;  // title, header, help
     const int max_first = static_cast<int>(rows_.size() > body ? rows_.size() - body : 0);
     first_row_ = std::clamp(first_row_, 0, max_first);
@@ -142,8 +140,8 @@ std::vector<std::string> LiveView::render(int width, int height, std::int64_t no
             continue;
         }
         const Row& row = std::next(rows_.begin(), static_cast<std::ptrdiff_t>(r))->second;
-        lines.push_back(pad(pad(row.channel, channel_w) + " " + pad(row.point, point_w) + " " + pad(row.value, value_w) +
-                                " " + pad(age(now_ms, row.updated_ms), age_w),
+        lines.push_back(pad(pad(row.channel, channel_w) + " " + pad(row.point, point_w) + " " + pad(row.value, value_w) + " " +
+                                pad(age(now_ms, row.updated_ms), age_w),
                             w));
     }
     std::string help = "q quit";

@@ -43,9 +43,7 @@ std::string render_bar(const std::string& label, std::optional<double> fraction,
     // detail and the label give way (clipped).
     std::size_t bar = 40;
     std::string head = label, tail = detail;
-    const auto need = [&] {
-        return (head.empty() ? 0 : head.size() + 1) + 2 + bar + 1 + 6 + (tail.empty() ? 0 : 1 + tail.size());
-    };
+    const auto need = [&] { return (head.empty() ? 0 : head.size() + 1) + 2 + bar + 1 + 6 + (tail.empty() ? 0 : 1 + tail.size()); };
     while (need() > total && bar > 10) --bar;
     if (need() > total) {
         const std::size_t over = need() - total;
@@ -72,8 +70,7 @@ std::string render_bar(const std::string& label, std::optional<double> fraction,
     return line;
 }
 
-Progress::Progress(ProgressMode mode, std::FILE* out, std::string label)
-    : mode_(mode), out_(out), label_(std::move(label)) {}
+Progress::Progress(ProgressMode mode, std::FILE* out, std::string label) : mode_(mode), out_(out), label_(std::move(label)) {}
 
 Progress::~Progress() { finish(); }
 
@@ -89,8 +86,7 @@ void Progress::update(std::optional<double> fraction, const std::string& detail)
         last_decile_ = decile;
         if (fraction)
             std::fprintf(out_, "%s %.0f%% %s\n", label_.c_str(), std::clamp(*fraction, 0.0, 1.0) * 100.0, detail.c_str());
-        else
-            std::fprintf(out_, "%s %s\n", label_.c_str(), detail.c_str());
+        else std::fprintf(out_, "%s %s\n", label_.c_str(), detail.c_str());
         std::fflush(out_);
         return;
     }

@@ -23,8 +23,8 @@ int terminal_columns(std::FILE* out);
 /// One line, exactly `width` columns (ASCII): "LABEL [#####.....]  42.0% DETAIL",
 /// the bar taking what the label and detail leave. `fraction` outside 0..1 is
 /// clamped; nullopt (unknown) draws a moving marker from `tick`.
-std::string render_bar(const std::string& label, std::optional<double> fraction, const std::string& detail,
-                       int width, unsigned tick = 0);
+std::string render_bar(const std::string& label, std::optional<double> fraction, const std::string& detail, int width,
+                       unsigned tick = 0);
 
 /// Not thread-safe: one thread draws (or guard it).
 class Progress {

@@ -54,8 +54,7 @@ FullScreen::~FullScreen() {
 
 std::pair<int, int> FullScreen::size() const {
     winsize size{};
-    if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0 && size.ws_row > 0)
-        return {size.ws_col, size.ws_row};
+    if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0 && size.ws_row > 0) return {size.ws_col, size.ws_row};
     return {80, 24};
 }
 

@@ -42,14 +42,13 @@ int run_validate(const Args& args) {
     for (const auto& file : files) {
         const LoadResult result = load_model_file(file);
         for (const auto& p : result.problems)
-            std::printf("%s:%s: %s: %s\n", file.c_str(),
-                        p.pointer.empty() ? "/" : p.pointer.c_str(),
+            std::printf("%s:%s: %s: %s\n", file.c_str(), p.pointer.empty() ? "/" : p.pointer.c_str(),
                         std::string(to_string(p.severity)).c_str(), p.message.c_str());
         const std::size_t fatal = result.count(Severity::fatal);
         const std::size_t conformance = result.count(Severity::conformance);
         const std::size_t warnings = result.count(Severity::warning);
-        std::printf("%s: %zu fatal, %zu conformance, %zu warning%s\n", file.c_str(), fatal,
-                    conformance, warnings, warnings == 1 ? "" : "s");
+        std::printf("%s: %zu fatal, %zu conformance, %zu warning%s\n", file.c_str(), fatal, conformance, warnings,
+                    warnings == 1 ? "" : "s");
         if (fatal > 0 || conformance > 0 || (strict && warnings > 0)) failed = true;
     }
     return failed ? 1 : 0;

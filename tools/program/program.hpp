@@ -119,13 +119,10 @@ private:
 /// The reload report every program logs after SIGHUP (docs/configuration.md,
 /// "Reloading"): what applies now, what waits for a restart.
 inline void log_reload(const Logger& logger, const char* program, const std::string& file, const ConfigReload& report) {
-    if (report.applied.empty() && report.restart_needed.empty())
-        logger.info("{}: reloaded {}: nothing changed", program, file);
-    else if (!report.applied.empty())
-        logger.info("{}: reloaded {}: applied {}", program, file, joined(report.applied));
+    if (report.applied.empty() && report.restart_needed.empty()) logger.info("{}: reloaded {}: nothing changed", program, file);
+    else if (!report.applied.empty()) logger.info("{}: reloaded {}: applied {}", program, file, joined(report.applied));
     if (!report.restart_needed.empty())
-        logger.warn("{}: changed in {} but applied only after a restart: {}", program, file,
-                    joined(report.restart_needed));
+        logger.warn("{}: changed in {} but applied only after a restart: {}", program, file, joined(report.restart_needed));
 }
 
 /// SIGHUP without a configuration file: nothing to read again.

@@ -18,12 +18,12 @@
 using namespace nclink;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::MosquittoOptions;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
 using nclink::test::sim_mill_path;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
-using nclink::test::MosquittoOptions;
 
 namespace {
 
@@ -54,8 +54,7 @@ struct Rig : nclink::test::SimMillRig {
         start();
     }
     std::unique_ptr<Client> app(const std::string& ex, bool persistent = false) {
-        return make_client(ex, std::chrono::seconds(5),
-                           [&](MqttOptions& m, ClientOptions&) { m.clean_session = !persistent; });
+        return make_client(ex, std::chrono::seconds(5), [&](MqttOptions& m, ClientOptions&) { m.clean_session = !persistent; });
     }
 
     std::shared_ptr<SlowableSim> slowable = std::make_shared<SlowableSim>();
@@ -99,8 +98,8 @@ TEST_CASE("probe, query and set the simulated mill through mosquitto") {
     CHECK(s.value()[0].status.ok);
     CHECK(s.value()[1].status.error == 301);
     CHECK(s.value()[2].status.ok);
-    auto after = app->query(kDev, {{"feed_override", std::nullopt},
-                                   {"tools", Json{{"operation", "get_value"}, {"indexes", {"3"}}}}});
+    auto after =
+        app->query(kDev, {{"feed_override", std::nullopt}, {"tools", Json{{"operation", "get_value"}, {"indexes", {"3"}}}}});
     REQUIRE(after.ok());
     CHECK(after.value()[0].values == Json::array({50}));
     CHECK(after.value()[1].values->at(0)["id"] == "T99");
@@ -123,19 +122,24 @@ TEST_CASE("a response produced while the broker restarts is delivered after it")
     std::optional<Result<std::vector<QueryResult>>> answer;
     RequestOptions ro;
     ro.timeout = std::chrono::seconds(40);
-    app->query_async(kDev, {{"x_position", std::nullopt}}, [&](Result<std::vector<QueryResult>> r) {
-        std::lock_guard<std::mutex> lock(mutex);
-        answer = std::move(r);
-    }, ro);
+    app->query_async(
+        kDev, {{"x_position", std::nullopt}},
+        [&](Result<std::vector<QueryResult>> r) {
+            std::lock_guard<std::mutex> lock(mutex);
+            answer = std::move(r);
+        },
+        ro);
     // The adapter is inside the (slow) driver read when the broker goes away.
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     rig.broker.stop();
     std::this_thread::sleep_for(std::chrono::milliseconds(900));  // the answer is ready and buffered now
     rig.broker.start();
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        return answer.has_value();
-    }, std::chrono::seconds(45)));
+    REQUIRE(eventually(
+        [&] {
+            std::lock_guard<std::mutex> lock(mutex);
+            return answer.has_value();
+        },
+        std::chrono::seconds(45)));
     std::lock_guard<std::mutex> lock(mutex);
     REQUIRE(answer->ok());
     const auto& status = answer->value()[0].status;
@@ -153,10 +157,12 @@ TEST_CASE("adapter restart: applications see offline, then online again") {
     std::mutex mutex;
     std::vector<std::string> states;
     auto app = rig.app("mes-state");
-    REQUIRE(app->subscribe_state(kDev, [&](const NotifyState& n) {
-        std::lock_guard<std::mutex> lock(mutex);
-        states.push_back(n.state);
-    }).ok());
+    REQUIRE(app->subscribe_state(kDev,
+                                 [&](const NotifyState& n) {
+                                     std::lock_guard<std::mutex> lock(mutex);
+                                     states.push_back(n.state);
+                                 })
+                .ok());
     auto seen = [&](std::size_t n) {
         return eventually([&] {
             std::lock_guard<std::mutex> lock(mutex);
@@ -192,7 +198,9 @@ TEST_CASE("raw MQTT: malformed and retained requests through the real broker") {
     REQUIRE(raw->subscribe({"Query/Response/" + kDev + "/raw", "Set/Response/" + kDev + "/raw"}, 1).ok());
     REQUIRE(eventually([&] { return raw->state() == LinkState::connected; }));
     // Published retained before the adapter exists: replayed to it on subscribe, ignored.
-    REQUIRE(raw->publish({"Set/Request/" + kDev + "/raw", R"({"@id":"stale","values":[{"id":"feed_override","params":{"value":5}}]})", 1, true}).ok());
+    REQUIRE(raw->publish({"Set/Request/" + kDev + "/raw",
+                          R"({"@id":"stale","values":[{"id":"feed_override","params":{"value":5}}]})", 1, true})
+                .ok());
     REQUIRE(raw->flush(std::chrono::seconds(5)));
     rig.start_adapter();
     REQUIRE(raw->publish({"Query/Request/" + kDev + "/raw", "{not json", 1, false}).ok());

@@ -33,8 +33,7 @@ namespace {
 FleetClient silent_terminal(const std::string& tid) {
     FleetClient c;
     c.client_id = tid;
-    c.subscriptions = {topics::register_response(tid), topics::probe_query_request(tid) + "/#",
-                       topics::probe_query_request(tid)};
+    c.subscriptions = {topics::register_response(tid), topics::probe_query_request(tid) + "/#", topics::probe_query_request(tid)};
     RegisterRequest reg;
     reg.msg_id = Json(tid + "-reg");
     reg.cli_uuid = tid;
@@ -94,11 +93,10 @@ TEST_CASE("agent: 1000 terminals coming online at once are all registered and li
         180s);
     std::size_t registered = 0;
     for (const auto& tid : ids) registered += got_registered(fleet, tid) ? 1 : 0;
-    INFO("terminals answered Register/Response OK: " << registered << ", agent stats: registrations "
-                                                      << agent.stats().registrations << ", published "
-                                                      << agent.stats().transport.published << ", buffered "
-                                                      << agent.stats().transport.buffered << ", in flight "
-                                                      << agent.stats().transport.in_flight);
+    INFO("terminals answered Register/Response OK: " << registered << ", agent stats: registrations " << agent.stats().registrations
+                                                     << ", published " << agent.stats().transport.published << ", buffered "
+                                                     << agent.stats().transport.buffered << ", in flight "
+                                                     << agent.stats().transport.in_flight);
     REQUIRE(all_registered);
 
     auto app = started_client(broker.url(), "fleet-app", 30s);

@@ -82,8 +82,7 @@ std::unique_ptr<Adapter> start_adapter(const MosquittoBroker& broker, std::share
     return started_adapter(c, std::move(driver));
 }
 
-std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::string& ex,
-                                     const std::string& username = "") {
+std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::string& ex, const std::string& username = "") {
     auto c = started_client(broker.url(), ex, 2000ms, [&](MqttOptions& m, ClientOptions&) { m.username = username; });
     std::this_thread::sleep_for(100ms);
     return c;
@@ -91,8 +90,8 @@ std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::s
 
 /// A raw MQTT peer collecting what arrives on its subscriptions.
 struct Peer {
-    Peer(const MosquittoBroker& broker, const std::string& id, std::vector<std::string> filters,
-         const std::string& username = "", int version = 4) {
+    Peer(const MosquittoBroker& broker, const std::string& id, std::vector<std::string> filters, const std::string& username = "",
+         int version = 4) {
         MqttOptions m;
         m.broker_url = broker.url();
         m.client_id = id;
@@ -199,8 +198,8 @@ TEST_CASE("two agents on shared subscriptions answer once") {
             a.mqtt_version = b.mqtt_version = version;
             auto first = start_agent(a);
             auto second = start_agent(b);
-            Peer app(broker, "app", {"Register/Response/+", "Discovery/Response/+", "Query/Response/+/+",
-                                     "Probe/Version/Response/+"});
+            Peer app(broker, "app",
+                     {"Register/Response/+", "Discovery/Response/+", "Query/Response/+/+", "Probe/Version/Response/+"});
             for (int i = 0; i < 6; ++i) {
                 app.send("Register/Request", Json{{"@id", "r" + std::to_string(i)}, {"cli_uuid", "t" + std::to_string(i)}});
                 app.send("Discovery/Request/app", Json{{"@id", "d" + std::to_string(i)}, {"guid", "app"}});
@@ -295,9 +294,10 @@ TEST_CASE("broker ACL passes other applications' method runs and events only to 
         }
     };
     auto watch = [](Client& client, Watcher& w) {
-        REQUIRE(client.subscribe_method_runs("test-dev", [&w](const MethodRun& r) {
-            w.add(std::string(to_string(r.kind)) + " " + r.ex);
-        }).ok());
+        REQUIRE(client
+                    .subscribe_method_runs("test-dev",
+                                           [&w](const MethodRun& r) { w.add(std::string(to_string(r.kind)) + " " + r.ex); })
+                    .ok());
         REQUIRE(client.subscribe_events("test-dev", [&w](const WatchedEvent& e) { w.add("event " + e.ex); }).ok());
     };
     auto dash = start_client(broker, "dash", "dash");
@@ -311,8 +311,7 @@ TEST_CASE("broker ACL passes other applications' method runs and events only to 
     Peer adapter(broker, "test-dev", {}, "test-dev");
     adapter.send("Method/Status/test-dev/mes", Json{{"@id", "c1"}, {"id", "home"}, {"status", "executing"}, {"progress", 10}});
     adapter.send("Method/Result/test-dev/mes", Json{{"@id", "c1"}, {"id", "home"}, {"result", "finished"}, {"code", "OK"}});
-    adapter.send("Event/test-dev/mes",
-                 Json{{"@id", "e1"}, {"id", "ev1"}, {"time", 1}, {"event", {{"id", "ovr"}, {"value", 120}}}});
+    adapter.send("Event/test-dev/mes", Json{{"@id", "e1"}, {"id", "ev1"}, {"time", 1}, {"event", {{"id", "ovr"}, {"value", 120}}}});
     adapter.send("Method/Result/test-dev/viewer", Json{{"@id", "c2"}, {"id", "home"}, {"result", "finished"}, {"code", "OK"}});
 
     const std::multiset<std::string> everything = {"status mes", "result mes", "event mes", "result viewer"};
@@ -346,17 +345,19 @@ TEST_CASE("two agents on shared subscriptions: one killed and registrations and 
         };
         for (int i = from; i < to; ++i) send(i);
         auto asked = std::chrono::steady_clock::now();
-        return eventually([&] {
-            bool all = true;
-            const bool again = std::chrono::steady_clock::now() - asked > 2s;
-            for (int i = from; i < to; ++i)
-                if (app.on("Register/Response/t" + std::to_string(i)).empty()) {
-                    all = false;
-                    if (again) send(i);
-                }
-            if (again) asked = std::chrono::steady_clock::now();
-            return all;
-        }, 20s);
+        return eventually(
+            [&] {
+                bool all = true;
+                const bool again = std::chrono::steady_clock::now() - asked > 2s;
+                for (int i = from; i < to; ++i)
+                    if (app.on("Register/Response/t" + std::to_string(i)).empty()) {
+                        all = false;
+                        if (again) send(i);
+                    }
+                if (again) asked = std::chrono::steady_clock::now();
+                return all;
+            },
+            20s);
     };
     REQUIRE(register_terminals(0, 8));
     const auto before = survivor->stats().registrations;

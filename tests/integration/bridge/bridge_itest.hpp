@@ -23,8 +23,8 @@ namespace nclink::test {
 inline bool validates(const std::string& xml, const std::string& kind) {
     // CI lays shared/ beside the source tree; NCLINK_SHARED_DIR in the environment overrides it.
     const char* env = std::getenv("NCLINK_SHARED_DIR");
-    const std::string xsd = std::string(env && *env ? env : NCLINK_SHARED_DIR) + "/interop/mtconnect-schema/MTConnect" +
-                            kind + "_1.4_1.0.xsd";
+    const std::string xsd =
+        std::string(env && *env ? env : NCLINK_SHARED_DIR) + "/interop/mtconnect-schema/MTConnect" + kind + "_1.4_1.0.xsd";
     if (!std::filesystem::exists(xsd) || std::system("command -v xmllint >/dev/null 2>&1") != 0) {
         WARN("MTConnect schemas or xmllint absent: not validated against " << xsd);
         return true;

@@ -92,10 +92,9 @@ private:
 struct DiscoveryRig {
     DiscoveryRig() : scratch("nclink-itest-bridge-discovery-") {
         std::filesystem::create_directories(scratch.path);
-        agent = std::make_unique<Program>(
-            std::vector<std::string>{bin("nclink-agent"), "--broker", broker.url(), "--state-dir",
-                                     (scratch.path / "agent").string()},
-            log("agent"));
+        agent = std::make_unique<Program>(std::vector<std::string>{bin("nclink-agent"), "--broker", broker.url(), "--state-dir",
+                                                                   (scratch.path / "agent").string()},
+                                          log("agent"));
         REQUIRE(agent->running());
         // A client of the test that asks the agent what it knows (Discovery, 8.2.3).
         checker = nclink::test::started_client(broker.url(), "discovery-checker");
@@ -117,11 +116,11 @@ struct DiscoveryRig {
 
         http_port = nclink::test::free_loopback_port();
         shdr_port = nclink::test::free_loopback_port();
-        bridge = std::make_unique<Program>(
-            std::vector<std::string>{bin("nclink-bridge"), "--broker", broker.url(), "--http",
-                                     "127.0.0.1:" + std::to_string(http_port), "--shdr",
-                                     "127.0.0.1:" + std::to_string(shdr_port), "--buffer-size", "8192"},
-            log("bridge"));
+        bridge =
+            std::make_unique<Program>(std::vector<std::string>{bin("nclink-bridge"), "--broker", broker.url(), "--http",
+                                                               "127.0.0.1:" + std::to_string(http_port), "--shdr",
+                                                               "127.0.0.1:" + std::to_string(shdr_port), "--buffer-size", "8192"},
+                                      log("bridge"));
         REQUIRE(bridge->running());
         http = std::make_unique<httplib::Client>("127.0.0.1", http_port);
         http->set_read_timeout(10, 0);
@@ -137,8 +136,7 @@ struct DiscoveryRig {
     std::string log(const std::string& name) const { return (scratch.path / (name + ".log")).string(); }
 
     void start_mill(std::unique_ptr<Program>& mill, const std::string& guid) {
-        mill = std::make_unique<Program>(std::vector<std::string>{bin("nclink-sim"), "--broker", broker.url(),
-                                                                  "--guid", guid},
+        mill = std::make_unique<Program>(std::vector<std::string>{bin("nclink-sim"), "--broker", broker.url(), "--guid", guid},
                                          log(guid));
         REQUIRE(mill->running());
     }
@@ -193,11 +191,13 @@ bool ids_unique(const std::string& xml, const std::string& attribute) {
 TEST_CASE("bridge without devices follows every adapter the agent discovers, two mills of one model in one document") {
     DiscoveryRig rig;
     std::string current;
-    REQUIRE(eventually([&] {
-        current = rig.get("/current");
-        return DiscoveryRig::availability(current, kMillA) == "AVAILABLE" &&
-               DiscoveryRig::availability(current, kMillB) == "AVAILABLE";
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            current = rig.get("/current");
+            return DiscoveryRig::availability(current, kMillA) == "AVAILABLE" &&
+                   DiscoveryRig::availability(current, kMillB) == "AVAILABLE";
+        },
+        30s));
 
     // Both devices in /probe; the ids of the one document are unique, and it validates.
     const std::string probe = rig.get("/probe");
@@ -261,23 +261,25 @@ TEST_CASE("bridge without devices follows every adapter the agent discovers, two
 
     // Mill B goes away (killed: the broker sends its last will): only its items turn UNAVAILABLE.
     rig.mill_b->stop(SIGKILL);
-    REQUIRE(eventually([&] {
-        current = rig.get("/current");
-        return DiscoveryRig::availability(current, kMillB) == "UNAVAILABLE";
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            current = rig.get("/current");
+            return DiscoveryRig::availability(current, kMillB) == "UNAVAILABLE";
+        },
+        20s));
     CHECK(DiscoveryRig::availability(current, kMillA) == "AVAILABLE");
-    const std::string b_positions =
-        rig.get("/" + kMillB + "/current?path=" + encoded("//DataItem[@type=\"POSITION\"]"));
+    const std::string b_positions = rig.get("/" + kMillB + "/current?path=" + encoded("//DataItem[@type=\"POSITION\"]"));
     CHECK(b_positions.find(">UNAVAILABLE</Position>") != std::string::npos);
     CHECK(validates(current, "Streams"));
 
     // ... and comes back: available again, with values.
     rig.start_mill(rig.mill_b, kMillB);
-    REQUIRE(eventually([&] {
-        current = rig.get("/" + kMillB + "/current?path=" + encoded("//DataItem[@id=\"" + kMillB + ".x_position\"]"));
-        return DiscoveryRig::availability(rig.get("/current"), kMillB) == "AVAILABLE" &&
-               current.find("<Position") != std::string::npos &&
-               current.find(">UNAVAILABLE</Position>") == std::string::npos;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            current = rig.get("/" + kMillB + "/current?path=" + encoded("//DataItem[@id=\"" + kMillB + ".x_position\"]"));
+            return DiscoveryRig::availability(rig.get("/current"), kMillB) == "AVAILABLE" &&
+                   current.find("<Position") != std::string::npos && current.find(">UNAVAILABLE</Position>") == std::string::npos;
+        },
+        30s));
     CHECK(validates(rig.get("/probe"), "Devices"));
 }

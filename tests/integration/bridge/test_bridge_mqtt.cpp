@@ -59,10 +59,12 @@ struct Rig : nclink::test::SimMillRig {
         http = std::make_unique<httplib::Client>("127.0.0.1", the_bridge->http_port());
         http->set_read_timeout(10, 0);
         client = make_client("checker");
-        REQUIRE(eventually([&] {
-            auto r = http->Get("/current");
-            return r && r->status == 200 && r->body.find(">AVAILABLE</Availability>") != std::string::npos;
-        }, 20s));
+        REQUIRE(eventually(
+            [&] {
+                auto r = http->Get("/current");
+                return r && r->status == 200 && r->body.find(">AVAILABLE</Availability>") != std::string::npos;
+            },
+            20s));
     }
     ~Rig() override {
         the_bridge.reset();  // before the adapter and the broker
@@ -99,7 +101,8 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     REQUIRE(eventually([&] {
         auto current = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".spindle_override\"]"));
         std::smatch m;
-        if (!current || !std::regex_search(current->body, m, std::regex("dataItemId=\"" + kDev + "\\.spindle_override\"[^>]*>([^<]*)<")))
+        if (!current ||
+            !std::regex_search(current->body, m, std::regex("dataItemId=\"" + kDev + "\\.spindle_override\"[^>]*>([^<]*)<")))
             return false;
         shown = m[1];
         return shown != "UNAVAILABLE" && std::stod(shown) == override_value.get<double>();
@@ -108,8 +111,8 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     REQUIRE(current);
     CHECK(current->status == 200);
     CHECK(validates(current->body, "Streams"));
-    for (const char* attr : {"creationTime", "sender", "instanceId", "version", "bufferSize", "nextSequence",
-                             "firstSequence", "lastSequence"})
+    for (const char* attr :
+         {"creationTime", "sender", "instanceId", "version", "bufferSize", "nextSequence", "firstSequence", "lastSequence"})
         CHECK_FALSE(attribute(current->body, attr).empty());
     auto positions = rig.get("/current?path=" + encoded("//DataItem[@type=\"POSITION\"]"));
     REQUIRE(positions);
@@ -186,19 +189,17 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     INFO(enquired->body.substr(0, 600));
     CHECK(enquired->status == 200);
     CHECK(validates(enquired->body, "Streams"));
-    auto write = rig.http->Post(
-        "/gbt18759/write",
-        "<DataWriteRequest><Header version=\"1.0\" sender=\"itest\"/><Operation command=\"SET\">"
-        "<Value dataItemId=\"spindle_override\">87</Value></Operation></DataWriteRequest>",
-        "application/xml");
+    auto write = rig.http->Post("/gbt18759/write",
+                                "<DataWriteRequest><Header version=\"1.0\" sender=\"itest\"/><Operation command=\"SET\">"
+                                "<Value dataItemId=\"spindle_override\">87</Value></Operation></DataWriteRequest>",
+                                "application/xml");
     REQUIRE(write);
     CHECK(write->status == 200);
     CHECK(rig.query_one("spindle_override") == 87);
-    auto write_by_mt_id = rig.http->Post(
-        "/gbt18759/write",
-        "<DataWriteRequest><Operation command=\"SET\"><Value dataItemId=\"" + kDev +
-            ".spindle_override\">88</Value></Operation></DataWriteRequest>",
-        "application/xml");
+    auto write_by_mt_id = rig.http->Post("/gbt18759/write",
+                                         "<DataWriteRequest><Operation command=\"SET\"><Value dataItemId=\"" + kDev +
+                                             ".spindle_override\">88</Value></Operation></DataWriteRequest>",
+                                         "application/xml");
     REQUIRE(write_by_mt_id);
     CHECK(write_by_mt_id->status == 200);
     CHECK(rig.query_one("spindle_override") == 88);
@@ -222,8 +223,8 @@ TEST_CASE("bridge serves valid MTConnect documents that agree with NC-Link Query
     REQUIRE(set);
     CHECK(Json::parse(set->body) == Json{{"code", "OK"}});
     CHECK(rig.query_one("spindle_override") == 93);
-    auto refused = rig.http->Post(("/nclink/v1/devices/" + kDev + "/set").c_str(), R"({"id":"x_position","value":1})",
-                                  "application/json");
+    auto refused =
+        rig.http->Post(("/nclink/v1/devices/" + kDev + "/set").c_str(), R"({"id":"x_position","value":1})", "application/json");
     REQUIRE(refused);
     CHECK(refused->status == 200);
     CHECK(Json::parse(refused->body)["code"] == "NG");
@@ -269,11 +270,13 @@ TEST_CASE("bridge turns a stopped adapter UNAVAILABLE and brings its values back
 
     rig.driver = nullptr;  // a fresh simulated mill, as after a real restart
     rig.start();
-    REQUIRE(eventually([&] {
-        auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".x_position\"]"));
-        return r && r->body.find(">AVAILABLE</Availability>") == std::string::npos &&
-               r->body.find("<Position") != std::string::npos && r->body.find(">UNAVAILABLE</Position>") == std::string::npos;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".x_position\"]"));
+            return r && r->body.find(">AVAILABLE</Availability>") == std::string::npos &&
+                   r->body.find("<Position") != std::string::npos && r->body.find(">UNAVAILABLE</Position>") == std::string::npos;
+        },
+        20s));
 }
 
 namespace {
@@ -306,7 +309,8 @@ TEST_CASE("bridge speaks SHDR: snapshot, line format, PING PONG, reconnect") {
     Rig rig;
     for (int round = 0; round < 2; ++round) {  // the second round is a reconnect
         int fd = connect_to(rig.the_bridge->shdr_port());
-        const std::string snapshot = read_until(fd, [](const std::string& t) { return t.find("_avail|AVAILABLE\n") != std::string::npos; });
+        const std::string snapshot =
+            read_until(fd, [](const std::string& t) { return t.find("_avail|AVAILABLE\n") != std::string::npos; });
         CHECK(snapshot.find("_avail|AVAILABLE\n") != std::string::npos);
         const std::regex line_format(R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z\|[^|\n]+:[^|\n]+\|[^\n]*$)");
         std::istringstream lines(snapshot);
@@ -323,7 +327,8 @@ TEST_CASE("bridge speaks SHDR: snapshot, line format, PING PONG, reconnect") {
         const std::string after = read_until(fd, [](const std::string& t) { return t.find("* PONG ") != std::string::npos; });
         CHECK(after.find("* PONG 500\n") != std::string::npos);
         // Live changes keep coming (the 1 ms channel moves the axes).
-        const std::string live = read_until(fd, [](const std::string& t) { return t.find(":" + kDev + ".x_position|") != std::string::npos; });
+        const std::string live =
+            read_until(fd, [](const std::string& t) { return t.find(":" + kDev + ".x_position|") != std::string::npos; });
         CHECK(live.find(":" + kDev + ".x_position|") != std::string::npos);
         ::close(fd);
     }
@@ -336,11 +341,13 @@ TEST_CASE("an agent reading the bridge's SHDR gets the mill's list and dict item
     Rig rig;
     // The list and dict items are polled: wait until the bridge has them.
     for (const char* id : {"tools", "parameters", "coordinates"})
-        REQUIRE(eventually([&] {
-            auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + "." + id + "\"]"));
-            return r && r->status == 200 && r->body.find("<Message") != std::string::npos &&
-                   r->body.find(">UNAVAILABLE</Message>") == std::string::npos;
-        }, 20s));
+        REQUIRE(eventually(
+            [&] {
+                auto r = rig.get("/current?path=" + encoded("//DataItem[@id=\"" + kDev + "." + id + "\"]"));
+                return r && r->status == 200 && r->body.find("<Message") != std::string::npos &&
+                       r->body.find(">UNAVAILABLE</Message>") == std::string::npos;
+            },
+            20s));
     const auto probe = rig.get("/probe");
     REQUIRE(probe);
     nclink::test::ShdrAgent agent(probe->body);
@@ -414,10 +421,12 @@ TEST_CASE("bridge shows other applications' method runs and events on the stream
         std::lock_guard<std::mutex> lock(mutex);
         return received;
     };
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        return received.find("event: snapshot") != std::string::npos;
-    }, 10s));
+    REQUIRE(eventually(
+        [&] {
+            std::lock_guard<std::mutex> lock(mutex);
+            return received.find("event: snapshot") != std::string::npos;
+        },
+        10s));
 
     // Another application calls methods (one refused) and registers an event that then fires.
     auto op = rig.make_client("operator");
@@ -438,10 +447,12 @@ TEST_CASE("bridge shows other applications' method runs and events on the stream
     REQUIRE(eventually([&] { return fired.load() >= 1; }, 10s));
 
     // The stream: event: method with the caller, the call's @id, its result; event: event.
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(mutex);
-        return found_all;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            std::lock_guard<std::mutex> lock(mutex);
+            return found_all;
+        },
+        30s));
     done = true;
     reader.join();
     const std::string stream = complete(read_so_far());
@@ -473,14 +484,16 @@ TEST_CASE("bridge shows other applications' method runs and events on the stream
 
     // The JSON API keeps them: the refused call too, with its table-19 code.
     Json activity;
-    REQUIRE(eventually([&] {
-        auto r = rig.get("/nclink/v1/devices/" + kDev + "/activity");
-        if (!r || r->status != 200) return false;
-        activity = Json::parse(r->body);
-        for (const auto& m : activity["methods"])
-            if (m.value("method", "") == "self_destruct" && m.value("result", "") == "error") return true;
-        return false;
-    }, 10s));
+    REQUIRE(eventually(
+        [&] {
+            auto r = rig.get("/nclink/v1/devices/" + kDev + "/activity");
+            if (!r || r->status != 200) return false;
+            activity = Json::parse(r->body);
+            for (const auto& m : activity["methods"])
+                if (m.value("method", "") == "self_destruct" && m.value("result", "") == "error") return true;
+            return false;
+        },
+        10s));
     bool logged_run = false, logged_refusal = false, logged_event = false;
     for (const auto& m : activity["methods"]) {
         logged_run = logged_run || (m["call"] == (*finished)["call"] && m["result"] == "finished");

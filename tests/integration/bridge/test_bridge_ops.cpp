@@ -60,24 +60,28 @@ TEST_CASE("bridge ops: the dashboard page, health and metrics that follow the ma
     CHECK(rig.http->Get("/dashboard/")->status == 200);
     CHECK(rig.http->Post("/dashboard", "x", "text/plain")->status == 405);
 
-    REQUIRE(eventually([&] {
-        auto h = rig.http->Get("/nclink/v1/health");
-        if (!h || h->status != 200) return false;
-        const Json health = Json::parse(h->body, nullptr, false);
-        return health.is_object() && health.value("devices_online", 0) == 1 && health.value("broker", "") == "connected";
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            auto h = rig.http->Get("/nclink/v1/health");
+            if (!h || h->status != 200) return false;
+            const Json health = Json::parse(h->body, nullptr, false);
+            return health.is_object() && health.value("devices_online", 0) == 1 && health.value("broker", "") == "connected";
+        },
+        30s));
 
     std::vector<test::PromSample> samples;
     std::string text;
-    REQUIRE(eventually([&] {
-        auto m = rig.http->Get("/metrics");
-        if (!m || m->status != 200) return false;
-        text = m->body;
-        samples.clear();
-        (void)test::exposition_problems(text, &samples);
-        return test::prom_value(samples, "nclink_bridge_devices", {{"state", "online"}}) == 1.0 &&
-               test::prom_value(samples, "nclink_bridge_observations_total").value_or(0) > 0;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            auto m = rig.http->Get("/metrics");
+            if (!m || m->status != 200) return false;
+            text = m->body;
+            samples.clear();
+            (void)test::exposition_problems(text, &samples);
+            return test::prom_value(samples, "nclink_bridge_devices", {{"state", "online"}}) == 1.0 &&
+                   test::prom_value(samples, "nclink_bridge_observations_total").value_or(0) > 0;
+        },
+        30s));
     INFO(text);
     const auto problems = test::exposition_problems(text);
     for (const auto& p : problems) UNSCOPED_INFO(p);
@@ -90,8 +94,8 @@ TEST_CASE("bridge ops: the dashboard page, health and metrics that follow the ma
     CHECK(test::prom_value(samples, "nclink_bridge_dtus_sent_total", {{"kind", "request"}}).value_or(0) >= 1.0);
     CHECK(test::prom_value(samples, "nclink_bridge_http_requests_total",
                            {{"method", "GET"}, {"route", "/dashboard"}, {"code", "200"}}) == 2.0);
-    CHECK(test::prom_value(samples, "nclink_bridge_http_requests_total",
-                           {{"method", "POST"}, {"route", ""}, {"code", "405"}}) == 1.0);
+    CHECK(test::prom_value(samples, "nclink_bridge_http_requests_total", {{"method", "POST"}, {"route", ""}, {"code", "405"}}) ==
+          1.0);
     // The connection gate's counters (docs/metrics.md "HTTP connections").
     CHECK(test::prom_value(samples, "nclink_bridge_http_connections_accepted_total").value_or(0) >= 1.0);
     CHECK(test::prom_value(samples, "nclink_bridge_http_connections_refused_total", {{"cap", "per_peer"}}) == 0.0);

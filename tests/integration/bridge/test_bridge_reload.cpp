@@ -26,8 +26,8 @@ namespace {
 void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 std::string bridge_config(const std::string& broker, const std::string& extra) {
-    return "{\n  \"broker\": {\"url\": \"" + broker + "\"},\n  \"http\": \"127.0.0.1:0\",\n  \"shdr_enabled\": false" +
-           extra + "\n}\n";
+    return "{\n  \"broker\": {\"url\": \"" + broker + "\"},\n  \"http\": \"127.0.0.1:0\",\n  \"shdr_enabled\": false" + extra +
+           "\n}\n";
 }
 
 }  // namespace

@@ -10,7 +10,6 @@
 
 #include <catch2/catch.hpp>
 
-
 #include <atomic>
 #include <cstdio>
 #include <mutex>
@@ -70,20 +69,29 @@ private:
                 const std::string id = item["id"].get<std::string>();
                 if (id.rfind("no", 0) == 0)
                     body["values"].push_back({{"id", id}, {"code", "NG"}, {"reason", "Node not exists"}, {"error", 401}});
-                else
-                    body["values"].push_back({{"id", id}, {"code", "OK"}, {"values", {"v-" + id}}});
+                else body["values"].push_back({{"id", id}, {"code", "OK"}, {"values", {"v-" + id}}});
             }
         } else if (topic->kind == TopicKind::set_request) {
             body["results"] = Json::array();
             for (const auto& item : req["values"]) body["results"].push_back({{"id", item["id"]}, {"code", "OK"}});
         } else if (topic->kind == TopicKind::probe_query_request) {
             body["code"] = "OK";
-            body["probe"] = {{"id", "root"}, {"type", "NC_LINK_ROOT"}, {"version", "1.0.0"},
-                             {"devices", {{{"id", "m"}, {"type", "MACHINE"}, {"guid", dev_},
-                                           {"configs", {{{"id", "ch1"}, {"type", "SAMPLE_CHANNEL"}, {"sampleInterval", 10},
-                                                         {"uploadInterval", 100}, {"ids", {{{"id", "pos"}}, {{"id", "mode"}}}}}}},
-                                           {"dataItems", {{{"id", "pos"}, {"type", "POSITION"}, {"setable", true}},
-                                                           {{"id", "mode"}, {"type", "WORK_MODE"}}}}}}}};
+            body["probe"] = {
+                {"id", "root"},
+                {"type", "NC_LINK_ROOT"},
+                {"version", "1.0.0"},
+                {"devices",
+                 {{{"id", "m"},
+                   {"type", "MACHINE"},
+                   {"guid", dev_},
+                   {"configs",
+                    {{{"id", "ch1"},
+                      {"type", "SAMPLE_CHANNEL"},
+                      {"sampleInterval", 10},
+                      {"uploadInterval", 100},
+                      {"ids", {{{"id", "pos"}}, {{"id", "mode"}}}}}}},
+                   {"dataItems",
+                    {{{"id", "pos"}, {"type", "POSITION"}, {"setable", true}}, {{"id", "mode"}, {"type", "WORK_MODE"}}}}}}}};
         } else {
             return;
         }
@@ -107,9 +115,6 @@ std::unique_ptr<Client> connect(const MosquittoBroker& broker, const std::string
     CHECK(outcome->kind == RegisterOutcome::Kind::no_answer);  // no agent on a bare broker
     return std::move(client).value();
 }
-
-
-
 
 }  // namespace
 
@@ -138,10 +143,13 @@ TEST_CASE("query, set, probe and state through mosquitto") {
 
     std::mutex mutex;
     std::vector<std::string> states;
-    REQUIRE(client->subscribe_state("dev1", [&](const NotifyState& s) {
-        std::lock_guard<std::mutex> lock(mutex);
-        states.push_back(s.state);
-    }).ok());
+    REQUIRE(client
+                ->subscribe_state("dev1",
+                                  [&](const NotifyState& s) {
+                                      std::lock_guard<std::mutex> lock(mutex);
+                                      states.push_back(s.state);
+                                  })
+                .ok());
     REQUIRE(eventually([&] {
         std::lock_guard<std::mutex> lock(mutex);
         return !states.empty();
@@ -169,7 +177,8 @@ TEST_CASE("the nclink device commands: output and exit codes") {
     }
     MosquittoBroker broker;
     ScriptedAdapter adapter(broker, "dev1");
-    const std::string common = "--broker " + broker.url() + " --device dev1 --timeout 10000 ";  // generous: CI runs tests in parallel on 2 cores
+    const std::string common =
+        "--broker " + broker.url() + " --device dev1 --timeout 10000 ";  // generous: CI runs tests in parallel on 2 cores
 
     auto q = run_cli("query " + common + "a nope");
     CHECK(q.status == 1);
@@ -212,7 +221,7 @@ TEST_CASE("the nclink device commands: output and exit codes") {
     }
     auto silent = run_cli("query --broker " + broker.url() + " --device nobody --timeout 200 a");
     CHECK(silent.status == 1);
-    CHECK(run_cli("query " + common).status == 2);          // no ID
+    CHECK(run_cli("query " + common).status == 2);  // no ID
     CHECK(run_cli("query --device dev1 --bogus a").status == 2);
     CHECK(run_cli("state --broker " + broker.url()).status == 2);  // no --device
 }

@@ -116,8 +116,8 @@ public:
         REQUIRE(transport_->subscribe(topics::adapter_subscriptions(kDev), 1).ok());
         REQUIRE(transport_->start().ok());
         REQUIRE(eventually([&] { return transport_->state() == LinkState::connected; }));
-        REQUIRE(transport_->publish(Message{topics::notify_state(kDev), R"({"tid":"nclink-sim-mill-01","state":"online"})", 1, true})
-                    .ok());
+        REQUIRE(
+            transport_->publish(Message{topics::notify_state(kDev), R"({"tid":"nclink-sim-mill-01","state":"online"})", 1, true}).ok());
         sampler_ = std::thread([this] { sample_loop(); });
     }
     ~BrokenAdapter() {
@@ -156,8 +156,7 @@ private:
                         values.push_back(Json{{"id", id}, {"code", "OK"}, {"values", Json::array({5})}});  // a list as a number
                     else if (id == "parameters" && e.contains("params"))
                         values.push_back(Json{{"id", id}, {"code", "OK"}, {"values", Json::array({1, 2})}});  // keys not strings
-                    else
-                        values.push_back(Json{{"id", id}, {"code", "OK"}, {"values", Json::array({0})}});
+                    else values.push_back(Json{{"id", id}, {"code", "OK"}, {"values", Json::array({0})}});
                 }
                 if (values.size() > 1) values.erase(values.size() - 1);  // a missing result
                 out["values"] = values;
@@ -169,8 +168,7 @@ private:
                 out["reason"] = "no such item";
                 out["error"] = 401;
                 break;
-            default:
-                return;  // silence: dynamic sampling, methods, ...
+            default: return;  // silence: dynamic sampling, methods, ...
         }
         (void)transport_->publish(Message{*reply_to, out.dump(), 1, false});
     }
@@ -320,8 +318,8 @@ TEST_CASE("nclink-conform exits 0 against the simulated mill and writes both rec
 TEST_CASE("nclink-conform exits 1 against a broken adapter") {
     MosquittoBroker broker;
     BrokenAdapter broken(broker);
-    const std::string cmd = std::string(NCLINK_BINARY_DIR) + "/bin/nclink-conform --broker " + broker.url() + " --device " + kDev +
-                            " --timeout-ms 300 --max-wait-ms 500 > /dev/null 2>&1";
+    const std::string cmd = std::string(NCLINK_BINARY_DIR) + "/bin/nclink-conform --broker " + broker.url() + " --device " +
+                            kDev + " --timeout-ms 300 --max-wait-ms 500 > /dev/null 2>&1";
     const int status = std::system(cmd.c_str());
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 1);

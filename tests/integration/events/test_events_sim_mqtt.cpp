@@ -16,7 +16,6 @@
 
 #include <catch2/catch.hpp>
 
-
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -27,8 +26,8 @@ using namespace nclink;
 using nclink::test::cli_built;
 using nclink::test::run_cli;
 using Run = nclink::test::CliRun;
-using nclink::test::eventually;
 using nclink::test::event_registration;
+using nclink::test::eventually;
 
 namespace {
 
@@ -177,7 +176,8 @@ TEST_CASE("events on the sim: every refusal reaches the client as its table-19 c
     CHECK(refused(rig, event_registration("parameters")) == ErrorCode::no_key);
     CHECK(refused(rig, event_registration("feed_override", {{{"type", "between"}}})) == ErrorCode::filter_type);
     CHECK(refused(rig, event_registration("feed_override", {}, "sometimes")) == ErrorCode::trigger_type);
-    CHECK(refused(rig, event_registration("feed_override", {{{"type", "change"}, {"from", 1}}})) == ErrorCode::filter_arguments_mismatch);
+    CHECK(refused(rig, event_registration("feed_override", {{{"type", "change"}, {"from", 1}}})) ==
+          ErrorCode::filter_arguments_mismatch);
     auto missing_key = event_registration("parameters");
     missing_key.key = "NOPE";
     CHECK(refused(rig, missing_key) == ErrorCode::key_error);
@@ -271,11 +271,12 @@ TEST_CASE("events on the sim: nclink events exit codes") {
     CHECK(run_cli("events --broker " + rig.broker.url() + " --device " + kDev + " feed_override --trigger maybe").status == 2);
     CHECK(run_cli("events --broker " + rig.broker.url() + " --device " + kDev).status == 2);
     // A refused filter is the adapter's answer (421): exit 1.
-    CHECK(run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter '{\"type\":\"change\",\"from\":1}'").status == 1);
+    CHECK(run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter '{\"type\":\"change\",\"from\":1}'")
+              .status == 1);
     // once: the first event ends it.
     rig.set_one("feed_override", {{"value", 100}});
-    const Run once = run_cli("events --broker " + rig.broker.url() + " " + kDev +
-                             " feed_override --filter equal:100 --trigger once");
+    const Run once =
+        run_cli("events --broker " + rig.broker.url() + " " + kDev + " feed_override --filter equal:100 --trigger once");
     CHECK(once.status == 0);
     CHECK(once.out.find("feed_override 100") != std::string::npos);
 }

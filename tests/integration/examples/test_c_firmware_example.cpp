@@ -24,7 +24,8 @@ const std::string kDevice = "acme-cfw-0001";
 }  // namespace
 
 TEST_CASE("the C firmware example answers Query and Set, runs its method and passes nclink-conform") {
-    if (!cli_built() || !std::filesystem::exists(binary_path("nclink-c-firmware")) || !std::filesystem::exists(binary_path("nclink-conform"))) {
+    if (!cli_built() || !std::filesystem::exists(binary_path("nclink-c-firmware")) ||
+        !std::filesystem::exists(binary_path("nclink-conform"))) {
         WARN("nclink, nclink-conform or nclink-c-firmware not built: skipped");
         return;
     }

@@ -35,7 +35,9 @@ MachineConfig machine(const MosquittoBroker& broker, int i) {
 }
 
 MachineDriverFactory fake_drivers() {
-    return [](const MachineConfig&) -> Result<std::shared_ptr<Driver>> { return std::shared_ptr<Driver>(std::make_shared<FakeDriver>()); };
+    return [](const MachineConfig&) -> Result<std::shared_ptr<Driver>> {
+        return std::shared_ptr<Driver>(std::make_shared<FakeDriver>());
+    };
 }
 
 bool all_normal(const Gateway& gateway) {
@@ -136,13 +138,13 @@ TEST_CASE("gateway reload: removed, added, a changed machine restarted alone, a 
     const auto changed = gateway.machine("gw-02");
 
     GatewayConfig next;
-    next.machines.push_back(machine(broker, 0));           // unchanged
-    next.machines.push_back(machine(broker, 1));           // log level only
+    next.machines.push_back(machine(broker, 0));  // unchanged
+    next.machines.push_back(machine(broker, 1));  // log level only
     next.machines.back().adapter.log_level = LogLevel::warn;
-    next.machines.push_back(machine(broker, 2));           // a key only a start applies
+    next.machines.push_back(machine(broker, 2));  // a key only a start applies
     next.machines.back().adapter.sampling.enabled = !next.machines.back().adapter.sampling.enabled;
-    next.machines.push_back(machine(broker, 4));           // new; gw-03 is no longer listed
-    auto broken = machine(broker, 5);                      // new, and cannot start
+    next.machines.push_back(machine(broker, 4));  // new; gw-03 is no longer listed
+    auto broken = machine(broker, 5);             // new, and cannot start
     broken.adapter.model_path = "/no/such/model.json";
     next.machines.push_back(broken);
 
@@ -154,9 +156,9 @@ TEST_CASE("gateway reload: removed, added, a changed machine restarted alone, a 
     REQUIRE(report.errors.size() == 1);
     CHECK_THAT(report.errors[0], Catch::Contains("gw-05"));
 
-    CHECK(gateway.machine("gw-00") == kept);      // not touched
-    CHECK(gateway.machine("gw-01") == quieter);   // reloaded in place
-    CHECK(gateway.machine("gw-02") != changed);   // a new adapter
+    CHECK(gateway.machine("gw-00") == kept);     // not touched
+    CHECK(gateway.machine("gw-01") == quieter);  // reloaded in place
+    CHECK(gateway.machine("gw-02") != changed);  // a new adapter
     CHECK_FALSE(gateway.machine("gw-03"));
     CHECK(gateway.machines().size() == 4);
 
@@ -238,13 +240,15 @@ TEST_CASE("gateway: machines share the timer, request and driver threads, and ea
     inbox.attach(*watcher);
     REQUIRE(watcher->subscribe({"Sample/+/ch1"}, 0).ok());
     REQUIRE(watcher->start().ok());
-    REQUIRE(eventually([&] {
-        std::set<std::string> seen;
-        std::lock_guard<std::mutex> lock(inbox.mutex);
-        for (const auto& m : inbox.messages)
-            if (auto d = decode<SampleDtu>(m.payload)) seen.insert(d->guid);
-        return seen.size() == kMachines;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            std::set<std::string> seen;
+            std::lock_guard<std::mutex> lock(inbox.mutex);
+            for (const auto& m : inbox.messages)
+                if (auto d = decode<SampleDtu>(m.payload)) seen.insert(d->guid);
+            return seen.size() == kMachines;
+        },
+        30s));
     // Not all at the same instant: each machine's rows sit at its own place
     // in the 10 ms interval (SharedThreads gives out phases 0, 1/2, 1/4, ...).
     // On one grid every beginTime would share its residue modulo 10 ms, give

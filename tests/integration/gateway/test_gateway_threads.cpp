@@ -61,7 +61,7 @@ std::string thread_names() {
 struct Counted {
     std::size_t added = 0;  ///< threads while serving minus threads before the gateway
     bool all_answer = false;
-    std::string names;      ///< the process's threads while serving
+    std::string names;  ///< the process's threads while serving
 };
 
 Counted serve(const MosquittoBroker& broker, int machines) {

@@ -16,7 +16,6 @@
 
 #include <catch2/catch.hpp>
 
-
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
@@ -110,9 +109,6 @@ struct Call {
     }
     bool done() { return future.wait_for(0s) == std::future_status::ready; }
 };
-
-
-
 
 }  // namespace
 
@@ -223,10 +219,12 @@ TEST_CASE("rejected calls and controls are answered through mosquitto") {
     REQUIRE(eventually([&] {
         (void)raw->publish({topics::method_control_request(kDev, std::string_view("raw-app")),
                             R"({"@id":"k1","guid":"nclink-sim-mill-01","id":"program_transfer","action":"pause"})", 1, false});
-        return eventually([&] {
-            std::lock_guard<std::mutex> lock(mutex);
-            return !answers.empty();
-        }, 300ms);
+        return eventually(
+            [&] {
+                std::lock_guard<std::mutex> lock(mutex);
+                return !answers.empty();
+            },
+            300ms);
     }));
     {
         std::lock_guard<std::mutex> lock(mutex);

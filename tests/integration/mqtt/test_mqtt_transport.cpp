@@ -54,10 +54,12 @@ MqttOptions options_for(const MosquittoBroker& broker, const std::string& id) {
 enum class Client { own_loop, shared_loop, paho };
 Client g_client = Client::own_loop;
 const char* client_name(Client c) {
-    return c == Client::paho ? "paho" : c == Client::shared_loop ? "libmosquitto on a shared loop" : "libmosquitto on its own loop";
+    return c == Client::paho          ? "paho"
+           : c == Client::shared_loop ? "libmosquitto on a shared loop"
+                                      : "libmosquitto on its own loop";
 }
-#define GENERATE_CLIENT()                                                          \
-    g_client = GENERATE(Client::own_loop, Client::shared_loop, Client::paho);     \
+#define GENERATE_CLIENT()                                                     \
+    g_client = GENERATE(Client::own_loop, Client::shared_loop, Client::paho); \
     INFO(client_name(g_client))
 
 // One loop for the transports alive at once, as in a gateway.
@@ -224,7 +226,8 @@ TEST_CASE("a persistent broker keeps an absent subscriber's session and queued m
     for (int i = 0; i < 20; ++i) CHECK(got[static_cast<std::size_t>(i)] == "q" + std::to_string(i));
     // Reconnected after another restart, the session is still there: nothing to warn about.
     broker.restart();
-    REQUIRE(eventually([&] { return back->stats().connects >= 2 && back->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    REQUIRE(eventually([&] { return back->stats().connects >= 2 && back->state() == LinkState::connected; },
+                       std::chrono::seconds(10)));
     CHECK(back->stats().sessions_lost == 0);
 }
 
@@ -235,18 +238,21 @@ TEST_CASE("a persistent session the broker forgot over a restart is counted and 
     options.clean_session = false;
     std::vector<std::string> warnings;
     std::mutex warnings_mutex;
-    auto made = make_transport(options, Logger([&](LogLevel level, std::string_view message) {
-        if (level != LogLevel::warn) return;
-        std::lock_guard<std::mutex> lock(warnings_mutex);
-        warnings.emplace_back(message);
-    }, LogLevel::debug));
+    auto made = make_transport(options, Logger(
+                                            [&](LogLevel level, std::string_view message) {
+                                                if (level != LogLevel::warn) return;
+                                                std::lock_guard<std::mutex> lock(warnings_mutex);
+                                                warnings.emplace_back(message);
+                                            },
+                                            LogLevel::debug));
     REQUIRE(made.ok());
     auto sub = std::move(made).value();
     REQUIRE(sub->start().ok());
     REQUIRE(eventually([&] { return sub->state() == LinkState::connected; }));
     CHECK(sub->stats().sessions_lost == 0);  // a first connection has no session to lose
     broker.restart();
-    REQUIRE(eventually([&] { return sub->stats().connects >= 2 && sub->state() == LinkState::connected; }, std::chrono::seconds(10)));
+    REQUIRE(
+        eventually([&] { return sub->stats().connects >= 2 && sub->state() == LinkState::connected; }, std::chrono::seconds(10)));
     // Counted by the supervisor once the CONNACK's token is back, a moment
     // after paho's connected callback: wait for it, it must become 1.
     CHECK(eventually([&] { return sub->stats().sessions_lost == 1; }, std::chrono::seconds(5)));
@@ -550,9 +556,11 @@ TEST_CASE("two hundred connections share one I/O thread and each gets exactly it
         REQUIRE(machines.back()->start().ok());
     }
     CHECK(threads_named("nclink-mqtt-io") >= 1);
-    REQUIRE(eventually([&] {
-        return std::all_of(machines.begin(), machines.end(), [](const auto& t) { return t->state() == LinkState::connected; });
-    }, std::chrono::seconds(20)));
+    REQUIRE(eventually(
+        [&] {
+            return std::all_of(machines.begin(), machines.end(), [](const auto& t) { return t->state() == LinkState::connected; });
+        },
+        std::chrono::seconds(20)));
 
     auto app = connect(options_for(broker, "nclink-test-gw-app"));
     Inbox replies;
@@ -564,7 +572,9 @@ TEST_CASE("two hundred connections share one I/O thread and each gets exactly it
 
     for (int round = 0; round < 5; ++round)
         for (int i = 0; i < kMachines; ++i)
-            REQUIRE(app->publish({"Query/Request/gw-" + std::to_string(i) + "/app", std::to_string(i) + ":" + std::to_string(round), 1, false}).ok());
+            REQUIRE(app->publish({"Query/Request/gw-" + std::to_string(i) + "/app",
+                                  std::to_string(i) + ":" + std::to_string(round), 1, false})
+                        .ok());
     REQUIRE(eventually([&] { return replies.count() >= 5 * kMachines; }, std::chrono::seconds(20)));
     {
         std::lock_guard<std::mutex> lock(replies.mutex);
@@ -574,15 +584,16 @@ TEST_CASE("two hundred connections share one I/O thread and each gets exactly it
         for (int i = 0; i < kMachines; ++i) {
             const auto& got = by_topic["Query/Response/gw-" + std::to_string(i) + "/app"];
             REQUIRE(got.size() == 5);
-            for (int round = 0; round < 5; ++round) CHECK(got[static_cast<std::size_t>(round)] == std::to_string(i) + ":" + std::to_string(round));
+            for (int round = 0; round < 5; ++round)
+                CHECK(got[static_cast<std::size_t>(round)] == std::to_string(i) + ":" + std::to_string(round));
         }
     }
     // The broker may hand a reply to the application before the I/O thread
     // has read that publish's PUBACK on the machine's own socket: every
     // machine's window empties, but not necessarily before the last reply.
-    CHECK(eventually([&] {
-        return std::all_of(machines.begin(), machines.end(), [](const auto& t) { return t->stats().in_flight == 0; });
-    }, std::chrono::seconds(10)));
+    CHECK(eventually(
+        [&] { return std::all_of(machines.begin(), machines.end(), [](const auto& t) { return t->stats().in_flight == 0; }); },
+        std::chrono::seconds(10)));
     for (const auto& t : machines) CHECK(t->stats().in_flight == 0);
 
     // A clean stop says goodbye: no last will.

@@ -37,10 +37,12 @@ TEST_CASE("nclink discovery lists the adapters the agent knows, and fails withou
     REQUIRE(eventually([&] { return adapter->stats().registered; }, 20s));
 
     CliRun listed;
-    REQUIRE(eventually([&] {
-        listed = run_cli("discovery " + common);
-        return listed.status == 0 && listed.out.find(kSimMillDevice) != std::string::npos;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            listed = run_cli("discovery " + common);
+            return listed.status == 0 && listed.out.find(kSimMillDevice) != std::string::npos;
+        },
+        20s));
     INFO(listed.out);
     CHECK(listed.out.find("online") != std::string::npos);
 

@@ -80,7 +80,7 @@ TEST_CASE("nclink probe-set sends a model to each device with progress and says 
     // The timeout also bounds the connection: 2 s, so a loaded machine
     // still connects and the 203 is the absent device's, not the broker's.
     const CliRun partly = run_cli("probe-set --no-progress --broker " + rig.broker.url() + " --timeout 2000 " + sim_mill_path() +
-                               " nobody-here " + kDev);
+                                  " nobody-here " + kDev);
     CHECK(partly.status == 1);
     CHECK_THAT(partly.out, Catch::Contains("nobody-here: NG 203"));
     CHECK_THAT(partly.out, Catch::Contains(kDev + ": OK"));
@@ -128,11 +128,13 @@ TEST_CASE("nclink top shows live values full screen in a terminal, follows a res
     };
 
     std::string shown;
-    REQUIRE(eventually([&] {
-        shown = screen();
-        return shown.find("x_position") != std::string::npos && shown.find("spindle_speed") != std::string::npos &&
-               dtus(shown) > 0;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            shown = screen();
+            return shown.find("x_position") != std::string::npos && shown.find("spindle_speed") != std::string::npos &&
+                   dtus(shown) > 0;
+        },
+        20s));
     INFO(shown);
     CHECK_THAT(shown, Catch::StartsWith("nclink top  " + kDev));
     CHECK_THAT(shown, Catch::Contains("CHANNEL"));
@@ -145,31 +147,37 @@ TEST_CASE("nclink top shows live values full screen in a terminal, follows a res
     // Narrower and shorter: every line fits, the help line is on the last row.
     REQUIRE(shell(tmux + "resize-window -t top -x 50 -y 12").status == 0);
     std::string small;
-    REQUIRE(eventually([&] {
-        small = screen();
-        std::size_t rows = 0, longest = 0, start = 0;
-        while (start < small.size()) {
-            const auto end = small.find('\n', start);
-            longest = std::max(longest, (end == std::string::npos ? small.size() : end) - start);
-            ++rows;
-            if (end == std::string::npos) break;
-            start = end + 1;
-        }
-        return rows == 12 && longest <= 50 && small.find("q quit") != std::string::npos;
-    }, 10s));
+    REQUIRE(eventually(
+        [&] {
+            small = screen();
+            std::size_t rows = 0, longest = 0, start = 0;
+            while (start < small.size()) {
+                const auto end = small.find('\n', start);
+                longest = std::max(longest, (end == std::string::npos ? small.size() : end) - start);
+                ++rows;
+                if (end == std::string::npos) break;
+                start = end + 1;
+            }
+            return rows == 12 && longest <= 50 && small.find("q quit") != std::string::npos;
+        },
+        10s));
 
     // q quits, and the terminal is left as it was (the alternate screen is gone).
     shell(tmux + "send-keys -t top q");
     std::string after;
-    REQUIRE(eventually([&] {
-        after = shell(tmux + "list-panes -t top -F '#{pane_dead}'").out;
-        return after.rfind("1", 0) == 0;
-    }, 10s));
+    REQUIRE(eventually(
+        [&] {
+            after = shell(tmux + "list-panes -t top -F '#{pane_dead}'").out;
+            return after.rfind("1", 0) == 0;
+        },
+        10s));
     std::string status;
-    REQUIRE(eventually([&] {
-        std::ifstream(status_file) >> status;
-        return !status.empty();
-    }, 10s));
+    REQUIRE(eventually(
+        [&] {
+            std::ifstream(status_file) >> status;
+            return !status.empty();
+        },
+        10s));
     CHECK(status == "0");
     CHECK(screen().find("nclink top") == std::string::npos);
     shell(tmux + "kill-server");
@@ -191,17 +199,21 @@ TEST_CASE("nclink call draws a progress bar redrawn in place in a terminal") {
     // the screen up a line for its "Pane is dead" note.
     auto screen = [&] { return shell(tmux + "capture-pane -p -S -100 -t call").out; };
     std::string during;
-    REQUIRE(eventually([&] {
-        during = screen();
-        return during.find("program_transfer [#") != std::string::npos && during.find("executing") != std::string::npos;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            during = screen();
+            return during.find("program_transfer [#") != std::string::npos && during.find("executing") != std::string::npos;
+        },
+        20s));
     INFO(during);
     CHECK(during.find("status ") == std::string::npos);  // a bar, not lines
     std::string after;
-    REQUIRE(eventually([&] {
-        after = screen();
-        return after.find("finished") != std::string::npos;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            after = screen();
+            return after.find("finished") != std::string::npos;
+        },
+        20s));
     INFO(after);
     // One line for the bar (redrawn in place), then the result on the next.
     CHECK_THAT(after, Catch::StartsWith("program_transfer ["));

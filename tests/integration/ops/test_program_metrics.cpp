@@ -105,21 +105,25 @@ TEST_CASE("nclink-agent --metrics serves its counters as Prometheus text on loop
     // subscriptions on a loaded machine: a Register/Request sent that early
     // goes unanswered, so it is asked again (the agent accepts a repeat).
     // (No answer is the outcome no_answer, not an error: accepted is asked for.)
-    REQUIRE(eventually([&] {
-        auto outcome = client->register_terminal();
-        return outcome && outcome->kind == RegisterOutcome::Kind::accepted;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            auto outcome = client->register_terminal();
+            return outcome && outcome->kind == RegisterOutcome::Kind::accepted;
+        },
+        30s));
     httplib::Client http("127.0.0.1", logged_port(agent));
     std::vector<PromSample> samples;
     std::string text;
-    REQUIRE(eventually([&] {
-        auto r = http.Get("/metrics");
-        if (!r || r->status != 200) return false;
-        text = r->body;
-        samples.clear();
-        (void)exposition_problems(text, &samples);
-        return prom_value(samples, "nclink_agent_registrations_total", {{"outcome", "accepted"}}).value_or(0) >= 1.0;
-    }, 20s));
+    REQUIRE(eventually(
+        [&] {
+            auto r = http.Get("/metrics");
+            if (!r || r->status != 200) return false;
+            text = r->body;
+            samples.clear();
+            (void)exposition_problems(text, &samples);
+            return prom_value(samples, "nclink_agent_registrations_total", {{"outcome", "accepted"}}).value_or(0) >= 1.0;
+        },
+        20s));
     check_exposition(text);
     CHECK(prom_value(samples, "nclink_agent_dtus_received_total", {{"kind", "register_request"}}) >= 1.0);
     CHECK(http.Post("/metrics", "x", "text/plain")->status == 405);
@@ -154,16 +158,18 @@ TEST_CASE("nclink-sim --metrics serves the adapter's metrics, which are off by d
     std::vector<PromSample> samples;
     std::string text;
     const std::map<std::string, std::string> dev{{"dev", kSimMillDevice}};
-    REQUIRE(eventually([&] {
-        auto r = http.Get("/metrics");
-        if (!r || r->status != 200) return false;
-        text = r->body;
-        samples.clear();
-        (void)exposition_problems(text, &samples);
-        auto sample_dtus = dev;
-        sample_dtus["kind"] = "sample";
-        return prom_value(samples, "nclink_adapter_dtus_sent_total", sample_dtus).value_or(0) >= 2;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            auto r = http.Get("/metrics");
+            if (!r || r->status != 200) return false;
+            text = r->body;
+            samples.clear();
+            (void)exposition_problems(text, &samples);
+            auto sample_dtus = dev;
+            sample_dtus["kind"] = "sample";
+            return prom_value(samples, "nclink_adapter_dtus_sent_total", sample_dtus).value_or(0) >= 2;
+        },
+        30s));
     check_exposition(text);
     bool lateness = false;
     for (const auto& s : samples) lateness = lateness || s.name == "nclink_adapter_sampling_lateness_seconds_count";

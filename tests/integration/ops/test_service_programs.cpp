@@ -27,9 +27,7 @@ namespace {
 
 void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
-std::size_t lines_of(const std::string& text) {
-    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
-}
+std::size_t lines_of(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
 
 std::set<std::string> listing(const fs::path& dir) {
     std::set<std::string> names;
@@ -67,7 +65,8 @@ TEST_CASE("nclink-agent: a broken configuration stops the start with one located
     CHECK(agent.wait_exit(10s) == std::optional<int>(2));
     const std::string log = agent.log();
     CHECK(lines_of(log) == 1);
-    CHECK_THAT(log, Catch::StartsWith("nclink-agent: " + config.string() + ":4:5: configuration: broker.uri: unknown key; did you mean \"url\"?"));
+    CHECK_THAT(log, Catch::StartsWith("nclink-agent: " + config.string() +
+                                      ":4:5: configuration: broker.uri: unknown key; did you mean \"url\"?"));
     fs::remove(dir.path / "log");
     CHECK(listing(dir.path) == before);
 
@@ -91,8 +90,9 @@ TEST_CASE("nclink-agent: SIGHUP applies a new allowlist, refuses a broken file a
     REQUIRE(eventually([&] { return agent.count("serving on") == 1; }));
     REQUIRE(registration_of(broker.url(), "mes-1") == RegisterOutcome::Kind::accepted);
 
-    write(config, agent_config(broker.url(), state,
-                               ",\n  \"registration\": {\"open\": false, \"terminals\": {\"mes-1\": {\"kind\": \"application\"}}}"));
+    write(config,
+          agent_config(broker.url(), state,
+                       ",\n  \"registration\": {\"open\": false, \"terminals\": {\"mes-1\": {\"kind\": \"application\"}}}"));
     agent.signal(SIGHUP);
     REQUIRE(eventually([&] { return agent.count("applied registration") == 1; }));
     CHECK(registration_of(broker.url(), "stranger") == RegisterOutcome::Kind::refused);
@@ -101,7 +101,8 @@ TEST_CASE("nclink-agent: SIGHUP applies a new allowlist, refuses a broken file a
     write(config, "{\n  \"registration\": {\"open\": true,\n  \"log_level\": \"debug\"\n}\n");
     agent.signal(SIGHUP);
     REQUIRE(eventually([&] { return agent.count("reload refused") == 1; }));
-    CHECK_THAT(agent.log(), Catch::Contains("reload refused, the running configuration stays: " + config.string() + ":5:1: not valid JSON"));
+    CHECK_THAT(agent.log(),
+               Catch::Contains("reload refused, the running configuration stays: " + config.string() + ":5:1: not valid JSON"));
     CHECK(registration_of(broker.url(), "stranger-2") == RegisterOutcome::Kind::refused);
     CHECK(registration_of(broker.url(), "mes-1") == RegisterOutcome::Kind::accepted);
 
@@ -138,7 +139,8 @@ TEST_CASE("nclink-sim: SIGHUP applies log_level, names what needs a restart and 
     write(config, base + ",\n  \"log_levl\": \"warn\"\n}\n");
     sim.signal(SIGHUP);
     REQUIRE(eventually([&] { return sim.count("reload refused") == 1; }));
-    CHECK_THAT(sim.log(), Catch::Contains(config.string() + ":4:3: configuration: log_levl: unknown key; did you mean \"log_level\"?"));
+    CHECK_THAT(sim.log(),
+               Catch::Contains(config.string() + ":4:3: configuration: log_levl: unknown key; did you mean \"log_level\"?"));
 
     sim.signal(SIGTERM);
     CHECK(sim.wait_exit(10s) == std::optional<int>(0));
@@ -192,8 +194,7 @@ TEST_CASE("nclink-sim --machines and --gateway: SIGHUP touches only the machines
 
     write_gateway({machine("gw-a"), machine("gw-c", ", \"dedup_capacity\": 7"), machine("gw-d")});
     gw.signal(SIGHUP);
-    REQUIRE(eventually([&] { return gw.count("added [gw-d], removed [gw-b], restarted [gw-c], applied in place []") == 1; },
-                       30s));
+    REQUIRE(eventually([&] { return gw.count("added [gw-d], removed [gw-b], restarted [gw-c], applied in place []") == 1; }, 30s));
     CHECK(gw.count("machine gw-a removed") == 0);
     CHECK(eventually([&] { return answers("gw-a") && answers("gw-c") && answers("gw-d"); }, 20s));
     CHECK_FALSE(answers("gw-b"));

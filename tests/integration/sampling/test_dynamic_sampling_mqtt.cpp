@@ -15,7 +15,6 @@
 
 #include <catch2/catch.hpp>
 
-
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -119,8 +118,7 @@ TEST_CASE("dynamic channels of a client that stops are released when it goes off
     REQUIRE(announcer->start().ok());
     REQUIRE(eventually([&] { return announcer->state() == LinkState::connected; }));
     quitter->stop();
-    REQUIRE(announcer->publish(Message{topics::notify_state("quitter"), R"({"tid":"quitter","state":"offline"})", 1, false})
-                .ok());
+    REQUIRE(announcer->publish(Message{topics::notify_state("quitter"), R"({"tid":"quitter","state":"offline"})", 1, false}).ok());
     REQUIRE(eventually([&] { return rig.dynamic_stats()["channels"] == 0; }));
     CHECK(rig.dynamic_stats()["released"] == 1);
     announcer->stop(0ms);
@@ -144,7 +142,7 @@ TEST_CASE("nclink sample prints the rows of a dynamic channel and unregisters it
     CHECK(all[0].find("x_position") != std::string::npos);
     CHECK(all[0].find("spindle_speed") != std::string::npos);
     for (std::size_t i = 1; i < all.size(); ++i) CHECK(all[i].find('Z') == 23);  // ISO time first
-    REQUIRE(eventually([&] { return rig.dynamic_stats()["channels"] == 0; }));  // unregistered on the way out
+    REQUIRE(eventually([&] { return rig.dynamic_stats()["channels"] == 0; }));   // unregistered on the way out
     CHECK(rig.dynamic_stats()["unregistered"] == 1);
 
     const Run bad = run_cli("sample --broker " + rig.broker.url() + " " + kDev + " nope --sample-ms 10 --upload-ms 20");

@@ -28,11 +28,11 @@ using namespace nclink;
 using namespace std::chrono_literals;
 using nclink::test::eventually;
 using nclink::test::MosquittoBroker;
+using nclink::test::MosquittoOptions;
 using nclink::test::ScratchDir;
 using nclink::test::sim_for;
 using nclink::test::started_adapter;
 using nclink::test::started_client;
-using nclink::test::MosquittoOptions;
 namespace fs = std::filesystem;
 
 namespace {
@@ -44,8 +44,7 @@ class CounterDriver final : public Driver {
 public:
     DriverInfo info() const override { return {"counter", "1", false}; }
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
-        for (std::size_t i = 0; i < points.size(); ++i)
-            results[i] = points[i].id == "ovr" ? Json(next.fetch_add(1)) : Json(1.5);
+        for (std::size_t i = 0; i < points.size(); ++i) results[i] = points[i].id == "ovr" ? Json(next.fetch_add(1)) : Json(1.5);
     }
     Result<void> write(const WriteRequest&) override { return ok_result(); }
     std::atomic<std::int64_t> next{0};
@@ -99,7 +98,10 @@ struct Rig {
         // The SUBACK is asynchronous: register until an answer comes back.
         REQUIRE(eventually([&] {
             send(topics::sample_register_request(kDev, "app"),
-                 Json{{"@id", "reg"}, {"guid", kDev}, {"sampleInterval", 4}, {"uploadInterval", 20},
+                 Json{{"@id", "reg"},
+                      {"guid", kDev},
+                      {"sampleInterval", 4},
+                      {"uploadInterval", 20},
                       {"ids", Json::array({Json{{"id", "ovr"}}, Json{{"id", "pos"}}})},
                       {"privateInfo", {{"qos", 1}}}});
             return eventually([&] { return !on(topics::sample_register_response(kDev, "app")).empty(); }, 500ms);
@@ -230,7 +232,7 @@ TEST_CASE("broker outage longer than the spool budget: the oldest DTUs are dropp
                 first = value.get<std::int64_t>();
                 break;
             }
-        if (first < 0) continue;  // only late ticks in this DTU
+        if (first < 0) continue;     // only late ticks in this DTU
         REQUIRE(first >= expected);  // never a repeat or a step back
         if (first > expected) {
             ++gaps;

@@ -41,7 +41,8 @@ public:
         std::lock_guard<std::mutex> lock(mutex);
         for (std::size_t i = 0; i < points.size(); ++i) {
             auto it = values.find(points[i].id);
-            results[i] = it == values.end() ? Result<Json>(make_error(ErrorCode::unavailable, "no value")) : Result<Json>(it->second);
+            results[i] =
+                it == values.end() ? Result<Json>(make_error(ErrorCode::unavailable, "no value")) : Result<Json>(it->second);
         }
     }
     Result<void> write(const WriteRequest& request) override {
@@ -75,8 +76,7 @@ struct Rig {
         return adapter;
     }
     /// A raw MQTT terminal (no client library), to see exactly what arrives.
-    std::unique_ptr<Transport> raw(const std::string& id, bool clean_session, std::vector<Message>& inbox,
-                                   std::mutex& mutex) {
+    std::unique_ptr<Transport> raw(const std::string& id, bool clean_session, std::vector<Message>& inbox, std::mutex& mutex) {
         MqttOptions o;
         o.broker_url = broker.url();
         o.client_id = id;
@@ -94,8 +94,7 @@ struct Rig {
     std::shared_ptr<MapDriver> driver = std::make_shared<MapDriver>();
 };
 
-std::size_t count_on(std::vector<Message>& inbox, std::mutex& mutex, const std::string& topic,
-                     const std::string& needle = "") {
+std::size_t count_on(std::vector<Message>& inbox, std::mutex& mutex, const std::string& topic, const std::string& needle = "") {
     std::lock_guard<std::mutex> lock(mutex);
     std::size_t n = 0;
     for (const auto& m : inbox) n += m.topic == topic && m.payload.find(needle) != std::string::npos;
@@ -125,10 +124,12 @@ struct OvrEvents {
     bool arrives(MapDriver& driver, int value) {
         const int before = events;
         driver.put("ovr", value);
-        return eventually([&] {
-            std::lock_guard<std::mutex> lock(mutex);
-            return events > before && last == Json(value);
-        }, 20s);
+        return eventually(
+            [&] {
+                std::lock_guard<std::mutex> lock(mutex);
+                return events > before && last == Json(value);
+            },
+            20s);
     }
 };
 
@@ -146,10 +147,10 @@ TEST_CASE("8.3.3 scenario 2: the application's link fails after its request, the
         REQUIRE(eventually([&] { return app->state() == LinkState::connected; }, 20s));
         REQUIRE(app->subscribe({reply}, 1).ok());
         std::this_thread::sleep_for(300ms);  // the SUBACK
-        rig.driver->delay = 600ms;  // the response x comes after the application is gone (within driver_timeout)
+        rig.driver->delay = 600ms;           // the response x comes after the application is gone (within driver_timeout)
         REQUIRE(app->publish(Message{topics::query_request(kDev, "mes"),
-                                     Json{{"@id", "x"}, {"guid", kDev}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(),
-                                     1, false})
+                                     Json{{"@id", "x"}, {"guid", kDev}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(), 1,
+                                     false})
                     .ok());
         REQUIRE(app->flush(5s));
         app->stop(0ms);  // Time-1: the application's link fails
@@ -170,14 +171,15 @@ TEST_CASE("8.3.3 scenario 2: the application's link fails after its request, the
     REQUIRE(app->subscribe({reply}, 1).ok());
     std::this_thread::sleep_for(300ms);
     REQUIRE(app->publish(Message{topics::query_request(kDev, "mes"),
-                                 Json{{"@id", "y"}, {"guid", kDev}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(), 1,
-                                 false})
+                                 Json{{"@id", "y"}, {"guid", kDev}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(), 1, false})
                 .ok());
     REQUIRE(eventually([&] { return count_on(inbox, mutex, reply, "\"y\"") == 1; }, 20s));
     app->stop(0ms);
 }
 
-TEST_CASE("8.3.6 scenario 5: both links fail (the broker stops), afterwards the adapter registers again and queued requests are answered") {
+TEST_CASE(
+    "8.3.6 scenario 5: both links fail (the broker stops), afterwards the adapter registers again and queued requests are "
+    "answered") {
     MosquittoOptions persistent;
     persistent.persistent = true;
     Rig rig(persistent);

@@ -86,10 +86,12 @@ TEST_CASE("a burst of 20000 valid and broken requests is answered or shed and co
     WARN("first Query answered " << answered_after.count() << " ms after the burst was sent");
 
     // Every request of the burst was handled or shed, none lost in silence.
-    REQUIRE(eventually([&] {
-        const auto s = rig.adapter->stats();
-        return (s.requests - before.requests) + (s.shed - before.shed) >= kBurst + 1;  // + the probe's Query
-    }, 60s));
+    REQUIRE(eventually(
+        [&] {
+            const auto s = rig.adapter->stats();
+            return (s.requests - before.requests) + (s.shed - before.shed) >= kBurst + 1;  // + the probe's Query
+        },
+        60s));
     const auto after = rig.adapter->stats();
     INFO("handled " << after.requests - before.requests << ", shed " << after.shed - before.shed << ", rejected "
                     << after.rejected - before.rejected);
@@ -134,10 +136,12 @@ TEST_CASE("a 16 MB request is answered 404 unread and retained junk on request t
     while (huge.size() < (16u << 20)) huge += "{\"id\": \"feed_override\", \"params\": {\"value\": 1}},";
     huge += "{\"id\": \"feed_override\", \"params\": {\"value\": 1}}]}";
     REQUIRE(app->publish(Message{topics::set_request(kDev, "big-app"), huge, 1, false}).ok());
-    REQUIRE(eventually([&] {
-        std::lock_guard<std::mutex> lock(replies.mutex);
-        return !replies.messages.empty();
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            std::lock_guard<std::mutex> lock(replies.mutex);
+            return !replies.messages.empty();
+        },
+        30s));
     {
         std::lock_guard<std::mutex> lock(replies.mutex);
         const Json reply = Json::parse(replies.messages.front().payload);
@@ -170,13 +174,23 @@ TEST_CASE("the agent survives junk on its topics and keeps answering") {
     huge.front() = '{';
     huge.back() = '}';
     const std::vector<std::string> payloads = {
-        "", "{", "\xff\xfe", "[]", "null", deep, "{\"@id\": " + deep + "}", huge,
-        R"({"@id": 1, "cli_uuid": 5})", R"({"@id": {}, "cli_uuid": "x"})", R"({"@id": "v", "guid": 7, "version": []})",
-        R"({"@id": "d", "guid": ["a"]})", R"({"@id": "s", "state": {"x": 1}})",
+        "",
+        "{",
+        "\xff\xfe",
+        "[]",
+        "null",
+        deep,
+        "{\"@id\": " + deep + "}",
+        huge,
+        R"({"@id": 1, "cli_uuid": 5})",
+        R"({"@id": {}, "cli_uuid": "x"})",
+        R"({"@id": "v", "guid": 7, "version": []})",
+        R"({"@id": "d", "guid": ["a"]})",
+        R"({"@id": "s", "state": {"x": 1}})",
     };
-    const std::vector<std::string> targets = {topics::register_request(), topics::discovery_request("junk"),
-                                              topics::probe_version("junk-dev"), topics::notify_state("junk-dev"),
-                                              topics::query_request("junk-dev", "junk"), topics::query_response("junk-dev", "junk")};
+    const std::vector<std::string> targets = {
+        topics::register_request(),       topics::discovery_request("junk"),         topics::probe_version("junk-dev"),
+        topics::notify_state("junk-dev"), topics::query_request("junk-dev", "junk"), topics::query_response("junk-dev", "junk")};
     // The 16 MB payload goes to one topic only: six copies (96 MB through
     // the broker) took minutes to flush on a loaded 2-core machine and
     // tested nothing more.

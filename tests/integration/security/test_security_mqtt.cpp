@@ -263,8 +263,8 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             {"expired broker certificate", expired_broker.url(), "--ca-file " + ca, "mes", password_of("mes"),
              "the broker's certificate did not verify: certificate has expired"},
             {"expired client certificate", site.url(),
-             "--ca-file " + ca + " --cert " + pki().file("mes-expired.pem") + " --key " + pki().file("mes.key"), "mes",
-             "", "mes-expired.pem expired on"},
+             "--ca-file " + ca + " --cert " + pki().file("mes-expired.pem") + " --key " + pki().file("mes.key"), "mes", "",
+             "mes-expired.pem expired on"},
             {"bad password", passwords.url(), "--ca-file " + ca, "mes", "not-the-password",
              "the broker refused the connection: not authorized"},
         };
@@ -277,8 +277,8 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             const std::string pw_file = (site.scratch.path / "cli-password").string();
             std::ofstream(pw_file) << c.password << "\n";
             const Command cli = run_command(program("nclink") + " query --broker " + c.broker + " --device " + kDev +
-                                            " --client-id " + c.user + " --username " + c.user + " --password-file " +
-                                            pw_file + " --timeout 10000 " + c.tls_args + " x_position");
+                                            " --client-id " + c.user + " --username " + c.user + " --password-file " + pw_file +
+                                            " --timeout 10000 " + c.tls_args + " x_position");
             INFO(cli.output);
             CHECK(cli.status == 1);
             CHECK(std::count(cli.output.begin(), cli.output.end(), '\n') == 1);  // one line, nothing else
@@ -301,20 +301,19 @@ TEST_CASE("a wrong CA, expired certificates and a bad password: one clear line a
             INFO(agent.output);
             CHECK(agent.status == 1);
             CHECK_THAT(last_line(agent.output), Catch::StartsWith("nclink-agent: cannot connect to " + passwords.url()));
-            CHECK_THAT(last_line(agent.output), Catch::Contains(bad_password ? "not authorized"
-                                                                             : "the broker's certificate did not verify"));
+            CHECK_THAT(last_line(agent.output),
+                       Catch::Contains(bad_password ? "not authorized" : "the broker's certificate did not verify"));
 
             const std::string sim_conf = (site.scratch.path / "sim.json").string();
             std::ofstream(sim_conf) << R"({"broker": {"url": ")" << passwords.url() << R"(", "username": ")" << kDev
-                                    << R"(", "password": "nope", "tls": )" << tls << R"(}, "model": ")"
-                                    << sim_mill_path() << R"(", "persistence_dir": ")"
-                                    << (site.scratch.path / "sim").string() << R"("})";
+                                    << R"(", "password": "nope", "tls": )" << tls << R"(}, "model": ")" << sim_mill_path()
+                                    << R"(", "persistence_dir": ")" << (site.scratch.path / "sim").string() << R"("})";
             const Command sim = run_command(program("nclink-sim") + " --config " + sim_conf);
             INFO(sim.output);
             CHECK(sim.status == 1);
             CHECK_THAT(last_line(sim.output), Catch::StartsWith("nclink-sim: cannot connect to " + passwords.url()));
-            CHECK_THAT(last_line(sim.output), Catch::Contains(bad_password ? "not authorized"
-                                                                           : "the broker's certificate did not verify"));
+            CHECK_THAT(last_line(sim.output),
+                       Catch::Contains(bad_password ? "not authorized" : "the broker's certificate did not verify"));
         }
     }
 }
@@ -358,10 +357,8 @@ TEST_CASE("the generated ACL keeps an application from Set, methods and Sample t
     CHECK(error_of(set) == 301);
     // A method: the same.
     auto call = viewer->call_method(kDev, "feed_hold", Json::object());
-    if (call.ok())
-        CHECK(call->status.error == 301);
-    else
-        CHECK(call.error().code == ErrorCode::permission_denied);
+    if (call.ok()) CHECK(call->status.error == 301);
+    else CHECK(call.error().code == ErrorCode::permission_denied);
     std::this_thread::sleep_for(500ms);
     CHECK(adapter->stats().requests == requests_before);
     CHECK(agent->stats().denied == denied_before + 2);
@@ -376,9 +373,10 @@ TEST_CASE("the generated ACL keeps an application from Set, methods and Sample t
     CHECK((*allowed)[0].status.ok);
 
     // Posing as mes on its request topic is stopped by the broker (%u).
-    REQUIRE(outsider->publish(Message{topics::set_request(kDev, "mes"),
-                                      Json{{"@id", "spoof"}, {"values", {{{"id", "feed_override"}, {"params", {{"value", 7}}}}}}}.dump(),
-                                      1, false})
+    REQUIRE(outsider
+                ->publish(Message{
+                    topics::set_request(kDev, "mes"),
+                    Json{{"@id", "spoof"}, {"values", {{{"id", "feed_override"}, {"params", {{"value", 7}}}}}}}.dump(), 1, false})
                 .ok());
     std::this_thread::sleep_for(500ms);
     CHECK(value_of(*mes, "feed_override") != Json::array({7}));
@@ -406,10 +404,8 @@ TEST_CASE("registration required: an unregistered application is refused") {
 
     const auto requests_before = adapter->stats().requests;
     auto read = outsider->query(kDev, {QueryItem{"x_position", std::nullopt}}, RequestOptions{});
-    if (read.ok())
-        CHECK((*read)[0].status.error == 301);
-    else
-        CHECK(read.error().code == ErrorCode::permission_denied);
+    if (read.ok()) CHECK((*read)[0].status.error == 301);
+    else CHECK(read.error().code == ErrorCode::permission_denied);
     std::this_thread::sleep_for(300ms);
     CHECK(adapter->stats().requests == requests_before);  // the broker did not pass it on either
 

@@ -125,11 +125,8 @@ TEST_CASE("code overrides a loaded configuration, defaults are documented values
 }
 
 TEST_CASE("sampling qos channel_qos max_dtu_bytes and overrun_log_interval_ms are read and checked") {
-    auto read = adapter_config_from_json(Json{{"sampling",
-                                               {{"qos", 1},
-                                                {"channel_qos", {{"ch_fast", 0}}},
-                                                {"max_dtu_bytes", 65536},
-                                                {"overrun_log_interval_ms", 2500}}}});
+    auto read = adapter_config_from_json(Json{
+        {"sampling", {{"qos", 1}, {"channel_qos", {{"ch_fast", 0}}}, {"max_dtu_bytes", 65536}, {"overrun_log_interval_ms", 2500}}}});
     REQUIRE(read.ok());
     CHECK(read->sampling.qos == 1);
     CHECK(read->sampling.channel_qos.at("ch_fast") == 0);
@@ -186,9 +183,9 @@ TEST_CASE("the metrics section sets the HTTP limits of nclink-sim --metrics, and
     CHECK(d.metrics.header_timeout == std::chrono::milliseconds(3000));
     CHECK(d.metrics.max_connections_per_peer == 64);
 
-    for (const char* bad : {R"({"metrics": {"http_workers": 0}})", R"({"metrics": {"http_max_connections": 0}})",
-                            R"({"metrics": {"http_header_timeout_ms": 5}})", R"({"metrics": {"http_max_streams": 2}})",
-                            R"({"metrics": 3})"}) {
+    for (const char* bad :
+         {R"({"metrics": {"http_workers": 0}})", R"({"metrics": {"http_max_connections": 0}})",
+          R"({"metrics": {"http_header_timeout_ms": 5}})", R"({"metrics": {"http_max_streams": 2}})", R"({"metrics": 3})"}) {
         INFO(bad);
         auto r = adapter_config_from_json(Json::parse(bad));
         REQUIRE_FALSE(r.ok());

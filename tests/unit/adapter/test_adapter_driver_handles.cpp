@@ -49,7 +49,8 @@ public:
             write_handles.emplace_back(request.id, request.handle);
         }
         if (request.handle == 2 && vendor_fault) return vendor_error(-12, "axis clamp engaged");
-        if (request.handle == 2 && table_fault) return make_error(ErrorCode::out_of_range, "override above 120 % is locked by the PLC");
+        if (request.handle == 2 && table_fault)
+            return make_error(ErrorCode::out_of_range, "override above 120 % is locked by the PLC");
         return FakeDriver::write(request);
     }
     MachineLinkStatus link() const override {

@@ -37,9 +37,8 @@ TEST_CASE("drop counts: a cause added twice sums, a zero is kept, the order is f
 
 TEST_CASE("feature drops from a statistics snapshot: each feature reads its own causes back") {
     const Json features = {
-        {"sampling", {{"channels", Json::array({Json{{"drops", 3}}, Json{{"drops", 4}}})},
-                      {"spool", {{"dropped", 2}}},
-                      {"publish_errors", 1}}},
+        {"sampling",
+         {{"channels", Json::array({Json{{"drops", 3}}, Json{{"drops", 4}}})}, {"spool", {{"dropped", 2}}}, {"publish_errors", 1}}},
         {"events", {{"dropped_values", 5}, {"publish_errors", 6}}},
         {"methods", Json::object()}};
     detail::DropCounts d;

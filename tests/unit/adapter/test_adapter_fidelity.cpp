@@ -12,7 +12,7 @@ TEST_CASE("a driver value breaking chapter 7 is answered NG with its table-19 co
     AdapterFixture f;
     {
         std::lock_guard<std::mutex> lock(f.driver->mutex);
-        f.driver->values["pos"] = "12.5";      // a string for a POSITION (table 10: number)
+        f.driver->values["pos"] = "12.5";     // a string for a POSITION (table 10: number)
         f.driver->values["status"] = "busy";  // not a STATUS of table 15
     }
     const Json r = f.query(Json::array({Json{{"id", "pos"}}, Json{{"id", "status"}}, Json{{"id", "ovr"}}}));
@@ -54,7 +54,10 @@ TEST_CASE("Set: offset and length beside params (appendix A) are applied, result
         f.driver->values["tools"] = Json::array({"abcdef", "x"});
     }
     const Json r = f.set(Json::array({
-        Json{{"id", "tools"}, {"offset", 2}, {"length", 2}, {"params", {{"operation", "set_value"}, {"index", 0}, {"value", "ZZ"}}}},
+        Json{{"id", "tools"},
+             {"offset", 2},
+             {"length", 2},
+             {"params", {{"operation", "set_value"}, {"index", 0}, {"value", "ZZ"}}}},
         Json{{"id", "tools"}, {"offset", 1}, {"params", {{"index", 0}, {"offset", 2}, {"value", "Q"}}}},
         Json{{"id", "ovr"}, {"params", {{"value", 90}}}},
     }));
@@ -62,8 +65,8 @@ TEST_CASE("Set: offset and length beside params (appendix A) are applied, result
     REQUIRE(res.size() == 3);
     CHECK(res[0]["code"] == "OK");
     CHECK(res[0]["params"] == Json{{"operation", "set_value"}, {"index", 0}, {"offset", 2}, {"length", 2}});
-    CHECK(f.driver->value("tools")[0] == "abZZef");  // not the whole element
-    CHECK(res[1]["error"] == 409);                    // offset given twice, differently
+    CHECK(f.driver->value("tools")[0] == "abZZef");        // not the whole element
+    CHECK(res[1]["error"] == 409);                         // offset given twice, differently
     CHECK(res[2] == Json{{"id", "ovr"}, {"code", "OK"}});  // 8.2.14 example 1: nothing to echo
 }
 
@@ -109,7 +112,8 @@ TEST_CASE("Probe/Query returns the model file byte for byte, a Probe/Set text as
                                     Json{{"@id", "ps"}, {"probe", model.dump(2)}});
     CHECK(set["code"] == "OK");
     CHECK(f.app->wait("Probe/Version/test-dev", 2)["version"] == "1.0");
-    const Json probed = f.app->request("Probe/Query/Request/test-dev/app", "Probe/Query/Response/test-dev/app", Json{{"@id", "p2"}});
+    const Json probed =
+        f.app->request("Probe/Query/Request/test-dev/app", "Probe/Query/Response/test-dev/app", Json{{"@id", "p2"}});
     CHECK(probed["probe"]["devices"][0]["version"] == "1.0");
 }
 
@@ -125,14 +129,14 @@ TEST_CASE("a refused Probe/Set answers a table-19 reason, the problems in privat
 
 TEST_CASE("refused Register/Event and Register/Sample answers carry id") {
     AdapterFixture f;
-    const Json ev = f.app->request("Register/Event/Request/test-dev/app", "Register/Event/Response/test-dev/app",
-                                   Json{{"@id", "e"}, {"id", "nope"}, {"filters", Json::array({Json{{"type", "change"}}})},
-                                        {"triggerType", "always"}});
+    const Json ev = f.app->request(
+        "Register/Event/Request/test-dev/app", "Register/Event/Response/test-dev/app",
+        Json{{"@id", "e"}, {"id", "nope"}, {"filters", Json::array({Json{{"type", "change"}}})}, {"triggerType", "always"}});
     CHECK(ev["code"] == "NG");
     CHECK(ev.contains("id"));
-    const Json sa = f.app->request("Register/Sample/Request/test-dev/app", "Register/Sample/Response/test-dev/app",
-                                   Json{{"@id", "s"}, {"ids", Json::array({Json{{"id", "nope"}}})}, {"sampleInterval", 100},
-                                        {"uploadInterval", 1000}});
+    const Json sa = f.app->request(
+        "Register/Sample/Request/test-dev/app", "Register/Sample/Response/test-dev/app",
+        Json{{"@id", "s"}, {"ids", Json::array({Json{{"id", "nope"}}})}, {"sampleInterval", 100}, {"uploadInterval", 1000}});
     CHECK(sa["code"] == "NG");
     CHECK(sa.contains("id"));
 }

@@ -19,10 +19,12 @@ struct Captured {
     std::mutex mutex;
     std::vector<std::pair<LogLevel, std::string>> lines;
     Logger logger(LogLevel level = LogLevel::info) {
-        return Logger([this](LogLevel l, std::string_view m) {
-            std::lock_guard<std::mutex> lock(mutex);
-            lines.emplace_back(l, std::string(m));
-        }, level);
+        return Logger(
+            [this](LogLevel l, std::string_view m) {
+                std::lock_guard<std::mutex> lock(mutex);
+                lines.emplace_back(l, std::string(m));
+            },
+            level);
     }
     std::size_t count(const std::string& part) {
         std::lock_guard<std::mutex> lock(mutex);

@@ -19,8 +19,9 @@ void check_format(const std::string& text) {
         INFO("promtool check metrics: " << *said);
         CHECK(said->empty());
     } else {
-        WARN("promtool not installed (Debian package prometheus; NCLINK_WITH_PROMETHEUS=1 tools/install-deps.sh): "
-             "the format checked by the test's own reader only");
+        WARN(
+            "promtool not installed (Debian package prometheus; NCLINK_WITH_PROMETHEUS=1 tools/install-deps.sh): "
+            "the format checked by the test's own reader only");
     }
 }
 
@@ -34,8 +35,8 @@ TEST_CASE("adapter metrics: DTUs by kind and request latency of a running adapte
     REQUIRE(eventually([&] {
         samples.clear();
         (void)exposition_problems(prometheus_metrics(*f.adapter), &samples);
-        const auto set_count = prom_value(samples, "nclink_adapter_request_duration_seconds_count",
-                                          {{"dev", "test-dev"}, {"kind", "set_request"}});
+        const auto set_count =
+            prom_value(samples, "nclink_adapter_request_duration_seconds_count", {{"dev", "test-dev"}, {"kind", "set_request"}});
         return set_count && *set_count >= 1;
     }));
     const std::string text = prometheus_metrics(*f.adapter);
@@ -43,7 +44,8 @@ TEST_CASE("adapter metrics: DTUs by kind and request latency of a running adapte
     CHECK(prom_value(samples, "nclink_adapter_dtus_received_total", {{"dev", "test-dev"}, {"kind", "query_request"}}) >= 1.0);
     CHECK(prom_value(samples, "nclink_adapter_dtus_sent_total", {{"dev", "test-dev"}, {"kind", "query_response"}}) >= 1.0);
     CHECK(prom_value(samples, "nclink_adapter_dtus_sent_total", {{"dev", "test-dev"}, {"kind", "register_request"}}) >= 1.0);
-    CHECK(prom_value(samples, "nclink_adapter_request_duration_seconds_count", {{"dev", "test-dev"}, {"kind", "query_request"}}) >= 1.0);
+    CHECK(prom_value(samples, "nclink_adapter_request_duration_seconds_count", {{"dev", "test-dev"}, {"kind", "query_request"}}) >=
+          1.0);
     CHECK(prom_value(samples, "nclink_adapter_state", {{"dev", "test-dev"}, {"state", "normal"}}) == 1.0);
     CHECK(prom_value(samples, "nclink_adapter_requests_total", {{"dev", "test-dev"}}) >= 2.0);
     const auto traffic = f.adapter->traffic_stats();
@@ -54,17 +56,18 @@ TEST_CASE("adapter metrics: drops by cause, spool, sampling lateness, events and
     AdapterStats s;
     s.state = AdapterState::disconnected;
     s.transport.dropped = 7;
-    s.features = Json{{"sampling", {{"spool", {{"dropped", 3}, {"pending", 12}, {"memory_bytes", 4096}, {"disk_bytes", 0}, {"replayed", 5}}}}},
-                      {"events", {{"dropped_values", 2}, {"registered", 4}, {"fired", 9}}},
-                      {"methods", {{"running", 1}, {"accepted", 6}, {"finished", 4}, {"canceled", 1}, {"errors", 1}, {"rejected_calls", 2}}}};
+    s.features = Json{
+        {"sampling", {{"spool", {{"dropped", 3}, {"pending", 12}, {"memory_bytes", 4096}, {"disk_bytes", 0}, {"replayed", 5}}}}},
+        {"events", {{"dropped_values", 2}, {"registered", 4}, {"fired", 9}}},
+        {"methods", {{"running", 1}, {"accepted", 6}, {"finished", 4}, {"canceled", 1}, {"errors", 1}, {"rejected_calls", 2}}}};
     SamplingStats sampling;
     sampling.running = true;
     ChannelStats c;
     c.id = "axes";
     c.sample_interval_ms = 1;
     c.drops = 11;
-    c.lateness[0] = 5;   // under 10 us
-    c.lateness[3] = 2;   // 50..100 us
+    c.lateness[0] = 5;      // under 10 us
+    c.lateness[3] = 2;      // 50..100 us
     c.lateness.back() = 1;  // over 100 ms
     sampling.channels.push_back(c);
     TrafficStats traffic;

@@ -84,11 +84,10 @@ TEST_CASE("patch_model applies a JSON Patch to the current model: a new tool at 
         {Json{{"op", "replace"}, {"path", "/devices/0/version"}, {"value", "1.0.1"}},
          Json{{"op", "add"},
               {"path", "/devices/0/components"},
-              {"value", Json::array({Json{{"id", "tool1"},
-                                         {"type", "COMPONENT"},
-                                         {"dataItems", Json::array({Json{{"id", "tool1_len"},
-                                                                         {"type", "LENGTH"},
-                                                                         {"value", 80.0}}})}}})}}});
+              {"value",
+               Json::array({Json{{"id", "tool1"},
+                                 {"type", "COMPONENT"},
+                                 {"dataItems", Json::array({Json{{"id", "tool1_len"}, {"type", "LENGTH"}, {"value", 80.0}}})}}})}}});
     auto patched = f.adapter->patch_model(patch);
     INFO((patched.ok() ? std::string() : patched.error().describe()));
     REQUIRE(patched.ok());
@@ -99,12 +98,11 @@ TEST_CASE("patch_model applies a JSON Patch to the current model: a new tool at 
         auto not_array = f.adapter->patch_model(Json{{"op", "add"}});
         REQUIRE_FALSE(not_array.ok());
         CHECK(not_array.error().code == ErrorCode::value_type);
-        auto bad_path = f.adapter->patch_model(
-            Json::array({Json{{"op", "remove"}, {"path", "/devices/7/dataItems/0"}}}));
+        auto bad_path = f.adapter->patch_model(Json::array({Json{{"op", "remove"}, {"path", "/devices/7/dataItems/0"}}}));
         REQUIRE_FALSE(bad_path.ok());
         CHECK(bad_path.error().code == ErrorCode::keys_of_arguments);
-        auto failed_test = f.adapter->patch_model(
-            Json::array({Json{{"op", "test"}, {"path", "/devices/0/version"}, {"value", "9.9.9"}}}));
+        auto failed_test =
+            f.adapter->patch_model(Json::array({Json{{"op", "test"}, {"path", "/devices/0/version"}, {"value", "9.9.9"}}}));
         REQUIRE_FALSE(failed_test.ok());
         CHECK(f.adapter->model()->device("dev-1")->version == "1.0.1");
     }
@@ -112,17 +110,20 @@ TEST_CASE("patch_model applies a JSON Patch to the current model: a new tool at 
 
 TEST_CASE("a model change releases registrations that no longer resolve and tells their owners 401") {
     AdapterFixture f;
-    const Json event = f.app->request(topics::event_register_request("test-dev", "app"),
-                                      topics::event_register_response("test-dev", "app"),
-                                      Json{{"@id", "e1"}, {"guid", "test-dev"}, {"id", "ovr"}, {"triggerType", "always"}});
+    const Json event =
+        f.app->request(topics::event_register_request("test-dev", "app"), topics::event_register_response("test-dev", "app"),
+                       Json{{"@id", "e1"}, {"guid", "test-dev"}, {"id", "ovr"}, {"triggerType", "always"}});
     REQUIRE(event["code"] == "OK");
     const std::string event_id = event["id"];
     Json channel;
     with_ticking(f, [&] {
         channel = f.app->request(topics::sample_register_request("test-dev", "app"),
                                  topics::sample_register_response("test-dev", "app"),
-                                 Json{{"@id", "s1"}, {"guid", "test-dev"}, {"sampleInterval", 10},
-                                      {"uploadInterval", 100}, {"ids", Json::array({Json{{"id", "ovr"}}})}});
+                                 Json{{"@id", "s1"},
+                                      {"guid", "test-dev"},
+                                      {"sampleInterval", 10},
+                                      {"uploadInterval", 100},
+                                      {"ids", Json::array({Json{{"id", "ovr"}}})}});
     });
     REQUIRE(channel["code"] == "OK");
     const std::string channel_id = channel["id"];
@@ -141,9 +142,9 @@ TEST_CASE("a model change releases registrations that no longer resolve and tell
     CHECK(channel_gone["error"] == 401);
     CHECK(channel_gone["id"] == channel_id);
     // Gone on the adapter too: unregistering them now is 401.
-    const Json unregister = f.app->request(topics::event_unregister_request("test-dev", "app"),
-                                           topics::event_unregister_response("test-dev", "app"),
-                                           Json{{"@id", "u1"}, {"guid", "test-dev"}, {"id", event_id}});
+    const Json unregister =
+        f.app->request(topics::event_unregister_request("test-dev", "app"), topics::event_unregister_response("test-dev", "app"),
+                       Json{{"@id", "u1"}, {"guid", "test-dev"}, {"id", event_id}});
     CHECK(unregister["error"] == 401);
 }
 

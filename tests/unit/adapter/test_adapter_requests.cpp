@@ -211,14 +211,14 @@ TEST_CASE("a Set still queued behind a busy driver at its deadline answers 203 a
     // A Query holds the (serialized) driver; the Set queues behind it.
     f.app->send("Query/Request/test-dev/app", R"({"@id":"slow","guid":"test-dev","ids":[{"id":"pos"}]})");
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    const Json r = f.set(Json::array({Json{{"id", "ovr"}, {"params", {{"value", 80}}}},
-                                      Json{{"id", "feed_ovr_cfg"}, {"params", {{"value", 55}}}}}));
+    const Json r = f.set(Json::array(
+        {Json{{"id", "ovr"}, {"params", {{"value", 80}}}}, Json{{"id", "feed_ovr_cfg"}, {"params", {{"value", 55}}}}}));
     CHECK(r["results"][0]["error"] == 203);
     CHECK(r["results"][0]["privateInfo"]["message"].get<std::string>().find("not written") != std::string::npos);
     CHECK(r["results"][1]["code"] == "OK");  // an SDK-held item does not wait for the driver
     // The driver gets free: the withdrawn Set does not reach it, nor answers twice.
     f.driver->delay = std::chrono::milliseconds(0);
-    f.app->wait("Query/Response/test-dev/app", 1);  // the slow Query's 203, from its own deadline
+    f.app->wait("Query/Response/test-dev/app", 1);                // the slow Query's 203, from its own deadline
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // its read (400 ms) is over
     CHECK(f.query(Json::array({Json{{"id", "ovr"}}}))["values"][0]["values"] == Json::array({100}));
     CHECK(f.driver->write_count() == 0);

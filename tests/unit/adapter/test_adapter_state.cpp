@@ -40,8 +40,8 @@ TEST_CASE("adapter table: every state x event pair has exactly one row, with its
 
 TEST_CASE("adapter initial: initialization goes normal (67), nothing else can happen") {
     expect(S::initial, E::initialized, S::normal, action_initialize);
-    for (E e : {E::request_handled, E::response_failed, E::link_lost, E::link_restored, E::sample_due,
-                E::model_changed, E::retry_due, E::cache_flushed})
+    for (E e : {E::request_handled, E::response_failed, E::link_lost, E::link_restored, E::sample_due, E::model_changed,
+                E::retry_due, E::cache_flushed})
         expect(S::initial, e, S::initial, action_none);
 }
 

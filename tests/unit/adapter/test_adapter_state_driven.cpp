@@ -76,8 +76,8 @@ struct Driven {
     }
     void query(const std::string& id) {
         link->on_message(Message{"Query/Request/test-dev/app",
-                                 Json{{"@id", id}, {"guid", "test-dev"}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(),
-                                 1, false});
+                                 Json{{"@id", id}, {"guid", "test-dev"}, {"ids", Json::array({Json{{"id", "pos"}}})}}.dump(), 1,
+                                 false});
     }
     std::vector<std::string> topics() {
         std::lock_guard<std::mutex> lock(link->mutex);

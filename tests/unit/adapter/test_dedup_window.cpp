@@ -34,9 +34,9 @@ TEST_CASE("dedup window: a repeat within the window is dropped, after it or past
 }
 
 TEST_CASE("dedup key: kind, application and @id, a string @id never meets a number or another string") {
-    const std::vector<Json> ids = {Json("1"), Json(1), Json(1.0), Json("\"1\""), Json("a|b"), Json("a"), Json(true),
-                                   Json("true"), Json(nullptr), Json("null"), Json(""), Json("\\u0041"), Json("A"),
-                                   Json(-1), Json(1.5)};
+    const std::vector<Json> ids = {Json("1"), Json(1),         Json(1.0),    Json("\"1\""), Json("a|b"),
+                                   Json("a"), Json(true),      Json("true"), Json(nullptr), Json("null"),
+                                   Json(""),  Json("\\u0041"), Json("A"),    Json(-1),      Json(1.5)};
     std::set<std::string> keys;
     for (const Json& id : ids) keys.insert(DedupWindow::key("query_request", "app1", id));
     CHECK(keys.size() == ids.size());

@@ -44,17 +44,18 @@ TEST_CASE("requests beyond max_pending_requests are shed and counted while the d
     AdapterFixture f(c);
     f.driver->delay = 1000ms;
     for (int i = 0; i < 20; ++i)
-        f.app->send(topics::query_request("test-dev", "app"),
-                    Json{{"@id", "burst-" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
+        f.app->send(topics::query_request("test-dev", "app"), Json{{"@id", "burst-" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
     std::size_t most_pending = 0;
-    REQUIRE(eventually([&] {
-        most_pending = std::max(most_pending, f.adapter->stats().pending_requests);
-        return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 20;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] {
+            most_pending = std::max(most_pending, f.adapter->stats().pending_requests);
+            return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 20;
+        },
+        30s));
     f.driver->delay = 0ms;
     const auto shed = f.adapter->stats().shed;
-    CHECK(shed >= 10);           // 20 arrive while the first reads for a second
-    CHECK(most_pending <= 4);    // the bound held
+    CHECK(shed >= 10);         // 20 arrive while the first reads for a second
+    CHECK(most_pending <= 4);  // the bound held
     // Every request that was not shed was answered; the adapter serves again.
     CHECK(f.adapter->stats().pending_requests == 0);
     CHECK(f.query(Json::array({Json{{"id", "pos"}}}))["values"][0]["code"] == "OK");
@@ -82,22 +83,21 @@ TEST_CASE("the housekeeping names shed requests as a loss, read from the counter
     f.driver->delay = 1000ms;
     for (int i = 0; i < 10; ++i)
         f.app->send(topics::query_request("test-dev", "app"), Json{{"@id", "b" + std::to_string(i)}, {"ids", {"pos"}}}.dump());
-    REQUIRE(eventually([&] {
-        return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 10;
-    }, 30s));
+    REQUIRE(eventually(
+        [&] { return f.adapter->stats().shed + f.app->on(topics::query_response("test-dev", "app")).size() == 10; }, 30s));
     const auto shed = f.adapter->stats().shed;
     REQUIRE(shed > 0);
     REQUIRE(to_json(f.adapter->stats())["drops"]["requests_shed"] == shed);
     // The burst's closing line (a second with no growth) carries the total.
     const std::string expected = " in this burst, " + std::to_string(shed) + " in all";
-    CHECK(eventually([&] {
-        std::lock_guard<std::mutex> lock(*lines_mutex);
-        return std::any_of(lines->begin(), lines->end(),
-                           [&](const std::string& l) {
-                               return l.find("drops (requests_shed) stopped") != std::string::npos &&
-                                      l.find(expected) != std::string::npos;
-                           });
-    }, 10s));
+    CHECK(eventually(
+        [&] {
+            std::lock_guard<std::mutex> lock(*lines_mutex);
+            return std::any_of(lines->begin(), lines->end(), [&](const std::string& l) {
+                return l.find("drops (requests_shed) stopped") != std::string::npos && l.find(expected) != std::string::npos;
+            });
+        },
+        10s));
     std::lock_guard<std::mutex> lock(*lines_mutex);
     CHECK(std::any_of(lines->begin(), lines->end(),
                       [](const std::string& l) { return l.find("dropping (requests_shed)") != std::string::npos; }));

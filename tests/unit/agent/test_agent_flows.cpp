@@ -101,8 +101,8 @@ TEST_CASE("discovery: registered adapters the application may access with status
     CHECK(all["deviceList"][0]["status"] == "online");
     CHECK(all["deviceList"][0]["lastAliveTimeStamp"] == std::to_string(f.clock->wall_ms() / 1000));
 
-    const Json limited = f.app_wait_after(*f.app, topics::discovery_request("viewer"),
-                                          topics::discovery_response("viewer"), Json{{"@id", "d2"}, {"guid", "viewer"}});
+    const Json limited = f.app_wait_after(*f.app, topics::discovery_request("viewer"), topics::discovery_response("viewer"),
+                                          Json{{"@id", "d2"}, {"guid", "viewer"}});
     REQUIRE(limited["deviceList"].size() == 1);
     CHECK(limited["deviceList"][0]["guid"] == "mill-1");
 }
@@ -195,8 +195,9 @@ TEST_CASE("version: answered and the model fetched and served from the cache whi
 
     adapter.stop();
     REQUIRE(eventually([&] { return status_of(*f.agent, "test-dev") == "offline"; }));
-    const Json cached = f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"),
-                                         topics::probe_query_response("test-dev", "app"), Json{{"@id", "p1"}, {"guid", "test-dev"}});
+    const Json cached =
+        f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"), topics::probe_query_response("test-dev", "app"),
+                         Json{{"@id", "p1"}, {"guid", "test-dev"}});
     CHECK(cached["code"] == "OK");
     CHECK(cached["@id"] == "p1");
     CHECK(cached["probe"]["devices"][0]["guid"] == "test-dev");
@@ -208,8 +209,9 @@ TEST_CASE("version: answered and the model fetched and served from the cache whi
     f.restart_agent();
     REQUIRE(eventually([&] { return status_of(*f.agent, "test-dev") == "offline"; }));
     CHECK(terminal(*f.agent, "test-dev")->registered);
-    const Json again = f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"),
-                                        topics::probe_query_response("test-dev", "app"), Json{{"@id", "p2"}, {"guid", "test-dev"}});
+    const Json again =
+        f.app_wait_after(*f.app, topics::probe_query_request("test-dev", "app"), topics::probe_query_response("test-dev", "app"),
+                         Json{{"@id", "p2"}, {"guid", "test-dev"}});
     CHECK(again["privateInfo"]["cached"] == true);
     const Json listed = f.app_wait_after(*f.app, topics::discovery_request("app"), topics::discovery_response("app"),
                                          Json{{"@id", "d"}, {"guid", "app"}});
@@ -234,8 +236,8 @@ TEST_CASE("version: a new version makes the agent fetch the model again") {
 
 TEST_CASE("version: a malformed Probe/Version is answered NG") {
     AgentFixture f;
-    const Json answer = f.app_wait_after(*f.app, topics::probe_version("mill-1"),
-                                         topics::probe_version_response("mill-1"), Json{{"@id", "v"}, {"guid", "mill-1"}});
+    const Json answer = f.app_wait_after(*f.app, topics::probe_version("mill-1"), topics::probe_version_response("mill-1"),
+                                         Json{{"@id", "v"}, {"guid", "mill-1"}});
     CHECK(answer["code"] == "NG");
     CHECK(answer["error"] == 102);
 }
@@ -245,8 +247,7 @@ TEST_CASE("DEV_UNREACHABLE: a request to an offline adapter is answered by the a
     QuietAdapter a(f, "mill-1");
     f.announce(*a.side, "mill-1", "offline");
     REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
-    const Json answer = f.app_wait_after(*f.app, topics::query_request("mill-1", "mes"),
-                                         topics::query_response("mill-1", "mes"),
+    const Json answer = f.app_wait_after(*f.app, topics::query_request("mill-1", "mes"), topics::query_response("mill-1", "mes"),
                                          Json{{"@id", "q1"}, {"guid", "mill-1"}, {"ids", {{{"id", "pos"}}}}});
     CHECK(answer["@id"] == "q1");
     CHECK(answer["dev_uuid"] == "mill-1");
@@ -285,7 +286,8 @@ TEST_CASE("Timeout: a request the adapter does not answer in time gets 203 from 
     f.app->send(topics::query_request("mill-1", "mes"), Json{{"@id", "q2"}, {"guid", "mill-1"}, {"ids", {"pos"}}}.dump());
     REQUIRE(eventually([&] { return f.agent->stats().pending == 2; }));
     // q2 is answered by the adapter: no 203 for it
-    a.side->send(topics::query_response("mill-1", "mes"), Json{{"@id", "q2"}, {"guid", "mill-1"}, {"values", Json::array()}}.dump());
+    a.side->send(topics::query_response("mill-1", "mes"),
+                 Json{{"@id", "q2"}, {"guid", "mill-1"}, {"values", Json::array()}}.dump());
     REQUIRE(eventually([&] { return f.agent->stats().pending == 1; }));
     f.advance(1499ms);
     std::this_thread::sleep_for(100ms);
@@ -307,15 +309,14 @@ TEST_CASE("access control: a request the application may not make is answered 30
     c.access.applications["viewer"]["*"] = access_read;
     AgentFixture f(c);
     QuietAdapter a(f, "mill-1");
-    const Json denied = f.app_wait_after(*f.app, topics::set_request("mill-1", "viewer"),
-                                         topics::set_response("mill-1", "viewer"),
+    const Json denied = f.app_wait_after(*f.app, topics::set_request("mill-1", "viewer"), topics::set_response("mill-1", "viewer"),
                                          Json{{"@id", "s1"}, {"guid", "mill-1"}, {"values", Json::array()}});
     CHECK(denied["code"] == "NG");
     CHECK(denied["error"] == 301);
     CHECK(denied["reason"] == "Permission Denied");
     CHECK(denied["guid"] == "mill-1");
-    const Json call = f.app_wait_after(*f.app, topics::method_call("mill-1", "viewer"),
-                                       topics::method_result("mill-1", "viewer"), Json{{"@id", "m1"}, {"id", "m_start"}});
+    const Json call = f.app_wait_after(*f.app, topics::method_call("mill-1", "viewer"), topics::method_result("mill-1", "viewer"),
+                                       Json{{"@id", "m1"}, {"id", "m_start"}});
     CHECK(call["error"] == 301);
     CHECK(f.agent->stats().denied == 2);
     // reading is allowed: the request is left to the adapter
@@ -338,9 +339,9 @@ TEST_CASE("access control: with a closed allowlist an unregistered application i
     CHECK(f.agent->stats().pending == 0);
     // a stranger cannot register, so stays refused
     CHECK(f.register_as(*f.app, "stranger", "r0")["error"] == 301);
-    const Json stranger = f.app_wait_after(*f.app, topics::set_request("mill-1", "stranger"),
-                                           topics::set_response("mill-1", "stranger"),
-                                           Json{{"@id", "s1"}, {"values", Json::array()}});
+    const Json stranger =
+        f.app_wait_after(*f.app, topics::set_request("mill-1", "stranger"), topics::set_response("mill-1", "stranger"),
+                         Json{{"@id", "s1"}, {"values", Json::array()}});
     CHECK(stranger["error"] == 301);
     // once registered, the request is left to the adapter
     CHECK(f.register_as(*f.app, "mes", "r1")["code"] == "OK");

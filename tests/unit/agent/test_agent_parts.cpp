@@ -282,10 +282,10 @@ TEST_CASE("mosquitto ACL: a closed allowlist gives the default rights to listed 
         INFO(line);
         CHECK((acl.find("\n" + line + "\n") != std::string::npos) == expected);
     };
-    has("topic read Query/Request/mill-1/viewer");   // listed: the default rights, by name
+    has("topic read Query/Request/mill-1/viewer");  // listed: the default rights, by name
     has("topic read Set/Request/mill-1/mes");
-    has("topic deny Set/Request/mill-1/ghost");      // listed in access but not allowed to register
-    has("topic read Query/Request/mill-1/+", false); // nobody else
+    has("topic deny Set/Request/mill-1/ghost");       // listed in access but not allowed to register
+    has("topic read Query/Request/mill-1/+", false);  // nobody else
     has("pattern read Query/Request/%u/viewer");
     has("pattern read Query/Request/%u/+", false);
     has("topic read Probe/Query/Request/mill-1/nclink-agent");  // the agent's model fetches
@@ -365,8 +365,8 @@ TEST_CASE("mosquitto ACL: only watch lets an application read other applications
     const std::vector<std::string> others = {"Method/Status/mill-1/cam", "Method/Result/mill-1/cam", "Event/mill-1/cam"};
     for (const auto& topic : others) {
         INFO(topic);
-        CHECK(acl_lets_read(acl, "dash", topic));      // watch on mill-1
-        CHECK(acl_lets_read(acl, "ops", topic));       // watch everywhere
+        CHECK(acl_lets_read(acl, "dash", topic));            // watch on mill-1
+        CHECK(acl_lets_read(acl, "ops", topic));             // watch everywhere
         CHECK_FALSE(acl_lets_read(acl, "mes", topic));       // all, but not watch
         CHECK_FALSE(acl_lets_read(acl, "stranger", topic));  // the default: all, not watch
     }

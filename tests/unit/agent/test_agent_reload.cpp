@@ -110,10 +110,12 @@ TEST_CASE("reload: an id_pattern that is no regex is refused and nothing changes
 TEST_CASE("reload: log_level changes the level of the logger the agent was given and its copies") {
     std::vector<std::string> lines;
     std::mutex mutex;
-    const Logger logger([&](LogLevel, std::string_view m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        lines.emplace_back(m);
-    }, LogLevel::warn);
+    const Logger logger(
+        [&](LogLevel, std::string_view m) {
+            std::lock_guard<std::mutex> lock(mutex);
+            lines.emplace_back(m);
+        },
+        LogLevel::warn);
     const Logger copy = logger;
     AgentConfig c;
     c.log_level = LogLevel::warn;

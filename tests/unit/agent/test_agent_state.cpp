@@ -36,8 +36,8 @@ TEST_CASE("agent table: every state x event pair has exactly one row, with its s
 
 TEST_CASE("agent table: initial (31)") {
     expect(S::initial, E::initialized, S::normal, agent_action_check_registrations);
-    for (E e : {E::request_received, E::response_received, E::application_lost, E::application_restored,
-                E::adapter_lost, E::adapter_restored, E::sample_received})
+    for (E e : {E::request_received, E::response_received, E::application_lost, E::application_restored, E::adapter_lost,
+                E::adapter_restored, E::sample_received})
         expect(S::initial, e, S::initial, agent_action_none);
 }
 
@@ -96,8 +96,7 @@ TEST_CASE("agent table: a link row lands where the state derived from presence i
             const bool lost_agrees = agent_transition(from, E::application_lost).next == agent_state_of(false, adapter);
             CHECK(lost_agrees);
             CHECK(agent_transition(from, E::application_restored).next == agent_state_of(true, adapter));
-            if (from != S::adapter_down)
-                CHECK(agent_transition(from, E::adapter_lost).next == agent_state_of(app, false));
+            if (from != S::adapter_down) CHECK(agent_transition(from, E::adapter_lost).next == agent_state_of(app, false));
             CHECK(agent_transition(from, E::adapter_restored).next == agent_state_of(app, true));
         }
 }

@@ -40,8 +40,7 @@ bool validates(const std::string& xml, const std::string& kind) {
     // Per process: ctest runs each test case of this file as its own
     // process, two at a time, and a shared name let one case read (or lose)
     // the other's document.
-    const auto stem = std::filesystem::temp_directory_path() /
-                      ("nclink-bridge-unit-" + kind + "-" + std::to_string(::getpid()));
+    const auto stem = std::filesystem::temp_directory_path() / ("nclink-bridge-unit-" + kind + "-" + std::to_string(::getpid()));
     const std::string file = stem.string() + ".xml", log_file = stem.string() + ".log";
     std::ofstream(file) << xml;
     const std::string cmd = "xmllint --nonet --noout --schema " + xsd + " " + file + " 2>" + log_file;
@@ -85,8 +84,8 @@ TEST_CASE("buffer numbers observations from 1 and keeps first last next") {
 
 TEST_CASE("buffer wraps: the oldest falls out and the last value of every item is kept") {
     ObservationBuffer b(4);
-    b.append(0, "a0", 1);  // 1
-    b.append(1, "b0", 2);  // 2
+    b.append(0, "a0", 1);                                                      // 1
+    b.append(1, "b0", 2);                                                      // 2
     for (int i = 1; i <= 6; ++i) b.append(1, "b" + std::to_string(i), 2 + i);  // 3..8
     CHECK(b.first_sequence() == 5);
     CHECK(b.last_sequence() == 8);
@@ -351,7 +350,8 @@ TEST_CASE("SHDR lines: timestamp, device-prefixed key, escaped value, PING answe
 
 TEST_CASE("data-write requests parse, and malformed ones are INVALID_REQUEST") {
     GbtApi::WriteRequest w;
-    const std::string body = R"(<DataWriteRequest><Header version="1.0" sendTime="2024-01-01T00:00:00Z" sender="mes" operationId="7"/>
+    const std::string body =
+        R"(<DataWriteRequest><Header version="1.0" sendTime="2024-01-01T00:00:00Z" sender="mes" operationId="7"/>
       <Operation command="SET" description="override"><Value dataItemId="feed_override">80</Value>
       <Value dataItemId="status">"text"</Value></Operation></DataWriteRequest>)";
     REQUIRE_FALSE(GbtApi::parse_write(body, w));
@@ -362,8 +362,9 @@ TEST_CASE("data-write requests parse, and malformed ones are INVALID_REQUEST") {
     GbtApi::WriteRequest bad;
     CHECK(GbtApi::parse_write("<DataWriteRequest>", bad)->code == MtErrorCode::invalid_request);
     CHECK(GbtApi::parse_write("<Other/>", bad)->code == MtErrorCode::invalid_request);
-    CHECK(GbtApi::parse_write("<DataWriteRequest><Operation command=\"DELETE\"><Value dataItemId=\"a\">1</Value></Operation></DataWriteRequest>", bad)->code ==
-          MtErrorCode::unsupported);
+    CHECK(GbtApi::parse_write(
+              "<DataWriteRequest><Operation command=\"DELETE\"><Value dataItemId=\"a\">1</Value></Operation></DataWriteRequest>", bad)
+              ->code == MtErrorCode::unsupported);
 }
 
 namespace {
@@ -400,7 +401,7 @@ TEST_CASE("store activity: one entry per method run, updated by its status and r
     store.record_method_run("mill-01", status_of("mes", "c-1", "executing", 60), 1002);
     store.record_method_run("mill-01", result_of("mes", "c-1", "finished"), 1003);
     store.record_method_run("mill-01", status_of("mes", "c-1", "executing", 70), 1004);  // late: stays finished
-    store.record_method_run("mill-99", status_of("mes", "c-2", "executing"), 1005);     // unknown device
+    store.record_method_run("mill-99", status_of("mes", "c-2", "executing"), 1005);      // unknown device
     CHECK(store.wait_for_change(std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint64_t>::max(),
                                 std::chrono::milliseconds(0), before));
     store.read([&](const BridgeState& st) {
@@ -429,8 +430,8 @@ TEST_CASE("store activity: one entry per method run, updated by its status and r
         return 0;
     });
     const std::uint64_t now = store.read([](const BridgeState& st) { return st.activity_sequence; });
-    CHECK_FALSE(store.wait_for_change(std::numeric_limits<std::uint64_t>::max(),
-                                      std::numeric_limits<std::uint64_t>::max(), std::chrono::milliseconds(0), now));
+    CHECK_FALSE(store.wait_for_change(std::numeric_limits<std::uint64_t>::max(), std::numeric_limits<std::uint64_t>::max(),
+                                      std::chrono::milliseconds(0), now));
 }
 
 TEST_CASE("store activity: the method-run and event logs keep the newest entries within their bound") {
@@ -460,8 +461,8 @@ TEST_CASE("store activity: the method-run and event logs keep the newest entries
         CHECK(d->events.front().value == 30);
         CHECK(d->events.back().value == 50);
         const Json j = JsonApi::event_json(d->dev, d->events.back());
-        CHECK(j == Json{{"dev", "mill-01"}, {"ex", "mes"}, {"event", "ev-1"}, {"item", "feed_override"},
-                        {"value", 50}, {"time", 5}});
+        CHECK(j ==
+              Json{{"dev", "mill-01"}, {"ex", "mes"}, {"event", "ev-1"}, {"item", "feed_override"}, {"value", 50}, {"time", 5}});
         return 0;
     });
 }

@@ -107,7 +107,7 @@ TEST_CASE("GB/T 18759.6: a malformed table 7 or table 8 value gets the error doc
         {"At=0", 400, "OUT_OF_RANGE"},       // before firstSequence
         {"At=100000", 400, "OUT_OF_RANGE"},  // after lastSequence
         {"At=2&Interval=10", 400, "INVALID_REQUEST"},
-        {"Path=%2F%2FDataItem%5B", 400, "INVALID_PATH"},   // //DataItem[
+        {"Path=%2F%2FDataItem%5B", 400, "INVALID_PATH"},  // //DataItem[
         {"Path=", 400, "INVALID_PATH"},
         {"Path=%2F%2FNothing", 400, "INVALID_PATH"},
         {"Path=%2F%2FLinear%00garbage", 400, "INVALID_PATH"},  // NUL: libxml2 would read only its head
@@ -147,8 +147,7 @@ TEST_CASE("GB/T 18759.6: a malformed table 7 or table 8 value gets the error doc
             CHECK(valid_error(r->body));
         }
     };
-    for (const char* route : {"/gbt18759/current", "/gbt18759/Mill/current", "/gbt18759/mill-01/current"})
-        check(route, snapshot);
+    for (const char* route : {"/gbt18759/current", "/gbt18759/Mill/current", "/gbt18759/mill-01/current"}) check(route, snapshot);
     for (const char* route : {"/gbt18759/enquire", "/gbt18759/Mill/enquire", "/gbt18759/mill-01/enquire"}) {
         check(route, enquire);
         // Interval and Path are table 8's too; At belongs to the snapshot only.
@@ -159,9 +158,9 @@ TEST_CASE("GB/T 18759.6: a malformed table 7 or table 8 value gets the error doc
     check("/sample", {{"from=1&from=x", 400, "INVALID_REQUEST"}, {"path=%2F%2FLinear%00x", 400, "INVALID_PATH"}});
 
     // Good values still answer data, so the checks above are what refused.
-    for (const char* ok : {"/gbt18759/current?Count=5", "/gbt18759/current?Path=%2F%2FLinear&At=3",
-                           "/gbt18759/Mill/current?Count=5&count=5", "/gbt18759/enquire?From=2&Count=3",
-                           "/gbt18759/mill-01/enquire?Path=%2F%2FLinear&From=1&Count=64"}) {
+    for (const char* ok :
+         {"/gbt18759/current?Count=5", "/gbt18759/current?Path=%2F%2FLinear&At=3", "/gbt18759/Mill/current?Count=5&count=5",
+          "/gbt18759/enquire?From=2&Count=3", "/gbt18759/mill-01/enquire?Path=%2F%2FLinear&From=1&Count=64"}) {
         INFO(ok);
         auto r = s.http_client->Get(ok);
         REQUIRE(r);

@@ -13,8 +13,8 @@ TEST_CASE("cli: defaults and global options in both spellings") {
     CHECK(d.timeout == std::chrono::milliseconds(2000));
     CHECK_FALSE(d.json);
 
-    const auto o = parse_cli_options({"--broker", "tcp://h:1884", "--device=dev1", "--client-id", "me",
-                                      "--timeout=150", "--json", "x=1", "y"});
+    const auto o = parse_cli_options(
+        {"--broker", "tcp://h:1884", "--device=dev1", "--client-id", "me", "--timeout=150", "--json", "x=1", "y"});
     CHECK(o.broker == "tcp://h:1884");
     CHECK(o.device == "dev1");
     CHECK(o.client_id == "me");

@@ -28,7 +28,8 @@ TEST_CASE("config check: every problem is listed in file order with line column 
     REQUIRE(check.problems.size() == 4);
     CHECK(where(check.problems[0]) == "3:3");
     CHECK(check.problems[0].pointer == "/request_timout_ms");
-    CHECK_THAT(check.problems[0].message, Catch::StartsWith("request_timout_ms: unknown key; did you mean \"request_timeout_ms\"?"));
+    CHECK_THAT(check.problems[0].message,
+               Catch::StartsWith("request_timout_ms: unknown key; did you mean \"request_timeout_ms\"?"));
     CHECK(where(check.problems[1]) == "4:14");
     CHECK_THAT(check.problems[1].message, Catch::StartsWith("broker.uri: unknown key; did you mean \"url\"?"));
     CHECK(where(check.problems[2]) == "4:37");

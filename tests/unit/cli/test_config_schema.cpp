@@ -96,8 +96,7 @@ struct Leaf {
     Json schema;
     std::string reload;
 };
-void for_each_leaf(const Json& s, const std::string& path, const std::string& pointer, std::string reload,
-                   std::vector<Leaf>& out) {
+void for_each_leaf(const Json& s, const std::string& path, const std::string& pointer, std::string reload, std::vector<Leaf>& out) {
     reload = s.value("x-nclink-reload", reload);
     if (!is_section(s)) {
         out.push_back(Leaf{path, pointer, s, reload});
@@ -157,8 +156,7 @@ ConfigReload bridge_reload(const Json& running, const Json& next) {
     return b.reload(bridge::bridge_config_from_json(next).value());
 }
 
-const std::map<std::string, Reload> kReloads = {
-    {"adapter", &adapter_reload}, {"agent", &agent_reload}, {"bridge", &bridge_reload}};
+const std::map<std::string, Reload> kReloads = {{"adapter", &adapter_reload}, {"agent", &agent_reload}, {"bridge", &bridge_reload}};
 
 }  // namespace
 
@@ -238,9 +236,8 @@ TEST_CASE("schemas: the reload class of every key is what the program does on SI
             next[Json::json_pointer(leaf.pointer)] = changed_value(leaf.schema);
             const ConfigReload report = reload->second(defaults, next);
             auto covers = [&](const std::vector<std::string>& keys) {
-                return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) {
-                    return k == leaf.path || leaf.path.rfind(k + ".", 0) == 0;
-                });
+                return std::any_of(keys.begin(), keys.end(),
+                                   [&](const std::string& k) { return k == leaf.path || leaf.path.rfind(k + ".", 0) == 0; });
             };
             INFO("applied " << Json(report.applied).dump() << ", restart " << Json(report.restart_needed).dump());
             CHECK(report.applied.size() + report.restart_needed.size() == 1);

@@ -36,12 +36,11 @@ TEST_CASE("client events: the registration's first event reaches the callback af
     ClientRig f;
     std::promise<std::string> done_id;
     std::atomic<std::size_t> events_when_done{99};
-    f.client->register_event_async(
-        "test-dev", event_registration("ovr", {{{"type", "equal"}, {"value", 100}}}), f.seen.handler(),
-        [&](Result<std::string> id) {
-            events_when_done = f.seen.size();
-            done_id.set_value(id.ok() ? *id : std::string());
-        });
+    f.client->register_event_async("test-dev", event_registration("ovr", {{{"type", "equal"}, {"value", 100}}}), f.seen.handler(),
+                                   [&](Result<std::string> id) {
+                                       events_when_done = f.seen.size();
+                                       done_id.set_value(id.ok() ? *id : std::string());
+                                   });
     const std::string id = done_id.get_future().get();
     REQUIRE_FALSE(id.empty());
     CHECK(events_when_done == 0);
@@ -86,7 +85,10 @@ TEST_CASE("client events: refusals come back as their table-19 codes") {
 
 TEST_CASE("client events: a once callback goes with its first event") {
     ClientRig f;
-    REQUIRE(f.client->register_event("test-dev", event_registration("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.seen.handler()).ok());
+    REQUIRE(
+        f.client
+            ->register_event("test-dev", event_registration("ovr", {{{"type", "less"}, {"value", 50}}}, "once"), f.seen.handler())
+            .ok());
     CHECK(f.client->event_registrations() == 1);
     f.machine("ovr", 10);
     f.poll();
@@ -113,7 +115,8 @@ TEST_CASE("client events: unregister drops the callback and reports NG codes") {
 
 TEST_CASE("client events: unknown and malformed Event DTUs are counted and dropped") {
     ClientRig f;
-    f.app->send("Event/test-dev/capp", R"({"@id":"x","guid":"test-dev","id":"event_unknown","time":1,"event":{"id":"a","value":1}})");
+    f.app->send("Event/test-dev/capp",
+                R"({"@id":"x","guid":"test-dev","id":"event_unknown","time":1,"event":{"id":"a","value":1}})");
     f.app->send("Event/test-dev/capp", R"({"@id":"y","guid":"test-dev","id":"event_unknown"})");
     REQUIRE(eventually([&] { return f.client->stats().malformed == 1; }));
     REQUIRE(eventually([&] { return f.client->stats().unmatched_responses >= 1; }));

@@ -46,32 +46,32 @@ TEST_CASE("client state table: initial (item 9)") {
 }
 
 TEST_CASE("client state table: normal (items 11-15)") {
-    expect(S::normal, E::request_made, S::request, client_action_send_request);          // 11
-    expect(S::normal, E::stray_response, S::normal, client_action_drop_response);        // 12
-    expect(S::normal, E::link_lost, S::disconnected, client_action_none);                // 13
-    expect(S::normal, E::link_restored, S::normal, client_action_none);                  // 14
-    expect(S::normal, E::sample_received, S::normal, client_action_handle_sample);       // 15
+    expect(S::normal, E::request_made, S::request, client_action_send_request);     // 11
+    expect(S::normal, E::stray_response, S::normal, client_action_drop_response);   // 12
+    expect(S::normal, E::link_lost, S::disconnected, client_action_none);           // 13
+    expect(S::normal, E::link_restored, S::normal, client_action_none);             // 14
+    expect(S::normal, E::sample_received, S::normal, client_action_handle_sample);  // 15
 }
 
 TEST_CASE("client state table: request (items 17-21)") {
-    expect(S::request, E::request_made, S::request, client_action_send_request);         // 17
-    expect(S::request, E::last_response, S::normal, client_action_handle_response);      // 18
-    expect(S::request, E::response_received, S::request, client_action_handle_response); // others still wait
+    expect(S::request, E::request_made, S::request, client_action_send_request);          // 17
+    expect(S::request, E::last_response, S::normal, client_action_handle_response);       // 18
+    expect(S::request, E::response_received, S::request, client_action_handle_response);  // others still wait
     expect(S::request, E::stray_response, S::request, client_action_drop_response);
-    expect(S::request, E::link_lost, S::disconnected, client_action_none);               // 19
-    expect(S::request, E::link_restored, S::request, client_action_none);                // 20
-    expect(S::request, E::sample_received, S::request, client_action_handle_sample);     // 21
+    expect(S::request, E::link_lost, S::disconnected, client_action_none);            // 19
+    expect(S::request, E::link_restored, S::request, client_action_none);             // 20
+    expect(S::request, E::sample_received, S::request, client_action_handle_sample);  // 21
 }
 
 TEST_CASE("client state table: disconnected (items 23-27)") {
-    expect(S::disconnected, E::request_made, S::disconnected, client_action_queue_request);        // 23
-    expect(S::disconnected, E::response_received, S::disconnected, client_action_handle_response); // 24
-    expect(S::disconnected, E::last_response, S::disconnected, client_action_handle_response);     // 24
-    expect(S::disconnected, E::link_lost, S::disconnected, client_action_none);                    // 25
-    expect(S::disconnected, E::link_restored, S::request, client_action_send_queued, true);        // 26, queued
-    expect(S::disconnected, E::link_restored, S::normal, client_action_none);                      // 26, none
-    expect(S::disconnected, E::link_restored, S::request, client_action_none, false, true);        // sent before, unanswered
-    expect(S::disconnected, E::sample_received, S::disconnected, client_action_handle_sample);     // 27
+    expect(S::disconnected, E::request_made, S::disconnected, client_action_queue_request);         // 23
+    expect(S::disconnected, E::response_received, S::disconnected, client_action_handle_response);  // 24
+    expect(S::disconnected, E::last_response, S::disconnected, client_action_handle_response);      // 24
+    expect(S::disconnected, E::link_lost, S::disconnected, client_action_none);                     // 25
+    expect(S::disconnected, E::link_restored, S::request, client_action_send_queued, true);         // 26, queued
+    expect(S::disconnected, E::link_restored, S::normal, client_action_none);                       // 26, none
+    expect(S::disconnected, E::link_restored, S::request, client_action_none, false, true);         // sent before, unanswered
+    expect(S::disconnected, E::sample_received, S::disconnected, client_action_handle_sample);      // 27
 }
 
 TEST_CASE("client state: initial normal request normal over the loopback") {
@@ -200,7 +200,8 @@ TEST_CASE("client state: a queued request that times out is failed with 203 and 
     auto client = make_client(broker, "app1");
     broker.set_online(false);
     REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
-    auto result = client->set("dev1", {SetItem{"ovr", Json{{"value", 1}}, std::nullopt, std::nullopt}}, RequestOptions{50ms, std::nullopt});
+    auto result =
+        client->set("dev1", {SetItem{"ovr", Json{{"value", 1}}, std::nullopt, std::nullopt}}, RequestOptions{50ms, std::nullopt});
     REQUIRE_FALSE(result.ok());
     CHECK(result.error().code == ErrorCode::timeout);
     broker.set_online(true);
@@ -219,7 +220,8 @@ TEST_CASE("client state: a full queue refuses more requests with 404") {
     auto client = std::move(Client::create(make_loopback_transport(broker, o), co)).value();
     broker.set_online(false);
     REQUIRE(client->start().ok());  // never connects: initial, requests queue
-    client->query_async("dev1", items({"a"}), [](auto) {}, RequestOptions{10000ms, std::nullopt});
+    client->query_async(
+        "dev1", items({"a"}), [](auto) {}, RequestOptions{10000ms, std::nullopt});
     auto second = client->query("dev1", items({"b"}));
     REQUIRE_FALSE(second.ok());
     CHECK(second.error().code == ErrorCode::memory_configured);
@@ -228,12 +230,17 @@ TEST_CASE("client state: a full queue refuses more requests with 404") {
 
 TEST_CASE("discover: the device list of the agent's Discovery/Response") {
     LoopbackBroker broker;
-    FakeAdapter agent(broker, "agent", [](const Message& m) -> std::vector<Message> {
-        const Json req = Json::parse(m.payload);
-        Json answer = {{"@id", req["@id"]}, {"guid", "app1"}, {"code", "OK"},
-                       {"deviceList", {{{"guid", "mill-1"}, {"status", "online"}, {"lastAliveTimeStamp", "1611287021"}}}}};
-        return {Message{topics::discovery_response("app1"), answer.dump(), 1, false}};
-    }, {topics::discovery_request("+")});
+    FakeAdapter agent(broker, "agent",
+                      [](const Message& m) -> std::vector<Message> {
+                          const Json req = Json::parse(m.payload);
+                          Json answer = {
+                              {"@id", req["@id"]},
+                              {"guid", "app1"},
+                              {"code", "OK"},
+                              {"deviceList", {{{"guid", "mill-1"}, {"status", "online"}, {"lastAliveTimeStamp", "1611287021"}}}}};
+                          return {Message{topics::discovery_response("app1"), answer.dump(), 1, false}};
+                      },
+                      {topics::discovery_request("+")});
     auto client = make_client(broker, "app1");
     auto list = client->discover();
     REQUIRE(list.ok());
@@ -249,10 +256,14 @@ TEST_CASE("discover: the device list of the agent's Discovery/Response") {
 TEST_CASE("discover: deviceList null is an empty list and no agent is a timeout") {
     LoopbackBroker broker;
     {
-        FakeAdapter agent(broker, "agent", [](const Message& m) -> std::vector<Message> {
-            const Json answer = {{"@id", Json::parse(m.payload)["@id"]}, {"guid", "app1"}, {"code", "OK"}, {"deviceList", nullptr}};
-            return {Message{topics::discovery_response("app1"), answer.dump(), 1, false}};
-        }, {topics::discovery_request("+")});
+        FakeAdapter agent(
+            broker, "agent",
+            [](const Message& m) -> std::vector<Message> {
+                const Json answer = {
+                    {"@id", Json::parse(m.payload)["@id"]}, {"guid", "app1"}, {"code", "OK"}, {"deviceList", nullptr}};
+                return {Message{topics::discovery_response("app1"), answer.dump(), 1, false}};
+            },
+            {topics::discovery_request("+")});
         auto client = make_client(broker, "app1");
         auto list = client->discover();
         REQUIRE(list.ok());

@@ -243,16 +243,14 @@ TEST_CASE("per-item NG results and whole-request refusals") {
     FakeAdapter adapter(broker, "dev1", [](const Message& m) {
         const auto kind = parse_topic(m.topic)->kind;
         if (kind == TopicKind::query_request)
-            return std::vector<Message>{reply_to(
-                m,
-                {{"values",
-                  {{{"id", "a"}, {"code", "OK"}, {"values", {1}}},
-                   {{"id", "zz"}, {"code", "NG"}, {"reason", "Node not exists"}, {"error", 401}}}}},
-                "dev1")};
+            return std::vector<Message>{reply_to(m,
+                                                 {{"values",
+                                                   {{{"id", "a"}, {"code", "OK"}, {"values", {1}}},
+                                                    {{"id", "zz"}, {"code", "NG"}, {"reason", "Node not exists"}, {"error", 401}}}}},
+                                                 "dev1")};
         // Set: refused as a whole.
         return std::vector<Message>{
-            reply_to(m, {{"results", Json::array()}, {"code", "NG"}, {"reason", "syntax error"}, {"error", 412}},
-                     "dev1")};
+            reply_to(m, {{"results", Json::array()}, {"code", "NG"}, {"reason", "syntax error"}, {"error", 412}}, "dev1")};
     });
     auto client = make_client(broker, "app1");
     auto result = client->query("dev1", items({"a", "zz"}));
@@ -276,7 +274,8 @@ TEST_CASE("probe, probe set and set round trips") {
     REQUIRE(model.ok());
     CHECK((*model)["id"] == "root");
     CHECK(client->probe_set("dev1", Json{{"id", "root"}}).ok());
-    auto set = client->set("dev1", {SetItem{"x", Json{{"value", 3}}, std::nullopt, std::nullopt}, SetItem{"y", Json{{"value", "s"}}, std::nullopt, std::nullopt}});
+    auto set = client->set("dev1", {SetItem{"x", Json{{"value", 3}}, std::nullopt, std::nullopt},
+                                    SetItem{"y", Json{{"value", "s"}}, std::nullopt, std::nullopt}});
     REQUIRE(set.ok());
     REQUIRE(set->size() == 2);
     CHECK((*set)[1].id == "y");
@@ -301,14 +300,16 @@ TEST_CASE("register with an agent answering, refusing, and without one") {
     }
     SECTION("agent accepts / refuses") {
         const bool accept = GENERATE(true, false);
-        FakeAdapter agent(broker, "agent", [accept](const Message& m) {
-            const Json req = Json::parse(m.payload);
-            RegisterResponse r;
-            r.msg_id = req["@id"];
-            r.cli_uuid = req["cli_uuid"].get<std::string>();
-            if (!accept) r.status = ResponseStatus::failure(ErrorCode::permission_denied);
-            return std::vector<Message>{{topics::register_response(r.cli_uuid), encode(r), 1, false}};
-        }, {topics::register_request()});
+        FakeAdapter agent(broker, "agent",
+                          [accept](const Message& m) {
+                              const Json req = Json::parse(m.payload);
+                              RegisterResponse r;
+                              r.msg_id = req["@id"];
+                              r.cli_uuid = req["cli_uuid"].get<std::string>();
+                              if (!accept) r.status = ResponseStatus::failure(ErrorCode::permission_denied);
+                              return std::vector<Message>{{topics::register_response(r.cli_uuid), encode(r), 1, false}};
+                          },
+                          {topics::register_request()});
         auto outcome = client->register_terminal(RequestOptions{2000ms, std::nullopt});
         REQUIRE(outcome.ok());
         CHECK(outcome->kind == (accept ? RegisterOutcome::Kind::accepted : RegisterOutcome::Kind::refused));
@@ -345,8 +346,8 @@ TEST_CASE("link state follows the broker and requests wait while it is down") {
     REQUIRE(eventually([&] { return client->state() == ClientState::disconnected; }));
     CHECK(client->link_state() != LinkState::connected);
     std::promise<Result<std::vector<QueryResult>>> done;
-    client->query_async("dev1", items({"a"}), [&](auto r) { done.set_value(std::move(r)); },
-                        RequestOptions{5000ms, std::nullopt});
+    client->query_async(
+        "dev1", items({"a"}), [&](auto r) { done.set_value(std::move(r)); }, RequestOptions{5000ms, std::nullopt});
     CHECK(client->pending_requests() == 1);
     broker.set_online(true);
     auto result = done.get_future().get();

@@ -77,7 +77,10 @@ TEST_CASE("a channel subscription sees only its channel and two handlers both se
     FakeAdapter adapter(broker, "dev1", nullptr);
     auto client = make_client(broker, "app1");
     Collected<std::string> one, all_a, all_b;
-    REQUIRE(client->subscribe_samples("dev1", [&](const SampleDtu& s) { one.add(s.id); }, std::string("ch2")).ok());
+    REQUIRE(client
+                ->subscribe_samples(
+                    "dev1", [&](const SampleDtu& s) { one.add(s.id); }, std::string("ch2"))
+                .ok());
     auto a = client->subscribe_samples("dev1", [&](const SampleDtu& s) { all_a.add(s.id); });
     REQUIRE(client->subscribe_samples("dev1", [&](const SampleDtu& s) { all_b.add(s.id); }).ok());
     adapter.publish(sample("dev1", "ch1", 1, {Json::array({1})}));
@@ -164,25 +167,23 @@ namespace {
 Message method_status(const std::string& dev, const std::string& ex, const std::string& call, const std::string& method,
                       const std::string& status, double progress) {
     return {topics::method_status(dev, ex),
-            Json{{"@id", call}, {"guid", dev}, {"id", method}, {"status", status}, {"progress", progress}}.dump(), 1,
-            false};
+            Json{{"@id", call}, {"guid", dev}, {"id", method}, {"status", status}, {"progress", progress}}.dump(), 1, false};
 }
 
 Message method_result(const std::string& dev, const std::string& ex, const std::string& call, const std::string& method,
                       const std::string& result) {
     return {topics::method_result(dev, ex),
-            Json{{"@id", call}, {"guid", dev}, {"id", method}, {"result", result}, {"code", "OK"}, {"return", {{"n", 3}}}}
-                .dump(),
+            Json{{"@id", call}, {"guid", dev}, {"id", method}, {"result", result}, {"code", "OK"}, {"return", {{"n", 3}}}}.dump(),
             1, false};
 }
 
 Message event_dtu(const std::string& dev, const std::string& ex, const std::string& msg_id, const std::string& event_id,
                   const std::string& item, Json value) {
-    return {topics::event(dev, ex),
-            Json{{"@id", msg_id}, {"guid", dev}, {"id", event_id}, {"time", 1700000000000LL},
-                 {"event", {{"id", item}, {"value", value}}}}
-                .dump(),
-            1, false};
+    return {
+        topics::event(dev, ex),
+        Json{{"@id", msg_id}, {"guid", dev}, {"id", event_id}, {"time", 1700000000000LL}, {"event", {{"id", item}, {"value", value}}}}
+            .dump(),
+        1, false};
 }
 
 }  // namespace
@@ -210,7 +211,7 @@ TEST_CASE("method runs of every caller at a device reach subscribe_method_runs d
     adapter.publish(method_result("dev1", "mes", "c-7", "G_HOME", "finished"));
     adapter.publish({topics::method_status("dev1", "mes"), "{not json", 1, false});
     adapter.publish({topics::method_result("dev1", "mes"), Json{{"@id", "c-8"}}.dump(), 1, false});  // no result
-    adapter.publish(method_result("dev2", "mes", "c-9", "G_HOME", "finished"));  // another device
+    adapter.publish(method_result("dev2", "mes", "c-9", "G_HOME", "finished"));                      // another device
     REQUIRE(eventually([&] { return runs.size() == 2 && client->stats().malformed == 2; }));
     auto got = runs.get();
     CHECK(got[0].kind == MethodRun::Kind::status);

@@ -38,7 +38,8 @@ TEST_CASE("status keys: OK and NG with reason pass and a wrong code fails") {
 TEST_CASE("envelope: the request's @id is echoed verbatim and guid names the device") {
     const Json sent = "tester-1";
     CHECK(check_envelope(Json{{"@id", "tester-1"}, {"guid", kDev}}, sent, kDev, true).empty());
-    CHECK(mentions(check_envelope(Json{{"@id", "tester-2"}, {"guid", kDev}}, sent, kDev, true), "the request's was \"tester-1\""));
+    CHECK(
+        mentions(check_envelope(Json{{"@id", "tester-2"}, {"guid", kDev}}, sent, kDev, true), "the request's was \"tester-1\""));
     CHECK(mentions(check_envelope(Json{{"guid", kDev}}, sent, kDev, true), "\"@id\" is missing"));
     CHECK(mentions(check_envelope(Json{{"@id", "tester-1"}}, sent, kDev, true), "\"guid\" is missing"));
     CHECK(check_envelope(Json{{"@id", "tester-1"}}, sent, kDev, false).empty());
@@ -238,26 +239,28 @@ TEST_CASE("event and sampling registration answers carry the new id") {
 TEST_CASE("method status result and control answers") {
     CHECK(check_method_status(Json{{"guid", kDev}, {"id", "m"}, {"status", "executing"}, {"progress", 30}}, kDev, "m").empty());
     CHECK(check_method_status(Json{{"guid", kDev}, {"id", "m"}, {"status", "executing"}, {"process", 30}}, kDev, "m").empty());
-    CHECK(mentions(check_method_status(Json{{"guid", kDev}, {"id", "m"}, {"status", "running"}}, kDev, "m"), "waiting/executing"));
+    CHECK(
+        mentions(check_method_status(Json{{"guid", kDev}, {"id", "m"}, {"status", "running"}}, kDev, "m"), "waiting/executing"));
     CHECK(mentions(check_method_status(Json{{"guid", kDev}, {"id", "m"}, {"status", "sleep"}, {"progress", "30%"}}, kDev, "m"),
                    "not a number"));
-    CHECK(check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "finished"}, {"code", "OK"}}, Json("c"), kDev,
-                              "m")
+    CHECK(check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "finished"}, {"code", "OK"}}, Json("c"),
+                              kDev, "m")
               .empty());
-    CHECK(mentions(check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "done"}, {"code", "OK"}}, Json("c"),
-                                       kDev, "m"),
-                   "finished/canceled/error"));
-    CHECK(mentions(check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "finished"}, {"code", "NG"},
-                                            {"error", 1}},
+    CHECK(mentions(check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "done"}, {"code", "OK"}},
                                        Json("c"), kDev, "m"),
-                   "finished\" with code NG"));
+                   "finished/canceled/error"));
+    CHECK(mentions(
+        check_method_result(Json{{"@id", "c"}, {"guid", kDev}, {"id", "m"}, {"result", "finished"}, {"code", "NG"}, {"error", 1}},
+                            Json("c"), kDev, "m"),
+        "finished\" with code NG"));
     CHECK(mentions(check_method_control_response(Json{{"@id", "c"}, {"guid", kDev}, {"code", "OK"}}, Json("c"), kDev, "m"),
                    "\"id\" is missing"));
 }
 
 TEST_CASE("notify state: retained online with the adapter's tid") {
     CHECK(check_notify_state(Message{"Notify/State/dev-1", R"({"tid":"dev-1","state":"online"})", 1, true}, kDev).empty());
-    CHECK(mentions(check_notify_state(Message{"t", R"({"tid":"dev-1","state":"offline"})", 1, true}, kDev), "\"state\" is \"offline\""));
+    CHECK(mentions(check_notify_state(Message{"t", R"({"tid":"dev-1","state":"offline"})", 1, true}, kDev),
+                   "\"state\" is \"offline\""));
     CHECK(mentions(check_notify_state(Message{"t", R"({"tid":"dev-1","state":"online"})", 1, false}, kDev), "not retained"));
     CHECK(mentions(check_notify_state(Message{"t", R"({"tid":"x","state":"online"})", 1, true}, kDev), "\"tid\" is \"x\""));
     CHECK(mentions(check_notify_state(Message{"t", "online", 1, true}, kDev), "not JSON"));

@@ -21,7 +21,7 @@ bool mentions(const Problems& problems, const std::string& text) {
 TEST_CASE("fidelity: an NG reason is the table-19 string of its error") {
     CHECK(check_table19_reason(Json{{"code", "NG"}, {"reason", "Node not exists"}, {"error", 401}}).empty());
     CHECK(check_table19_reason(Json{{"code", "NG"}, {"reason", " unavailable"}, {"error", 202}}).empty());  // 8.2.12's spacing
-    CHECK(check_table19_reason(Json{{"code", "NG"}, {"reason", "my own"}, {"error", -3}}).empty());          // user code
+    CHECK(check_table19_reason(Json{{"code", "NG"}, {"reason", "my own"}, {"error", -3}}).empty());         // user code
     CHECK(check_table19_reason(Json{{"code", "NG"}, {"reason", "DEV_UNREACHABLE"}, {"error", 301}}).empty());
     CHECK(mentions(check_table19_reason(Json{{"code", "NG"}, {"reason", "/devices: fatal: missing"}, {"error", 412}}),
                    "but error 412 is \"syntax error\""));
@@ -71,7 +71,8 @@ TEST_CASE("fidelity: the version round trip") {
 
 TEST_CASE("fidelity: Set results echo what was done, not the value") {
     const Json params{{"index", 0}, {"offset", 5}, {"length", 10}, {"value", 16}};
-    CHECK(check_set_echo(Json{{"id", "l"}, {"code", "OK"}, {"params", {{"index", 0}, {"offset", 5}, {"length", 10}}}}, params).empty());
+    CHECK(
+        check_set_echo(Json{{"id", "l"}, {"code", "OK"}, {"params", {{"index", 0}, {"offset", 5}, {"length", 10}}}}, params).empty());
     CHECK(mentions(check_set_echo(Json{{"id", "l"}, {"code", "OK"}}, params), "does not echo \"offset\""));
     CHECK(mentions(check_set_echo(Json{{"id", "l"}, {"code", "OK"}, {"params", params}}, params), "echoes \"value\""));
     CHECK(check_set_echo(Json{{"id", "s"}, {"code", "OK"}}, Json{{"value", 12.5}}).empty());  // 8.2.14 example 1

@@ -100,7 +100,9 @@ TEST_CASE("pointers: appended keys are escaped and dotted sections map to pointe
 }
 
 TEST_CASE("locate: a pointer is found by line and column in the text") {
-    const std::string text = "{\n  \"broker\": {\"url\": \"x\",\n    \"tls\": {\"verify\": true}},\n  \"a~b\": [10, {\"k\": 1}],\n  \"é\": 1, \"z\": 2\n}";
+    const std::string text =
+        "{\n  \"broker\": {\"url\": \"x\",\n    \"tls\": {\"verify\": true}},\n  \"a~b\": [10, {\"k\": 1}],\n  \"é\": 1, \"z\": "
+        "2\n}";
     auto at = [&](const char* p) {
         auto pos = locate_pointer(text, p);
         return pos ? std::to_string(pos->line) + ":" + std::to_string(pos->column) : std::string("none");

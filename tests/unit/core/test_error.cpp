@@ -81,10 +81,12 @@ TEST_CASE("Result carries a value or an error") {
 TEST_CASE("Logger filters by level and sends formatted text to its sink") {
     std::mutex mutex;
     std::vector<std::pair<LogLevel, std::string>> lines;
-    Logger logger([&](LogLevel level, std::string_view text) {
-        std::lock_guard<std::mutex> lock(mutex);
-        lines.emplace_back(level, std::string(text));
-    }, LogLevel::info);
+    Logger logger(
+        [&](LogLevel level, std::string_view text) {
+            std::lock_guard<std::mutex> lock(mutex);
+            lines.emplace_back(level, std::string(text));
+        },
+        LogLevel::info);
     logger.debug("hidden {}", 1);
     logger.info("item {} = {:.1f}", "X", 2.5);
     logger.error("boom");

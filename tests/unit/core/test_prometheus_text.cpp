@@ -59,11 +59,11 @@ TEST_CASE("prometheus text: a histogram is cumulative with +Inf, _sum and _count
     h.sum = 7.5;
     PrometheusText t;
     t.histogram("nclink_h_seconds", "H", {{"kind", "query"}}, h);
-    CHECK(t.str() == joined({"# HELP nclink_h_seconds H", "# TYPE nclink_h_seconds histogram",
-                             "nclink_h_seconds_bucket{kind=\"query\",le=\"0.1\"} 2",
-                             "nclink_h_seconds_bucket{kind=\"query\",le=\"1\"} 5",
-                             "nclink_h_seconds_bucket{kind=\"query\",le=\"+Inf\"} 9",
-                             "nclink_h_seconds_sum{kind=\"query\"} 7.5", "nclink_h_seconds_count{kind=\"query\"} 9"}));
+    CHECK(t.str() ==
+          joined({"# HELP nclink_h_seconds H", "# TYPE nclink_h_seconds histogram",
+                  "nclink_h_seconds_bucket{kind=\"query\",le=\"0.1\"} 2", "nclink_h_seconds_bucket{kind=\"query\",le=\"1\"} 5",
+                  "nclink_h_seconds_bucket{kind=\"query\",le=\"+Inf\"} 9", "nclink_h_seconds_sum{kind=\"query\"} 7.5",
+                  "nclink_h_seconds_count{kind=\"query\"} 9"}));
     CHECK(exposition_problems(t.str()).empty());
 }
 
@@ -76,10 +76,10 @@ TEST_CASE("prometheus text: a declared family without samples still has HELP and
 
 TEST_CASE("latency histogram: each observation lands in the first bucket whose bound it does not exceed") {
     LatencyHistogram h;
-    h.observe(std::chrono::microseconds(100));   // exactly the first bound
-    h.observe(std::chrono::microseconds(101));   // the second
-    h.observe(std::chrono::seconds(60));         // above every bound
-    h.observe(std::chrono::nanoseconds(-5));     // a clock step back counts as 0
+    h.observe(std::chrono::microseconds(100));  // exactly the first bound
+    h.observe(std::chrono::microseconds(101));  // the second
+    h.observe(std::chrono::seconds(60));        // above every bound
+    h.observe(std::chrono::nanoseconds(-5));    // a clock step back counts as 0
     const auto s = h.snapshot();
     REQUIRE(s.counts.size() == kLatencyBoundsSeconds.size() + 1);
     CHECK(s.counts[0] == 2);
@@ -94,11 +94,12 @@ TEST_CASE("latency histogram: each observation lands in the first bucket whose b
 
 TEST_CASE("the format checker of the tests finds what is wrong") {
     // (the checker guards every metrics test: it must not pass everything)
-    CHECK_FALSE(exposition_problems("x 1\n").empty());                                            // no TYPE
-    CHECK_FALSE(exposition_problems("# TYPE x_total counter\nx_total{a=\"1} 1\n").empty());       // quote
-    CHECK_FALSE(exposition_problems("# TYPE x counter\nx 1\n").empty());                          // _total
+    CHECK_FALSE(exposition_problems("x 1\n").empty());                                       // no TYPE
+    CHECK_FALSE(exposition_problems("# TYPE x_total counter\nx_total{a=\"1} 1\n").empty());  // quote
+    CHECK_FALSE(exposition_problems("# TYPE x counter\nx 1\n").empty());                     // _total
     CHECK_FALSE(exposition_problems("# TYPE a gauge\na 1\n# TYPE b gauge\nb 1\na{x=\"1\"} 2\n").empty());
-    CHECK_FALSE(exposition_problems("# TYPE h histogram\nh_bucket{le=\"1\"} 3\nh_bucket{le=\"+Inf\"} 2\nh_sum 1\nh_count 2\n").empty());
+    CHECK_FALSE(
+        exposition_problems("# TYPE h histogram\nh_bucket{le=\"1\"} 3\nh_bucket{le=\"+Inf\"} 2\nh_sum 1\nh_count 2\n").empty());
     CHECK_FALSE(exposition_problems("# TYPE h histogram\nh_bucket{le=\"1\"} 3\nh_sum 1\nh_count 3\n").empty());
     CHECK_FALSE(exposition_problems("# TYPE 1x gauge\n1x 1\n").empty());
     CHECK(exposition_problems("# TYPE g gauge\ng{a=\"\\\\\"} -Inf\n").empty());

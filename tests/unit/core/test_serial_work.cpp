@@ -67,8 +67,12 @@ TEST_CASE("serial work: owners on shared threads each run in order, never two tu
     b.start(&host);
     CHECK(a.work.shared());
     // Two producers each, racing the turns.
-    std::thread pa([&] { for (int i = 0; i < 2000; ++i) a.push(i); });
-    std::thread pb([&] { for (int i = 0; i < 2000; ++i) b.push(i); });
+    std::thread pa([&] {
+        for (int i = 0; i < 2000; ++i) a.push(i);
+    });
+    std::thread pb([&] {
+        for (int i = 0; i < 2000; ++i) b.push(i);
+    });
     pa.join();
     pb.join();
     REQUIRE(nclink::test::eventually([&] { return a.count() == 2000 && b.count() == 2000; }, 10s));

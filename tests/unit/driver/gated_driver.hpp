@@ -19,7 +19,8 @@ public:
     void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
         const int now = ++inside;
         int seen = max_inside.load();
-        while (now > seen && !max_inside.compare_exchange_weak(seen, now)) {}
+        while (now > seen && !max_inside.compare_exchange_weak(seen, now)) {
+        }
         {
             std::unique_lock<std::mutex> lock(mutex_);
             gate_.wait(lock, [&] { return open_; });

@@ -26,10 +26,12 @@ public:
 TEST_CASE("a plain C plugin of ABI version 2 binds, reads typed values, writes and runs methods") {
     std::vector<std::string> logs;
     std::mutex mutex;
-    Logger logger([&](LogLevel, std::string_view m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        logs.emplace_back(m);
-    }, LogLevel::trace);
+    Logger logger(
+        [&](LogLevel, std::string_view m) {
+            std::lock_guard<std::mutex> lock(mutex);
+            logs.emplace_back(m);
+        },
+        LogLevel::trace);
     auto loaded = load_driver_plugin(plugin("c_counter"), Json{{"machine", "mill-1"}}, logger);
     REQUIRE(loaded.ok());
     auto driver = loaded.value();

@@ -35,11 +35,12 @@ TEST_CASE("declared getters, setters and values answer reads and writes") {
     int override_percent = 100;
     PointDriver d({"lathe", "1"});
     d.point("x", [&] { return x; });
-    d.point("ovr", [&] { return override_percent; },
-            [&](const Json& v) {
-                override_percent = v.get<int>();
-                return ok_result();
-            })
+    d.point(
+         "ovr", [&] { return override_percent; },
+         [&](const Json& v) {
+             override_percent = v.get<int>();
+             return ok_result();
+         })
         .range(50, 120);
     PointValue mode = d.value("mode", "auto", true).one_of({"manual", "auto"});
     d.point("fails", []() -> Result<Json> { return make_error(ErrorCode::unavailable, "machine busy"); });
@@ -71,11 +72,12 @@ TEST_CASE("declared getters, setters and values answer reads and writes") {
 TEST_CASE("range and enumeration checks refuse a Set before the setter runs") {
     int calls = 0;
     PointDriver d;
-    d.point("ovr", [] { return 100; },
-            [&](const Json&) {
-                ++calls;
-                return ok_result();
-            })
+    d.point(
+         "ovr", [] { return 100; },
+         [&](const Json&) {
+             ++calls;
+             return ok_result();
+         })
         .range(50, 120);
     d.value("mode", "auto", true).one_of({"manual", "auto"});
     d.point("ro", [] { return 1; });
@@ -125,11 +127,12 @@ TEST_CASE("bind gives declared points their index as handle, and reads and write
     PointDriver d({"lathe", "1"});
     int written = 0;
     d.point("a", [] { return 1; });
-    d.point("b", [] { return 2; },
-            [&](const Json& v) {
-                written = v.get<int>();
-                return ok_result();
-            });
+    d.point(
+        "b", [] { return 2; },
+        [&](const Json& v) {
+            written = v.get<int>();
+            return ok_result();
+        });
     std::vector<BindPoint> points(3);
     points[0].id = "b";
     points[1].id = "other";  // not declared: left to a subclass, by id

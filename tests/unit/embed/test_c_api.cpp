@@ -142,8 +142,8 @@ TEST_CASE("a wrong struct_size is refused with 405 and a message naming the stru
         CHECK(nclink_adapter_create(nullptr, &adapter, &shorter.e) == NCLINK_E_PARAMETER_MISSING);
         CHECK(shorter.e.code == NCLINK_E_PARAMETER_MISSING);
         CHECK(std::string(shorter.e.message) == "options is NULL");  // 15 bytes + NUL fit exactly
-        CHECK(shorter.e.message[16] == 'G');                        // nothing written past its struct_size
-        shorter.e.struct_size = 2;  // too short even for the code: untouched
+        CHECK(shorter.e.message[16] == 'G');                         // nothing written past its struct_size
+        shorter.e.struct_size = 2;                                   // too short even for the code: untouched
         shorter.e.code = 7;
         CHECK(nclink_adapter_create(nullptr, &adapter, &shorter.e) == NCLINK_E_PARAMETER_MISSING);
         CHECK(shorter.e.code == 7);
@@ -336,7 +336,7 @@ TEST_CASE("an adapter from a C driver starts, pushes rows, takes notifications, 
     row[2].kind = NCLINK_VALUE_NULL;
     CHECK(nclink_channel_push(channel, row, 6, 0) == NCLINK_E_UNAVAILABLE);  // the adapter stopped
     nclink_adapter_destroy(adapter);
-    CHECK(g_instances == before);  // the driver's destroy() ran
+    CHECK(g_instances == before);                                            // the driver's destroy() ran
     CHECK(nclink_channel_push(channel, row, 6, 0) == NCLINK_E_UNAVAILABLE);  // a handle outlives its adapter
     nclink_channel_release(channel);
     std::lock_guard<std::mutex> lock(log.mutex);

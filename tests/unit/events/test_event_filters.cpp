@@ -42,12 +42,12 @@ TEST_CASE("filters: no filters means one change filter") {
 TEST_CASE("filters: change holds when the value differs from the previous one") {
     const auto f = filter(R"({"type":"change"})");
     const Json five = 5, six = 6, five_f = 5.0, text = "a";
-    CHECK_FALSE(holds(f, 5));            // no previous value (registration): nothing changed
+    CHECK_FALSE(holds(f, 5));  // no previous value (registration): nothing changed
     CHECK_FALSE(holds(f, 5, &five));
     CHECK_FALSE(holds(f, 5, &five_f));  // 5 and 5.0 are the same number
     CHECK(holds(f, 5, &six));
     CHECK(holds(f, "b", &text));
-    CHECK(holds(f, nullptr, &five));    // a value that became unknown is a change too
+    CHECK(holds(f, nullptr, &five));  // a value that became unknown is a change too
 }
 
 TEST_CASE("filters: equal takes a number a string or a boolean") {
@@ -109,12 +109,12 @@ TEST_CASE("filters: include holds for a value in the values array") {
 TEST_CASE("filters: variance compares with the value recorded at the previous event") {
     const auto f = filter(R"({"type":"greater","value":10,"variance":2})");
     const Json recorded = 12;
-    CHECK(filter_matches(f, 13, nullptr, nullptr));      // first event: variance not checked
+    CHECK(filter_matches(f, 13, nullptr, nullptr));          // first event: variance not checked
     CHECK_FALSE(filter_matches(f, 13, nullptr, &recorded));  // |13-12| < 2
     CHECK(filter_matches(f, 14, nullptr, &recorded));        // |14-12| >= 2 (equality counts)
     CHECK(filter_matches(f, 10.5 + 20, nullptr, &recorded));
     const Json low = 30;
-    CHECK(filter_matches(f, 28, nullptr, &low));  // the change may go either way
+    CHECK(filter_matches(f, 28, nullptr, &low));       // the change may go either way
     CHECK_FALSE(filter_matches(f, 9, nullptr, &low));  // the condition itself still has to hold
 }
 
@@ -174,8 +174,8 @@ TEST_CASE("filters: arguments that do not fit the type are 421") {
 
 TEST_CASE("filters: several filters are OR-ed in order") {
     // The standard's example: in (10, 20) or equal to 100.
-    auto filters = parse_filters(std::vector<Json>{Json::parse(R"({"type":"range","from":10,"to":20})"),
-                                                   Json::parse(R"({"type":"equal","value":100})")});
+    auto filters = parse_filters(
+        std::vector<Json>{Json::parse(R"({"type":"range","from":10,"to":20})"), Json::parse(R"({"type":"equal","value":100})")});
     REQUIRE(filters.ok());
     CHECK(first_match(*filters, 15, nullptr, nullptr) == std::optional<std::size_t>(0));
     CHECK(first_match(*filters, 100, nullptr, nullptr) == std::optional<std::size_t>(1));
@@ -184,8 +184,7 @@ TEST_CASE("filters: several filters are OR-ed in order") {
 }
 
 TEST_CASE("filters: the first bad filter decides the error") {
-    auto bad = parse_filters(std::vector<Json>{Json::parse(R"({"type":"equal","value":1})"),
-                                               Json::parse(R"({"type":"nope"})"),
+    auto bad = parse_filters(std::vector<Json>{Json::parse(R"({"type":"equal","value":1})"), Json::parse(R"({"type":"nope"})"),
                                                Json::parse(R"({"type":"change","from":1})")});
     REQUIRE_FALSE(bad.ok());
     CHECK(bad.error().code == ErrorCode::filter_type);

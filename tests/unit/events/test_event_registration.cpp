@@ -64,8 +64,7 @@ TEST_CASE("registration: key or index that does not fit the item is 409") {
     CHECK(refusal(R"({"id":"pos","index":0,"triggerType":"always"})", &kSingle) == ErrorCode::arguments_nimiety);
     CHECK(refusal(R"({"id":"tools","key":"a","triggerType":"always"})", &kList) == ErrorCode::arguments_nimiety);
     CHECK(refusal(R"({"id":"params","index":1,"triggerType":"always"})", &kDict) == ErrorCode::arguments_nimiety);
-    CHECK(refusal(R"({"id":"params","key":"a","index":1,"triggerType":"always"})", &kDict) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(refusal(R"({"id":"params","key":"a","index":1,"triggerType":"always"})", &kDict) == ErrorCode::arguments_nimiety);
 }
 
 TEST_CASE("registration: a negative index is 101") {

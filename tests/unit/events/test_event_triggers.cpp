@@ -137,15 +137,13 @@ TEST_CASE("triggers: normal with variance") {
 }
 
 TEST_CASE("triggers: several filters make at most one event per value") {
-    EventWatch w(filters({R"({"type":"greater","value":0})", R"({"type":"equal","value":100})"}),
-                 TriggerType::always);
+    EventWatch w(filters({R"({"type":"greater","value":0})", R"({"type":"equal","value":100})"}), TriggerType::always);
     const auto fired = run(w, {100, -1, 5});
     CHECK(fired == std::vector<Json>{100, 5});
 }
 
 TEST_CASE("triggers: the standard example range or equal with always") {
-    EventWatch w(filters({R"({"type":"range","from":10,"to":20})", R"({"type":"equal","value":100})"}),
-                 TriggerType::always);
+    EventWatch w(filters({R"({"type":"range","from":10,"to":20})", R"({"type":"equal","value":100})"}), TriggerType::always);
     const auto fired = run(w, {0, 10, 11, 19, 20, 100, 101, 15});
     CHECK(fired == std::vector<Json>{11, 19, 100, 15});
 }

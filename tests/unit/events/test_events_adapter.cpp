@@ -113,15 +113,16 @@ TEST_CASE("events adapter: dict and list elements") {
     f.poll();
     f.settle();
     CHECK(f.events().empty());  // p2 changed, not p1
-    REQUIRE(f.set(Json::array({Json{{"id", "params"}, {"params", {{"key", "p1"}, {"value", 7}}}}}))["results"][0]["code"] == "OK");
+    REQUIRE(f.set(Json::array({Json{{"id", "params"}, {"params", {{"key", "p1"}, {"value", 7}}}}}))["results"][0]["code"] ==
+            "OK");
     f.machine("tools", Json::array({Json{{"id", "T1"}}, Json{{"id", "T9"}}, Json{{"id", "T3"}}}));
     f.poll();
     f.settle();
     std::map<std::string, Json> by_id;
     for (const auto& e : f.events()) by_id[e["id"].get<std::string>()] = e["event"];
     CHECK(by_id[dict] == Json{{"id", "params"}, {"key", "p1"}, {"oldValue", 1}, {"value", 7}});
-    CHECK(by_id[list] == Json{{"id", "tools"}, {"index", 1}, {"oldValue", {{"id", "T2"}, {"length", 75.5}}},
-                              {"value", {{"id", "T9"}}}});
+    CHECK(by_id[list] ==
+          Json{{"id", "tools"}, {"index", 1}, {"oldValue", {{"id", "T2"}, {"length", 75.5}}}, {"value", {{"id", "T9"}}}});
 }
 #endif
 
@@ -170,8 +171,8 @@ TEST_CASE("events adapter: malformed requests still get an answer") {
     CHECK(not_json["code"] == "NG");
     f.app->send(topics::event_register_request("test-dev", "app"), "{not json");
     CHECK(f.app->wait(reply_topic, 2)["error"] == 412);
-    const Json no_trigger = f.app->request(topics::event_register_request("test-dev", "app"), reply_topic,
-                                           Json{{"@id", "m1"}, {"id", "ovr"}});
+    const Json no_trigger =
+        f.app->request(topics::event_register_request("test-dev", "app"), reply_topic, Json{{"@id", "m1"}, {"id", "ovr"}});
     CHECK(no_trigger["@id"] == "m1");
     CHECK(no_trigger["error"] == 102);
     const Json bad_unregister = f.app->request(topics::event_unregister_request("test-dev", "app"),
@@ -217,9 +218,9 @@ TEST_CASE("events adapter: unregister stops the events and refuses strangers") {
 
 TEST_CASE("events adapter: a registration without terminal id publishes on Event/dev") {
     EventsRig f;
-    const Json reply = f.app->request(topics::event_register_request("test-dev"), topics::event_register_response("test-dev"),
-                                      Json{{"@id", "x1"}, {"id", "ovr"}, {"filters", {{{"type", "equal"}, {"value", 100}}}},
-                                           {"triggerType", "always"}});
+    const Json reply = f.app->request(
+        topics::event_register_request("test-dev"), topics::event_register_response("test-dev"),
+        Json{{"@id", "x1"}, {"id", "ovr"}, {"filters", {{{"type", "equal"}, {"value", 100}}}}, {"triggerType", "always"}});
     REQUIRE(reply["code"] == "OK");
     CHECK(f.app->wait("Event/test-dev")["id"] == reply["id"]);
 }
@@ -261,7 +262,7 @@ TEST_CASE("events adapter: notify_value makes an event without polling") {
     const Json e = f.event(1);
     CHECK(e["id"] == id);
     CHECK(e["event"] == Json{{"id", "status"}, {"oldValue", "running"}, {"value", "free"}});
-    f.adapter->notify_value("ovr", 5);  // nobody watches it: ignored
+    f.adapter->notify_value("ovr", 5);          // nobody watches it: ignored
     f.adapter->notify_value("status", "free");  // same value: no change
     f.settle();
     CHECK(f.events().size() == 1);

@@ -11,8 +11,8 @@ TEST_CASE("events config: defaults and every key") {
     CHECK(defaults.poll_interval == std::chrono::milliseconds(100));
     CHECK(defaults.max_queued_values == 65536);
 
-    auto config = adapter_config_from_json(
-        Json::parse(R"({"events":{"max_events":3,"poll_interval_ms":0,"max_queued_values":10}})"));
+    auto config =
+        adapter_config_from_json(Json::parse(R"({"events":{"max_events":3,"poll_interval_ms":0,"max_queued_values":10}})"));
     REQUIRE(config.ok());
     CHECK(config->events.max_events == 3);
     CHECK(config->events.poll_interval == std::chrono::milliseconds(0));

@@ -48,14 +48,13 @@ struct ServiceRig {
         auto built = model.build(loaded, "", *driver);
         REQUIRE(built.ok());
         model.install(*built);
-        host = std::make_unique<FeatureHost>(FeatureHost{
-            dev, logger, clock, transport, runner, model, tap, guard,
-            [this](const ParsedTopic& topic, const Json& reply) {
-                (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
-                if (after_respond) after_respond(reply);
-            },
-            [this] { return "m" + std::to_string(++ids); },
-            config.persistence_dir, config.driver_timeout});
+        host = std::make_unique<FeatureHost>(
+            FeatureHost{dev, logger, clock, transport, runner, model, tap, guard,
+                        [this](const ParsedTopic& topic, const Json& reply) {
+                            (void)transport.publish(Message{build_topic(topic), reply.dump(), 1, false});
+                            if (after_respond) after_respond(reply);
+                        },
+                        [this] { return "m" + std::to_string(++ids); }, config.persistence_dir, config.driver_timeout});
         service = make_events_service(*host, config.events);
         REQUIRE(service->start().ok());
     }
@@ -137,7 +136,8 @@ TEST_CASE("events service: an item no longer sampled is polled again") {
 TEST_CASE("events service: polls read all watched driver items in one call per period") {
     ServiceRig rig;
     (void)rig.register_event({{"@id", "1"}, {"id", "ovr"}, {"triggerType", "always"}});
-    (void)rig.register_event({{"@id", "2"}, {"id", "ovr"}, {"filters", {{{"type", "less"}, {"value", 0}}}}, {"triggerType", "always"}});
+    (void)rig.register_event(
+        {{"@id", "2"}, {"id", "ovr"}, {"filters", {{{"type", "less"}, {"value", 0}}}}, {"triggerType", "always"}});
     (void)rig.register_event({{"@id", "3"}, {"id", "status"}, {"triggerType", "always"}});
     const int before = rig.driver->reads_of("ovr");
     for (int round = 1; round <= 3; ++round) {
@@ -194,9 +194,9 @@ TEST_CASE("events service: an event firing at registration waits for the respons
     rig.after_respond = [&](const Json&) { release.get_future().wait(); };
     const auto topic = parse_topic(topics::event_register_request(rig.dev, "app"));
     std::thread worker([&] {
-        rig.service->handle(*topic, Json{{"@id", "1"}, {"id", "ovr"}, {"filters", {{{"type", "greater"}, {"value", 50}}}},
-                                         {"triggerType", "always"}}
-                                        .dump());
+        rig.service->handle(
+            *topic,
+            Json{{"@id", "1"}, {"id", "ovr"}, {"filters", {{{"type", "greater"}, {"value", 50}}}}, {"triggerType", "always"}}.dump());
     });
     // The response is out and the responder not yet back: no event may
     // have been published in the meantime.

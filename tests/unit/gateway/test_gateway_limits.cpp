@@ -37,7 +37,7 @@ TEST_CASE("gateway: the soft open-file limit is raised to what the machines need
     };
     SECTION("at start") {
         Gateway gateway(machines(100));
-        (void)gateway.start();  // every machine refused (no model): named in the error
+        (void)gateway.start();           // every machine refused (no model): named in the error
         CHECK(soft() == 256 + 8 * 100);  // raised to the need, not to the hard limit
     }
     SECTION("when a reload brings more machines than the gateway started with") {

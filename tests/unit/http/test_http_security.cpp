@@ -119,8 +119,8 @@ TEST_CASE("http metrics: requests by route and status, latency by route, valid P
 }
 
 TEST_CASE("metrics endpoint: GET /metrics only, small bodies, HOST:PORT checked") {
-    auto endpoint = MetricsEndpoint::start("127.0.0.1:0", [] { return std::string("# TYPE x_total counter\nx_total 1\n"); },
-                                           "nclink_test", std::nullopt, Logger{});
+    auto endpoint = MetricsEndpoint::start(
+        "127.0.0.1:0", [] { return std::string("# TYPE x_total counter\nx_total 1\n"); }, "nclink_test", std::nullopt, Logger{});
     REQUIRE(endpoint.ok());
     httplib::Client client("127.0.0.1", endpoint.value()->port());
     auto res = client.Get("/metrics");
@@ -142,7 +142,9 @@ TEST_CASE("metrics endpoint: GET /metrics only, small bodies, HOST:PORT checked"
     REQUIRE(res);
     CHECK(res->status == 413);
 
-    CHECK_FALSE(MetricsEndpoint::start("0.0.0.0:0", [] { return std::string(); }, "p", std::nullopt, Logger{}).ok());
+    CHECK_FALSE(MetricsEndpoint::start(
+                    "0.0.0.0:0", [] { return std::string(); }, "p", std::nullopt, Logger{})
+                    .ok());
     CHECK_FALSE(parse_listen_address("nohost").ok());
     CHECK_FALSE(parse_listen_address("h:99999").ok());
     CHECK_FALSE(parse_listen_address(":80").ok());

@@ -99,8 +99,7 @@ TEST_CASE("http server refuses bodies over the cap with 413 and its error page")
         return text_response("taken", "text/plain");
     });
     server.set_error_page([](int status, const HttpRequest&, const std::string& reason) {
-        return text_response("<Error code=\"" + std::to_string(status) + "\">" + reason + "</Error>",
-                             "application/xml");
+        return text_response("<Error code=\"" + std::to_string(status) + "\">" + reason + "</Error>", "application/xml");
     });
     REQUIRE(server.start().ok());
     httplib::Client client("127.0.0.1", server.port());

@@ -236,9 +236,10 @@ TEST_CASE("200 idle and half-open connections and 50 slow stream readers leave r
     REQUIRE_FALSE(ms.empty());
     std::sort(ms.begin(), ms.end());
     const auto within_100 = std::count_if(ms.begin(), ms.end(), [](long long v) { return v <= 100; });
-    std::printf("slow clients: 100 GET /current under 200 idle/half-open + 50 stalled streams: median %lld ms, "
-                "p95 %lld ms, max %lld ms, %lld within 100 ms\n",
-                ms[ms.size() / 2], ms[ms.size() * 95 / 100], ms.back(), static_cast<long long>(within_100));
+    std::printf(
+        "slow clients: 100 GET /current under 200 idle/half-open + 50 stalled streams: median %lld ms, "
+        "p95 %lld ms, max %lld ms, %lld within 100 ms\n",
+        ms[ms.size() / 2], ms[ms.size() * 95 / 100], ms.back(), static_cast<long long>(within_100));
     // A loaded shared machine may delay a few; nearly all must be quick.
     CHECK(within_100 >= 80);
     CHECK(ms.back() < 2000);
@@ -247,8 +248,8 @@ TEST_CASE("200 idle and half-open connections and 50 slow stream readers leave r
 }
 
 TEST_CASE("a program's /metrics answers under 200 idle and half-open connections") {
-    auto endpoint = MetricsEndpoint::start("127.0.0.1:0", [] { return std::string("up 1\n"); }, "nclink_test",
-                                           std::nullopt, Logger{});
+    auto endpoint = MetricsEndpoint::start(
+        "127.0.0.1:0", [] { return std::string("up 1\n"); }, "nclink_test", std::nullopt, Logger{});
     REQUIRE(endpoint);
     auto& metrics = **endpoint;
     std::vector<std::unique_ptr<RawPeer>> peers;

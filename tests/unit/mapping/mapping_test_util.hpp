@@ -19,9 +19,7 @@
 
 namespace nclink::test {
 
-inline std::string mapping_model_path(const std::string& name) {
-    return std::string(NCLINK_MODELS_DIR) + "/" + name;
-}
+inline std::string mapping_model_path(const std::string& name) { return std::string(NCLINK_MODELS_DIR) + "/" + name; }
 
 inline std::shared_ptr<const Model> load_mapping_model(const std::string& name) {
     const LoadResult r = load_model_file(mapping_model_path(name));
@@ -83,9 +81,7 @@ inline CommandRun run_command(const std::string& command) {
     return run;
 }
 
-inline bool have_program(const std::string& name) {
-    return run_command("command -v " + name + " >/dev/null").status == 0;
-}
+inline bool have_program(const std::string& name) { return run_command("command -v " + name + " >/dev/null").status == 0; }
 
 /// A scratch directory below the build tree.
 inline std::string scratch_dir() {
@@ -106,9 +102,7 @@ inline std::string read_text(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-inline bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 /// `xmllint --schema` exit status and messages for a document.
 inline CommandRun xmllint_schema(const std::string& schema, const std::string& file) {

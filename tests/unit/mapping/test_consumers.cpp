@@ -17,22 +17,101 @@ using namespace nclink::test;
 namespace {
 
 // GB/T 41970-2022 tables 10, 12, 13 and table 8 (plus types of no table).
-const char* const kDataTypes[] = {
-    "ACCELERATION", "ANGLE", "ANGULAR_ACCELERATION", "ANGULAR_VELOCITY", "CONCENTRATION",
-    "CONDUCTIVITY", "CURRENT", "DISPLACEMENT", "ENERGY", "FLOW", "FREQUENCY", "LENGTH", "MASS",
-    "PERIOD", "POSITION", "POWER", "POWER_FACTOR", "PRESSURE", "RESISTANCE", "ROTATION_SPEED",
-    "SPEED", "TEMPERATURE", "TORQUE", "VISCOSITY", "VOLT_AMPERE", "CATAGORY", "CREATE_TIME",
-    "CREATOR", "IP", "MANUFACTURER", "MODEL", "NAME", "PARAMETER", "SERIAL_NUMBER", "STATUS",
-    "UPPER_LIMIT", "USER_ROLE", "VARIABLE", "VERSION", "WARNING", "WORK_MODE", "AUTO_MODE",
-    "AXIS_BACKLASH", "AXIS_LOAD", "AXIS_TOREFPOINT", "BLOCK_SKIP_MODE", "CHIP_REMOVAL",
-    "COMPACITY", "CONSOLE", "COOLANT_ON", "COORDINATE", "CYCLE_START", "DOOR_CLOSED",
-    "EDIT_MODE", "EMG", "FEED_HOLD", "FEED_OVERRIDE", "FEED_SPEED", "FILE", "FIXTURE_MODE",
-    "HANDLE_MODE", "INCREMENTAL_MODE", "JOG_MODE", "LIGHTING_ON", "LINE_NUMBER", "LUBRICANT_ON",
-    "MACHINE_LOCKED", "MDI_MODE", "MST_LOCKED", "OPT_STOP_MODE", "PATH_LEFT_LENGTH", "PART",
-    "PART_COUNT", "PROGRAM", "PROGRAM_MODE", "PROGRAM_NUMBER", "RAPID_OVERRIDE", "REF_MODE",
-    "RESET_MODE", "RESIDUAL", "SHELF_UNIT", "SINGLE_BLOCK_MODE", "SITE", "SPINDLE_MODE",
-    "SPINDLE_OVERRIDE", "SPINDLE_SPEED", "SUBPROGRAM", "TOOL", "TOOL_CHANGE", "TOOL_CHANGING",
-    "TOOL_PARAM", "TOOL_NUMBER", "TOOL_POSITION", "RATE", "VENDOR_SPECIFIC"};
+const char* const kDataTypes[] = {"ACCELERATION",
+                                  "ANGLE",
+                                  "ANGULAR_ACCELERATION",
+                                  "ANGULAR_VELOCITY",
+                                  "CONCENTRATION",
+                                  "CONDUCTIVITY",
+                                  "CURRENT",
+                                  "DISPLACEMENT",
+                                  "ENERGY",
+                                  "FLOW",
+                                  "FREQUENCY",
+                                  "LENGTH",
+                                  "MASS",
+                                  "PERIOD",
+                                  "POSITION",
+                                  "POWER",
+                                  "POWER_FACTOR",
+                                  "PRESSURE",
+                                  "RESISTANCE",
+                                  "ROTATION_SPEED",
+                                  "SPEED",
+                                  "TEMPERATURE",
+                                  "TORQUE",
+                                  "VISCOSITY",
+                                  "VOLT_AMPERE",
+                                  "CATAGORY",
+                                  "CREATE_TIME",
+                                  "CREATOR",
+                                  "IP",
+                                  "MANUFACTURER",
+                                  "MODEL",
+                                  "NAME",
+                                  "PARAMETER",
+                                  "SERIAL_NUMBER",
+                                  "STATUS",
+                                  "UPPER_LIMIT",
+                                  "USER_ROLE",
+                                  "VARIABLE",
+                                  "VERSION",
+                                  "WARNING",
+                                  "WORK_MODE",
+                                  "AUTO_MODE",
+                                  "AXIS_BACKLASH",
+                                  "AXIS_LOAD",
+                                  "AXIS_TOREFPOINT",
+                                  "BLOCK_SKIP_MODE",
+                                  "CHIP_REMOVAL",
+                                  "COMPACITY",
+                                  "CONSOLE",
+                                  "COOLANT_ON",
+                                  "COORDINATE",
+                                  "CYCLE_START",
+                                  "DOOR_CLOSED",
+                                  "EDIT_MODE",
+                                  "EMG",
+                                  "FEED_HOLD",
+                                  "FEED_OVERRIDE",
+                                  "FEED_SPEED",
+                                  "FILE",
+                                  "FIXTURE_MODE",
+                                  "HANDLE_MODE",
+                                  "INCREMENTAL_MODE",
+                                  "JOG_MODE",
+                                  "LIGHTING_ON",
+                                  "LINE_NUMBER",
+                                  "LUBRICANT_ON",
+                                  "MACHINE_LOCKED",
+                                  "MDI_MODE",
+                                  "MST_LOCKED",
+                                  "OPT_STOP_MODE",
+                                  "PATH_LEFT_LENGTH",
+                                  "PART",
+                                  "PART_COUNT",
+                                  "PROGRAM",
+                                  "PROGRAM_MODE",
+                                  "PROGRAM_NUMBER",
+                                  "RAPID_OVERRIDE",
+                                  "REF_MODE",
+                                  "RESET_MODE",
+                                  "RESIDUAL",
+                                  "SHELF_UNIT",
+                                  "SINGLE_BLOCK_MODE",
+                                  "SITE",
+                                  "SPINDLE_MODE",
+                                  "SPINDLE_OVERRIDE",
+                                  "SPINDLE_SPEED",
+                                  "SUBPROGRAM",
+                                  "TOOL",
+                                  "TOOL_CHANGE",
+                                  "TOOL_CHANGING",
+                                  "TOOL_PARAM",
+                                  "TOOL_NUMBER",
+                                  "TOOL_POSITION",
+                                  "RATE",
+                                  "VENDOR_SPECIFIC"};
 
 std::string lower(std::string s) {
     for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -45,8 +124,7 @@ Json sample_value(const std::string& type, const mapping_detail::Placement& wher
     const auto* row = mapping_detail::find_data_row(type, where);
     if (row == nullptr) return "vendor";
     if (row->enum_count > 0) return std::string(row->enum_strings[0]);
-    if (row->value_count > 0 && row->value_type == ValueType::string)
-        return std::string(row->values[0].nclink);
+    if (row->value_count > 0 && row->value_type == ValueType::string) return std::string(row->values[0].nclink);
     switch (row->value_type) {
         case ValueType::number: return 1.5;
         case ValueType::integer: return 3;
@@ -83,30 +161,52 @@ std::string all_types_model() {
     axis.on_axis = true;
     below.in_axis = true;
     Json others = Json::array();
-    for (const char* type : {"AUXILIARY", "COMPONENT", "FIXTURE", "MOTOR", "SCREW", "SENSOR",
-                             "SERVO_DRIVER", "TOOL_MAGAZINE", "TURRET"})
-        others.push_back({{"id", "c_" + lower(type)}, {"type", type},
+    for (const char* type :
+         {"AUXILIARY", "COMPONENT", "FIXTURE", "MOTOR", "SCREW", "SENSOR", "SERVO_DRIVER", "TOOL_MAGAZINE", "TURRET"})
+        others.push_back({{"id", "c_" + lower(type)},
+                          {"type", type},
                           {"dataItems", {{{"id", "c_" + lower(type) + "_status"}, {"type", "STATUS"}}}}});
     Json components = {
-        {{"id", "ax_x"}, {"type", "AXIS"}, {"number", "X"}, {"dataItems", items("x_", false, axis)},
+        {{"id", "ax_x"},
+         {"type", "AXIS"},
+         {"number", "X"},
+         {"dataItems", items("x_", false, axis)},
          {"components", {{{"id", "ax_x_screw"}, {"type", "SCREW"}, {"dataItems", items("xs_", false, below)}}}}},
-        {{"id", "ax_a"}, {"type", "AXIS"}, {"number", "A"},
+        {{"id", "ax_a"},
+         {"type", "AXIS"},
+         {"number", "A"},
          {"configs", {{{"id", "ax_a_kind"}, {"type", "CATAGORY"}, {"value", "rotary"}}}},
          {"dataItems", {{{"id", "a_pos"}, {"type", "POSITION"}, {"units", "DEGREE"}}}}},
-        {{"id", "ax_s"}, {"type", "AXIS"}, {"number", "S"},
-         {"dataItems", {{{"id", "s_speed"}, {"type", "SPINDLE_SPEED"}}, {{"id", "s_over"}, {"type", "SPINDLE_OVERRIDE"}, {"setable", true}}}}},
-        {{"id", "cnc"}, {"type", "CONTROLLER"}, {"dataItems", items("n_", false, controller)},
-         {"configs", {{{"id", "n_list"}, {"type", "VARIABLE"}, {"datatype", "list"}, {"setable", true}},
-                      {{"id", "n_dict"}, {"type", "PARAMETER"}, {"datatype", "dict"}}}}}};
+        {{"id", "ax_s"},
+         {"type", "AXIS"},
+         {"number", "S"},
+         {"dataItems",
+          {{{"id", "s_speed"}, {"type", "SPINDLE_SPEED"}}, {{"id", "s_over"}, {"type", "SPINDLE_OVERRIDE"}, {"setable", true}}}}},
+        {{"id", "cnc"},
+         {"type", "CONTROLLER"},
+         {"dataItems", items("n_", false, controller)},
+         {"configs",
+          {{{"id", "n_list"}, {"type", "VARIABLE"}, {"datatype", "list"}, {"setable", true}},
+           {{"id", "n_dict"}, {"type", "PARAMETER"}, {"datatype", "dict"}}}}}};
     for (auto& c : others) components.push_back(c);
-    Json model = {{"id", "root"}, {"type", "NC_LINK_ROOT"}, {"version", "1.0.0"},
-                  {"devices", {{{"id", "all"}, {"name", "All types"}, {"type", "MACHINE"},
-                                {"version", "1.0.0"}, {"guid", "all-guid"},
-                                {"description", "every type <of> chapter 7 & table 8"},
-                                {"configs", {{{"id", "ch"}, {"type", "SAMPLE_CHANNEL"}, {"sampleInterval", 5},
-                                              {"uploadInterval", 50}, {"ids", {{{"id", "x_position"}}, {{"id", "n_status"}}}}}}},
-                                {"dataItems", items("d_", true, device)},
-                                {"components", components}}}}};
+    Json model = {{"id", "root"},
+                  {"type", "NC_LINK_ROOT"},
+                  {"version", "1.0.0"},
+                  {"devices",
+                   {{{"id", "all"},
+                     {"name", "All types"},
+                     {"type", "MACHINE"},
+                     {"version", "1.0.0"},
+                     {"guid", "all-guid"},
+                     {"description", "every type <of> chapter 7 & table 8"},
+                     {"configs",
+                      {{{"id", "ch"},
+                        {"type", "SAMPLE_CHANNEL"},
+                        {"sampleInterval", 5},
+                        {"uploadInterval", 50},
+                        {"ids", {{{"id", "x_position"}}, {{"id", "n_status"}}}}}}},
+                     {"dataItems", items("d_", true, device)},
+                     {"components", components}}}}};
     return model.dump(2);
 }
 
@@ -205,9 +305,8 @@ TEST_CASE("Streams documents built from the lookup validate against MTConnectStr
             components[item.component_id] = {item.component_element, item.component_name};
             device_of[item.component_id] = item.device_uuid;
             for (const auto& o : mtconnect_observations(item, value)) {
-                std::string xml = "<" + o.element + " dataItemId=\"" + xml_escape(item.id) +
-                                  "\" sequence=\"" + std::to_string(sequence++) +
-                                  "\" timestamp=\"2024-01-01T00:00:00Z\"";
+                std::string xml = "<" + o.element + " dataItemId=\"" + xml_escape(item.id) + "\" sequence=\"" +
+                                  std::to_string(sequence++) + "\" timestamp=\"2024-01-01T00:00:00Z\"";
                 if (!item.sub_type.empty()) xml += " subType=\"" + xml_escape(item.sub_type) + "\"";
                 if (item.category == MtCategory::condition) {
                     xml += " type=\"" + item.type + "\"";
@@ -223,21 +322,19 @@ TEST_CASE("Streams documents built from the lookup validate against MTConnectStr
         std::string doc = R"(<?xml version="1.0" encoding="UTF-8"?>
 <MTConnectStreams xmlns="urn:mtconnect.org:MTConnectStreams:1.4">
 <Header creationTime="2024-01-01T00:00:00Z" sender="test" instanceId="1" version="1.4.0" bufferSize="131072" nextSequence=")" +
-                          std::to_string(sequence) + R"(" firstSequence="1" lastSequence=")" +
-                          std::to_string(sequence - 1) + R"("/>
+                          std::to_string(sequence) + R"(" firstSequence="1" lastSequence=")" + std::to_string(sequence - 1) + R"("/>
 <Streams>
 )";
         for (const auto& device : m->devices()) {
             doc += "<DeviceStream name=\"" + xml_escape(device.name) + "\" uuid=\"" + xml_escape(device.uuid) + "\">\n";
-            doc += "<ComponentStream component=\"Device\" name=\"" + xml_escape(device.name) +
-                   "\" componentId=\"" + device.id + "\">";
+            doc += "<ComponentStream component=\"Device\" name=\"" + xml_escape(device.name) + "\" componentId=\"" + device.id +
+                   "\">";
             if (!samples[device.id].empty()) {
                 doc += "<Samples>";
                 for (const auto& s : samples[device.id]) doc += s;
                 doc += "</Samples>";
             }
-            doc += "<Events><Availability dataItemId=\"" + device.availability_id +
-                   "\" sequence=\"" + std::to_string(sequence) +
+            doc += "<Events><Availability dataItemId=\"" + device.availability_id + "\" sequence=\"" + std::to_string(sequence) +
                    "\" timestamp=\"2024-01-01T00:00:00Z\">AVAILABLE</Availability>";
             for (const auto& e : events[device.id]) doc += e;
             doc += "</Events>";
@@ -250,10 +347,10 @@ TEST_CASE("Streams documents built from the lookup validate against MTConnectStr
             for (const auto& [id, what] : components) {
                 if (id == device.id || device_of[id] != device.uuid) continue;
                 doc += "<ComponentStream component=\"" + what.first + "\"" +
-                       (what.second.empty() ? "" : " name=\"" + xml_escape(what.second) + "\"") +
-                       " componentId=\"" + id + "\">";
+                       (what.second.empty() ? "" : " name=\"" + xml_escape(what.second) + "\"") + " componentId=\"" + id + "\">";
                 for (const auto& [tag, bucket] : {std::pair<const char*, decltype(&samples)>{"Samples", &samples},
-                                                  {"Events", &events}, {"Condition", &conditions}}) {
+                                                  {"Events", &events},
+                                                  {"Condition", &conditions}}) {
                     const auto& list = (*bucket)[id];
                     if (list.empty()) continue;
                     doc += std::string("<") + tag + ">";
@@ -277,19 +374,18 @@ TEST_CASE("escaped text reads back unchanged through a real XML parser") {
         return;
     }
     const std::string nasty = "a < b & c > d \"q\" 'a'\tT\nL\r\nCR 数控 ✓";
-    Json model = {{"id", "r"}, {"type", "NC_LINK_ROOT"}, {"version", "1.0.0"},
-                  {"devices", {{{"id", "d"}, {"type", "MACHINE"}, {"version", "1.0.0"},
-                                {"guid", nasty}, {"description", nasty}}}}};
+    Json model = {{"id", "r"},
+                  {"type", "NC_LINK_ROOT"},
+                  {"version", "1.0.0"},
+                  {"devices", {{{"id", "d"}, {"type", "MACHINE"}, {"version", "1.0.0"}, {"guid", nasty}, {"description", nasty}}}}};
     auto doc = map_to_mtconnect(*parse_mapping_model(model.dump()), fixed_options());
     REQUIRE(doc.ok());
     const std::string file = write_scratch("escaping.devices.xml", doc->xml);
-    const auto description = run_command(
-        "xmllint --nonet --xpath 'string(//*[local-name()=\"Description\"])' '" + file + "'");
+    const auto description = run_command("xmllint --nonet --xpath 'string(//*[local-name()=\"Description\"])' '" + file + "'");
     // xmllint ends its output with a newline of its own.
     CHECK(description.status == 0);
     CHECK(description.output == nasty + "\n");
-    const auto uuid = run_command(
-        "xmllint --nonet --xpath 'string(//*[local-name()=\"Device\"]/@uuid)' '" + file + "'");
+    const auto uuid = run_command("xmllint --nonet --xpath 'string(//*[local-name()=\"Device\"]/@uuid)' '" + file + "'");
     CHECK(uuid.output == nasty + "\n");
 }
 
@@ -297,23 +393,22 @@ TEST_CASE("node-opcua loads the basic NodeSets alone and the cnc ones after the 
     const std::string dir = interop_dir();
     const std::string modules = node_modules_dir();
     if (dir.empty() || modules.empty() || !have_program("node")) {
-        WARN("SKIPPED: node-opcua not installed (npm ci in tools/nclink-opcua), node missing or "
-             "shared interop fixtures not found");
+        WARN(
+            "SKIPPED: node-opcua not installed (npm ci in tools/nclink-opcua), node missing or "
+            "shared interop fixtures not found");
         return;
     }
     const std::string check = dir + "/tools/opcua-load-check.js";
     // OPC 40502 needs only the base nodeset; the MachineTool chain is loaded
     // too so the document must coexist with the companions a server offers.
     std::string chain;
-    for (const char* file : {"Opc.Ua.Di.NodeSet2.xml", "Opc.Ua.IA.NodeSet2.xml",
-                             "Opc.Ua.Machinery.NodeSet2.xml", "opc.ua.isa95-jobcontrol.nodeset2.xml",
-                             "Opc.Ua.Machinery.Jobs.Nodeset2.xml", "Opc.Ua.MachineTool.NodeSet2.xml",
-                             "Opc.Ua.CNC.NodeSet.xml"})
+    for (const char* file : {"Opc.Ua.Di.NodeSet2.xml", "Opc.Ua.IA.NodeSet2.xml", "Opc.Ua.Machinery.NodeSet2.xml",
+                             "opc.ua.isa95-jobcontrol.nodeset2.xml", "Opc.Ua.Machinery.Jobs.Nodeset2.xml",
+                             "Opc.Ua.MachineTool.NodeSet2.xml", "Opc.Ua.CNC.NodeSet.xml"})
         chain += "'" + dir + "/opcua-nodesets/" + file + "' ";
     const std::string cnc_only = "'" + modules + "/node-opcua-nodesets/nodesets/Opc.Ua.CNC.NodeSet.xml' ";
     const auto load = [&](const std::string& dependencies, const std::string& file) {
-        const auto run = run_command("NODE_PATH='" + modules + "' node '" + check + "' " +
-                                     dependencies + "'" + file + "'");
+        const auto run = run_command("NODE_PATH='" + modules + "' node '" + check + "' " + dependencies + "'" + file + "'");
         INFO(run.output);
         CHECK(run.status == 0);
         CHECK_FALSE(contains(run.output, "DANGLING"));
@@ -325,10 +420,8 @@ TEST_CASE("node-opcua loads the basic NodeSets alone and the cnc ones after the 
             INFO(c.name << " " << to_string(profile));
             auto doc = map_to_opcua(*c.model, fixed_options(profile));
             REQUIRE(doc.ok());
-            const std::string file = write_scratch(
-                file_name(c.name, std::string(to_string(profile)) + ".load.NodeSet2"), doc->xml);
-            if (profile == OpcUaProfile::basic)
-                load("", file);
+            const std::string file = write_scratch(file_name(c.name, std::string(to_string(profile)) + ".load.NodeSet2"), doc->xml);
+            if (profile == OpcUaProfile::basic) load("", file);
             else  // the appendix-B models with node-opcua-nodesets' own CNC copy
                 load(c.name.rfind("appendix-b", 0) == 0 ? cnc_only : chain, file);
         }

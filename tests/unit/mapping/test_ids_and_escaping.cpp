@@ -9,8 +9,7 @@
 using namespace nclink;
 
 TEST_CASE("mtconnect_id keeps ASCII XML names as they are") {
-    for (const char* id : {"x_position", "axis_x", "a", "A.b-c_d", "mill", "sample_channel0"})
-        CHECK(mtconnect_id(id) == id);
+    for (const char* id : {"x_position", "axis_x", "a", "A.b-c_d", "mill", "sample_channel0"}) CHECK(mtconnect_id(id) == id);
 }
 
 TEST_CASE("mtconnect_id escapes ids that are no XML name behind an underscore") {
@@ -26,8 +25,8 @@ TEST_CASE("mtconnect_id escapes ids that are no XML name behind an underscore") 
 
 TEST_CASE("escaped ids are valid xs:ID values and map back to the NC-Link id") {
     const std::regex ncname("^[A-Za-z_][A-Za-z0-9._-]*$");
-    const char* ids[] = {"0103", "a b", "_x", "__", "x_5F", "a_20b", "轴号", "1.5", "-a", "a\tb",
-                         "emergency stop", "ns=1;s=x", "", "x/y", "_0103"};
+    const char* ids[] = {"0103",           "a b",      "_x", "__",  "x_5F", "a_20b", "轴号", "1.5", "-a", "a\tb",
+                         "emergency stop", "ns=1;s=x", "",   "x/y", "_0103"};
     std::set<std::string> seen;
     for (const char* id : ids) {
         const std::string mt = mtconnect_id(id);
@@ -63,13 +62,13 @@ TEST_CASE("xml_escape replaces what XML 1.0 forbids with U+FFFD") {
     const std::string fffd = "\xEF\xBF\xBD";
     CHECK(xml_escape(std::string("a\0b", 3)) == "a" + fffd + "b");
     CHECK(xml_escape("\x01\x08\x0B\x0C\x1F") == fffd + fffd + fffd + fffd + fffd);
-    CHECK(xml_escape("\xEF\xBF\xBE") == fffd);              // U+FFFE
-    CHECK(xml_escape("\xEF\xBF\xBF") == fffd);              // U+FFFF
-    CHECK(xml_escape("\xC3\x28") == fffd + "(");            // broken sequence
-    CHECK(xml_escape("\xC0\xAF") == fffd + fffd);           // overlong '/'
+    CHECK(xml_escape("\xEF\xBF\xBE") == fffd);                // U+FFFE
+    CHECK(xml_escape("\xEF\xBF\xBF") == fffd);                // U+FFFF
+    CHECK(xml_escape("\xC3\x28") == fffd + "(");              // broken sequence
+    CHECK(xml_escape("\xC0\xAF") == fffd + fffd);             // overlong '/'
     CHECK(xml_escape("\xED\xA0\x80") == fffd + fffd + fffd);  // surrogate
-    CHECK(xml_escape("\xE6\x95") == fffd + fffd);           // cut at the end
-    CHECK(xml_escape("\x7F") == "\x7F");                    // DEL is a Char
+    CHECK(xml_escape("\xE6\x95") == fffd + fffd);             // cut at the end
+    CHECK(xml_escape("\x7F") == "\x7F");                      // DEL is a Char
 }
 
 TEST_CASE("id_prefix puts the escaped prefix and a dot before every MTConnect id, generated ones too") {

@@ -18,25 +18,102 @@ namespace {
 
 // GB/T 41970-2022 tables 10, 12 and 13, transcribed here independently of
 // src/model/vocabulary.cpp and src/mapping/mapping_table.cpp.
-const char* const kChapter7DataTypes[] = {
-    "ACCELERATION", "ANGLE", "ANGULAR_ACCELERATION", "ANGULAR_VELOCITY", "CONCENTRATION",
-    "CONDUCTIVITY", "CURRENT", "DISPLACEMENT", "ENERGY", "FLOW", "FREQUENCY", "LENGTH", "MASS",
-    "PERIOD", "POSITION", "POWER", "POWER_FACTOR", "PRESSURE", "RESISTANCE", "ROTATION_SPEED",
-    "SPEED", "TEMPERATURE", "TORQUE", "VISCOSITY", "VOLT_AMPERE", "CATAGORY", "CREATE_TIME",
-    "CREATOR", "IP", "MANUFACTURER", "MODEL", "NAME", "PARAMETER", "SERIAL_NUMBER", "STATUS",
-    "UPPER_LIMIT", "USER_ROLE", "VARIABLE", "VERSION", "WARNING", "WORK_MODE", "AUTO_MODE",
-    "AXIS_BACKLASH", "AXIS_LOAD", "AXIS_TOREFPOINT", "BLOCK_SKIP_MODE", "CHIP_REMOVAL",
-    "COMPACITY", "CONSOLE", "COOLANT_ON", "COORDINATE", "CYCLE_START", "DOOR_CLOSED",
-    "EDIT_MODE", "EMG", "FEED_HOLD", "FEED_OVERRIDE", "FEED_SPEED", "FILE", "FIXTURE_MODE",
-    "HANDLE_MODE", "INCREMENTAL_MODE", "JOG_MODE", "LIGHTING_ON", "LINE_NUMBER", "LUBRICANT_ON",
-    "MACHINE_LOCKED", "MDI_MODE", "MST_LOCKED", "OPT_STOP_MODE", "PATH_LEFT_LENGTH", "PART",
-    "PART_COUNT", "PROGRAM", "PROGRAM_MODE", "PROGRAM_NUMBER", "RAPID_OVERRIDE", "REF_MODE",
-    "RESET_MODE", "RESIDUAL", "SHELF_UNIT", "SINGLE_BLOCK_MODE", "SITE", "SPINDLE_MODE",
-    "SPINDLE_OVERRIDE", "SPINDLE_SPEED", "SUBPROGRAM", "TOOL", "TOOL_CHANGE", "TOOL_CHANGING",
-    "TOOL_PARAM", "TOOL_NUMBER", "TOOL_POSITION"};
+const char* const kChapter7DataTypes[] = {"ACCELERATION",
+                                          "ANGLE",
+                                          "ANGULAR_ACCELERATION",
+                                          "ANGULAR_VELOCITY",
+                                          "CONCENTRATION",
+                                          "CONDUCTIVITY",
+                                          "CURRENT",
+                                          "DISPLACEMENT",
+                                          "ENERGY",
+                                          "FLOW",
+                                          "FREQUENCY",
+                                          "LENGTH",
+                                          "MASS",
+                                          "PERIOD",
+                                          "POSITION",
+                                          "POWER",
+                                          "POWER_FACTOR",
+                                          "PRESSURE",
+                                          "RESISTANCE",
+                                          "ROTATION_SPEED",
+                                          "SPEED",
+                                          "TEMPERATURE",
+                                          "TORQUE",
+                                          "VISCOSITY",
+                                          "VOLT_AMPERE",
+                                          "CATAGORY",
+                                          "CREATE_TIME",
+                                          "CREATOR",
+                                          "IP",
+                                          "MANUFACTURER",
+                                          "MODEL",
+                                          "NAME",
+                                          "PARAMETER",
+                                          "SERIAL_NUMBER",
+                                          "STATUS",
+                                          "UPPER_LIMIT",
+                                          "USER_ROLE",
+                                          "VARIABLE",
+                                          "VERSION",
+                                          "WARNING",
+                                          "WORK_MODE",
+                                          "AUTO_MODE",
+                                          "AXIS_BACKLASH",
+                                          "AXIS_LOAD",
+                                          "AXIS_TOREFPOINT",
+                                          "BLOCK_SKIP_MODE",
+                                          "CHIP_REMOVAL",
+                                          "COMPACITY",
+                                          "CONSOLE",
+                                          "COOLANT_ON",
+                                          "COORDINATE",
+                                          "CYCLE_START",
+                                          "DOOR_CLOSED",
+                                          "EDIT_MODE",
+                                          "EMG",
+                                          "FEED_HOLD",
+                                          "FEED_OVERRIDE",
+                                          "FEED_SPEED",
+                                          "FILE",
+                                          "FIXTURE_MODE",
+                                          "HANDLE_MODE",
+                                          "INCREMENTAL_MODE",
+                                          "JOG_MODE",
+                                          "LIGHTING_ON",
+                                          "LINE_NUMBER",
+                                          "LUBRICANT_ON",
+                                          "MACHINE_LOCKED",
+                                          "MDI_MODE",
+                                          "MST_LOCKED",
+                                          "OPT_STOP_MODE",
+                                          "PATH_LEFT_LENGTH",
+                                          "PART",
+                                          "PART_COUNT",
+                                          "PROGRAM",
+                                          "PROGRAM_MODE",
+                                          "PROGRAM_NUMBER",
+                                          "RAPID_OVERRIDE",
+                                          "REF_MODE",
+                                          "RESET_MODE",
+                                          "RESIDUAL",
+                                          "SHELF_UNIT",
+                                          "SINGLE_BLOCK_MODE",
+                                          "SITE",
+                                          "SPINDLE_MODE",
+                                          "SPINDLE_OVERRIDE",
+                                          "SPINDLE_SPEED",
+                                          "SUBPROGRAM",
+                                          "TOOL",
+                                          "TOOL_CHANGE",
+                                          "TOOL_CHANGING",
+                                          "TOOL_PARAM",
+                                          "TOOL_NUMBER",
+                                          "TOOL_POSITION"};
 
-const char* const kTable8[] = {"AUXILIARY", "AXIS",   "COMPONENT", "CONTROLLER",   "FIXTURE",
-                               "MOTOR",     "SCREW",  "SENSOR",    "SERVO_DRIVER", "TOOL_MAGAZINE"};
+const char* const kTable8[] = {"AUXILIARY", "AXIS",  "COMPONENT", "CONTROLLER",   "FIXTURE",
+                               "MOTOR",     "SCREW", "SENSOR",    "SERVO_DRIVER", "TOOL_MAGAZINE"};
 
 Placement on_device() {
     Placement p;
@@ -67,8 +144,7 @@ std::vector<std::string> enumeration(const std::string& xsd, const std::string& 
     std::vector<std::string> values;
     const std::regex value("value=\"([^\"]+)\"");
     const std::string body = xsd.substr(start, end - start);
-    for (std::sregex_iterator it(body.begin(), body.end(), value), last; it != last; ++it)
-        values.push_back((*it)[1]);
+    for (std::sregex_iterator it(body.begin(), body.end(), value), last; it != last; ++it) values.push_back((*it)[1]);
     return values;
 }
 
@@ -115,14 +191,14 @@ TEST_CASE("data rows follow appendix A where it gives a row") {
         const char* element;
     };
     const Expect expected[] = {
-        {"POSITION", {}, MtCategory::sample, "POSITION", "ACTUAL", "Position"},         // A.5 0x2106
+        {"POSITION", {}, MtCategory::sample, "POSITION", "ACTUAL", "Position"},                    // A.5 0x2106
         {"SPINDLE_SPEED", {}, MtCategory::sample, "ROTARY_VELOCITY", "ACTUAL", "RotaryVelocity"},  // 0x2008
-        {"FEED_SPEED", {}, MtCategory::sample, "PATH_FEEDRATE", "ACTUAL", "PathFeedrate"},  // 0x212D
+        {"FEED_SPEED", {}, MtCategory::sample, "PATH_FEEDRATE", "ACTUAL", "PathFeedrate"},         // 0x212D
         {"FEED_OVERRIDE", {}, MtCategory::event, "PATH_FEEDRATE_OVERRIDE", "PROGRAMMED", "PathFeedrateOverride"},
         {"AXIS_LOAD", {}, MtCategory::sample, "LOAD", "", "Load"},                      // 0x2124
-        {"AXIS_BACKLASH", {}, MtCategory::sample, "DISPLACEMENT", "", "Displacement"},   // 0x211E
-        {"PATH_LEFT_LENGTH", {}, MtCategory::sample, "LENGTH", "REMAINING", "Length"},   // 0x2118
-        {"PART_COUNT", {}, MtCategory::event, "PART_COUNT", "ALL", "PartCount"},         // 0x1007
+        {"AXIS_BACKLASH", {}, MtCategory::sample, "DISPLACEMENT", "", "Displacement"},  // 0x211E
+        {"PATH_LEFT_LENGTH", {}, MtCategory::sample, "LENGTH", "REMAINING", "Length"},  // 0x2118
+        {"PART_COUNT", {}, MtCategory::event, "PART_COUNT", "ALL", "PartCount"},        // 0x1007
         {"PROGRAM", {}, MtCategory::event, "PROGRAM", "", "Program"},                   // 0x1000
         {"SUBPROGRAM", {}, MtCategory::event, "PROGRAM", "", "Program"},                // 0x1001
         {"EMG", {}, MtCategory::event, "EMERGENCY_STOP", "", "EmergencyStop"},          // 0x4002
@@ -155,8 +231,8 @@ TEST_CASE("data rows follow appendix A where it gives a row") {
 }
 
 TEST_CASE("types without an MTConnect 1.4 DataItem type are fallback rows with a reason") {
-    for (const char* type : {"TOOL", "TOOL_PARAM", "PARAMETER", "VERSION", "AUTO_MODE",
-                             "MST_LOCKED", "BLOCK_SKIP_MODE", "CHIP_REMOVAL", "RATE"}) {
+    for (const char* type :
+         {"TOOL", "TOOL_PARAM", "PARAMETER", "VERSION", "AUTO_MODE", "MST_LOCKED", "BLOCK_SKIP_MODE", "CHIP_REMOVAL", "RATE"}) {
         INFO(type);
         const DataTypeRow* row = find_data_row(type, {});
         REQUIRE(row != nullptr);
@@ -255,19 +331,105 @@ TEST_CASE("units convert to MTConnect's units and carry UNECE codes") {
 }
 
 TEST_CASE("every table-10/11 and appendix-A unit the model accepts is in the unit table") {
-    for (const char* unit :
-         {"mm/s²", "rad", "rad/s²", "rad/s", "m/m", "S/m", "A", "mm", "kW·h", "L/s", "Hz", "kg",
-          "s", "W", "Pa", "Ω", "r/min", "mm/min", "°C", "N·m", "Pa·s", "VA", "mm/s", "mA", "μA",
-          "µA", "m", "μm", "µm", "W·h", "W·s", "mL/s", "kHz", "MHz", "GHz", "g", "mg", "kW", "mW",
-          "kΩ", "MΩ", "m/min", "°F", "kVA", "AMPERE", "CELSIUS", "COUNT", "DEGREE",
-          "DEGREE/SECOND", "DEGREE/SECOND^2", "HERTZ", "JOULE", "KILOGRAM", "LITER",
-          "LITER/SECOND", "MILLIMETER", "MILLIMETER/SECOND", "MILLIMETER/SECOND^2", "NEWTON",
-          "NEWTON_METER", "PASCAL", "PERCENT", "PH", "REVOLUTION/MINUTE", "SECOND", "VOLT", "WATT",
-          "OHM", "SOUND_LEVEL", "SIEMENS/METER", "MICRO_RADIAN", "PASCAL_SECOND", "VOLT_AMPERE",
-          "VOLT_AMPERE_REACTIVE", "WATT_SECOND", "DECIBEL", "CENTIPOISE", "DEGREE/MINUTE",
-          "FAHRENHEIT", "KILOWATT", "KILOWATT_HOUR", "MILLIMETER/MINUTE", "RADIAN",
-          "RADIAN/MINUTE", "RADIAN/SECOND", "RADIAN/SECOND^2", "REVOLUTION/SECOND", "mm/s^2",
-          "rad/s^2", "kW.h", "N.m", "Pa.s", "W.h", "W.s", "um", "uA", "ohm", "kohm", "Mohm"}) {
+    for (const char* unit : {"mm/s²",
+                             "rad",
+                             "rad/s²",
+                             "rad/s",
+                             "m/m",
+                             "S/m",
+                             "A",
+                             "mm",
+                             "kW·h",
+                             "L/s",
+                             "Hz",
+                             "kg",
+                             "s",
+                             "W",
+                             "Pa",
+                             "Ω",
+                             "r/min",
+                             "mm/min",
+                             "°C",
+                             "N·m",
+                             "Pa·s",
+                             "VA",
+                             "mm/s",
+                             "mA",
+                             "μA",
+                             "µA",
+                             "m",
+                             "μm",
+                             "µm",
+                             "W·h",
+                             "W·s",
+                             "mL/s",
+                             "kHz",
+                             "MHz",
+                             "GHz",
+                             "g",
+                             "mg",
+                             "kW",
+                             "mW",
+                             "kΩ",
+                             "MΩ",
+                             "m/min",
+                             "°F",
+                             "kVA",
+                             "AMPERE",
+                             "CELSIUS",
+                             "COUNT",
+                             "DEGREE",
+                             "DEGREE/SECOND",
+                             "DEGREE/SECOND^2",
+                             "HERTZ",
+                             "JOULE",
+                             "KILOGRAM",
+                             "LITER",
+                             "LITER/SECOND",
+                             "MILLIMETER",
+                             "MILLIMETER/SECOND",
+                             "MILLIMETER/SECOND^2",
+                             "NEWTON",
+                             "NEWTON_METER",
+                             "PASCAL",
+                             "PERCENT",
+                             "PH",
+                             "REVOLUTION/MINUTE",
+                             "SECOND",
+                             "VOLT",
+                             "WATT",
+                             "OHM",
+                             "SOUND_LEVEL",
+                             "SIEMENS/METER",
+                             "MICRO_RADIAN",
+                             "PASCAL_SECOND",
+                             "VOLT_AMPERE",
+                             "VOLT_AMPERE_REACTIVE",
+                             "WATT_SECOND",
+                             "DECIBEL",
+                             "CENTIPOISE",
+                             "DEGREE/MINUTE",
+                             "FAHRENHEIT",
+                             "KILOWATT",
+                             "KILOWATT_HOUR",
+                             "MILLIMETER/MINUTE",
+                             "RADIAN",
+                             "RADIAN/MINUTE",
+                             "RADIAN/SECOND",
+                             "RADIAN/SECOND^2",
+                             "REVOLUTION/SECOND",
+                             "mm/s^2",
+                             "rad/s^2",
+                             "kW.h",
+                             "N.m",
+                             "Pa.s",
+                             "W.h",
+                             "W.s",
+                             "um",
+                             "uA",
+                             "ohm",
+                             "kohm",
+                             "Mohm"}) {
         INFO(unit);
         CHECK(model_detail::is_known_unit(unit));
         CHECK(find_unit(unit) != nullptr);
@@ -292,19 +454,17 @@ TEST_CASE("every MTConnect name in the tables is defined by the 1.4 schemas") {
         INFO(row.type);
         CHECK(in(types, row.mt_type));
         if (!row.mt_sub_type.empty()) CHECK(in(sub_types, row.mt_sub_type));
-        if (!row.element.empty())
-            CHECK(test::contains(streams, "<xs:element name=\"" + std::string(row.element) + "\""));
+        if (!row.element.empty()) CHECK(test::contains(streams, "<xs:element name=\"" + std::string(row.element) + "\""));
         if (row.dimension != Dimension::none) CHECK(in(units, mtconnect_units(row.dimension)));
     }
-    for (const char* spelling : {"mm", "m", "mm/min", "m/min", "rad", "rad/s", "mA", "kW·h", "W·h",
-                                 "kW", "kΩ", "°F", "m/m", "CENTIPOISE", "kVA", "g", "kHz"}) {
+    for (const char* spelling : {"mm", "m", "mm/min", "m/min", "rad", "rad/s", "mA", "kW·h", "W·h", "kW", "kΩ", "°F", "m/m",
+                                 "CENTIPOISE", "kVA", "g", "kHz"}) {
         const UnitRow* u = find_unit(spelling);
         REQUIRE(u != nullptr);
         INFO(spelling);
         CHECK(in(units, mtconnect_units(u->dimension)));
         if (!u->native_units.empty())
-            CHECK((in(native, u->native_units) ||
-                   std::regex_match(std::string(u->native_units), extension)));
+            CHECK((in(native, u->native_units) || std::regex_match(std::string(u->native_units), extension)));
     }
     for (std::size_t i = 0; i < component_row_count(); ++i)
         CHECK(test::contains(devices, "<xs:element name=\"" + std::string(component_row(i).element) + "\""));

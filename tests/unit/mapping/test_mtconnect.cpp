@@ -29,7 +29,9 @@ TEST_CASE("the device uuid is the terminal id and AVAILABILITY comes first") {
         <DataItem category="EVENT" id="mill_avail" name="avail" type="AVAILABILITY"/>)"));
     CHECK(contains(doc->xml, R"(creationTime="2024-01-01T00:00:00Z")"));
     // Table A.1 rows 3-5: fixed manufacturer, model, serial number.
-    CHECK(contains(doc->xml, R"(<Description manufacturer="nclink" model="SIM-VMC-850" serialNumber="1">VMC-3Axis simulated by nclink</Description>)"));
+    CHECK(contains(
+        doc->xml,
+        R"(<Description manufacturer="nclink" model="SIM-VMC-850" serialNumber="1">VMC-3Axis simulated by nclink</Description>)"));
 
     auto m = mtconnect_mapping(*model, fixed_options());
     REQUIRE(m.ok());
@@ -144,15 +146,12 @@ TEST_CASE("fallbacks are EVENT MESSAGE subType x:<TYPE> listed with a reason") {
     std::set<std::string> ids, not_written;
     for (const auto& u : doc->unmapped) {
         CHECK_FALSE(u.reason.empty());
-        if (u.fallback == "not written")
-            not_written.insert(u.id);
-        else if (contains(u.fallback, "EVENT MESSAGE x:"))
-            ids.insert(u.id);
-        else
-            FAIL("unexpected fallback " << u.fallback);
+        if (u.fallback == "not written") not_written.insert(u.id);
+        else if (contains(u.fallback, "EVENT MESSAGE x:")) ids.insert(u.id);
+        else FAIL("unexpected fallback " << u.fallback);
     }
-    CHECK(ids == std::set<std::string>{"machine_category", "spindle_max_speed", "cnc_version",
-                                       "tools", "parameters", "coordinates"});
+    CHECK(ids ==
+          std::set<std::string>{"machine_category", "spindle_max_speed", "cnc_version", "tools", "parameters", "coordinates"});
     // The root's METHOD objects have no place in either document: listed too.
     CHECK(not_written == std::set<std::string>{"cycle_start", "feed_hold", "reset", "program_transfer"});
     auto m = mtconnect_mapping(*model, fixed_options());
@@ -176,8 +175,7 @@ TEST_CASE("unknown types and components are never dropped") {
 }
 
 TEST_CASE("a list or dict item of a typed quantity falls back to MESSAGE") {
-    const auto model = parse_mapping_model(
-        one_device(R"("dataItems":[{"id":"p","type":"POSITION","datatype":"list"},
+    const auto model = parse_mapping_model(one_device(R"("dataItems":[{"id":"p","type":"POSITION","datatype":"list"},
                                    {"id":"prog","type":"PROGRAM","datatype":"dict"}])"));
     auto m = mtconnect_mapping(*model, fixed_options());
     REQUIRE(m.ok());
@@ -197,7 +195,7 @@ TEST_CASE("ids that are no XML names are escaped and aliases read as chapter 7")
     CHECK(pos->id == "_0103080402");
     CHECK(nclink_id_from_mtconnect(pos->id) == std::optional<std::string>("0103080402"));
     CHECK(m->find_by_mtconnect_id("_0103080402") == pos);
-    CHECK(pos->component_id == "_01030804");   // the SCREW, below the X axis
+    CHECK(pos->component_id == "_01030804");  // the SCREW, below the X axis
     CHECK(pos->component_element == "System");
     CHECK(m->devices()[0].availability_id == "_0103_avail");
     // SPDL_OVERRIDE is SPINDLE_OVERRIDE, TYPE is CATAGORY (conformance aliases).

@@ -30,8 +30,7 @@ MtObservation one(const char* item, const Json& value) {
 }  // namespace
 
 TEST_CASE("null is UNAVAILABLE for every data item") {
-    for (const char* item : {"x_position", "status", "program", "part_count", "emergency_stop",
-                             "tools", "spindle_override"}) {
+    for (const char* item : {"x_position", "status", "program", "part_count", "emergency_stop", "tools", "spindle_override"}) {
         INFO(item);
         const MtObservation o = one(item, nullptr);
         CHECK(o.value == "UNAVAILABLE");
@@ -122,8 +121,7 @@ TEST_CASE("WARNING is a condition with one Fault per alarm or Normal or Unavaila
     CHECK(o[0].element == "Fault");
     CHECK(o[0].native_code == "E1001");
     CHECK(o[0].value == "Servo alarm");
-    o = mtconnect_observations(*warning, Json::array({Json{{"number", 12}, {"text", "a"}},
-                                                      Json{{"number", 13}, {"text", "b"}}}));
+    o = mtconnect_observations(*warning, Json::array({Json{{"number", 12}, {"text", "a"}}, Json{{"number", 13}, {"text", "b"}}}));
     REQUIRE(o.size() == 2);
     CHECK(o[0].native_code == "12");
     CHECK(o[1].value == "b");
@@ -145,9 +143,7 @@ TEST_CASE("unit conversion of Fahrenheit and radians and kilowatt hours") {
                      {"id":"pf","type":"POWER_FACTOR"}]}]})");
     auto m = mtconnect_mapping(*model, fixed_options());
     REQUIRE(m.ok());
-    const auto value = [&](const char* id, const Json& v) {
-        return mtconnect_observations(*m->find(id), v).at(0).value;
-    };
+    const auto value = [&](const char* id, const Json& v) { return mtconnect_observations(*m->find(id), v).at(0).value; };
     CHECK(m->find("t")->units == "CELSIUS");
     CHECK(m->find("t")->native_units == "FAHRENHEIT");
     CHECK(value("t", 212) == "100");

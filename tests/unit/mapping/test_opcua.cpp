@@ -51,8 +51,7 @@ TEST_CASE("one namespace per device with the device object organized under Objec
     CHECK(contains(device, "ns=1;s=nclink-sim-mill-01.Availability"));
     CHECK(contains(device, "ns=1;s=nclink-sim-mill-01.DataItems"));
     CHECK(contains(device, "ns=1;s=nclink-sim-mill-01.Components"));
-    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.Manufacturer"),
-                   "<uax:String>nclink</uax:String>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.Manufacturer"), "<uax:String>nclink</uax:String>"));
     CHECK(contains(doc->xml, R"(<UAObjectType NodeId="ns=1;i=1001" BrowseName="1:DeviceType">)"));
     CHECK(contains(doc->xml, R"(BrowseName="1:ControllerType")"));
 
@@ -82,12 +81,10 @@ TEST_CASE("every data object is a variable s=<NC-Link id> and every component an
         // Setable items: CurrentRead|CurrentWrite (3), others CurrentRead (1, the default).
         CHECK(v->access_level == (d.setable ? 3 : 1));
         CHECK(contains(tag, "AccessLevel=\"3\"") == d.setable);
-        CHECK(contains(element(doc->xml, v->node_id),
-                       "<nclink:Item xmlns:nclink=\"urn:nclink:mapping\" id=\"" + d.id + "\""));
+        CHECK(contains(element(doc->xml, v->node_id), "<nclink:Item xmlns:nclink=\"urn:nclink:mapping\" id=\"" + d.id + "\""));
     }
     CHECK(m->variables().size() == data_objects);
-    for (const auto& c : model->components())
-        CHECK(contains(start_tag(doc->xml, "ns=1;s=" + c.id), "<UAObject"));
+    for (const auto& c : model->components()) CHECK(contains(start_tag(doc->xml, "ns=1;s=" + c.id), "<UAObject"));
     CHECK(contains(element(doc->xml, "ns=1;s=axis_x"), ">ns=1;i=1004</Reference>"));      // AxesType
     CHECK(contains(element(doc->xml, "ns=1;s=controller"), ">ns=1;i=1003</Reference>"));  // ControllerType
 }
@@ -327,10 +324,8 @@ TEST_CASE("cnc profile maps axes and spindles and controllers to OPC 40502 objec
 
     const std::string iface = element(doc->xml, "ns=1;s=nclink-sim-mill-01.CncInterface");
     CHECK(contains(iface, ">ns=2;i=1007</Reference>"));  // CncInterfaceType
-    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.CncInterface.VendorName"),
-                   "<uax:String>nclink</uax:String>"));
-    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.CncInterface.VendorRevision"),
-                   "<uax:String>1.0.0</uax:String>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.CncInterface.VendorName"), "<uax:String>nclink</uax:String>"));
+    CHECK(contains(element(doc->xml, "ns=1;s=nclink-sim-mill-01.CncInterface.VendorRevision"), "<uax:String>1.0.0</uax:String>"));
 
     // Axes keep their NodeId, take the CNC type and hang below CncAxisList.
     const std::string x = start_tag(doc->xml, "ns=1;s=axis_x");
@@ -385,6 +380,5 @@ TEST_CASE("cnc profile fills an axis slot from a component below the axis") {
     auto doc = map_to_opcua(*model, fixed_options(OpcUaProfile::cnc));
     CHECK(contains(element(doc->xml, "ns=1;s=010311.IsRotational"), "<uax:Boolean>true</uax:Boolean>"));
     // The screw still organizes the item it holds.
-    CHECK(contains(element(doc->xml, "ns=1;s=01030804"),
-                   R"(<Reference ReferenceType="Organizes">ns=1;s=0103080402</Reference>)"));
+    CHECK(contains(element(doc->xml, "ns=1;s=01030804"), R"(<Reference ReferenceType="Organizes">ns=1;s=0103080402</Reference>)"));
 }

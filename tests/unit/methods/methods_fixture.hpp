@@ -115,8 +115,7 @@ struct MethodsFixture {
                  const Json& private_info = nullptr) {
         Json dtu{{"@id", "k" + std::to_string(++counter)}, {"guid", "test-dev"}, {"id", method}, {"action", action}};
         if (!private_info.is_null()) dtu["privateInfo"] = private_info;
-        return app->request(topics::method_control_request("test-dev", ex), topics::method_control_response("test-dev", ex),
-                            dtu);
+        return app->request(topics::method_control_request("test-dev", ex), topics::method_control_response("test-dev", ex), dtu);
     }
     /// The DTUs on `topic` whose @id is `id`, parsed.
     std::vector<Json> dtus(const std::string& topic, const std::string& id) {

@@ -51,9 +51,7 @@ TEST_CASE("the args of the model are checked before the driver is called") {
         CHECK(r["error"] == 409);
         CHECK(r["reason"] == "arguments nimiety");
     }
-    SECTION("args that are not an object: 405") {
-        CHECK(f.result(f.call("quick", Json::array({1, 2})))["error"] == 405);
-    }
+    SECTION("args that are not an object: 405") { CHECK(f.result(f.call("quick", Json::array({1, 2})))["error"] == 405); }
     SECTION("a call without id: 102; not JSON: 412") {
         f.app->send("Method/Call/test-dev/app", R"({"@id":"no-id","guid":"test-dev"})");
         CHECK(f.result("no-id")["error"] == 102);
@@ -143,7 +141,8 @@ TEST_CASE("calls beyond max_running are refused 417 on Method/Result and accepte
     CHECK(refused["reason"] == "Insufficient method resources");
     CHECK(f.adapter->stats().features["methods"]["running"] == 2);
     f.driver->release(1);
-    REQUIRE(eventually([&] { return f.dtus("Method/Result/test-dev/app", a).size() + f.dtus("Method/Result/test-dev/app", b).size() == 1; }));
+    REQUIRE(eventually(
+        [&] { return f.dtus("Method/Result/test-dev/app", a).size() + f.dtus("Method/Result/test-dev/app", b).size() == 1; }));
     CHECK(f.result(f.call("quick"))["result"] == "finished");
     f.driver->release(1);
     f.result(a);

@@ -47,7 +47,7 @@ TEST_CASE_METHOD(Fixture, "values come from the PLC's tables, scaled, one reques
     plc.set_holding(11, 0x86A0);  // 100000 -> 10000.0 rpm at scale 0.1
     plc.set_holding(12, 80);
     plc.set_holding(13, 1);
-    plc.set_input(0, 0x42F6);     // 123.0f = 0x42F60000
+    plc.set_input(0, 0x42F6);  // 123.0f = 0x42F60000
     plc.set_input(1, 0x0000);
     plc.set_coil(2, true);
     plc.set_discrete(0, false);

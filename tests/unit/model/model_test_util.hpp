@@ -21,9 +21,7 @@ inline std::vector<Problem> problems_at(const LoadResult& r, Severity s, const s
     return out;
 }
 
-inline bool has_problem(const LoadResult& r, Severity s, const std::string& ptr) {
-    return !problems_at(r, s, ptr).empty();
-}
+inline bool has_problem(const LoadResult& r, Severity s, const std::string& ptr) { return !problems_at(r, s, ptr).empty(); }
 
 /// Every .json file directly in `dir`, sorted.
 inline std::vector<std::filesystem::path> json_files(const std::string& dir) {
@@ -37,8 +35,7 @@ inline std::vector<std::filesystem::path> json_files(const std::string& dir) {
 inline std::string describe(const LoadResult& r) {
     std::string out;
     for (const auto& p : r.problems)
-        out += std::string(to_string(p.severity)) + " " + (p.pointer.empty() ? "/" : p.pointer) +
-               ": " + p.message + "\n";
+        out += std::string(to_string(p.severity)) + " " + (p.pointer.empty() ? "/" : p.pointer) + ": " + p.message + "\n";
     return out;
 }
 

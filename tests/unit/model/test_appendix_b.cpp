@@ -38,18 +38,16 @@ TEST_CASE("appendix B loads as a runnable model and reports every known defect")
     CHECK(has_problem(r, C, "/devices/0/components/4/dataItems/1/dataType"));
     // Misspelt standard types (case, abbreviation, appendix A's names for
     // table-12 types) are conformance problems with a hint.
-    CHECK(has_problem(r, C, "/devices/0/configs/0/type"));                   // TYPE
-    CHECK(has_problem(r, C, "/devices/0/components/0/configs/0/type"));      // TYPE
-    CHECK(has_problem(r, C, "/devices/0/components/3/configs/1/type"));      // NUMBER
-    CHECK(has_problem(r, C, "/devices/0/components/3/configs/2/type"));      // TYPE
-    CHECK(has_problem(r, C, "/devices/0/dataItems/3/type"));                 // SPDL_OVERRIDE
+    CHECK(has_problem(r, C, "/devices/0/configs/0/type"));               // TYPE
+    CHECK(has_problem(r, C, "/devices/0/components/0/configs/0/type"));  // TYPE
+    CHECK(has_problem(r, C, "/devices/0/components/3/configs/1/type"));  // NUMBER
+    CHECK(has_problem(r, C, "/devices/0/components/3/configs/2/type"));  // TYPE
+    CHECK(has_problem(r, C, "/devices/0/dataItems/3/type"));             // SPDL_OVERRIDE
     const auto lower = problems_at(r, C, "/devices/0/components/4/configs/1/type");
     REQUIRE(lower.size() == 1);
     CHECK(lower[0].message.find("did you mean MANUFACTURER?") != std::string::npos);
-    CHECK(problems_at(r, C, "/devices/0/dataItems/3/type")[0].message.find("SPINDLE_OVERRIDE") !=
-          std::string::npos);
-    CHECK(problems_at(r, C, "/devices/0/configs/0/type")[0].message.find("did you mean CATAGORY?") !=
-          std::string::npos);
+    CHECK(problems_at(r, C, "/devices/0/dataItems/3/type")[0].message.find("SPINDLE_OVERRIDE") != std::string::npos);
+    CHECK(problems_at(r, C, "/devices/0/configs/0/type")[0].message.find("did you mean CATAGORY?") != std::string::npos);
 
     // The aliases are understood: the model is what chapter 6 would say.
     const Model& m = *r.model;

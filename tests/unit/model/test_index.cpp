@@ -79,10 +79,8 @@ TEST_CASE("path lookup lists every id sharing a path, in file order") {
     CHECK(m->ids_at_path("/MACHINE@0001/AXIS@Y/SPEED") == std::vector<std::string>{"y_speed"});
     CHECK(m->ids_at_path("/NC_LINK_ROOT/METHOD") ==
           std::vector<std::string>{"cycle_start", "feed_hold", "reset", "program_transfer"});
-    CHECK(m->ids_at_path("/MACHINE@0001/SAMPLE_CHANNEL") ==
-          std::vector<std::string>{"ch_fast", "ch_slow"});
-    CHECK(m->ids_at_path("/MACHINE@0001/CONTROLLER/MANUFACTURER") ==
-          std::vector<std::string>{"cnc_manufacturer"});
+    CHECK(m->ids_at_path("/MACHINE@0001/SAMPLE_CHANNEL") == std::vector<std::string>{"ch_fast", "ch_slow"});
+    CHECK(m->ids_at_path("/MACHINE@0001/CONTROLLER/MANUFACTURER") == std::vector<std::string>{"cnc_manufacturer"});
     CHECK(m->ids_at_path("/nowhere").empty());
 }
 
@@ -107,8 +105,7 @@ TEST_CASE("channels keep their data items in column order") {
 TEST_CASE("children lists keep file order for serialization") {
     const auto m = sim_mill();
     const Device& d = m->devices()[0];
-    CHECK(d.children.components ==
-          std::vector<std::string>{"axis_x", "axis_y", "axis_z", "spindle", "controller"});
+    CHECK(d.children.components == std::vector<std::string>{"axis_x", "axis_y", "axis_z", "spindle", "controller"});
     CHECK(d.children.configs.at(4) == "ch_fast");
     CHECK(m->root().children.components == std::vector<std::string>{"mill"});
     CHECK(m->root().children.configs.size() == 4);

@@ -55,10 +55,10 @@ const std::map<std::string, Expected> kExpected = {
     {"missing-root-version", {C, "/version"}},
     {"missing-device-version", {C, "/devices/0/version"}},
     {"bad-version", {C, "/devices/0/version"}},
-    {"version-major-not-1", {C, "/devices/0/version"}},  // table 2: 1.x.x
-    {"channel-id-too-long", {C, "/devices/0/configs/0/id"}},  // tables 36/42: at most 16 bytes
+    {"version-major-not-1", {C, "/devices/0/version"}},                          // table 2: 1.x.x
+    {"channel-id-too-long", {C, "/devices/0/configs/0/id"}},                     // tables 36/42: at most 16 bytes
     {"channel-in-component-configs", {C, "/devices/0/components/0/configs/0"}},  // table 3
-    {"bad-source", {C, "/devices/0/components/0/dataItems/0/source"}},  // 6.2.5 note b
+    {"bad-source", {C, "/devices/0/components/0/dataItems/0/source"}},           // 6.2.5 note b
     {"bad-root-version", {C, "/version"}},
     {"version-not-numeric", {C, "/devices/0/version"}},
     {"empty-version", {C, "/devices/0/version"}},
@@ -90,8 +90,8 @@ const std::map<std::string, Expected> kExpected = {
     {"configs-not-array", {C, "/configs"}},
     {"components-not-array", {C, "/devices/0/components/0/components"}},
     // warning
-    {"unknown-data-type", {W, "/devices/0/dataItems/1/type"}},      // an extension: allowed, reported
-    {"abbreviated-type", {C, "/devices/0/dataItems/1/type"}},       // SPDL_OVERRIDE: a misspelt standard type
+    {"unknown-data-type", {W, "/devices/0/dataItems/1/type"}},  // an extension: allowed, reported
+    {"abbreviated-type", {C, "/devices/0/dataItems/1/type"}},   // SPDL_OVERRIDE: a misspelt standard type
     {"lowercase-type", {C, "/devices/0/configs/1/type"}},
     {"unknown-device-type", {W, "/devices/0/type"}},
     {"unknown-component-type", {W, "/devices/0/components/0/type"}},

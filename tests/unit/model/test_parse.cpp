@@ -15,7 +15,8 @@ namespace {
 // A clean one-device model with `item` as the device's only data item.
 std::string with_item(const std::string& item) {
     return R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d",
-      "type":"MACHINE","guid":"g","version":"1.0.0","dataItems":[)" + item + "]}]}";
+      "type":"MACHINE","guid":"g","version":"1.0.0","dataItems":[)" +
+           item + "]}]}";
 }
 
 }  // namespace
@@ -68,14 +69,14 @@ TEST_CASE("aliases are normalized to chapter-6 values") {
     CHECK(r.count(Severity::conformance) == 5);
     CHECK(r.count(Severity::warning) == 0);
     // The alias key and the string value are reported in one problem.
-    CHECK(nclink::test::problems_at(r, Severity::conformance, "/devices/0/dataItems/0/settable")
-              .size() == 1);
+    CHECK(nclink::test::problems_at(r, Severity::conformance, "/devices/0/dataItems/0/settable").size() == 1);
 }
 
 TEST_CASE("versions are kept as written and checked against 1.x.x") {
     auto device_version = [](const std::string& v) {
         const std::string text = R"({"id":"r","type":"NC_LINK_ROOT","version":"1.2.3","devices":
-          [{"id":"d","type":"MACHINE","guid":"g","version":)" + v + "}]}";
+          [{"id":"d","type":"MACHINE","guid":"g","version":)" +
+                                 v + "}]}";
         return parse_model(text);
     };
     const auto ok = device_version(R"("1.10.0")");
@@ -139,12 +140,20 @@ TEST_CASE("pointers escape ~ and / in member names (RFC 6901)") {
 }
 
 TEST_CASE("hostile input never throws") {
-    const char* inputs[] = {"", " ", "null", "0", "\"x\"", "[]", "{}", "{\"devices\":5}",
+    const char* inputs[] = {"",
+                            " ",
+                            "null",
+                            "0",
+                            "\"x\"",
+                            "[]",
+                            "{}",
+                            "{\"devices\":5}",
                             "{\"id\":{},\"devices\":[[],{},null,{\"id\":1e400}]}",
                             "{\"id\":\"r\",\"devices\":[{\"id\":\"d\",\"configs\":[{\"type\":"
                             "\"SAMPLE_CHANNEL\",\"id\":\"c\",\"ids\":[null,1,{}],"
                             "\"sampleInterval\":true,\"uploadInterval\":null}]}]}",
-                            "\xef\xbb\xbf{}", "\x80\x81\x82"};
+                            "\xef\xbb\xbf{}",
+                            "\x80\x81\x82"};
     for (const char* input : inputs) {
         INFO(input);
         LoadResult r;

@@ -74,7 +74,7 @@ TEST_CASE("value rules: table 15 and 16 enumerations") {
     CHECK(check("status", R"("busy")") == ValueFault::enumeration);
     CHECK(check("status", "7") == ValueFault::enumeration);
     CHECK(check("mode", R"("spinning")") == ValueFault::enumeration);
-    CHECK(check("kind", R"("milling")") == ValueFault::none);    // under a MACHINE
+    CHECK(check("kind", R"("milling")") == ValueFault::none);  // under a MACHINE
     CHECK(check("kind", R"("rotary")") == ValueFault::enumeration);
     CHECK(check("axkind", R"("rotary")") == ValueFault::none);  // under an AXIS
     CHECK(check("emg", "true") == ValueFault::none);
@@ -159,12 +159,26 @@ TEST_CASE("value rules: the file type (6.2.1, appendix A's FILE is a DICT) is an
 
 TEST_CASE("value rules: number bounds agree with check() on every double") {
     const double inf = std::numeric_limits<double>::infinity();
-    const double probes[] = {0.0, -0.0, -1.0, 1.0, 1.5, 0.999, -273.15, -273.16, -300.0, 12.5, 1e300, -1e300,
-                             inf, -inf, std::numeric_limits<double>::quiet_NaN(),
-                             std::numeric_limits<double>::denorm_min(), -std::numeric_limits<double>::denorm_min()};
+    const double probes[] = {0.0,
+                             -0.0,
+                             -1.0,
+                             1.0,
+                             1.5,
+                             0.999,
+                             -273.15,
+                             -273.16,
+                             -300.0,
+                             12.5,
+                             1e300,
+                             -1e300,
+                             inf,
+                             -inf,
+                             std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::denorm_min(),
+                             -std::numeric_limits<double>::denorm_min()};
     std::string bounded_ids;
-    for (const char* id : {"pos", "mass", "temp", "tempk", "pf", "status", "mode", "warn", "warns", "vars", "params",
-                           "tool", "mine", "file", "emg"}) {
+    for (const char* id : {"pos", "mass", "temp", "tempk", "pf", "status", "mode", "warn", "warns", "vars", "params", "tool",
+                           "mine", "file", "emg"}) {
         const ValueRule* rule = rules().find(id);
         REQUIRE(rule != nullptr);
         double lo = 0, hi = 0;

@@ -12,11 +12,24 @@ using namespace nclink;
 namespace {
 
 Json model_with(Json component_type, Json item_type, Json units) {
-    return Json{{"id", "root"}, {"name", "root"}, {"type", "NC_LINK_ROOT"}, {"version", "1.0.0"},
-                {"devices", Json::array({Json{{"id", "dev"}, {"name", "dev"}, {"type", "MACHINE"}, {"guid", "dev-1"}, {"version", "1.0.0"},
-                                              {"components", Json::array({Json{
-                                                  {"id", "c1"}, {"name", "c1"}, {"type", component_type},
-                                                  {"dataItems", Json::array({Json{{"id", "i1"}, {"name", "i1"}, {"type", item_type}, {"units", units}}})}}})}}})}};
+    return Json{
+        {"id", "root"},
+        {"name", "root"},
+        {"type", "NC_LINK_ROOT"},
+        {"version", "1.0.0"},
+        {"devices",
+         Json::array({Json{
+             {"id", "dev"},
+             {"name", "dev"},
+             {"type", "MACHINE"},
+             {"guid", "dev-1"},
+             {"version", "1.0.0"},
+             {"components",
+              Json::array({Json{
+                  {"id", "c1"},
+                  {"name", "c1"},
+                  {"type", component_type},
+                  {"dataItems", Json::array({Json{{"id", "i1"}, {"name", "i1"}, {"type", item_type}, {"units", units}}})}}})}}})}};
 }
 
 std::string message_at(const LoadResult& r, const std::string& pointer) {

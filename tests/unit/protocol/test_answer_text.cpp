@@ -28,9 +28,7 @@ std::string reference(const Dtu& dtu) {
 // True when `ours` is `theirs` byte for byte but for numbers outside
 // strings, where it may have other digits for the same double, never more.
 bool same_but_shortest_numbers(const std::string& ours, const std::string& theirs) {
-    const auto number_end = [](const std::string& s, std::size_t at) {
-        return s.find_first_not_of("-+.0123456789eE", at);
-    };
+    const auto number_end = [](const std::string& s, std::size_t at) { return s.find_first_not_of("-+.0123456789eE", at); };
     bool in_string = false;
     std::size_t i = 0, j = 0;
     while (i < ours.size() && j < theirs.size()) {
@@ -106,7 +104,7 @@ TEST_CASE("a Query answer's text is the bytes to_json().dump() gives") {
         dtu.values.push_back(ok("quote\"back\\slash", Json::array({"tab\there"})));
         dtu.values.push_back(ok("control\x01\x1f", Json::array({"\x7f"})));
         dtu.values.push_back(ok("\xe4\xb8\xad\xe6\x96\x87", Json::array({"\xe4\xb8\xad"})));  // UTF-8
-        dtu.values.push_back(ok("bad\xff\xfeutf8", Json::array({"bad\xc3"})));                  // replaced
+        dtu.values.push_back(ok("bad\xff\xfeutf8", Json::array({"bad\xc3"})));                // replaced
         dtu.values.push_back(ok("", Json::array()));
     }
     SECTION("a refusal as a whole: top-level status, no @id, no guid, privateInfo") {
@@ -138,7 +136,7 @@ struct Generator {
     }
     double any_double() { return std::ldexp(static_cast<double>(rng()), pick(80) - 40); }
     ResponseStatus failure() {
-        static const ErrorCode codes[] = {ErrorCode::node_not_exists, ErrorCode::timeout,      ErrorCode::unavailable,
+        static const ErrorCode codes[] = {ErrorCode::node_not_exists,   ErrorCode::timeout,      ErrorCode::unavailable,
                                           ErrorCode::permission_denied, ErrorCode::out_of_range, static_cast<ErrorCode>(-12)};
         return ResponseStatus(make_error(codes[pick(6)], text()));
     }
@@ -242,9 +240,10 @@ TEST_CASE("the shortest digits of a double in exponent form are nlohmann's notat
 
 TEST_CASE("every double of a Query answer reads back exactly, in nlohmann's notation, never longer than it") {
     std::mt19937_64 rng(20261128);
-    std::vector<double> values = {414.0,  -0.0,   0.0,     1e15,     999999999999999.0, 1e14,  0.0001,   0.00012,
-                                  1e-5,   0.5,    -0.25,   1e-7,     4294967295.5,      -4294967296.5, 4294967296.25,
-                                  1e300,  -1e-300, 123.456, 0.001,   -0.0009999,        1e16,  2.5e15};
+    std::vector<double> values = {
+        414.0, -0.0,       0.0,  1e15,         999999999999999.0, 1e14,          0.0001, 0.00012, 1e-5,
+        0.5,   -0.25,      1e-7, 4294967295.5, -4294967296.5,     4294967296.25, 1e300,  -1e-300, 123.456,
+        0.001, -0.0009999, 1e16, 2.5e15};
     for (int i = 0; i < 200000; ++i) {
         // Decimals with 0..7 fraction digits over many magnitudes, and raw bit patterns.
         const auto decimals = static_cast<std::size_t>(rng() % 8);

@@ -70,8 +70,7 @@ TEST_CASE("405: a known key with the wrong type") {
     CHECK(code_of<QueryRequest>(R"({"guid":7,"ids":[]})") == ErrorCode::value_type);
     CHECK(code_of<QueryRequest>(R"({"@id":{"x":1},"ids":[]})") == ErrorCode::value_type);
     CHECK(code_of<SetRequest>(R"({"values":"a"})") == ErrorCode::value_type);
-    CHECK(code_of<SampleRegisterRequest>(R"({"sampleInterval":"10","uploadInterval":1,"ids":[]})") ==
-          ErrorCode::value_type);
+    CHECK(code_of<SampleRegisterRequest>(R"({"sampleInterval":"10","uploadInterval":1,"ids":[]})") == ErrorCode::value_type);
     CHECK(code_of<EventRegisterRequest>(R"({"id":"a","triggerType":"once","index":"x"})") == ErrorCode::value_type);
     CHECK(code_of<EventRegisterRequest>(R"({"id":"a","triggerType":"once","filters":{}})") == ErrorCode::value_type);
     CHECK(code_of<EventRegisterRequest>(R"({"id":"a","triggerType":"once","filters":[1]})") == ErrorCode::value_type);
@@ -166,8 +165,16 @@ TEST_CASE("liberal inputs") {
 }
 
 TEST_CASE("no exception escapes a decoder, whatever the input") {
-    const char* inputs[] = {"", "{", "}", "{\"ids\":[{\"id\":\"a\",\"params\":", "\"\\ud800\"", "1e99999",
-                            "{\"@id\":null}", "{\"ids\":null}", "{\"values\":[null]}", "{\"error\":1e300,\"code\":\"NG\"}"};
+    const char* inputs[] = {"",
+                            "{",
+                            "}",
+                            "{\"ids\":[{\"id\":\"a\",\"params\":",
+                            "\"\\ud800\"",
+                            "1e99999",
+                            "{\"@id\":null}",
+                            "{\"ids\":null}",
+                            "{\"values\":[null]}",
+                            "{\"error\":1e300,\"code\":\"NG\"}"};
     for (const char* input : inputs) {
         CHECK_NOTHROW((void)decode_query_request(input));
         CHECK_NOTHROW((void)decode_set_response(input));
@@ -192,7 +199,8 @@ TEST_CASE("ResponseStatus from an Error uses the exact table-19 strings") {
     QueryResponse response;
     response.guid = "dev";
     response.values.push_back({"0102", s, std::nullopt, std::nullopt, std::nullopt});
-    response.values.push_back({"0103", ResponseStatus::success(), Json({{"operation", "get_value"}}), Json::array({1}), std::nullopt});
+    response.values.push_back(
+        {"0103", ResponseStatus::success(), Json({{"operation", "get_value"}}), Json::array({1}), std::nullopt});
     CHECK(to_json(response) == Json::parse(R"({"guid":"dev","values":[
         {"id":"0102","code":"NG","reason":"Node not exists","error":401},
         {"id":"0103","code":"OK","params":{"operation":"get_value"},"values":[1]}]})"));
@@ -207,8 +215,7 @@ TEST_CASE("make_error_reply answers undecodable requests with @id and guid") {
     CHECK(id == Json(7));
     auto reply = make_error_reply(TopicKind::query_request, id, "dev", q.error());
     REQUIRE(reply);
-    CHECK(*reply == Json::parse(
-        R"({"@id":7,"guid":"dev","code":"NG","reason":"keys of arguments error","error":413,"values":[]})"));
+    CHECK(*reply == Json::parse(R"({"@id":7,"guid":"dev","code":"NG","reason":"keys of arguments error","error":413,"values":[]})"));
     // and it decodes as a Query response
     auto back = decode_query_response(*reply);
     REQUIRE(back.ok());
@@ -222,8 +229,7 @@ TEST_CASE("make_error_reply answers undecodable requests with @id and guid") {
     for (TopicKind kind : {TopicKind::probe_query_request, TopicKind::probe_set_request, TopicKind::set_request,
                            TopicKind::sample_register_request, TopicKind::sample_unregister_request,
                            TopicKind::method_control_request, TopicKind::event_register_request,
-                           TopicKind::event_unregister_request, TopicKind::register_request,
-                           TopicKind::discovery_request}) {
+                           TopicKind::event_unregister_request, TopicKind::register_request, TopicKind::discovery_request}) {
         INFO(to_string(kind));
         auto r = make_error_reply(kind, Json("x"), "dev", make_error(ErrorCode::parameter_missing));
         REQUIRE(r);

@@ -49,7 +49,6 @@ bool agrees(const std::string& payload) {
     return true;
 }
 
-
 }  // namespace
 
 TEST_CASE("the streaming Query decoder reads what applications send as the tree decoder does") {
@@ -86,29 +85,29 @@ TEST_CASE("the streaming Query decoder leaves every request the tree refuses or 
         "{",
         R"({"ids":[{"id":"a"}]} trailing)",
         R"({"ids":[{"id":"a"}],})",
-        R"({"guid":"g"})",                              // ids missing: 102
-        R"({"values":[{"id":"a"}]})",                   // ids missing beside an unknown key: 413
-        R"({"ids":{"id":"a"}})",                        // not an array
+        R"({"guid":"g"})",             // ids missing: 102
+        R"({"values":[{"id":"a"}]})",  // ids missing beside an unknown key: 413
+        R"({"ids":{"id":"a"}})",       // not an array
         R"({"ids":"a"})",
-        R"({"ids":[{"id":"a"}],"guid":5})",             // guid not a string
+        R"({"ids":[{"id":"a"}],"guid":5})",  // guid not a string
         R"({"ids":[{"id":"a"}],"guid":null})",
-        R"({"@id":{"n":1},"ids":[]})",                  // structured @id
+        R"({"@id":{"n":1},"ids":[]})",  // structured @id
         R"({"@id":[1],"ids":[]})",
-        R"({"ids":[7]})",                               // an entry neither string nor object
+        R"({"ids":[7]})",  // an entry neither string nor object
         R"({"ids":[null]})",
         R"({"ids":[["a"]]})",
-        R"({"ids":[{"params":{}}]})",                   // entry without id
-        R"({"ids":[{"id":5}]})",                        // id not a string
+        R"({"ids":[{"params":{}}]})",  // entry without id
+        R"({"ids":[{"id":5}]})",       // id not a string
         R"({"ids":[{"id":{"a":1}}]})",
-        R"({"ids":[{"id":"a","id":"b"}]})",             // a key the decoder reads, given twice
+        R"({"ids":[{"id":"a","id":"b"}]})",  // a key the decoder reads, given twice
         R"({"ids":[{"id":"a","params":1,"params":2}]})",
         R"({"ids":[],"ids":[{"id":"a"}]})",
         R"({"@id":1,"@id":2,"ids":[]})",
         R"({"guid":"a","guid":"b","ids":[]})",
         R"({"privateInfo":1,"privateInfo":2,"ids":[]})",
-        R"({"ids":[{"id":"a"}],"n":1e999})",            // number overflow
-        R"({"ids":[{"id":"\ud800"}]})",                 // lone surrogate
-        "{\"ids\":[{\"id\":\"\xff\"}]}",                 // invalid UTF-8
+        R"({"ids":[{"id":"a"}],"n":1e999})",  // number overflow
+        R"({"ids":[{"id":"\ud800"}]})",       // lone surrogate
+        "{\"ids\":[{\"id\":\"\xff\"}]}",      // invalid UTF-8
     };
     for (const char* payload : payloads) {
         INFO(payload);
@@ -159,7 +158,8 @@ TEST_CASE("the streaming Query decoder agrees with the tree on generated request
             }
             default: {
                 std::string s = "{";
-                for (int i = 0, n = pick(3); i < n; ++i) s += std::string(i ? "," : "") + "\"k" + std::to_string(pick(3)) + "\":" + self(depth + 1, self);
+                for (int i = 0, n = pick(3); i < n; ++i)
+                    s += std::string(i ? "," : "") + "\"k" + std::to_string(pick(3)) + "\":" + self(depth + 1, self);
                 return s + "}";
             }
         }
@@ -222,29 +222,29 @@ TEST_CASE("the plain scan reads the plain requests applications send as the tree
 
 TEST_CASE("the plain scan leaves everything but the plain form to the SAX pass") {
     const char* payloads[] = {
-        R"({"@id":17,"ids":[{"id":"a"}]})",                 // a number @id
+        R"({"@id":17,"ids":[{"id":"a"}]})",  // a number @id
         R"({"@id":null,"ids":[{"id":"a"}]})",
         R"({"ids":[{"id":"a","params":{"keys":["k"]}}]})",  // params
         R"({"ids":[{"params":1,"id":"a"}]})",
         R"({"ids":[{"id":"a"}],"privateInfo":{}})",
-        R"({"ids":[{"id":"a"}],"vendor":1})",               // a key it does not read
-        R"({"ids":[{"id":"a\"b"}]})",                      // an escape
+        R"({"ids":[{"id":"a"}],"vendor":1})",  // a key it does not read
+        R"({"ids":[{"id":"a\"b"}]})",          // an escape
         R"({"ids":[{"id":"caf\u00e9"}]})",
-        "{\"ids\":[{\"id\":\"caf\xc3\xa9\"}]}",     // UTF-8
+        "{\"ids\":[{\"id\":\"caf\xc3\xa9\"}]}",  // UTF-8
         "{\"ids\":[{\"id\":\"\x7f\"}]}",
-        "{\"ids\":[{\"id\":\"tab\there\"}]}",        // a raw control byte
-        R"({"ids":[{"id":"a"}],"ids":[]})",                 // a key twice
+        "{\"ids\":[{\"id\":\"tab\there\"}]}",  // a raw control byte
+        R"({"ids":[{"id":"a"}],"ids":[]})",    // a key twice
         R"({"@id":"a","@id":"b","ids":[]})",
         R"({"ids":[{"id":"a","id":"b"}]})",
-        R"({"ids":[{"id":"a"}]} x)",                        // trailing bytes
+        R"({"ids":[{"id":"a"}]} x)",  // trailing bytes
         R"({"ids":[{"id":"a"}],})",
         R"({"ids":[{"id":"a"},]})",
         R"({"ids":[{"id":"a"})",
         R"({"ids":[{}]})",
         R"({"ids":[1]})",
-        R"({"guid":"g"})",                                  // no ids
+        R"({"guid":"g"})",  // no ids
         R"({})",
-        "\xEF\xBB\xBF{\"ids\":[]}",                    // a BOM
+        "\xEF\xBB\xBF{\"ids\":[]}",  // a BOM
         "",
     };
     for (const char* payload : payloads) {
@@ -258,7 +258,9 @@ TEST_CASE("the plain scan leaves everything but the plain form to the SAX pass")
 TEST_CASE("the plain scan agrees with the tree on generated and damaged plain requests") {
     std::mt19937 random(20261128);
     const auto pick = [&](int n) { return static_cast<int>(random() % static_cast<unsigned>(n)); };
-    const auto space = [&] { return std::string(" \t\r\n").substr(static_cast<std::size_t>(pick(4)), static_cast<std::size_t>(pick(2))); };
+    const auto space = [&] {
+        return std::string(" \t\r\n").substr(static_cast<std::size_t>(pick(4)), static_cast<std::size_t>(pick(2)));
+    };
     int answered = 0, intact = 0;
     for (int round = 0; round < 20000; ++round) {
         std::vector<std::string> members;
@@ -267,7 +269,8 @@ TEST_CASE("the plain scan agrees with the tree on generated and damaged plain re
         std::string ids = "\"ids\":" + space() + "[";
         for (int i = 0, n = pick(8); i < n; ++i) {
             ids += (i ? "," : "") + space();
-            ids += pick(4) == 0 ? "\"bare" + std::to_string(i) + "\"" : "{" + space() + "\"id\":\"i/" + std::to_string(pick(50)) + "\"" + space() + "}";
+            ids += pick(4) == 0 ? "\"bare" + std::to_string(i) + "\""
+                                : "{" + space() + "\"id\":\"i/" + std::to_string(pick(50)) + "\"" + space() + "}";
         }
         members.push_back(ids + space() + "]");
         std::shuffle(members.begin(), members.end(), random);

@@ -43,8 +43,7 @@ std::string first_difference(const Json& ours, const Json& ref, const std::strin
                     return first_difference(ours.value(it.key(), Json()), it.value(), path + "/" + it.key());
         }
     }
-    return path + ": ours " + ours.dump() + " (" + ours.type_name() + "), reference " + ref.dump() + " (" +
-           ref.type_name() + ")";
+    return path + ": ours " + ours.dump() + " (" + ours.type_name() + "), reference " + ref.dump() + " (" + ref.type_name() + ")";
 }
 
 bool same(const Json& ours, const Json& ref) {
@@ -73,8 +72,7 @@ bool same(const Json& ours, const Json& ref) {
 }
 
 Json reference_dtu(const SampleDtuHeader& h, const SampleBlock& block) {
-    Json dtu = {{"guid", std::string(h.guid)}, {"id", std::string(h.channel_id)},
-                {"beginTime", std::to_string(h.begin_time_ms)}};
+    Json dtu = {{"guid", std::string(h.guid)}, {"id", std::string(h.channel_id)}, {"beginTime", std::to_string(h.begin_time_ms)}};
     if (h.msg_id) dtu["@id"] = *h.msg_id;
     if (h.private_info) dtu["privateInfo"] = *h.private_info;
     Json data = Json::array();
@@ -87,27 +85,50 @@ Json reference_dtu(const SampleDtuHeader& h, const SampleBlock& block) {
     return dtu;
 }
 
-const double kEdgeDoubles[] = {0.0, -0.0, 1e-310, -1e-310, 1.7976931348623157e308, -1.7976931348623157e308,
-                               5e-324, 2.2250738585072014e-308, 0.1, 1.0 / 3.0, 414.262, 1e15, 1e16, 1e21,
-                               9007199254740993.0, -123456789.125, 100.23,
-                               std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+const double kEdgeDoubles[] = {0.0,
+                               -0.0,
+                               1e-310,
+                               -1e-310,
+                               1.7976931348623157e308,
+                               -1.7976931348623157e308,
+                               5e-324,
+                               2.2250738585072014e-308,
+                               0.1,
+                               1.0 / 3.0,
+                               414.262,
+                               1e15,
+                               1e16,
+                               1e21,
+                               9007199254740993.0,
+                               -123456789.125,
+                               100.23,
+                               std::numeric_limits<double>::quiet_NaN(),
+                               std::numeric_limits<double>::infinity(),
                                -std::numeric_limits<double>::infinity()};
-const std::int64_t kEdgeInts[] = {0, -1, 1, 9007199254740993LL, -9007199254740993LL,
-                                  std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
-const char* const kTexts[] = {"", "RUN", "quote\" backslash\\ slash/", "tab\t nl\n cr\r bs\b ff\f",
-                              "\x01\x1f\x7f", "\xE4\xB8\xAD\xE6\x96\x87 UTF-8", "\xF0\x9F\x98\x80 emoji",
+const std::int64_t kEdgeInts[] = {0,
+                                  -1,
+                                  1,
+                                  9007199254740993LL,
+                                  -9007199254740993LL,
+                                  std::numeric_limits<std::int64_t>::max(),
+                                  std::numeric_limits<std::int64_t>::min()};
+const char* const kTexts[] = {"",
+                              "RUN",
+                              "quote\" backslash\\ slash/",
+                              "tab\t nl\n cr\r bs\b ff\f",
+                              "\x01\x1f\x7f",
+                              "\xE4\xB8\xAD\xE6\x96\x87 UTF-8",
+                              "\xF0\x9F\x98\x80 emoji",
                               std::string_view("nul\0inside", 10).data()};
 const char* const kJsonTexts[] = {R"({"code":12,"text":"overheat"})", "[1,2,3]", "\"s\"", "null", "-0.5"};
 
 }  // namespace
 
 TEST_CASE("sample encoder: the chapter 8.2.15 example") {
-    const SampleValue v[] = {SampleValue::float64(414.262), SampleValue::float64(414.262),
-                             SampleValue::float64(414.262), SampleValue::float64(414.262),
-                             SampleValue::float64(414.262), SampleValue::float64(414.262),
-                             SampleValue::int64(0),         SampleValue::int64(0),
-                             SampleValue::int64(0),         SampleValue::float64(0),
-                             SampleValue::float64(0),       SampleValue::float64(0)};
+    const SampleValue v[] = {SampleValue::float64(414.262), SampleValue::float64(414.262), SampleValue::float64(414.262),
+                             SampleValue::float64(414.262), SampleValue::float64(414.262), SampleValue::float64(414.262),
+                             SampleValue::int64(0),         SampleValue::int64(0),         SampleValue::int64(0),
+                             SampleValue::float64(0),       SampleValue::float64(0),       SampleValue::float64(0)};
     SampleEncoder encoder;
     SampleDtuHeader header;
     header.guid = "dev_uuid";
@@ -251,10 +272,8 @@ TEST_CASE("sample encoder: ragged columns and empty blocks") {
     const SampleColumn columns[] = {{a, 2}, {b, 1}, {nullptr, 0}};
     CHECK(Json::parse(encoder.encode(header, columns, 3)) ==
           Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[{"data":[1,null]},{"data":["x"]},{"data":[]}]})"));
-    CHECK(Json::parse(encoder.encode(header, SampleBlock{})) ==
-          Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
-    CHECK(Json::parse(encoder.encode(header, SampleRows{})) ==
-          Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
+    CHECK(Json::parse(encoder.encode(header, SampleBlock{})) == Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
+    CHECK(Json::parse(encoder.encode(header, SampleRows{})) == Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[]})"));
     // Points but no rows: one empty column each.
     CHECK(Json::parse(encoder.encode(header, SampleRows{a, 2, 0})) ==
           Json::parse(R"({"guid":"d","id":"c","beginTime":"0","data":[{"data":[]},{"data":[]}]})"));

@@ -79,7 +79,6 @@ std::string set_of(const std::string& value) {
     return R"({"@id":"s1","guid":"dev","values":[{"id":"ovr","params":{"value":)" + value + "}}]}";
 }
 
-
 }  // namespace
 
 TEST_CASE("the plain Set scan reads the Sets applications send as the tree decoder does") {
@@ -95,7 +94,8 @@ TEST_CASE("the plain Set scan reads the Sets applications send as the tree decod
         R"({"values":[{"id":"a","params":{"value":1e5}},{"id":"b","params":{"value":2.5E-3}},{"id":"c","params":{"value":-3e+2}}]})",
         R"({"values":[{"id":"a","params":{"value":0}},{"id":"b","params":{"value":999999999999999999}},{"id":"c","params":{"value":-999999999999999999}}]})",
         R"({"values":[{"id":"a","params":{"value":0.1}},{"id":"b","params":{"value":5e-324}},{"id":"c","params":{"value":1.7976931348623157e308}}]})",
-        " \t\r\n{ \"guid\" : \"g\" ,\n \"values\" : [ { \"id\" : \"a b~\" , \"params\" : { \"value\" : 3 } } ] , \"@id\" : \"x\" } \n",
+        " \t\r\n{ \"guid\" : \"g\" ,\n \"values\" : [ { \"id\" : \"a b~\" , \"params\" : { \"value\" : 3 } } ] , \"@id\" : \"x\" "
+        "} \n",
     };
     for (const char* payload : payloads) {
         INFO(payload);
@@ -105,24 +105,24 @@ TEST_CASE("the plain Set scan reads the Sets applications send as the tree decod
 
 TEST_CASE("the plain Set scan leaves everything but the plain form to the tree, which answers as before") {
     const char* payloads[] = {
-        R"({"@id":17,"values":[{"id":"a","params":{"value":1}}]})",                  // a number @id
-        R"({"values":[{"id":"a","params":{"value":[1,2]}}]})",                       // a structure in params
+        R"({"@id":17,"values":[{"id":"a","params":{"value":1}}]})",  // a number @id
+        R"({"values":[{"id":"a","params":{"value":[1,2]}}]})",       // a structure in params
         R"({"values":[{"id":"a","params":{"values":{"k":1}}}]})",
-        R"({"values":[{"id":"a","params":7}]})",                                     // params not an object
-        R"({"values":[{"id":"a","params":{"value":1},"offset":2,"length":1}]})",     // offset/length beside params
+        R"({"values":[{"id":"a","params":7}]})",                                  // params not an object
+        R"({"values":[{"id":"a","params":{"value":1},"offset":2,"length":1}]})",  // offset/length beside params
         R"({"values":[{"id":"a","params":{"value":1}}],"privateInfo":{}})",
-        R"({"values":[{"id":"a","params":{"value":1},"other":1}]})",                 // a key it does not read
+        R"({"values":[{"id":"a","params":{"value":1},"other":1}]})",  // a key it does not read
         R"({"values":[{"id":"a","params":{"value":1}}],"vendor":1})",
-        R"({"values":[{"id":"a","params":{"value":"a\"b"}}]})",                      // an escape
-        "{\"values\":[{\"id\":\"a\",\"params\":{\"value\":\"caf\xc3\xa9\"}}]}",       // UTF-8
-        R"({"values":[{"id":"a","params":{"value":1,"value":2}}]})",                 // a key twice
+        R"({"values":[{"id":"a","params":{"value":"a\"b"}}]})",                  // an escape
+        "{\"values\":[{\"id\":\"a\",\"params\":{\"value\":\"caf\xc3\xa9\"}}]}",  // UTF-8
+        R"({"values":[{"id":"a","params":{"value":1,"value":2}}]})",             // a key twice
         R"({"values":[{"id":"a","id":"b","params":{"value":1}}]})",
         R"({"values":[],"values":[]})",
-        R"({"values":[{"id":"a","params":{"value":1}}]} x)",                         // trailing bytes
+        R"({"values":[{"id":"a","params":{"value":1}}]} x)",  // trailing bytes
         R"({"values":[{"id":"a","params":{"value":1,}}]})",
-        R"({"values":[{"params":{"value":1}}]})",                                    // no id
+        R"({"values":[{"params":{"value":1}}]})",  // no id
         R"({"values":[{"id":5,"params":{"value":1}}]})",
-        R"({"values":[{"id":"a","params":{"value":01}}]})",                          // not JSON numbers
+        R"({"values":[{"id":"a","params":{"value":01}}]})",  // not JSON numbers
         R"({"values":[{"id":"a","params":{"value":+1}}]})",
         R"({"values":[{"id":"a","params":{"value":1.}}]})",
         R"({"values":[{"id":"a","params":{"value":.5}}]})",
@@ -130,11 +130,11 @@ TEST_CASE("the plain Set scan leaves everything but the plain form to the tree, 
         R"({"values":[{"id":"a","params":{"value":-}}]})",
         R"({"values":[{"id":"a","params":{"value":tru}}]})",
         R"({"values":[{"id":"a","params":{"value":nulls}}]})",
-        R"({"values":[{"id":"a","params":{"value":1234567890123456789}}]})",         // beyond 18 digits: the tree's rules
+        R"({"values":[{"id":"a","params":{"value":1234567890123456789}}]})",  // beyond 18 digits: the tree's rules
         R"({"values":[{"id":"a","params":{"value":-18446744073709551616}}]})",
-        R"({"values":[{"id":"a","params":{"value":1e999}}]})",                       // out of range
+        R"({"values":[{"id":"a","params":{"value":1e999}}]})",  // out of range
         R"({"values":[{"id":"a","params":{"value":1e-400}}]})",
-        R"({"guid":"g"})",                                                            // no values
+        R"({"guid":"g"})",  // no values
         R"({"ids":[{"id":"a"}]})",
         R"({})",
         "",
@@ -166,7 +166,8 @@ TEST_CASE("the plain Set scan leaves everything but the plain form to the tree, 
         const auto unknown = decode<SetRequest>(R"({"ids":[{"id":"a"}]})");
         REQUIRE_FALSE(unknown.ok());
         CHECK(unknown.error().code == ErrorCode::keys_of_arguments);
-        const auto twice = decode<SetRequest>(R"({"values":[{"id":"a","params":{"value":1,"value":2}}]})");  // the tree keeps the last
+        const auto twice =
+            decode<SetRequest>(R"({"values":[{"id":"a","params":{"value":1,"value":2}}]})");  // the tree keeps the last
         REQUIRE(twice.ok());
         CHECK(twice->values.at(0).params->at("value") == 2);
     }
@@ -215,7 +216,9 @@ TEST_CASE("the plain Set scan reads numbers exactly as nlohmann's parser does") 
 TEST_CASE("the plain Set scan agrees with the tree on generated and damaged requests") {
     std::mt19937 random(20261129);
     const auto pick = [&](int n) { return static_cast<int>(random() % static_cast<unsigned>(n)); };
-    const auto space = [&] { return std::string(" \t\r\n").substr(static_cast<std::size_t>(pick(4)), static_cast<std::size_t>(pick(2))); };
+    const auto space = [&] {
+        return std::string(" \t\r\n").substr(static_cast<std::size_t>(pick(4)), static_cast<std::size_t>(pick(2)));
+    };
     const char* scalars[] = {"42", "-7", "0", "1.5", "-0.25e3", "true", "false", "null", "\"on\"", "\"\"", "1E2"};
     int answered = 0, intact = 0;
     for (int round = 0; round < 20000; ++round) {

@@ -67,12 +67,28 @@ TEST_CASE("every topic of the docs/wire.md table builds and parses") {
     CHECK(topics::event("d", "e") == "Event/d/e");
 
     // The {dev}[/{ex}] kinds, with and without ex, in both spellings where they exist.
-    for (K kind : {K::probe_version_response, K::probe_query_request, K::probe_query_response, K::probe_set_request,
-                   K::probe_set_response, K::query_request, K::query_response, K::set_request, K::set_response,
-                   K::sample_register_request, K::sample_register_response, K::sample_unregister_request,
-                   K::sample_unregister_response, K::method_call, K::method_status, K::method_result,
-                   K::method_control_request, K::method_control_response, K::event_register_request,
-                   K::event_register_response, K::event_unregister_request, K::event_unregister_response,
+    for (K kind : {K::probe_version_response,
+                   K::probe_query_request,
+                   K::probe_query_response,
+                   K::probe_set_request,
+                   K::probe_set_response,
+                   K::query_request,
+                   K::query_response,
+                   K::set_request,
+                   K::set_response,
+                   K::sample_register_request,
+                   K::sample_register_response,
+                   K::sample_unregister_request,
+                   K::sample_unregister_response,
+                   K::method_call,
+                   K::method_status,
+                   K::method_result,
+                   K::method_control_request,
+                   K::method_control_response,
+                   K::event_register_request,
+                   K::event_register_response,
+                   K::event_unregister_request,
+                   K::event_unregister_response,
                    K::event}) {
         INFO(to_string(kind));
         for (const auto& ex : {std::optional<std::string>(), std::optional<std::string>("ex_cid")}) {
@@ -132,14 +148,38 @@ TEST_CASE("response_topics adds the standard's literal typo spelling when asked"
 }
 
 TEST_CASE("malformed topics are rejected") {
-    for (const char* topic :
-         {"", "/", "Query", "Query/Request", "Query/Request/", "/Query/Request/dev", "Query/Request//ex",
-          "Query/Request/dev/ex/", "Query/Request/dev/ex/more", "Query/Reqest/dev", "query/request/dev",
-          "Querry/Request/dev", "Query/Request/+", "Query/Request/dev/#", "Register/Request/dev",
-          "Register/Response", "Register/Response/a/b", "Discovery/Request", "Discovery/Request/a/b",
-          "Sample/dev", "Sample/dev/a/b/c", "Notify/State", "Notify/State/a/b", "Method/Call",
-          "Method/Control/dev", "Probe/Version", "Probe/Version/a/b/c/d", "Event", "Event/d/e/f",
-          "Regster/Sample/Request/dev", "Register/Sample/Request", "Unknown/Request/dev"}) {
+    for (const char* topic : {"",
+                              "/",
+                              "Query",
+                              "Query/Request",
+                              "Query/Request/",
+                              "/Query/Request/dev",
+                              "Query/Request//ex",
+                              "Query/Request/dev/ex/",
+                              "Query/Request/dev/ex/more",
+                              "Query/Reqest/dev",
+                              "query/request/dev",
+                              "Querry/Request/dev",
+                              "Query/Request/+",
+                              "Query/Request/dev/#",
+                              "Register/Request/dev",
+                              "Register/Response",
+                              "Register/Response/a/b",
+                              "Discovery/Request",
+                              "Discovery/Request/a/b",
+                              "Sample/dev",
+                              "Sample/dev/a/b/c",
+                              "Notify/State",
+                              "Notify/State/a/b",
+                              "Method/Call",
+                              "Method/Control/dev",
+                              "Probe/Version",
+                              "Probe/Version/a/b/c/d",
+                              "Event",
+                              "Event/d/e/f",
+                              "Regster/Sample/Request/dev",
+                              "Register/Sample/Request",
+                              "Unknown/Request/dev"}) {
         INFO(topic);
         CHECK_FALSE(parse_topic(topic));
     }
@@ -164,8 +204,7 @@ TEST_CASE("adapter subscriptions cover every request it serves, both spellings")
           "Probe/Set/Request/dev", "Register/Sample/Request/dev/ex", "Reigster/Sample/Request/dev/ex",
           "Unregister/Sample/Request/dev", "Unreigster/Sample/Request/dev/ex", "Register/Event/Request/dev/ex",
           "Reigster/Event/Request/dev", "Unregister/Event/Request/dev/ex", "Unreigster/Event/Request/dev/ex",
-          "Method/Call/dev/ex", "Method/Control/Request/dev/ex", "Register/Response/dev",
-          "Probe/Version/Response/dev/ex"}) {
+          "Method/Call/dev/ex", "Method/Control/Request/dev/ex", "Register/Response/dev", "Probe/Version/Response/dev/ex"}) {
         INFO(topic);
         CHECK(std::any_of(subs.begin(), subs.end(), [&](const std::string& f) { return topic_matches(f, topic); }));
         std::string other = topic;

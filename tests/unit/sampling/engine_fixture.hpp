@@ -53,8 +53,7 @@ public:
 struct EngineFixture {
     /// `other_driver`: read that driver instead of the CountingDriver.
     /// `model`/`values`: the snapshot whose chapter-7 rules sampled values are checked against.
-    explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false,
-                           std::shared_ptr<Driver> other_driver = nullptr,
+    explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false, std::shared_ptr<Driver> other_driver = nullptr,
                            std::shared_ptr<const detail::ModelState> model = nullptr, detail::ValueGuard* values = nullptr,
                            double phase = 0) {
         driver = std::make_shared<CountingDriver>();

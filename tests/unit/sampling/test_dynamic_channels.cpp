@@ -33,11 +33,13 @@ struct DynamicFixture : AdapterFixture {
 
     Json register_sampling(const Json& ids, double sample_ms, double upload_ms, const std::string& ex = "app",
                            const Json& extra = Json::object()) {
-        Json request{{"@id", "r" + std::to_string(++counter)}, {"guid", kDev}, {"sampleInterval", sample_ms},
-                     {"uploadInterval", upload_ms}, {"ids", ids}};
+        Json request{{"@id", "r" + std::to_string(++counter)},
+                     {"guid", kDev},
+                     {"sampleInterval", sample_ms},
+                     {"uploadInterval", upload_ms},
+                     {"ids", ids}};
         for (auto it = extra.begin(); it != extra.end(); ++it) request[it.key()] = it.value();
-        return app->request(topics::sample_register_request(kDev, ex), topics::sample_register_response(kDev, ex),
-                            request);
+        return app->request(topics::sample_register_request(kDev, ex), topics::sample_register_response(kDev, ex), request);
     }
     Json unregister_sampling(const std::string& channel, const std::string& ex = "app") {
         return app->request(topics::sample_unregister_request(kDev, ex), topics::sample_unregister_response(kDev, ex),
@@ -113,7 +115,7 @@ TEST_CASE("dynamic registration refuses unknown ids configs and empty ids") {
     DynamicFixture f;
     check_ng(f.register_sampling(ids({"pos", "nope"}), 10, 10), ErrorCode::node_not_exists);
     check_ng(f.register_sampling(ids({"feed_ovr_cfg"}), 10, 10), ErrorCode::node_not_exists);  // configs are never sampled
-    check_ng(f.register_sampling(ids({"ch1"}), 10, 10), ErrorCode::node_not_exists);  // a channel is no data item
+    check_ng(f.register_sampling(ids({"ch1"}), 10, 10), ErrorCode::node_not_exists);           // a channel is no data item
     check_ng(f.register_sampling(Json::array(), 10, 10), ErrorCode::parameter_missing);
     CHECK(f.dynamic_stats()["channels"] == 0);
     CHECK(f.dynamic_stats()["refused"] == 4);
@@ -125,7 +127,7 @@ TEST_CASE("dynamic registration refuses intervals that cannot work with 411") {
     check_ng(f.register_sampling(ids({"pos"}), -5, 10), ErrorCode::attribute_error);
     check_ng(f.register_sampling(ids({"pos"}), 10, 0), ErrorCode::attribute_error);
     check_ng(f.register_sampling(ids({"pos"}), 20, 10), ErrorCode::attribute_error);  // upload < sample
-    CHECK(f.register_sampling(ids({"pos"}), 20, 20)["code"] == "OK");  // equal is fine
+    CHECK(f.register_sampling(ids({"pos"}), 20, 20)["code"] == "OK");                 // equal is fine
     CHECK(f.dynamic_stats()["channels"] == 1);
 }
 
@@ -138,8 +140,7 @@ TEST_CASE("dynamic registration answers malformed requests with the codec's code
         return f.app->wait(reply_topic, before + 1);
     };
     check_ng(send_raw("{not json"), ErrorCode::syntax_error);
-    check_ng(send_raw(R"({"@id":"m1","guid":"test-dev","sampleInterval":10,"uploadInterval":10})"),
-             ErrorCode::parameter_missing);
+    check_ng(send_raw(R"({"@id":"m1","guid":"test-dev","sampleInterval":10,"uploadInterval":10})"), ErrorCode::parameter_missing);
     const Json wrong_type =
         send_raw(R"({"@id":"m2","guid":"test-dev","sampleInterval":"fast","uploadInterval":10,"ids":[{"id":"pos"}]})");
     check_ng(wrong_type, ErrorCode::value_type);
@@ -148,9 +149,9 @@ TEST_CASE("dynamic registration answers malformed requests with the codec's code
 
 TEST_CASE("dynamic registration without an application id in the topic is refused with 414") {
     DynamicFixture f;
-    const Json reply = f.app->request(
-        topics::sample_register_request(kDev), topics::sample_register_response(kDev),
-        Json{{"@id", "x1"}, {"guid", kDev}, {"sampleInterval", 10}, {"uploadInterval", 10}, {"ids", ids({"pos"})}});
+    const Json reply =
+        f.app->request(topics::sample_register_request(kDev), topics::sample_register_response(kDev),
+                       Json{{"@id", "x1"}, {"guid", kDev}, {"sampleInterval", 10}, {"uploadInterval", 10}, {"ids", ids({"pos"})}});
     check_ng(reply, ErrorCode::unsupported_terminal_id);
     CHECK(reply["@id"] == "x1");
 }

@@ -52,8 +52,7 @@ struct HostedEngine {
         for (const auto& m : sent) {
             if (m.topic != topics::sample(dev, channel)) continue;
             const Json dtu = Json::parse(m.payload);  // kept: the loop below borrows from it
-            for (const auto& v : dtu.at("data")[0].at("data"))
-                out.push_back(v.is_null() ? -1 : v.get<std::int64_t>());
+            for (const auto& v : dtu.at("data")[0].at("data")) out.push_back(v.is_null() ? -1 : v.get<std::int64_t>());
         }
         return out;
     }
@@ -138,5 +137,5 @@ TEST_CASE("shared threads give the adapters sampling phases spread evenly over t
         places.insert(phase);
     }
     CHECK(places.size() == SharedThreads::Impl::kSamplingPhases);  // every place once
-    CHECK(impl.next_sampling_phase() == 0);   // then round again
+    CHECK(impl.next_sampling_phase() == 0);                        // then round again
 }

@@ -52,7 +52,7 @@ TEST_CASE("missed ticks still produce rows with null in every slot and count as 
     EngineFixture f;
     REQUIRE(f.engine->add_channel(EngineFixture::spec("ch", {"a", "b"}, 10, 100)).ok());
     f.engine->run_sampling_once();  // tick 0
-    f.clock->advance(35ms);          // ticks 1, 2 missed; tick 3 is read (5 ms late)
+    f.clock->advance(35ms);         // ticks 1, 2 missed; tick 3 is read (5 ms late)
     f.engine->run_sampling_once();
     f.engine->run_upload_once(true);
     const auto cols = f.columns("Sample/dev1/ch");
@@ -86,7 +86,7 @@ TEST_CASE("after a long stall only one upload period of null rows is made and th
     EngineFixture f;
     REQUIRE(f.engine->add_channel(EngineFixture::spec("ch", {"a"}, 10, 50)).ok());
     f.engine->run_sampling_once();  // tick 0
-    f.clock->advance(1000ms);        // 100 ticks due
+    f.clock->advance(1000ms);       // 100 ticks due
     f.engine->run_sampling_once();
     f.engine->run_upload_once(true);
     const auto s = f.stats("ch");

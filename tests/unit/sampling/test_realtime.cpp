@@ -26,9 +26,7 @@ bool kernel_has_slices() {
     return major > 6 || (major == 6 && minor >= 12);
 }
 
-int thread_nice() {
-    return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)));
-}
+int thread_nice() { return getpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid))); }
 
 template <typename F>
 void on_new_thread(F f) {

@@ -28,7 +28,9 @@ struct ScriptedTransport final : nclink::test::RecordingTransport {
 
 /// A Sample DTU whose only varying value is its sequence number.
 Message dtu(int n, std::size_t pad = 0) {
-    Json j{{"guid", "dev"}, {"id", "ch"}, {"beginTime", std::to_string(1000 + n)},
+    Json j{{"guid", "dev"},
+           {"id", "ch"},
+           {"beginTime", std::to_string(1000 + n)},
            {"data", Json::array({Json{{"data", Json::array({n})}}})}};
     if (pad) j["pad"] = std::string(pad, 'x');
     return Message{"Sample/dev/ch", j.dump(), 0, false};
@@ -38,8 +40,8 @@ int seq_of(const Message& m) { return Json::parse(m.payload)["data"][0]["data"][
 bool marked(const Message& m) { return is_replayed(Json::parse(m.payload)); }
 
 std::string scratch(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("nclink-spool-" + name + "-" + std::to_string(std::random_device{}()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("nclink-spool-" + name + "-" + std::to_string(std::random_device{}()));
     std::filesystem::remove_all(dir);
     return dir.string();
 }
@@ -83,8 +85,7 @@ TEST_CASE("mark_replayed adds the marker without touching the rest") {
     const Json kept = Json::parse(mark_replayed(R"({"id":"c","privateInfo":{"vendor":7}})"));
     CHECK(kept["privateInfo"] == Json{{"vendor", 7}, {"replayed", true}});
     CHECK(Json::parse(mark_replayed(R"({"id":"c","privateInfo":null})"))["privateInfo"] == Json{{"replayed", true}});
-    CHECK(Json::parse(mark_replayed(R"({"id":"c","privateInfo":"x"})"))["privateInfo"] ==
-          Json{{"value", "x"}, {"replayed", true}});
+    CHECK(Json::parse(mark_replayed(R"({"id":"c","privateInfo":"x"})"))["privateInfo"] == Json{{"value", "x"}, {"replayed", true}});
     // A string value mentioning privateInfo is not mistaken for the key.
     const Json tricky = Json::parse(mark_replayed(R"({"id":"say \"privateInfo\""})"));
     CHECK(tricky["id"] == "say \"privateInfo\"");

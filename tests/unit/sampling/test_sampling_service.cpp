@@ -68,8 +68,11 @@ TEST_CASE("a Probe/Set restarts the sample channels from the new model") {
     REQUIRE(eventually([&] { return rows_of(*f.adapter, "ch1") >= 1; }));
     Json model = test_model();
     auto& configs = model["devices"][0]["configs"];
-    configs[2] = Json{{"id", "ch2"}, {"type", "SAMPLE_CHANNEL"}, {"ids", Json::array({Json{{"id", "ovr"}}, Json{{"id", "pos"}}})},
-                      {"sampleInterval", 10}, {"uploadInterval", 20}};
+    configs[2] = Json{{"id", "ch2"},
+                      {"type", "SAMPLE_CHANNEL"},
+                      {"ids", Json::array({Json{{"id", "ovr"}}, Json{{"id", "pos"}}})},
+                      {"sampleInterval", 10},
+                      {"uploadInterval", 20}};
     model["devices"][0]["version"] = "1.0.1";
     const Json reply = f.app->request(topics::probe_set_request("test-dev", "app"), topics::probe_set_response("test-dev", "app"),
                                       Json{{"@id", "ps1"}, {"guid", "test-dev"}, {"probe", model}});

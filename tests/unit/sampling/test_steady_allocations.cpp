@@ -52,7 +52,8 @@ public:
     }
     bool read_samples(const std::vector<PointRef>& points, SampleValue* out) override {
         ++reads;
-        for (std::size_t i = 0; i < points.size(); ++i) out[i] = SampleValue::float64(100.125 + static_cast<double>(reads % 7) + i);
+        for (std::size_t i = 0; i < points.size(); ++i)
+            out[i] = SampleValue::float64(100.125 + static_cast<double>(reads % 7) + i);
         return true;
     }
     std::uint64_t reads = 0;
@@ -69,7 +70,7 @@ std::uint64_t allocations_of(Work work) {
 }
 
 struct Steady {
-    std::uint64_t rows = 0;                 // sampled in the measured upload period
+    std::uint64_t rows = 0;                  // sampled in the measured upload period
     std::uint64_t sampling_allocations = 0;  // while sampling them
     std::uint64_t upload_allocations = 0;    // while publishing them as one DTU
 };

@@ -28,12 +28,9 @@ public:
         // One buffer rewritten at every call: the SDK must copy the text.
         text_buffer = status;
         for (std::size_t i = 0; i < points.size(); ++i) {
-            if (points[i].id == "st")
-                out[i] = SampleValue::text(text_buffer);
-            else if (points[i].id == "gone")
-                continue;  // left null: not readable now
-            else
-                out[i] = SampleValue::float64(0.5 + typed_reads);
+            if (points[i].id == "st") out[i] = SampleValue::text(text_buffer);
+            else if (points[i].id == "gone") continue;  // left null: not readable now
+            else out[i] = SampleValue::float64(0.5 + typed_reads);
         }
         return true;
     }
@@ -155,7 +152,7 @@ TEST_CASE("an engine's phase shifts its channels' grid by that fraction of the i
     f.engine->run_sampling_once();
     CHECK(f.stats("a").rows_sampled == 1);
     CHECK(f.stats("a").lateness[0] == 1);  // on time
-    f.clock->advance(10ms);  // t = 22.5 ms: the next tick, one interval on
+    f.clock->advance(10ms);                // t = 22.5 ms: the next tick, one interval on
     f.engine->run_sampling_once();
     CHECK(f.stats("a").rows_sampled == 2);
 }

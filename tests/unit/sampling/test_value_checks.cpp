@@ -25,7 +25,8 @@ std::shared_ptr<const detail::ModelState> state_of(const std::string& text) {
 /// A model of one MACHINE (guid dev1) whose data items are `items` (JSON).
 std::shared_ptr<const detail::ModelState> machine_with(const std::string& items) {
     return state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
-      "guid":"dev1","version":"1.0.0","dataItems":)" + items + "}]}");
+      "guid":"dev1","version":"1.0.0","dataItems":)" +
+                    items + "}]}");
 }
 
 /// Channel "c" of `ids` at 10 ms / 100 ms: one upload period sampled and published.
@@ -39,8 +40,7 @@ void sample_one_period(EngineFixture& f, const std::vector<std::string>& ids) {
 }  // namespace
 
 TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
-    auto state = machine_with(
-        R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"n","type":"POSITION"},{"id":"w","type":"WARNING"}])");
+    auto state = machine_with(R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"n","type":"POSITION"},{"id":"w","type":"WARNING"}])");
     detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->texts["mode"] = "spinning";  // not a value of table 15
@@ -66,8 +66,7 @@ TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
 TEST_CASE("sampled doubles outside a number item's range are sent as null, those inside pass") {
     // MASS is never negative, POWER_FACTOR at most 1 (table 10); the
     // uploader checks float64 samples of such items inline.
-    auto state = machine_with(
-        R"([{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},{"id":"n","type":"POSITION"}])");
+    auto state = machine_with(R"([{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},{"id":"n","type":"POSITION"}])");
     detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->doubles["m"] = -1.5;
@@ -103,9 +102,9 @@ TEST_CASE("a double where an item takes text, or text where it takes a number, i
     auto state = machine_with(R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"m","type":"MASS"}])");
     detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
-    f.driver->doubles["mode"] = 2.0;     // table 15 takes a text
-    f.driver->texts["m"] = "heavy";      // table 10 takes a number
-    f.driver->doubles["free"] = -7.25;   // not in the model: no rule
+    f.driver->doubles["mode"] = 2.0;    // table 15 takes a text
+    f.driver->texts["m"] = "heavy";     // table 10 takes a number
+    f.driver->doubles["free"] = -7.25;  // not in the model: no rule
     sample_one_period(f, {"mode", "m", "free"});
     const auto cols = f.columns("Sample/dev1/c");
     REQUIRE(cols.size() == 3);

@@ -39,8 +39,8 @@ struct Rig {
     std::vector<nclink::Result<nclink::Json>> read(const std::vector<std::string>& ids) {
         std::vector<nclink::PointRef> points;
         for (const auto& id : ids) points.push_back({id, nclink::DataKind::single});
-        std::vector<nclink::Result<nclink::Json>> results(points.size(),
-                                                          nclink::Result<nclink::Json>(nclink::make_error(nclink::ErrorCode::unavailable)));
+        std::vector<nclink::Result<nclink::Json>> results(
+            points.size(), nclink::Result<nclink::Json>(nclink::make_error(nclink::ErrorCode::unavailable)));
         driver->read(points, results);
         return results;
     }

@@ -144,12 +144,10 @@ TEST_CASE("program_transfer refuses what it cannot or must not do") {
     Dirs::write(rig.dirs.outside / "p.nc", 10);
     TestControl control;
     const std::string src = (rig.dirs.outside / "p.nc").string();
-    CHECK(rig.transfer(Json{{"source", src}, {"destination", "../escape"}}, control).error().code ==
-          ErrorCode::permission_denied);
+    CHECK(rig.transfer(Json{{"source", src}, {"destination", "../escape"}}, control).error().code == ErrorCode::permission_denied);
     CHECK(rig.transfer(Json{{"operation", "pull"}, {"source", "../p.nc"}, {"destination", "/tmp/x"}}, control).error().code ==
           ErrorCode::permission_denied);
-    CHECK(rig.transfer(Json{{"operation", "pull"}, {"source", "p.nc"}}, control).error().code ==
-          ErrorCode::parameter_missing);
+    CHECK(rig.transfer(Json{{"operation", "pull"}, {"source", "p.nc"}}, control).error().code == ErrorCode::parameter_missing);
     CHECK(rig.transfer(Json{{"source", (rig.dirs.outside / "missing.nc").string()}}, control).error().code ==
           ErrorCode::unavailable);
     CHECK(rig.transfer(Json{{"source", src}, {"protocol", "FTP"}}, control).error().code == ErrorCode::out_of_range);
@@ -186,8 +184,8 @@ TEST_CASE("a paced transfer follows the clock, pauses at checkpoints and cancels
     CHECK(control.last() < 100);
     control.cancel();
     method.join();
-    REQUIRE(outcome.ok());  // a cancelled method returns what it did
-    CHECK(outcome.value()["bytes"].get<int>() >= 4 * 1024);  // what was copied before the cancel
+    REQUIRE(outcome.ok());                                          // a cancelled method returns what it did
+    CHECK(outcome.value()["bytes"].get<int>() >= 4 * 1024);         // what was copied before the cancel
     CHECK(Dirs::read(rig.dirs.programs / "big.nc").size() == 100);  // untouched
     CHECK(Dirs::entries(rig.dirs.programs) == 1);                   // no temp file
 }

@@ -20,10 +20,12 @@ Pos position(Rig& rig) {
     return {r[0].value().get<double>(), r[1].value().get<double>(), r[2].value().get<double>()};
 }
 
-double distance(const Pos& a, const Pos& b) { return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)); }
+double distance(const Pos& a, const Pos& b) {
+    return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
+}
 
 constexpr double rapid_mm_s = 6000.0 / 60.0;  // the fastest the mill moves at 100 %
-constexpr double rounding = 0.0025;            // positions are rounded to 1 um per axis
+constexpr double rounding = 0.0025;           // positions are rounded to 1 um per axis
 
 }  // namespace
 
@@ -54,8 +56,8 @@ TEST_CASE("axes move continuously, never faster than feed x override") {
         last = p;
         if (i % 10 == 0) lines.insert(rig.value("line_number").get<std::string>());
     }
-    CHECK(travelled > 500);       // the program really runs
-    CHECK(lines.size() > 10);     // and the line number advances
+    CHECK(travelled > 500);    // the program really runs
+    CHECK(lines.size() > 10);  // and the line number advances
     CHECK(rig.value("tool_number").is_number());
 
     SECTION("half the feed override halves the top speed") {

@@ -28,8 +28,11 @@ TEST_CASE("the plugin simulates the mill from its configuration") {
     auto driver = loaded.value();
     CHECK(driver->info().name == "nclink-sim");
 
-    std::vector<PointRef> points{{"x_position", DataKind::single}, {"status", DataKind::single},
-                                 {"tools", DataKind::list}, {"parameters", DataKind::dict}, {"nope", DataKind::single}};
+    std::vector<PointRef> points{{"x_position", DataKind::single},
+                                 {"status", DataKind::single},
+                                 {"tools", DataKind::list},
+                                 {"parameters", DataKind::dict},
+                                 {"nope", DataKind::single}};
     std::vector<Result<Json>> results(points.size(), Result<Json>(make_error(ErrorCode::unavailable)));
     driver->read(points, results);
     REQUIRE(results[0].ok());

@@ -119,9 +119,9 @@ TEST_CASE("a deviating model is simulated generically") {
     CHECK_FALSE(rig.driver->is_mill());
     CHECK(rig.driver->info().name == "nclink-sim");
     CHECK_FALSE(rig.driver->info().concurrent);
-    CHECK_FALSE(rig.driver->claims("010302"));   // a data item: the driver's anyway
-    CHECK(rig.driver->claims("01031207"));         // config tool table without a value: simulated
-    CHECK_FALSE(rig.driver->claims("01030803"));   // config with a fixed value: the SDK's
+    CHECK_FALSE(rig.driver->claims("010302"));    // a data item: the driver's anyway
+    CHECK(rig.driver->claims("01031207"));        // config tool table without a value: simulated
+    CHECK_FALSE(rig.driver->claims("01030803"));  // config with a fixed value: the SDK's
     CHECK(rig.driver->link().state == MachineLink::connected);
     // dataType: DICT program names, TYPE, manufacturer, SPDL_OVERRIDE.
     CHECK(rig.value("01031217").is_object());

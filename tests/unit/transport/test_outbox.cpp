@@ -37,11 +37,14 @@ TEST_CASE("acknowledgements wake the outbox's sender only when messages wait beh
     FakeLink link;
     OutboxLimits limits;
     limits.max_in_flight = 2;
-    detail::Outbox outbox(limits, [&](const std::shared_ptr<const Message>& m, std::uint64_t attempt) {
-        std::lock_guard<std::mutex> lock(link.mutex);
-        link.sent.emplace_back(m->payload, attempt);
-        return true;
-    }, Logger());
+    detail::Outbox outbox(
+        limits,
+        [&](const std::shared_ptr<const Message>& m, std::uint64_t attempt) {
+            std::lock_guard<std::mutex> lock(link.mutex);
+            link.sent.emplace_back(m->payload, attempt);
+            return true;
+        },
+        Logger());
     outbox.link_up();
     std::this_thread::sleep_for(20ms);  // link_up's wake-up, if the sender was already asleep
     const auto settled = outbox.sender_wakeups();

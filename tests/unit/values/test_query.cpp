@@ -41,10 +41,8 @@ TEST_CASE("evaluate consuming the value answers as evaluate reading it") {
         Json taken = list;
         const auto consuming = evaluate(*parsed, std::move(taken), DataKind::list);
         REQUIRE(reading.ok() == consuming.ok());
-        if (reading.ok())
-            CHECK(*reading == *consuming);
-        else
-            CHECK(reading.error().code == consuming.error().code);
+        if (reading.ok()) CHECK(*reading == *consuming);
+        else CHECK(reading.error().code == consuming.error().code);
     }
     // The whole item is taken over, not copied: the source is left moved-from (null).
     Json big = Json::array({1, 2, 3});
@@ -81,8 +79,7 @@ TEST_CASE("list queries of examples 8.2.11-3 / 8.2.12-3") {
 
 TEST_CASE("list index forms: numbers, mixed, overlapping, single-element ranges") {
     const Json list = example_list();
-    CHECK(q(R"({"operation": "get_value", "indexes": [1, "2", "3-3"]})", list, DataKind::list) ==
-          Json::parse("[20, 30, 40]"));
+    CHECK(q(R"({"operation": "get_value", "indexes": [1, "2", "3-3"]})", list, DataKind::list) == Json::parse("[20, 30, 40]"));
     CHECK(q(R"({"operation": "get_value", "indexes": ["7-9", "8-9", 0]})", list, DataKind::list) ==
           Json::parse("[8, 9, 10, 9, 10, 100.234]"));
     CHECK(q(R"({"operation": "get_value", "index": 9})", list, DataKind::list) == Json::parse("[10]"));
@@ -90,9 +87,8 @@ TEST_CASE("list index forms: numbers, mixed, overlapping, single-element ranges"
     CHECK(q(R"({"indexes": "1-2"})", list, DataKind::list) == Json::parse("[20, 30]"));
     CHECK(q(R"({"operation": "get_attributes", "indexes": ["0", "5-6", 9]})", list, DataKind::list) ==
           Json::parse(R"(["number", "string", "array", "number"])"));
-    CHECK(q(R"({"operation": "get_attributes", "indexes": [0, 1, 2, 3]})",
-            Json::parse(R"([true, null, {}, -1])"), DataKind::list) ==
-          Json::parse(R"(["boolean", "null", "object", "number"])"));
+    CHECK(q(R"({"operation": "get_attributes", "indexes": [0, 1, 2, 3]})", Json::parse(R"([true, null, {}, -1])"),
+            DataKind::list) == Json::parse(R"(["boolean", "null", "object", "number"])"));
 }
 
 TEST_CASE("query errors") {
@@ -103,8 +99,7 @@ TEST_CASE("query errors") {
         return code_of(evaluate_query(Json::parse(params), current, kind));
     };
     // 101: beyond the list.
-    CHECK(code(R"({"operation": "get_value", "indexes": ["0", "8-10"]})", list, DataKind::list) ==
-          ErrorCode::out_of_range);
+    CHECK(code(R"({"operation": "get_value", "indexes": ["0", "8-10"]})", list, DataKind::list) == ErrorCode::out_of_range);
     CHECK(code(R"({"operation": "get_value", "indexes": [-1]})", list, DataKind::list) == ErrorCode::out_of_range);
     // 202: element access on an unknown value.
     CHECK(code(R"({"operation": "get_length"})", Json(), DataKind::list) == ErrorCode::unavailable);
@@ -123,8 +118,7 @@ TEST_CASE("query errors") {
     // 406 / 407 / 408: operations the kind lacks.
     CHECK(code(R"({"operation": "get_length"})", dict, DataKind::dict) == ErrorCode::unsupported_get_length);
     CHECK(code(R"({"operation": "get_length"})", Json(1), DataKind::single) == ErrorCode::unsupported_get_length);
-    CHECK(code(R"({"operation": "get_attributes"})", Json(1), DataKind::single) ==
-          ErrorCode::unsupported_get_attributes);
+    CHECK(code(R"({"operation": "get_attributes"})", Json(1), DataKind::single) == ErrorCode::unsupported_get_attributes);
     CHECK(code(R"({"operation": "get_keys"})", list, DataKind::list) == ErrorCode::unsupported_get_keys);
     CHECK(code(R"({"operation": "get_keys"})", Json(1), DataKind::single) == ErrorCode::unsupported_get_keys);
     // 409: parameters the item/operation does not take.
@@ -133,12 +127,10 @@ TEST_CASE("query errors") {
     CHECK(code(R"({"indexes": ["0"]})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
     CHECK(code(R"({"keys": ["k1"]})", list, DataKind::list) == ErrorCode::arguments_nimiety);
     CHECK(code(R"({"operation": "get_keys", "keys": ["k1"]})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
-    CHECK(code(R"({"operation": "get_length", "indexes": [0]})", list, DataKind::list) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(code(R"({"operation": "get_length", "indexes": [0]})", list, DataKind::list) == ErrorCode::arguments_nimiety);
     CHECK(code(R"({"key": "k1", "keys": ["k2"]})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
     // 410: key not in the dict.
-    CHECK(code(R"({"operation": "get_value", "keys": ["k1", "nope"]})", dict, DataKind::dict) ==
-          ErrorCode::key_error);
+    CHECK(code(R"({"operation": "get_value", "keys": ["k1", "nope"]})", dict, DataKind::dict) == ErrorCode::key_error);
     CHECK(code(R"({"operation": "get_attributes", "keys": ["nope"]})", dict, DataKind::dict) == ErrorCode::key_error);
     // 412: params not an object, malformed ranges.
     CHECK(code(R"("get_keys")", dict, DataKind::dict) == ErrorCode::syntax_error);

@@ -106,20 +106,15 @@ TEST_CASE("set is all-or-nothing") {
     CHECK(s_fails(R"({"keys": ["k1", "nope"], "values": [1, 2]})", dict, DataKind::dict) == ErrorCode::key_error);
     // The second value has the wrong type.
     CHECK(s_fails(R"({"keys": ["k1", "k2"], "values": [1, 2]})", dict, DataKind::dict) == ErrorCode::value_type);
-    CHECK(s_fails(R"({"operation": "add", "keys": ["new", "k1"], "values": [1, 2]})", dict, DataKind::dict) ==
-          ErrorCode::key_error);
+    CHECK(s_fails(R"({"operation": "add", "keys": ["new", "k1"], "values": [1, 2]})", dict, DataKind::dict) == ErrorCode::key_error);
     CHECK(s_fails(R"({"operation": "add", "keys": ["new", "new"], "values": [1, 2]})", dict, DataKind::dict) ==
           ErrorCode::key_error);
-    CHECK(s_fails(R"({"operation": "delete", "keys": ["k1", "nope"]})", dict, DataKind::dict) ==
-          ErrorCode::key_error);
+    CHECK(s_fails(R"({"operation": "delete", "keys": ["k1", "nope"]})", dict, DataKind::dict) == ErrorCode::key_error);
     const Json list = example_list();
-    CHECK(s_fails(R"({"indexes": ["0-2"], "values": [1, 2, "three"]})", list, DataKind::list) ==
-          ErrorCode::value_type);
+    CHECK(s_fails(R"({"indexes": ["0-2"], "values": [1, 2, "three"]})", list, DataKind::list) == ErrorCode::value_type);
     CHECK(s_fails(R"({"indexes": ["8-10"], "value": 1})", list, DataKind::list) == ErrorCode::out_of_range);
-    CHECK(s_fails(R"({"operation": "delete", "indexes": [0, 10]})", list, DataKind::list) ==
-          ErrorCode::out_of_range);
-    CHECK(s_fails(R"({"indexes": [5, 1], "offset": 0, "length": 1, "value": "x"})", list, DataKind::list) ==
-          ErrorCode::value_type);
+    CHECK(s_fails(R"({"operation": "delete", "indexes": [0, 10]})", list, DataKind::list) == ErrorCode::out_of_range);
+    CHECK(s_fails(R"({"indexes": [5, 1], "offset": 0, "length": 1, "value": "x"})", list, DataKind::list) == ErrorCode::value_type);
 }
 
 TEST_CASE("set errors") {
@@ -128,8 +123,7 @@ TEST_CASE("set errors") {
     const Json list = example_list();
     // 101
     CHECK(s_fails(R"({"index": 10, "value": 1})", list, DataKind::list) == ErrorCode::out_of_range);
-    CHECK(s_fails(R"({"operation": "add", "index": 11, "value": 1})", list, DataKind::list) ==
-          ErrorCode::out_of_range);
+    CHECK(s_fails(R"({"operation": "add", "index": 11, "value": 1})", list, DataKind::list) == ErrorCode::out_of_range);
     CHECK(s_fails(R"({"operation": "delete", "index": 10})", list, DataKind::list) == ErrorCode::out_of_range);
     CHECK(s_fails(R"({"index": -2, "value": 1})", list, DataKind::list) == ErrorCode::out_of_range);
     // 102: nothing to write
@@ -138,13 +132,11 @@ TEST_CASE("set errors") {
     CHECK(s_fails(R"({"operation": "set_value"})", single, DataKind::single) == ErrorCode::parameter_missing);
     CHECK(s_fails(R"({"operation": "add", "key": "n"})", dict, DataKind::dict) == ErrorCode::parameter_missing);
     CHECK(s_fails(R"({"operation": "add", "index": 0})", list, DataKind::list) == ErrorCode::parameter_missing);
-    CHECK(s_fails(R"({"indexes": ["0-3"], "values": [1, 2]})", list, DataKind::list) ==
-          ErrorCode::parameter_missing);
+    CHECK(s_fails(R"({"indexes": ["0-3"], "values": [1, 2]})", list, DataKind::list) == ErrorCode::parameter_missing);
     CHECK(s_fails(R"({"values": []})", single, DataKind::single) == ErrorCode::parameter_missing);
     // 202: element access on an unknown value
     CHECK(s_fails(R"({"key": "k1", "value": 1})", Json(), DataKind::dict) == ErrorCode::unavailable);
-    CHECK(s_fails(R"({"operation": "add", "index": 0, "value": 1})", Json(), DataKind::list) ==
-          ErrorCode::unavailable);
+    CHECK(s_fails(R"({"operation": "add", "index": 0, "value": 1})", Json(), DataKind::list) == ErrorCode::unavailable);
     // 301: not setable, checked before anything else
     CHECK(s_fails(R"({"value": 2})", single, DataKind::single, false) == ErrorCode::permission_denied);
     CHECK(s_fails(R"({"bogus": 2})", single, DataKind::single, false) == ErrorCode::permission_denied);
@@ -174,19 +166,15 @@ TEST_CASE("set errors") {
     CHECK(s_fails(R"({"offset": 1, "value": 2})", single, DataKind::single) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"length": 1, "value": 2})", single, DataKind::single) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"index": 0, "value": 2})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
-    CHECK(s_fails(R"({"key": "k1", "offset": 0, "value": 2})", dict, DataKind::dict) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(s_fails(R"({"key": "k1", "offset": 0, "value": 2})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"key": "k1", "value": 2})", list, DataKind::list) == ErrorCode::arguments_nimiety);
-    CHECK(s_fails(R"({"operation": "delete", "key": "k1", "value": 2})", dict, DataKind::dict) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(s_fails(R"({"operation": "delete", "key": "k1", "value": 2})", dict, DataKind::dict) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"operation": "add", "index": 0, "offset": 1, "value": 2})", list, DataKind::list) ==
           ErrorCode::arguments_nimiety);
-    CHECK(s_fails(R"({"operation": "add", "indexes": ["0-1"], "value": 2})", list, DataKind::list) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(s_fails(R"({"operation": "add", "indexes": ["0-1"], "value": 2})", list, DataKind::list) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"value": 1, "values": [1]})", single, DataKind::single) == ErrorCode::arguments_nimiety);
     CHECK(s_fails(R"({"values": [1, 2]})", single, DataKind::single) == ErrorCode::arguments_nimiety);
-    CHECK(s_fails(R"({"index": 0, "indexes": [1], "value": 1})", list, DataKind::list) ==
-          ErrorCode::arguments_nimiety);
+    CHECK(s_fails(R"({"index": 0, "indexes": [1], "value": 1})", list, DataKind::list) == ErrorCode::arguments_nimiety);
     // 410
     CHECK(s_fails(R"({"key": "nope", "value": 1})", dict, DataKind::dict) == ErrorCode::key_error);
     CHECK(s_fails(R"({"operation": "add", "key": "k1", "value": 1})", dict, DataKind::dict) == ErrorCode::key_error);
@@ -199,16 +187,14 @@ TEST_CASE("set errors") {
     CHECK(s_fails(R"(12.5)", single, DataKind::single) == ErrorCode::syntax_error);
     CHECK(s_fails(R"({"indexes": ["8-5"], "value": 1})", list, DataKind::list) == ErrorCode::syntax_error);
     // 413
-    CHECK(s_fails(R"({"operation": "replace", "value": 1})", single, DataKind::single) ==
-          ErrorCode::keys_of_arguments);
+    CHECK(s_fails(R"({"operation": "replace", "value": 1})", single, DataKind::single) == ErrorCode::keys_of_arguments);
     CHECK(s_fails(R"({"operation": "get_value"})", single, DataKind::single) == ErrorCode::keys_of_arguments);
     CHECK(s_fails(R"({"value": 1, "type": "number"})", single, DataKind::single) == ErrorCode::keys_of_arguments);
 }
 
 TEST_CASE("parse_set gives drivers a typed request") {
     const auto parsed = parse_set(
-        Json::parse(R"({"operation": "set_value", "index": 0, "offset": 5, "length": 10, "value": 16})"),
-        DataKind::list);
+        Json::parse(R"({"operation": "set_value", "index": 0, "offset": 5, "length": 10, "value": 16})"), DataKind::list);
     REQUIRE(parsed.ok());
     CHECK(parsed->operation == SetOperation::set_value);
     CHECK(parsed->indexes == std::vector<IndexRange>{{0, 0}});

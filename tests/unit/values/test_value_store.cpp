@@ -33,10 +33,8 @@ TEST_CASE("ValueStore registers items and answers query/set") {
     CHECK(code_of(store.set("010203", Json::parse(R"({"value": 1})"))) == ErrorCode::permission_denied);
     CHECK(code_of(store.set("nope", Json::parse(R"({"value": 1})"))) == ErrorCode::node_not_exists);
     REQUIRE(store.set("011213", Json::parse(R"({"operation": "add", "key": "AAA", "value": "111"})")).ok());
-    CHECK(*store.query("011213", Json::parse(R"({"operation": "get_keys"})")) ==
-          Json::parse(R"(["AAA", "k1", "k2", "k3"])"));
-    CHECK(code_of(store.set("011213", Json::parse(R"({"keys": ["k1", "zz"], "values": [1, 2]})"))) ==
-          ErrorCode::key_error);
+    CHECK(*store.query("011213", Json::parse(R"({"operation": "get_keys"})")) == Json::parse(R"(["AAA", "k1", "k2", "k3"])"));
+    CHECK(code_of(store.set("011213", Json::parse(R"({"keys": ["k1", "zz"], "values": [1, 2]})"))) == ErrorCode::key_error);
     CHECK((*store.get("011213"))["k1"] == 1234);  // untouched
 
     // put: SDK-side writes ignore setable but keep the kind.
@@ -80,8 +78,7 @@ TEST_CASE("ValueStore is safe to use from several threads") {
         threads.emplace_back([&store, &failures, t] {
             for (int i = 0; i < kRounds; ++i) {
                 // Writers: each thread adds its own keys and flips its own bit.
-                const Json add = {{"operation", "add"}, {"key", std::to_string(t) + "-" + std::to_string(i)},
-                                  {"value", i}};
+                const Json add = {{"operation", "add"}, {"key", std::to_string(t) + "-" + std::to_string(i)}, {"value", i}};
                 if (!store.set("counters", add).ok()) ++failures;
                 const Json bit = {{"index", t}, {"offset", i % 64}, {"value", 1}};
                 if (!store.set("regs", bit).ok()) ++failures;

@@ -18,9 +18,7 @@ ErrorCode code_of(const R& result) {
 }
 
 /// The example list of 8.2.12-3 (the standard prints "100,234"; it means 100.234).
-inline Json example_list() {
-    return Json::parse(R"([100.234, 20, 30, 40, 50, "str_v_6", [1.1, 2.2, 3.3], 8, 9, 10])");
-}
+inline Json example_list() { return Json::parse(R"([100.234, 20, 30, 40, 50, "str_v_6", [1.1, 2.2, 3.3], 8, 9, 10])"); }
 
 /// The example dict of 8.2.12-2.
 inline Json example_dict() { return Json::parse(R"({"k1": 1234, "k2": "kv_string", "k3": [1, 2, 3, 4]})"); }

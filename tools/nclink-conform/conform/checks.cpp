@@ -58,7 +58,6 @@ Problems response_basics(const Json& dtu, const Json& sent_id, std::string_view 
 
 using namespace check_text;
 
-
 std::optional<Json> parse_object(std::string_view payload, std::string* why) {
     Json parsed = Json::parse(payload.begin(), payload.end(), nullptr, false);
     if (parsed.is_discarded()) {
@@ -82,8 +81,7 @@ bool says_not_supported(const Json& dtu) {
     if (auto it = dtu.find("error"); it != dtu.end() && it->is_number() && it->get<double>() == 202) return true;
     if (auto reason = str(dtu, "reason")) {
         const std::string r = lower(*reason);
-        if (r == "unavailable" || r.find("not supported") != std::string::npos ||
-            r.find("unsupported") != std::string::npos)
+        if (r == "unavailable" || r.find("not supported") != std::string::npos || r.find("unsupported") != std::string::npos)
             // "unsupported operation get_length" (406-408) is about one operation, not the feature.
             return r.rfind("unsupported operation", 0) != 0;
     }
@@ -170,8 +168,7 @@ Problems check_discovery_response(const Json& dtu, const Json& sent_id, std::str
             out.push_back(where + fmt::format("\"status\" is {}, expected online/offline/unknown (table 25)",
                                               show(e.value("status", Json()))));
         auto stamp = str(e, "lastAliveTimeStamp");
-        if (!stamp || stamp->empty() ||
-            !std::all_of(stamp->begin(), stamp->end(), [](char c) { return c >= '0' && c <= '9'; }))
+        if (!stamp || stamp->empty() || !std::all_of(stamp->begin(), stamp->end(), [](char c) { return c >= '0' && c <= '9'; }))
             out.push_back(where + fmt::format("\"lastAliveTimeStamp\" is {}, expected seconds as a string (table 25)",
                                               show(e.value("lastAliveTimeStamp", Json()))));
         if (guid && *guid == dev) found = true;
@@ -197,10 +194,8 @@ ProbeCheck check_probe_response(const Json& dtu, const Json& sent_id, std::strin
         // The standard's example sends the text; docs/wire.md: we send an object and accept both.
         std::string why;
         auto parsed = parse_object(probe->get_ref<const std::string&>(), &why);
-        if (parsed)
-            out.model = std::move(*parsed);
-        else
-            out.problems.push_back("\"probe\" is a string that is " + why);
+        if (parsed) out.model = std::move(*parsed);
+        else out.problems.push_back("\"probe\" is a string that is " + why);
     } else {
         out.problems.push_back(fmt::format("\"probe\" is {}, not an object", probe->type_name()));
     }
@@ -223,16 +218,12 @@ std::vector<const DataObject*> served_items(const Model& model, const Device& de
 ObjectCounts count_objects(const Model& model) {
     ObjectCounts c;
     for (const auto& comp : model.components()) {
-        if (model_detail::is_component_type(comp.type))
-            ++c.components_standard;
-        else
-            ++c.components_custom;
+        if (model_detail::is_component_type(comp.type)) ++c.components_standard;
+        else ++c.components_custom;
     }
     for (const auto& item : model.data_objects()) {
-        if (model_detail::is_data_type(item.type))
-            ++c.data_standard;
-        else
-            ++c.data_custom;
+        if (model_detail::is_data_type(item.type)) ++c.data_standard;
+        else ++c.data_custom;
     }
     c.channels = model.channels().size();
     c.methods = model.methods().size();
@@ -283,8 +274,9 @@ Problems check_result_list(const Json& dtu, const char* key, const std::vector<s
         return out;
     }
     if (list->size() != ids.size())
-        out.push_back(fmt::format("\"{}\" has {} entries for {} requested items (8.2.12, docs/wire.md: exactly one per item, in order)",
-                                  key, list->size(), ids.size()));
+        out.push_back(
+            fmt::format("\"{}\" has {} entries for {} requested items (8.2.12, docs/wire.md: exactly one per item, in order)",
+                        key, list->size(), ids.size()));
     const std::size_t n = std::min(list->size(), ids.size());
     for (std::size_t i = 0; i < n; ++i) {
         const Json& e = (*list)[i];
@@ -294,15 +286,12 @@ Problems check_result_list(const Json& dtu, const char* key, const std::vector<s
             continue;
         }
         auto id = str(e, "id");
-        if (!id)
-            out.push_back(where + "\"id\" missing or not a string");
-        else if (*id != ids[i])
-            out.push_back(where + fmt::format("\"id\" is \"{}\" (answers must come in request order)", *id));
+        if (!id) out.push_back(where + "\"id\" missing or not a string");
+        else if (*id != ids[i]) out.push_back(where + fmt::format("\"id\" is \"{}\" (answers must come in request order)", *id));
         add_all(out, check_status_keys(e), where);
         if (query && is_ok(e)) {
             auto values = e.find("values");
-            if (values == e.end())
-                out.push_back(where + "code OK without \"values\"");
+            if (values == e.end()) out.push_back(where + "code OK without \"values\"");
             else if (!values->is_array())
                 out.push_back(where + fmt::format("\"values\" is {}, not an array (docs/wire.md: always an array)", show(*values)));
         }
@@ -312,8 +301,7 @@ Problems check_result_list(const Json& dtu, const char* key, const std::vector<s
 
 }  // namespace
 
-Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                              const std::vector<std::string>& ids) {
+Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_view dev, const std::vector<std::string>& ids) {
     Problems out = check_envelope(dtu, sent_id, dev, true);
     if (dtu.contains("code") && !is_ok(dtu) && !dtu.contains("values")) {
         out.push_back(fmt::format("the whole Query was refused: {}", show(dtu)));
@@ -323,8 +311,7 @@ Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_
     return out;
 }
 
-Problems check_set_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                            const std::vector<std::string>& ids) {
+Problems check_set_response(const Json& dtu, const Json& sent_id, std::string_view dev, const std::vector<std::string>& ids) {
     Problems out = check_envelope(dtu, sent_id, dev, true);
     if (dtu.contains("code") && !is_ok(dtu) && !dtu.contains("results") && !dtu.contains("values")) {
         out.push_back(fmt::format("the whole Set was refused: {}", show(dtu)));
@@ -337,8 +324,7 @@ Problems check_set_response(const Json& dtu, const Json& sent_id, std::string_vi
 const Json* result_entry(const Json& dtu, std::size_t index) {
     for (const char* key : {"values", "results"}) {
         auto list = dtu.find(key);
-        if (list != dtu.end() && list->is_array() && index < list->size() && (*list)[index].is_object())
-            return &(*list)[index];
+        if (list != dtu.end() && list->is_array() && index < list->size() && (*list)[index].is_object()) return &(*list)[index];
     }
     return nullptr;
 }
@@ -350,8 +336,8 @@ Problems check_whole_value(const DataObject& item, const Json& values) {
         return out;
     }
     if (values.size() != 1) {
-        out.push_back(fmt::format("a whole-item query answered {} values; expected [value] (docs/values.md): {}",
-                                  values.size(), show(values)));
+        out.push_back(fmt::format("a whole-item query answered {} values; expected [value] (docs/values.md): {}", values.size(),
+                                  show(values)));
         return out;
     }
     const Json& v = values[0];
@@ -387,8 +373,8 @@ Problems check_dict_keys(const Json& values, const Json& whole) {
         for (const auto& k : values) answered.insert(k.get<std::string>());
         for (auto it = whole.begin(); it != whole.end(); ++it) expected.insert(it.key());
         if (answered != expected)
-            out.push_back(fmt::format("get_keys answered {} keys, the whole dict has {} keys{}", answered.size(),
-                                      expected.size(), answered.size() == expected.size() ? " (different ones)" : ""));
+            out.push_back(fmt::format("get_keys answered {} keys, the whole dict has {} keys{}", answered.size(), expected.size(),
+                                      answered.size() == expected.size() ? " (different ones)" : ""));
     }
     return out;
 }
@@ -426,8 +412,7 @@ Problems check_event_data(const Json& dtu, std::string_view dev, std::string_vie
     if (!dtu.contains("@id")) out.push_back("\"@id\" is missing (table 52: it shall be present)");
     expect_string(out, dtu, "id", event_id, "table 52");
     auto time = dtu.find("time");
-    if (time == dtu.end())
-        out.push_back("\"time\" is missing (table 52)");
+    if (time == dtu.end()) out.push_back("\"time\" is missing (table 52)");
     else if (!time->is_number_integer())
         out.push_back(fmt::format("\"time\" is {}, expected a number of milliseconds (table 52)", show(*time)));
     else if (!plausible_epoch_ms(time->get<std::int64_t>()))
@@ -460,15 +445,13 @@ Problems check_method_result(const Json& dtu, const Json& sent_id, std::string_v
     expect_string(out, dtu, "id", method_id, "table 45");
     auto result = str(dtu, "result");
     if (!result || (*result != "finished" && *result != "canceled" && *result != "error"))
-        out.push_back(fmt::format("\"result\" is {}, expected finished/canceled/error (table 45)",
-                                  show(dtu.value("result", Json()))));
-    if (result && *result == "finished" && dtu.contains("code") && !is_ok(dtu))
-        out.push_back("result \"finished\" with code NG");
+        out.push_back(
+            fmt::format("\"result\" is {}, expected finished/canceled/error (table 45)", show(dtu.value("result", Json()))));
+    if (result && *result == "finished" && dtu.contains("code") && !is_ok(dtu)) out.push_back("result \"finished\" with code NG");
     return out;
 }
 
-Problems check_method_control_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                                       std::string_view method_id) {
+Problems check_method_control_response(const Json& dtu, const Json& sent_id, std::string_view dev, std::string_view method_id) {
     Problems out = response_basics(dtu, sent_id, dev, true);
     expect_string(out, dtu, "id", method_id, "table 47");
     return out;
@@ -485,8 +468,7 @@ Problems check_notify_state(const Message& message, std::string_view dev) {
     if (auto tid = dtu->find("tid"); tid != dtu->end() && (!tid->is_string() || tid->get<std::string>() != dev))
         out.push_back(fmt::format("\"tid\" is {}, expected \"{}\" (table 37)", show(*tid), dev));
     auto state = str(*dtu, "state");
-    if (!state)
-        out.push_back("\"state\" is missing or not a string (table 37)");
+    if (!state) out.push_back("\"state\" is missing or not a string (table 37)");
     else if (*state != "online")
         out.push_back(fmt::format("\"state\" is \"{}\" while the adapter is serving; expected \"online\"", *state));
     if (!message.retained)

@@ -74,8 +74,7 @@ std::string bump_version(std::string_view version);
 /// Query/Response (table 33): envelope, one entry per requested id in order,
 /// each with id, code and on OK a `values` array. Entry problems are prefixed
 /// with the item id.
-Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                              const std::vector<std::string>& ids);
+Problems check_query_response(const Json& dtu, const Json& sent_id, std::string_view dev, const std::vector<std::string>& ids);
 /// The `values` of a whole-item Query of `item` (docs/values.md: `[value]` for every
 /// kind): one element; an array (or null) for a list, an object (or null) for
 /// a dict; equal to the model's fixed `value` when it has one.
@@ -85,8 +84,7 @@ Problems check_list_length(const Json& values, const Json& whole);
 /// get_keys answer: strings, the keys of the whole dict (when known).
 Problems check_dict_keys(const Json& values, const Json& whole);
 /// Set/Response (table 35): envelope, one `results` entry per id in order.
-Problems check_set_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                            const std::vector<std::string>& ids);
+Problems check_set_response(const Json& dtu, const Json& sent_id, std::string_view dev, const std::vector<std::string>& ids);
 /// The `code`/`error` of entry `index` of a Query/Set answer's values/results.
 const Json* result_entry(const Json& dtu, std::size_t index);
 
@@ -144,8 +142,7 @@ Problems check_method_status(const Json& dtu, std::string_view dev, std::string_
 /// Method/Result (table 45): @id of the call, result finished/canceled/error, code.
 Problems check_method_result(const Json& dtu, const Json& sent_id, std::string_view dev, std::string_view method_id);
 /// Method/Control/Response (table 47).
-Problems check_method_control_response(const Json& dtu, const Json& sent_id, std::string_view dev,
-                                       std::string_view method_id);
+Problems check_method_control_response(const Json& dtu, const Json& sent_id, std::string_view dev, std::string_view method_id);
 
 // ---- state (table 61) ------------------------------------------------------------
 

@@ -55,10 +55,8 @@ Problems check_table19_reason(const Json& status) {
 Problems check_id_in_refusal(const Json& dtu, std::string_view table) {
     Problems out;
     const auto id = dtu.find("id");
-    if (id == dtu.end())
-        out.push_back(fmt::format("\"id\" is missing ({}: it shall be present, also in a refusal)", table));
-    else if (!id->is_string())
-        out.push_back(fmt::format("\"id\" is {}, not a string ({})", shown(*id), table));
+    if (id == dtu.end()) out.push_back(fmt::format("\"id\" is missing ({}: it shall be present, also in a refusal)", table));
+    else if (!id->is_string()) out.push_back(fmt::format("\"id\" is {}, not a string ({})", shown(*id), table));
     return out;
 }
 
@@ -84,9 +82,10 @@ Problems check_form_understood(const Json& entry, std::string_view form) {
 Problems check_version_round_trip(std::string_view announced, std::string_view probed, std::string_view expected) {
     Problems out;
     if (!expected.empty() && probed != expected)
-        out.push_back(fmt::format("Probe/Query returns version \"{}\" after Probe/Set set \"{}\": the model comes back changed "
-                                  "(8.2.8: the model file as provided)",
-                                  probed, expected));
+        out.push_back(
+            fmt::format("Probe/Query returns version \"{}\" after Probe/Set set \"{}\": the model comes back changed "
+                        "(8.2.8: the model file as provided)",
+                        probed, expected));
     if (!announced.empty() && announced != probed)
         out.push_back(fmt::format("Probe/Version announces \"{}\", the model Probe/Query returns has version \"{}\" (8.2.5)",
                                   announced, probed));
@@ -99,13 +98,15 @@ Problems check_set_echo(const Json& result, const Json& request_params) {
     if (echoed != result.end() && echoed->is_object()) {
         for (const char* key : {"value", "values"})
             if (echoed->contains(key))
-                out.push_back(fmt::format("the result echoes \"{}\": 8.2.14's examples echo what was done, not the value written", key));
+                out.push_back(
+                    fmt::format("the result echoes \"{}\": 8.2.14's examples echo what was done, not the value written", key));
     }
     if (!request_params.is_object()) return out;
     for (const char* key : {"operation", "key", "keys", "index", "indexes", "offset", "length"}) {
         if (!request_params.contains(key) || key == std::string_view("operation")) continue;
         if (echoed == result.end() || !echoed->is_object() || !echoed->contains(key))
-            out.push_back(fmt::format("the result does not echo \"{}\" of the request (8.2.14 examples 2 and 3: params echoed)", key));
+            out.push_back(
+                fmt::format("the result does not echo \"{}\" of the request (8.2.14 examples 2 and 3: params echoed)", key));
     }
     return out;
 }

@@ -18,9 +18,7 @@ double ChannelSpec::expected_rows() const {
     return std::max(1.0, upload_ms / sample_ms);
 }
 
-bool plausible_epoch_ms(std::int64_t ms) {
-    return ms >= 946'684'800'000LL && ms < 4'102'444'800'000LL;
-}
+bool plausible_epoch_ms(std::int64_t ms) { return ms >= 946'684'800'000LL && ms < 4'102'444'800'000LL; }
 
 SampleCheck check_sample_dtu(const Json& dtu, std::string_view dev, const ChannelSpec& spec) {
     SampleCheck out;
@@ -37,8 +35,7 @@ SampleCheck check_sample_dtu(const Json& dtu, std::string_view dev, const Channe
         const std::string& text = bt->get_ref<const std::string&>();
         if (!text.empty() && text.size() < 19 && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
             begin = std::stoll(text);
-        else
-            p.push_back(fmt::format("\"beginTime\" is \"{}\", not milliseconds since the epoch", text));
+        else p.push_back(fmt::format("\"beginTime\" is \"{}\", not milliseconds since the epoch", text));
     } else if (bt->is_number_integer()) {
         begin = bt->get<std::int64_t>();
         p.push_back("\"beginTime\" is a number; table 36 and docs/wire.md want a string");
@@ -54,31 +51,29 @@ SampleCheck check_sample_dtu(const Json& dtu, std::string_view dev, const Channe
         return out;
     }
     if (data->size() != spec.columns)
-        p.push_back(fmt::format("\"data\" has {} entries; channel \"{}\" samples {} data items (table 36: order and number "
-                                "shall match the model)",
-                                data->size(), spec.id, spec.columns));
+        p.push_back(
+            fmt::format("\"data\" has {} entries; channel \"{}\" samples {} data items (table 36: order and number "
+                        "shall match the model)",
+                        data->size(), spec.id, spec.columns));
     std::optional<std::size_t> rows;
     bool ragged = false;
     for (std::size_t i = 0; i < data->size(); ++i) {
         const Json& col = (*data)[i];
         const Json* series = nullptr;
-        if (col.is_object() && col.contains("data") && col["data"].is_array())
-            series = &col["data"];
+        if (col.is_object() && col.contains("data") && col["data"].is_array()) series = &col["data"];
         if (!series) {
             p.push_back(fmt::format("data[{}] is {}, expected {{\"data\": [...]}}", i, show(col, 80)));
             continue;
         }
-        if (!rows)
-            rows = series->size();
-        else if (*rows != series->size())
-            ragged = true;
+        if (!rows) rows = series->size();
+        else if (*rows != series->size()) ragged = true;
     }
     if (ragged) {
         std::string sizes;
         for (const auto& col : *data)
-            sizes += (sizes.empty() ? "" : ",") +
-                     (col.is_object() && col.contains("data") && col["data"].is_array() ? std::to_string(col["data"].size())
-                                                                                         : std::string("?"));
+            sizes += (sizes.empty() ? "" : ",") + (col.is_object() && col.contains("data") && col["data"].is_array()
+                                                       ? std::to_string(col["data"].size())
+                                                       : std::string("?"));
         p.push_back(fmt::format("columns have different numbers of values ({}); each holds the same points in time", sizes));
     }
     if (rows && *rows == 0) p.push_back("a Sample DTU with no values");
@@ -112,10 +107,11 @@ Problems check_sample_sequence(const std::vector<SampleArrival>& run, const Chan
             out.push_back(fmt::format("DTU {}: beginTime {} does not follow the previous {}", i + 1, b.begin_time, a.begin_time));
         } else if (std::abs(gap) > tolerance && reported < 3) {
             ++reported;
-            out.push_back(fmt::format("DTU {}: beginTime {} but the previous DTU ({} values from {}, every {} ms) ends at {}: "
-                                      "{} {} ms (tolerance {} ms)",
-                                      i + 1, b.begin_time, a.rows, a.begin_time, spec.sample_ms, next,
-                                      gap > 0 ? "a gap of" : "an overlap of", std::abs(gap), tolerance));
+            out.push_back(
+                fmt::format("DTU {}: beginTime {} but the previous DTU ({} values from {}, every {} ms) ends at {}: "
+                            "{} {} ms (tolerance {} ms)",
+                            i + 1, b.begin_time, a.rows, a.begin_time, spec.sample_ms, next,
+                            gap > 0 ? "a gap of" : "an overlap of", std::abs(gap), tolerance));
         }
     }
     // Rows and pace: medians over the run without the first DTU (a channel may
@@ -130,9 +126,10 @@ Problems check_sample_sequence(const std::vector<SampleArrival>& run, const Chan
         }
         const auto r = static_cast<double>(median(rows));
         if (r < 0.5 * expected || r > 1.5 * expected + 1)
-            out.push_back(fmt::format("a DTU carries {} values per column (median); sampleInterval {} ms and uploadInterval {} ms "
-                                      "give {}",
-                                      r, spec.sample_ms, spec.upload_ms, expected));
+            out.push_back(
+                fmt::format("a DTU carries {} values per column (median); sampleInterval {} ms and uploadInterval {} ms "
+                            "give {}",
+                            r, spec.sample_ms, spec.upload_ms, expected));
         const double period = std::max(spec.upload_ms, spec.sample_ms);
         const auto g = static_cast<double>(median(gaps));
         if (g < 0.5 * period - 50 || g > 1.5 * period + 100)

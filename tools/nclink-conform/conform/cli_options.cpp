@@ -86,7 +86,8 @@ Result<CliOptions> parse_cli(const std::vector<std::string>& args) {
     if (o.broker.empty()) return make_error(ErrorCode::parameter_missing, "--broker is required");
     if (o.run.device.empty()) return make_error(ErrorCode::parameter_missing, "--device is required");
     if (o.client_id.find_first_of("+#/") != std::string::npos || o.run.device.find_first_of("+#/") != std::string::npos)
-        return make_error(ErrorCode::unsupported_terminal_id, "terminal ids cannot contain '+', '#' or '/' (they are topic levels)");
+        return make_error(ErrorCode::unsupported_terminal_id,
+                          "terminal ids cannot contain '+', '#' or '/' (they are topic levels)");
     o.run.broker = o.broker;
     return o;
 }

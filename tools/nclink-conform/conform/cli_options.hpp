@@ -19,7 +19,7 @@ struct CliOptions {
     std::string report_md;    ///< --report FILE.md ("" and no --json: Markdown on stdout)
     std::string report_json;  ///< --json FILE
     bool help = false;
-    bool verbose = false;     ///< --verbose: progress on stderr
+    bool verbose = false;  ///< --verbose: progress on stderr
 };
 
 extern const char* const usage_text;

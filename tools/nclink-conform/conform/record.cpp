@@ -32,9 +32,7 @@ void ItemResult::skip(std::string why) {
     summary = std::move(why);
 }
 
-std::size_t ItemResult::failures() const noexcept {
-    return outcome == Outcome::fail ? evidence.size() : 0;
-}
+std::size_t ItemResult::failures() const noexcept { return outcome == Outcome::fail ? evidence.size() : 0; }
 
 Verdict TestRecord::verdict() const {
     for (const auto& item : items) {

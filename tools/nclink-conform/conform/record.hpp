@@ -29,17 +29,17 @@ struct Evidence {
 
 /// One row of table C.1 (one test item of tables 55-62).
 struct ItemResult {
-    std::string key;      ///< stable id: "register", "query", "event-data", ...
-    std::string title;    ///< "Data query"
-    std::string c1_row;   ///< the C.1 row: "数据查询"
-    std::string clause;   ///< "table 57 item 1, 8.2.11/8.2.12"
+    std::string key;            ///< stable id: "register", "query", "event-data", ...
+    std::string title;          ///< "Data query"
+    std::string c1_row;         ///< the C.1 row: "数据查询"
+    std::string clause;         ///< "table 57 item 1, 8.2.11/8.2.12"
     bool c1_mandatory = false;  ///< C.1 marks the row 必选项
     /// Not supported makes the verdict fail (table 17: adapters "应支持").
     bool required = false;
     Outcome outcome = Outcome::pass;
-    std::string summary;  ///< one line: what was checked / why the outcome
-    std::vector<std::string> notes;     ///< observations that are not failures
-    std::vector<Evidence> evidence;     ///< failures (and the DTU behind a not-supported)
+    std::string summary;             ///< one line: what was checked / why the outcome
+    std::vector<std::string> notes;  ///< observations that are not failures
+    std::vector<Evidence> evidence;  ///< failures (and the DTU behind a not-supported)
 
     /// Records a failure (fail dominates every other outcome).
     void fail(std::string note, std::string topic = {}, std::string dtu = {});
@@ -54,7 +54,7 @@ struct ItemResult {
 struct ObjectCounts {
     std::size_t components_standard = 0;  ///< `type` in table 8
     std::size_t components_custom = 0;
-    std::size_t data_standard = 0;        ///< `type` in tables 10, 12, 13
+    std::size_t data_standard = 0;  ///< `type` in tables 10, 12, 13
     std::size_t data_custom = 0;
     std::size_t channels = 0;
     std::size_t methods = 0;
@@ -64,10 +64,10 @@ enum class Verdict { pass, fail };
 
 struct TestRecord {
     // Basic information (C.1 "基本信息").
-    std::string device;       ///< dev_uuid under test
+    std::string device;  ///< dev_uuid under test
     std::string broker;
-    std::string client_id;    ///< the tester's ex_cid
-    std::string date;         ///< ISO 8601 UTC, start of the run
+    std::string client_id;  ///< the tester's ex_cid
+    std::string date;       ///< ISO 8601 UTC, start of the run
     std::string tool = "nclink-conform";
     std::string tool_version;
     std::string model_version;  ///< the device's version from the probe ("" if no model)

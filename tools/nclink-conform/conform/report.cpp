@@ -62,13 +62,15 @@ std::string render_markdown(const TestRecord& r) {
     md += fmt::format("| Broker | {} |\n", cell(r.broker));
     md += fmt::format("| Tester terminal id (ex_cid) | `{}` |\n", cell(r.client_id));
     md += fmt::format("| Test date | {} |\n", r.date);
-    md += fmt::format("| Writes allowed | {} |\n\n", r.allow_write ? "yes (--allow-write): every change was undone" : "no (read-only run)");
+    md += fmt::format("| Writes allowed | {} |\n\n",
+                      r.allow_write ? "yes (--allow-write): every change was undone" : "no (read-only run)");
 
     md += fmt::format("## Verdict: **{}**\n\n", r.verdict() == Verdict::pass ? "PASS" : "FAIL");
     md += fmt::format("{} passed, {} failed, {} not supported, {} skipped.", r.count(Outcome::pass), r.count(Outcome::fail),
                       r.count(Outcome::not_supported), r.count(Outcome::skipped));
-    md += " Not supported and skipped items are not passes; only a failed item, or a required item (Probe/Query, the model "
-          "file, Query) that is not supported, fails the verdict.\n\n";
+    md +=
+        " Not supported and skipped items are not passes; only a failed item, or a required item (Probe/Query, the model "
+        "file, Query) that is not supported, fails the verdict.\n\n";
 
     md += "## Connection test (table 55)\n\n";
     item_rows(md, r, {"register", "discovery"});

@@ -32,14 +32,14 @@ std::vector<std::string> tester_subscriptions(const std::string& dev, const std:
     };
     using Builder = std::string (*)(std::string_view, topics::OptEx);
     for (Builder b : {Builder(&topics::probe_query_response), Builder(&topics::probe_set_response),
-                      Builder(&topics::query_response), Builder(&topics::set_response),
-                      Builder(&topics::method_control_response)}) {
+                      Builder(&topics::query_response), Builder(&topics::set_response), Builder(&topics::method_control_response)}) {
         f.push_back(b(dev, std::nullopt));
         f.push_back(b(dev, "+"));
     }
     using SpelledBuilder = std::string (*)(std::string_view, topics::OptEx, Spelling);
-    for (SpelledBuilder b : {SpelledBuilder(&topics::sample_register_response), SpelledBuilder(&topics::sample_unregister_response),
-                             SpelledBuilder(&topics::event_register_response), SpelledBuilder(&topics::event_unregister_response)}) {
+    for (SpelledBuilder b :
+         {SpelledBuilder(&topics::sample_register_response), SpelledBuilder(&topics::sample_unregister_response),
+          SpelledBuilder(&topics::event_register_response), SpelledBuilder(&topics::event_unregister_response)}) {
         for (Spelling s : {Spelling::standard, Spelling::typo}) {
             f.push_back(b(dev, std::nullopt, s));
             f.push_back(b(dev, "+", s));
@@ -80,8 +80,10 @@ std::vector<ItemResult> c1_rows() {
         return r;
     };
     return {
-        row("register", "Terminal registration (Register/Request)", "连接测试: 终端注册", "table 55 item 1; 8.2.1/8.2.2", true, false),
-        row("discovery", "Terminal discovery (Discovery/Request)", "连接测试: 终端探测", "table 55 item 2; 8.2.3/8.2.4", true, false),
+        row("register", "Terminal registration (Register/Request)", "连接测试: 终端注册", "table 55 item 1; 8.2.1/8.2.2", true,
+            false),
+        row("discovery", "Terminal discovery (Discovery/Request)", "连接测试: 终端探测", "table 55 item 2; 8.2.3/8.2.4", true,
+            false),
         row("probe", "Model probe (Probe/Query)", "模型侦测", "table 56 item 1a; 8.2.7/8.2.8", true, true),
         row("model-file", "Model file check", "模型文件数据项定义检查", "table 56 item 1b; 9.2.3, 9.3.2, chapters 6-7", true, true),
         row("model-set", "Model set with version check (Probe/Set, Probe/Version)", "模型设置",
@@ -100,8 +102,8 @@ std::vector<ItemResult> c1_rows() {
             false),
         row("dynamic-register", "Dynamic sampling registration (Register/Sample)", "动态采样: 注册",
             "table 60 item 1; 8.2.17/8.2.18", false, false),
-        row("dynamic-sample", "Dynamic sampling data (Sample/{dev}/{ex}/{ch})", "动态采样: 采样", "table 60 item 2; 8.2.21", false,
-            false),
+        row("dynamic-sample", "Dynamic sampling data (Sample/{dev}/{ex}/{ch})", "动态采样: 采样", "table 60 item 2; 8.2.21",
+            false, false),
         row("dynamic-unregister", "Dynamic sampling unregistration (Unregister/Sample)", "动态采样: 注销",
             "table 60 item 1; 8.2.19/8.2.20", false, false),
     };
@@ -190,10 +192,8 @@ Exchange Runner::request_kind(TopicKind kind, Json payload) {
 }
 
 void Runner::fail_with(ItemResult& i, const std::string& note, const Exchange& x) {
-    if (x.reply)
-        i.fail(note, x.reply->message.topic, x.reply->message.payload);
-    else
-        i.fail(note, x.topic, x.request.dump());
+    if (x.reply) i.fail(note, x.reply->message.topic, x.reply->message.payload);
+    else i.fail(note, x.topic, x.request.dump());
 }
 
 void Runner::fail_with(ItemResult& i, const std::string& note, const Captured& c) {
@@ -208,17 +208,17 @@ bool Runner::settle_unusable(ItemResult& i, const Exchange& x, bool optional_fea
         }
         if (!x.strays.empty()) {
             for (std::size_t k = 0; k < x.strays.size() && k < 3; ++k)
-                fail_with(i, fmt::format("an answer on our response topic carries \"@id\" {} instead of the request's {} (8.1.3)",
-                                         peek_message_id(x.strays[k].message.payload).value_or(Json("(none)")).dump(),
-                                         x.sent_id.dump()),
-                          x.strays[k]);
+                fail_with(
+                    i,
+                    fmt::format("an answer on our response topic carries \"@id\" {} instead of the request's {} (8.1.3)",
+                                peek_message_id(x.strays[k].message.payload).value_or(Json("(none)")).dump(), x.sent_id.dump()),
+                    x.strays[k]);
             return true;
         }
         const std::string note = fmt::format("no answer to the request on {} within {} ms", x.topic, opts.timeout.count());
         if (optional_feature)
             i.not_supported(note + " (an optional feature: silence is taken as not supported)", x.topic, x.request.dump());
-        else
-            i.fail(note, x.topic, x.request.dump());
+        else i.fail(note, x.topic, x.request.dump());
         return true;
     }
     if (!x.dtu) {
@@ -226,8 +226,9 @@ bool Runner::settle_unusable(ItemResult& i, const Exchange& x, bool optional_fea
         return true;
     }
     if (!x.mirrored)
-        fail_with(i, fmt::format("answered on {}; docs/wire.md: a request on {} is answered on the mirrored topic",
-                                 x.reply->message.topic, x.topic),
+        fail_with(i,
+                  fmt::format("answered on {}; docs/wire.md: a request on {} is answered on the mirrored topic",
+                              x.reply->message.topic, x.topic),
                   x);
     if (says_not_supported(*x.dtu)) {
         i.not_supported(fmt::format("the adapter answers NG {} \"{}\"", x.dtu->value("error", Json()).dump(),
@@ -245,24 +246,21 @@ void Runner::connection() {
     auto x = request(topics::register_request(), Json{{"cli_uuid", ex}}, {topics::register_response(ex)});
     if (!settle_unusable(reg, x, true)) {
         auto problems = check_register_response(*x.dtu, x.sent_id, ex);
-        if (!problems.empty())
-            fail_with(reg, join(problems), x);
-        else
-            reg.summary = "the agent accepted Register/Request (code OK)";
+        if (!problems.empty()) fail_with(reg, join(problems), x);
+        else reg.summary = "the agent accepted Register/Request (code OK)";
     }
     if (reg.outcome == Outcome::not_supported)
-        reg.summary = fmt::format("no agent answered Register/Request within {} ms (a bare broker has no agent; "
-                                  "run beside an NC-Link agent to test the connection)",
-                                  opts.timeout.count());
+        reg.summary = fmt::format(
+            "no agent answered Register/Request within {} ms (a bare broker has no agent; "
+            "run beside an NC-Link agent to test the connection)",
+            opts.timeout.count());
 
     auto& disc = item("discovery");
     auto d = request(topics::discovery_request(ex), Json{{"guid", ex}}, {topics::discovery_response(ex)});
     if (!settle_unusable(disc, d, true)) {
         auto problems = check_discovery_response(*d.dtu, d.sent_id, ex, dev);
-        if (!problems.empty())
-            fail_with(disc, join(problems), d);
-        else
-            disc.summary = fmt::format("the agent lists \"{}\"", dev);
+        if (!problems.empty()) fail_with(disc, join(problems), d);
+        else disc.summary = fmt::format("the agent lists \"{}\"", dev);
     }
     if (disc.outcome == Outcome::not_supported && disc.summary.rfind("no answer", 0) == 0)
         disc.summary = fmt::format("no agent answered Discovery/Request within {} ms", opts.timeout.count());
@@ -274,7 +272,8 @@ void Runner::connection() {
 void Runner::state_notification() {
     auto& st = item("state");
     const std::string topic = topics::notify_state(dev);
-    auto c = wire.wait_for(start_mark, [&](const Captured& m) { return m.message.topic == topic; }, opts.timeout);
+    auto c = wire.wait_for(
+        start_mark, [&](const Captured& m) { return m.message.topic == topic; }, opts.timeout);
     if (!c) {
         st.not_supported(fmt::format("no message on {} within {} ms (the adapter or an agent publishes the state, retained)",
                                      topic, opts.timeout.count()));
@@ -286,8 +285,9 @@ void Runner::state_notification() {
         return;
     }
     st.summary = fmt::format("retained {} says online", topic);
-    st.notes.push_back("the offline notification of table 61 is not exercised: the tester never takes the adapter "
-                       "offline; stop the adapter while watching Notify/State (`nclink state`) to see it");
+    st.notes.push_back(
+        "the offline notification of table 61 is not exercised: the tester never takes the adapter "
+        "offline; stop the adapter while watching Notify/State (`nclink state`) to see it");
 }
 
 // ---- model (table 56 item 1, 9.3.2) -------------------------------------------------------
@@ -300,8 +300,7 @@ void Runner::probe() {
     if (!checked.problems.empty()) fail_with(pr, join(checked.problems), x);
     if (checked.model) {
         raw_model = std::move(*checked.model);
-        if (pr.outcome == Outcome::pass)
-            pr.summary = fmt::format("model received ({} bytes)", x.reply->message.payload.size());
+        if (pr.outcome == Outcome::pass) pr.summary = fmt::format("model received ({} bytes)", x.reply->message.payload.size());
     }
 }
 
@@ -314,27 +313,24 @@ void Runner::model_file() {
     const LoadResult loaded = parse_model(raw_model.dump(-1, ' ', false, Json::error_handler_t::replace));
     for (const auto& p : loaded.problems) {
         const std::string where = p.pointer.empty() ? "/" : p.pointer;
-        if (p.severity == Severity::warning)
-            mf.notes.push_back(fmt::format("warning at {}: {}", where, p.message));
-        else
-            mf.fail(fmt::format("{} problem at {}: {}", to_string(p.severity), where, p.message));
+        if (p.severity == Severity::warning) mf.notes.push_back(fmt::format("warning at {}: {}", where, p.message));
+        else mf.fail(fmt::format("{} problem at {}: {}", to_string(p.severity), where, p.message));
     }
     model = loaded.model;
     if (model) {
         device = device_for(*model, dev);
-        if (!device)
-            mf.fail(fmt::format("no device of the model has the terminal id \"{}\" (guid, else id; 8.1.4)", dev));
+        if (!device) mf.fail(fmt::format("no device of the model has the terminal id \"{}\" (guid, else id; 8.1.4)", dev));
         else if (resolve_dev_uuid(*device) != dev)
-            mf.notes.push_back(fmt::format("device \"{}\" has no guid \"{}\" (8.1.4: the adapter's terminal id is the model's GUID)",
-                                           device->id, dev));
+            mf.notes.push_back(fmt::format(
+                "device \"{}\" has no guid \"{}\" (8.1.4: the adapter's terminal id is the model's GUID)", device->id, dev));
         record.objects = count_objects(*model);
         record.model_version = device ? device->version : model->root().version;
     }
     if (mf.outcome == Outcome::pass)
         mf.summary = fmt::format("the model follows chapters 6 and 7 ({} warnings)", mf.notes.size());
     else
-        mf.summary = fmt::format("{} fatal, {} conformance problems", loaded.count(Severity::fatal),
-                                 loaded.count(Severity::conformance));
+        mf.summary =
+            fmt::format("{} fatal, {} conformance problems", loaded.count(Severity::fatal), loaded.count(Severity::conformance));
 }
 
 // ---- data query (table 57 item 1) ------------------------------------------------------------
@@ -362,8 +358,7 @@ void Runner::query() {
         }
         auto x = request_kind(TopicKind::query_request, Json{{"guid", dev}, {"ids", list}});
         if (settle_unusable(q, x, false)) return;
-        if (auto problems = check_query_response(*x.dtu, x.sent_id, dev, ids); !problems.empty())
-            fail_with(q, join(problems), x);
+        if (auto problems = check_query_response(*x.dtu, x.sent_id, dev, ids); !problems.empty()) fail_with(q, join(problems), x);
         for (std::size_t k = 0; k < ids.size(); ++k) {
             const Json* entry = result_entry(*x.dtu, k);
             if (!entry || entry->value("id", std::string()) != ids[k]) continue;  // reported above
@@ -391,8 +386,8 @@ void Runner::query() {
         Json list = Json::array();
         for (const auto* obj : containers) {
             ids.push_back(obj->id);
-            list.push_back(Json{{"id", obj->id},
-                                {"params", Json{{"operation", obj->kind == DataKind::list ? "get_length" : "get_keys"}}}});
+            list.push_back(
+                Json{{"id", obj->id}, {"params", Json{{"operation", obj->kind == DataKind::list ? "get_length" : "get_keys"}}}});
         }
         auto x = request_kind(TopicKind::query_request, Json{{"guid", dev}, {"ids", list}});
         if (!settle_unusable(q, x, false)) {
@@ -402,14 +397,16 @@ void Runner::query() {
                 const Json* entry = result_entry(*x.dtu, k);
                 if (!entry || !is_ok(*entry) || !entry->contains("values")) {
                     if (entry)
-                        q.fail(fmt::format("{}: {} answered NG", ids[k], containers[k]->kind == DataKind::list ? "get_length" : "get_keys"),
+                        q.fail(fmt::format("{}: {} answered NG", ids[k],
+                                           containers[k]->kind == DataKind::list ? "get_length" : "get_keys"),
                                x.reply->message.topic, entry->dump());
                     continue;
                 }
                 const Json whole = whole_values.count(ids[k]) ? whole_values[ids[k]] : Json();
                 auto problems = containers[k]->kind == DataKind::list ? check_list_length((*entry)["values"], whole)
                                                                       : check_dict_keys((*entry)["values"], whole);
-                if (!problems.empty()) q.fail(fmt::format("{}: {}", ids[k], join(problems)), x.reply->message.topic, entry->dump());
+                if (!problems.empty())
+                    q.fail(fmt::format("{}: {}", ids[k], join(problems)), x.reply->message.topic, entry->dump());
             }
         }
     }
@@ -418,15 +415,19 @@ void Runner::query() {
     auto x = request_kind(TopicKind::query_request, Json{{"guid", dev}, {"ids", Json::array({Json{{"id", unknown}}})}});
     if (!settle_unusable(q, x, false)) {
         const Json* entry = result_entry(*x.dtu, 0);
-        const bool right = entry && !is_ok(*entry) &&
-                           (entry->value("error", Json()) == Json(401) || entry->value("reason", std::string()) == "Node not exists");
-        if (!right) fail_with(q, fmt::format("a Query of the unknown id \"{}\" must answer NG 401 \"Node not exists\" (table 19)", unknown), x);
+        const bool right =
+            entry && !is_ok(*entry) &&
+            (entry->value("error", Json()) == Json(401) || entry->value("reason", std::string()) == "Node not exists");
+        if (!right)
+            fail_with(
+                q, fmt::format("a Query of the unknown id \"{}\" must answer NG 401 \"Node not exists\" (table 19)", unknown), x);
     }
     query_fidelity(q);
     if (q.outcome == Outcome::pass)
-        q.summary = fmt::format("{} data objects answered with the shape of their data type; {} list/dict element checks; "
-                                "an unknown id answers 401",
-                                answered, containers.size());
+        q.summary = fmt::format(
+            "{} data objects answered with the shape of their data type; {} list/dict element checks; "
+            "an unknown id answers 401",
+            answered, containers.size());
 }
 
 std::optional<Json> Runner::query_value(const std::string& id, const Json& params, std::string* why) {

@@ -23,9 +23,9 @@
 namespace nclink::conform {
 
 struct RunOptions {
-    std::string device;               ///< dev_uuid under test (required)
-    std::string broker;               ///< for the record only
-    bool allow_write = false;         ///< Set, Probe/Set and method items (else skipped)
+    std::string device;        ///< dev_uuid under test (required)
+    std::string broker;        ///< for the record only
+    bool allow_write = false;  ///< Set, Probe/Set and method items (else skipped)
     /// How long to wait for the answer to one request.
     std::chrono::milliseconds timeout{3000};
     /// Longest wait for a run of Sample DTUs (slow channels are cut here).

@@ -34,8 +34,7 @@ std::int64_t wall_ms_now() {
 
 }  // namespace
 
-bool Runner::moved_since(const std::string& id, std::uint64_t mark, const std::optional<Json>& before,
-                         std::int64_t since_wall_ms) {
+bool Runner::moved_since(const std::string& id, std::uint64_t mark, const std::optional<Json>& before, std::int64_t since_wall_ms) {
     // Its Sample rows stamped from `since_wall_ms` on (a DTU arriving in the
     // window also holds rows sampled before it): two different non-null
     // values, or one differing from the value before.
@@ -124,10 +123,8 @@ void Runner::events() {
     if (settle_unusable(reg, x, true)) {
         const std::string why = reg.outcome == Outcome::fail ? "the registration failed" : "event registration is not supported";
         for (auto* i : {&data, &unreg}) {
-            if (reg.outcome == Outcome::not_supported)
-                i->not_supported(why);
-            else
-                i->skip(why);
+            if (reg.outcome == Outcome::not_supported) i->not_supported(why);
+            else i->skip(why);
         }
         return;
     }
@@ -143,8 +140,7 @@ void Runner::events() {
         for (auto* i : {&data, &unreg}) i->skip("the registration gave no event id");
         return;
     }
-    if (reg.outcome == Outcome::pass)
-        reg.summary = fmt::format("change event on \"{}\" registered as \"{}\"", target, event_id);
+    if (reg.outcome == Outcome::pass) reg.summary = fmt::format("change event on \"{}\" registered as \"{}\"", target, event_id);
     // Its value once registered: whether it moved during the window is judged against it.
     const std::int64_t registered_ms = wall_ms_now();
     std::string unused;

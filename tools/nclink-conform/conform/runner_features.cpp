@@ -16,7 +16,8 @@ namespace nclink::conform::detail {
 namespace {
 
 bool numbers_equal(const Json& a, const Json& b) {
-    if (a.is_number() && b.is_number()) return std::abs(a.get<double>() - b.get<double>()) <= 1e-9 * std::max(1.0, std::abs(a.get<double>()));
+    if (a.is_number() && b.is_number())
+        return std::abs(a.get<double>() - b.get<double>()) <= 1e-9 * std::max(1.0, std::abs(a.get<double>()));
     return a == b;
 }
 
@@ -75,9 +76,10 @@ void Runner::sampling() {
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     if (by_channel.empty()) {
-        s.not_supported(fmt::format("no Sample DTU on {} within {} ms although the model defines {} channel(s) "
-                                    "(silence is taken as not supported)",
-                                    topics::sample(dev, "+"), ms_since(began).count() + 0, specs.size()));
+        s.not_supported(
+            fmt::format("no Sample DTU on {} within {} ms although the model defines {} channel(s) "
+                        "(silence is taken as not supported)",
+                        topics::sample(dev, "+"), ms_since(began).count() + 0, specs.size()));
         return;
     }
     std::size_t dtus = 0;
@@ -109,14 +111,16 @@ void Runner::sampling() {
         }
         if (bad > 3) s.fail(fmt::format("channel \"{}\": {} more malformed DTUs", spec.id, bad - 3));
         if (auto problems = check_sample_sequence(arrivals, spec); !problems.empty())
-            fail_with(s, fmt::format("channel \"{}\" over {} DTUs: {}", spec.id, arrivals.size(), join(problems)), it->second.back());
+            fail_with(s, fmt::format("channel \"{}\" over {} DTUs: {}", spec.id, arrivals.size(), join(problems)),
+                      it->second.back());
         if (it->second.size() < 3)
             s.notes.push_back(fmt::format("channel \"{}\": only {} DTU(s) within {} ms; the upload pace was not checked", spec.id,
                                           it->second.size(), window.count()));
     }
     if (s.outcome == Outcome::pass)
-        s.summary = fmt::format("{} channel(s), {} Sample DTUs: columns, rows, beginTime continuity and upload pace match the model",
-                                specs.size(), dtus);
+        s.summary =
+            fmt::format("{} channel(s), {} Sample DTUs: columns, rows, beginTime continuity and upload pace match the model",
+                        specs.size(), dtus);
 }
 
 // ---- dynamic sampling (table 60) ---------------------------------------------------------------
@@ -145,18 +149,18 @@ void Runner::dynamic_sampling() {
     Json list = Json::array();
     for (const auto& id : ids) list.push_back(Json{{"id", id}});
     const auto before = wire.mark();
-    auto x = request_kind(TopicKind::sample_register_request,
-                          Json{{"guid", dev}, {"sampleInterval", wanted.sample_ms}, {"uploadInterval", wanted.upload_ms}, {"ids", list}});
+    auto x = request_kind(
+        TopicKind::sample_register_request,
+        Json{{"guid", dev}, {"sampleInterval", wanted.sample_ms}, {"uploadInterval", wanted.upload_ms}, {"ids", list}});
     if (settle_unusable(reg, x, true)) {
         for (auto* i : {&data, &unreg}) {
-            if (reg.outcome == Outcome::not_supported)
-                i->not_supported("dynamic sampling registration is not supported");
-            else
-                i->skip("the registration failed");
+            if (reg.outcome == Outcome::not_supported) i->not_supported("dynamic sampling registration is not supported");
+            else i->skip("the registration failed");
         }
         return;
     }
-    if (auto problems = check_sample_register_response(*x.dtu, x.sent_id, dev); !problems.empty()) fail_with(reg, join(problems), x);
+    if (auto problems = check_sample_register_response(*x.dtu, x.sent_id, dev); !problems.empty())
+        fail_with(reg, join(problems), x);
     if (!is_ok(*x.dtu) || x.dtu->value("id", std::string()).empty()) {
         if (!is_ok(*x.dtu)) fail_with(reg, "dynamic sampling of items the model samples was refused", x);
         for (auto* i : {&data, &unreg}) i->skip("the registration failed");
@@ -165,7 +169,8 @@ void Runner::dynamic_sampling() {
     ChannelSpec spec = wanted;
     spec.id = x.dtu->value("id", std::string());
     if (reg.outcome == Outcome::pass)
-        reg.summary = fmt::format("channel \"{}\" registered for {} item(s) every 100 ms, uploaded every 500 ms", spec.id, ids.size());
+        reg.summary =
+            fmt::format("channel \"{}\" registered for {} item(s) every 100 ms, uploaded every 500 ms", spec.id, ids.size());
 
     const std::string topic = topics::dynamic_sample(dev, ex, spec.id);
     const auto on_topic = [&](const Captured& m) { return m.message.topic == topic; };
@@ -189,7 +194,8 @@ void Runner::dynamic_sampling() {
         if (auto problems = check_sample_sequence(arrivals, spec); !problems.empty())
             fail_with(data, fmt::format("over {} DTUs: {}", arrivals.size(), join(problems)), got.back());
         if (data.outcome == Outcome::pass)
-            data.summary = fmt::format("{} DTU(s) on {} with {} column(s) at the registered intervals", got.size(), topic, ids.size());
+            data.summary =
+                fmt::format("{} DTU(s) on {} with {} column(s) at the registered intervals", got.size(), topic, ids.size());
     }
 
     auto u = request_kind(TopicKind::sample_unregister_request, Json{{"guid", dev}, {"id", spec.id}});
@@ -269,7 +275,8 @@ void Runner::set() {
             if (original.is_number()) {
                 expect = original.get<double>() >= 1 ? Json(original.get<double>() - 1) : Json(original.get<double>() + 1);
                 if (original.is_number_integer() || original.is_number_unsigned())
-                    expect = original.get<std::int64_t>() >= 1 ? Json(original.get<std::int64_t>() - 1) : Json(original.get<std::int64_t>() + 1);
+                    expect = original.get<std::int64_t>() >= 1 ? Json(original.get<std::int64_t>() - 1)
+                                                               : Json(original.get<std::int64_t>() + 1);
                 change = true;
             } else if (original.is_boolean()) {
                 expect = !original.get<bool>();
@@ -296,15 +303,15 @@ void Runner::set() {
         if (refused_unavailable) ++unsupported;
         if (!e) continue;
         if (!is_ok(*e)) {
-            s.fail(fmt::format("{}: Set of a setable item to {} answered NG", obj->id, expect.dump()), x.reply->message.topic, e->dump());
+            s.fail(fmt::format("{}: Set of a setable item to {} answered NG", obj->id, expect.dump()), x.reply->message.topic,
+                   e->dump());
             continue;
         }
         if (auto echo = check_set_echo(*e, params); !echo.empty())
             s.fail(fmt::format("{}: {}", obj->id, join(echo)), x.reply->message.topic, e->dump());
         std::string why;
         auto now = query_value(obj->id, check_params, &why);
-        if (!now)
-            s.fail(fmt::format("{}: Query after Set: {}", obj->id, why));
+        if (!now) s.fail(fmt::format("{}: Query after Set: {}", obj->id, why));
         else if (!numbers_equal(*now, expect))
             s.fail(fmt::format("{}: Set to {} answered OK, but a Query then answers {}", obj->id, expect.dump(), now->dump()),
                    x.reply->message.topic, x.reply->message.payload);
@@ -328,8 +335,9 @@ void Runner::set() {
         auto x = send_set(obj->id, Json{{"value", whole_values[obj->id]}});
         const Json* e = settle_set(x, obj->id);
         if (e && (is_ok(*e) || e->value("error", Json()) != Json(301)))
-            s.fail(fmt::format("{}: Set of an item that is not setable must answer NG 301 \"Permission Denied\" (table 19)", obj->id),
-                   x.reply->message.topic, e->dump());
+            s.fail(
+                fmt::format("{}: Set of an item that is not setable must answer NG 301 \"Permission Denied\" (table 19)", obj->id),
+                x.reply->message.topic, e->dump());
         break;
     }
     if (s.outcome == Outcome::fail) return;
@@ -347,12 +355,14 @@ void Runner::set() {
     }
     if (unsupported > 0) {
         const Evidence e = unsupported_evidence.value_or(Evidence{});
-        s.fail(fmt::format("{} of {} setable items refused as unavailable while others can be set", unsupported, tried), e.topic, e.dtu);
+        s.fail(fmt::format("{} of {} setable items refused as unavailable while others can be set", unsupported, tried), e.topic,
+               e.dtu);
         return;
     }
-    s.summary = fmt::format("{} setable item(s): {} changed, checked by Query and restored; {} rewritten with their value; "
-                            "a non-setable item answers 301",
-                            tried - unsupported, changed, rewritten);
+    s.summary = fmt::format(
+        "{} setable item(s): {} changed, checked by Query and restored; {} rewritten with their value; "
+        "a non-setable item answers 301",
+        tried - unsupported, changed, rewritten);
 }
 
 // ---- model set (table 56 item 2) ----------------------------------------------------------------
@@ -371,7 +381,8 @@ void Runner::model_set() {
     Json bumped = raw_model;
     if (auto devices = bumped.find("devices"); devices != bumped.end() && devices->is_array())
         for (auto& d : *devices)
-            if (d.is_object() && (d.value("guid", std::string()) == dev || d.value("id", std::string()) == device->id)) raw_device = &d;
+            if (d.is_object() && (d.value("guid", std::string()) == dev || d.value("id", std::string()) == device->id))
+                raw_device = &d;
     if (!raw_device) {
         m.fail("the device cannot be found in the probe's \"devices\"");
         return;
@@ -401,8 +412,8 @@ void Runner::model_set() {
         return;
     }
     if (!version_seen(before_set, new_version))
-        m.fail(fmt::format("no Probe/Version/{} with version \"{}\" after the model was replaced (table 56 item 2b, 8.2.9.3)", dev,
-                           new_version));
+        m.fail(fmt::format("no Probe/Version/{} with version \"{}\" after the model was replaced (table 56 item 2b, 8.2.9.3)",
+                           dev, new_version));
     std::string why;
     auto p = request_kind(TopicKind::probe_query_request, Json{{"guid", dev}});
     if (p.dtu) {
@@ -410,7 +421,9 @@ void Runner::model_set() {
         LoadResult now = checked.model ? parse_model(checked.model->dump()) : LoadResult{};
         const Device* d = now.model ? device_for(*now.model, dev) : nullptr;
         if (!d || d->version != new_version)
-            fail_with(m, fmt::format("after Probe/Set the probe still shows version \"{}\", expected \"{}\"", d ? d->version : "?", new_version),
+            fail_with(m,
+                      fmt::format("after Probe/Set the probe still shows version \"{}\", expected \"{}\"", d ? d->version : "?",
+                                  new_version),
                       p);
     } else {
         m.fail("no answer to Probe/Query after Probe/Set");
@@ -424,9 +437,10 @@ void Runner::model_set() {
         restored = r.dtu && is_ok(*r.dtu);
     }
     if (!restored) {
-        fail_with(m, fmt::format("COULD NOT RESTORE the original model (version \"{}\"): the adapter now runs version \"{}\"; "
-                                 "send the original model with Probe/Set",
-                                 old_version, new_version),
+        fail_with(m,
+                  fmt::format("COULD NOT RESTORE the original model (version \"{}\"): the adapter now runs version \"{}\"; "
+                              "send the original model with Probe/Set",
+                              old_version, new_version),
                   r);
         return;
     }
@@ -435,8 +449,7 @@ void Runner::model_set() {
     auto back = request_kind(TopicKind::probe_query_request, Json{{"guid", dev}});
     auto checked = back.dtu ? check_probe_response(*back.dtu, back.sent_id, dev) : ProbeCheck{};
     LoadResult again = checked.model ? parse_model(checked.model->dump()) : LoadResult{};
-    if (!again.model || *again.model != *model)
-        fail_with(m, "after restoring, the probed model differs from the original", back);
+    if (!again.model || *again.model != *model) fail_with(m, "after restoring, the probed model differs from the original", back);
     if (m.outcome == Outcome::pass)
         m.summary = fmt::format("version {} -> {} accepted and announced by Probe/Version, original model restored and announced",
                                 old_version, new_version);

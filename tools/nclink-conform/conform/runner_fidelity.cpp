@@ -45,7 +45,8 @@ void Runner::query_fidelity(ItemResult& q) {
         entries.push_back(Json{{"id", list->id}, {"params", {{"operation", "get_attribute"}, {"indexes", Json::array({"0"})}}}});
         forms.push_back("get_attribute with indexes (appendix A Query_Params)");
         entries.push_back(
-            Json{{"id", list->id}, {"params", {{"operation", "get_value"}, {"indexes", Json::array({"0"})}, {"offset", 0}, {"length", 1}}}});
+            Json{{"id", list->id},
+                 {"params", {{"operation", "get_value"}, {"indexes", Json::array({"0"})}, {"offset", 0}, {"length", 1}}}});
         forms.push_back("get_value with indexes, offset and length (appendix A Query_Params)");
         ids.insert(ids.end(), 2, list->id);
     }
@@ -79,13 +80,12 @@ void Runner::refused_model_set(ItemResult& m) {
     auto x = request_kind(TopicKind::probe_set_request, Json{{"guid", dev}, {"probe", Json::object()}});
     if (!x.dtu) return;  // silence is judged by the Probe/Set that follows
     if (is_ok(*x.dtu)) {
-        fail_with(m, "Probe/Set of an empty object (no id, no devices) was accepted: the adapter does not check the model (8.2.9.3)",
-                  x);
+        fail_with(
+            m, "Probe/Set of an empty object (no id, no devices) was accepted: the adapter does not check the model (8.2.9.3)", x);
         (void)request_kind(TopicKind::probe_set_request, Json{{"guid", dev}, {"probe", raw_model}});  // put the model back
         return;
     }
-    if (auto problems = check_status_keys(*x.dtu); !problems.empty())
-        fail_with(m, "refused Probe/Set: " + join(problems), x);
+    if (auto problems = check_status_keys(*x.dtu); !problems.empty()) fail_with(m, "refused Probe/Set: " + join(problems), x);
 }
 
 }  // namespace nclink::conform::detail

@@ -17,9 +17,9 @@ namespace nclink::conform::detail {
 
 /// One request and what came back.
 struct Exchange {
-    std::string topic;     ///< where the request went
+    std::string topic;  ///< where the request went
     Json request;
-    Json sent_id;          ///< the request's "@id"
+    Json sent_id;                   ///< the request's "@id"
     std::optional<Captured> reply;  ///< the answer with our "@id"
     std::optional<Json> dtu;        ///< reply parsed as a JSON object
     std::string unparsable;         ///< why the reply is not a JSON object
@@ -84,13 +84,13 @@ public:
     const std::string ex;
     TestRecord record;
     bool connection_failed = false;
-    Json raw_model;                          ///< the probe as received
-    std::shared_ptr<const Model> model;      ///< parsed (null when unusable)
+    Json raw_model;                      ///< the probe as received
+    std::shared_ptr<const Model> model;  ///< parsed (null when unusable)
     const Device* device = nullptr;
     std::map<std::string, Json> whole_values;  ///< whole values answered by the Query item
     std::string whole_values_topic;            ///< the topic they came on (evidence)
-    std::uint64_t start_mark = 0;            ///< first message of the run
-    std::set<std::string> sent_ids;          ///< "@id"s of our requests (late answers are not strays)
+    std::uint64_t start_mark = 0;              ///< first message of the run
+    std::set<std::string> sent_ids;            ///< "@id"s of our requests (late answers are not strays)
 };
 
 /// Problems joined with "; ".

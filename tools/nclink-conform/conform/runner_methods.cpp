@@ -59,8 +59,8 @@ void Runner::methods() {
     });
     if (!x.reply && statuses.empty() && x.strays.empty()) {
         for (auto* i : all)
-            i->not_supported(fmt::format("no Method/Status or Method/Result within {} ms of Method/Call \"{}\"", opts.timeout.count(),
-                                         method->id));
+            i->not_supported(fmt::format("no Method/Status or Method/Result within {} ms of Method/Call \"{}\"",
+                                         opts.timeout.count(), method->id));
         return;
     }
     if (settle_unusable(result, x, true)) {
@@ -71,7 +71,8 @@ void Runner::methods() {
         }
         call.fail("the call got no usable Method/Result");
     } else {
-        if (auto problems = check_method_result(*x.dtu, x.sent_id, dev, method->id); !problems.empty()) fail_with(result, join(problems), x);
+        if (auto problems = check_method_result(*x.dtu, x.sent_id, dev, method->id); !problems.empty())
+            fail_with(result, join(problems), x);
         if (result.outcome == Outcome::pass)
             result.summary = fmt::format("Method/Result \"{}\" code {}", x.dtu->value("result", std::string()),
                                          x.dtu->value("code", std::string()));
@@ -80,10 +81,10 @@ void Runner::methods() {
     }
     if (statuses.empty()) {
         if (x.dtu && is_ok(*x.dtu))
-            status.fail(fmt::format("the call was accepted (Method/Result OK) but no Method/Status came (8.2.22.3: an accepted call "
-                                    "is answered on Method/Status)"));
-        else
-            status.skip("the call was refused, so no progress is expected");
+            status.fail(
+                fmt::format("the call was accepted (Method/Result OK) but no Method/Status came (8.2.22.3: an accepted call "
+                            "is answered on Method/Status)"));
+        else status.skip("the call was refused, so no progress is expected");
     } else {
         for (const auto& c : statuses) {
             auto dtu = parse_object(c.message.payload);
@@ -92,7 +93,8 @@ void Runner::methods() {
                 break;
             }
         }
-        if (status.outcome == Outcome::pass) status.summary = fmt::format("{} Method/Status DTU(s) with the shape of table 44", statuses.size());
+        if (status.outcome == Outcome::pass)
+            status.summary = fmt::format("{} Method/Status DTU(s) with the shape of table 44", statuses.size());
     }
     // Control: "resume" changes nothing for a method that is not paused, and
     // may be refused (not running) with any table-19 code; an unknown action
@@ -119,8 +121,8 @@ void Runner::methods() {
     if (!refused_418)
         fail_with(control, "an unknown action must be refused with NG 418 \"method action type error\" (table 19)", bad);
     if (control.outcome == Outcome::pass)
-        control.summary = fmt::format("\"resume\" answered {} {}; an unknown action answers 418", c.dtu->value("code", std::string()),
-                                      c.dtu->value("reason", std::string()));
+        control.summary = fmt::format("\"resume\" answered {} {}; an unknown action answers 418",
+                                      c.dtu->value("code", std::string()), c.dtu->value("reason", std::string()));
 }
 
 }  // namespace nclink::conform::detail

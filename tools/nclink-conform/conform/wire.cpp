@@ -9,8 +9,7 @@ namespace {
 constexpr std::size_t max_log = 200000;
 
 std::int64_t wall_now_ms() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-        .count();
+    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 }  // namespace
 
@@ -67,7 +66,8 @@ Result<void> Wire::connect(const std::vector<std::string>& filters, std::chrono:
     const std::string token = next_msg_id();
     if (auto p = publish(sync_topic, Json{{"sync", token}}); !p) return p;
     auto echoed = wait_for(
-        from, [&](const Captured& c) { return c.message.topic == sync_topic && c.message.payload.find(token) != std::string::npos; },
+        from,
+        [&](const Captured& c) { return c.message.topic == sync_topic && c.message.payload.find(token) != std::string::npos; },
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()));
     if (!echoed) return make_error(ErrorCode::timeout, "the broker did not deliver the tester's own message");
     return ok_result();

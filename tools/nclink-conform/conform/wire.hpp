@@ -26,8 +26,8 @@ namespace nclink::conform {
 struct Captured {
     std::uint64_t seq = 0;  ///< arrival order, from 0
     Message message;
-    std::int64_t wall_ms = 0;                       ///< tester's wall clock at arrival
-    std::chrono::steady_clock::time_point at;       ///< tester's monotonic clock at arrival
+    std::int64_t wall_ms = 0;                  ///< tester's wall clock at arrival
+    std::chrono::steady_clock::time_point at;  ///< tester's monotonic clock at arrival
 };
 
 using MessagePredicate = std::function<bool(const Captured&)>;
