@@ -63,7 +63,7 @@ Result<void> Agent::Impl::start() {
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
-    transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
+    transport = transport_detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
     transport->set_message_handler([this](const Message& m) { on_message(m); });
     transport->set_state_handler([this](LinkState s, std::string_view detail) {
         log.info("agent {}: broker link {} ({})", config.agent_id, to_string(s), detail);

@@ -73,7 +73,7 @@ struct NCLINK_LOCAL Agent::Impl {
     std::unique_ptr<Transport> transport;
     StateStore store;
     Counters counters;
-    std::shared_ptr<detail::DtuCounter> dtus = std::make_shared<detail::DtuCounter>();  // docs/metrics.md
+    std::shared_ptr<transport_detail::DtuCounter> dtus = std::make_shared<transport_detail::DtuCounter>();  // docs/metrics.md
 
     mutable std::mutex mutex;  // everything below up to the housekeeping part
     Presence presence;
@@ -88,7 +88,7 @@ struct NCLINK_LOCAL Agent::Impl {
     std::mutex lifecycle;
     bool started = false;
     bool stopped = false;
-    detail::PeriodicThread housekeeping;  // housekeep() every config.tick
+    core_detail::PeriodicThread housekeeping;  // housekeep() every config.tick
 
     Impl(AgentConfig c, Logger l)
         : config(std::move(c)),

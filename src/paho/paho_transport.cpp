@@ -41,7 +41,7 @@ public:
           outbox_(
               options_.outbox,
               [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
-          watchdog_(detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {}
+          watchdog_(transport_detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {}
 
     ~MqttTransport() override {
         stop(milliseconds(0));
@@ -67,7 +67,7 @@ public:
         client_->set_connected_handler([this](const std::string&) { on_connected(); });
         client_->set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
         supervisor_ = std::thread([this] {
-            detail::name_this_thread("nclink-mqtt");
+            core_detail::name_this_thread("nclink-mqtt");
             supervise();
         });
         return ok_result();
@@ -158,7 +158,7 @@ private:
     void on_success(const mqtt::token& tok) override {
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            watchdog_.progress(detail::AckWatchdog::Clock::now());
+            watchdog_.progress(transport_detail::AckWatchdog::Clock::now());
         }
         outbox_.delivered(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
     }
@@ -176,14 +176,14 @@ private:
     // Thread: paho callback thread.
     void on_connected() {
         if (options_.tcp_nodelay) {
-            const int nodelay = detail::apply_tcp_nodelay_to_peer(host_, port_);
+            const int nodelay = transport_detail::apply_tcp_nodelay_to_peer(host_, port_);
             link_.nodelay_sockets(nodelay);
             if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
         for (const auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(filters, qos);
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            watchdog_.connected(detail::AckWatchdog::Clock::now());
+            watchdog_.connected(transport_detail::AckWatchdog::Clock::now());
         }
         link_.connected();
         link_.set_state(LinkState::connected, options_.broker_url, on_state_);
@@ -278,8 +278,8 @@ private:
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
 #if NCLINK_WITH_TLS
         if (options_.tls) {
-            if (auto problem = detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
-            if (auto problem = detail::tls_handshake_problem(host_, port_, *options_.tls, options_.connect_timeout))
+            if (auto problem = transport_detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
+            if (auto problem = transport_detail::tls_handshake_problem(host_, port_, *options_.tls, options_.connect_timeout))
                 return connect_failed(*problem, true, delay);
         }
 #endif
@@ -295,7 +295,7 @@ private:
     bool ack_stalled() {
         const std::size_t in_flight = outbox_.in_flight();
         std::lock_guard<std::mutex> lock(watchdog_mutex_);
-        return watchdog_.stalled(detail::AckWatchdog::Clock::now(), in_flight);
+        return watchdog_.stalled(transport_detail::AckWatchdog::Clock::now(), in_flight);
     }
 
     // Thread: supervisor, without mutex_. Drops the stalled connection; the
@@ -306,7 +306,7 @@ private:
         std::chrono::milliseconds waited{0};
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            waited = watchdog_.waited(detail::AckWatchdog::Clock::now());
+            waited = watchdog_.waited(transport_detail::AckWatchdog::Clock::now());
         }
         link_.stalled(waited, outbox_.in_flight());
         outbox_.link_down();
@@ -336,7 +336,7 @@ private:
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
             if (link_.state() == LinkState::disconnected) {
-                const milliseconds retry = detail::jittered(delay, rng_);
+                const milliseconds retry = transport_detail::jittered(delay, rng_);
                 lock.unlock();
                 link_.set_state(LinkState::connecting, options_.broker_url, on_state_);
                 bool ok = false;
@@ -393,15 +393,15 @@ private:
     const Logger logger_;
     const std::string host_;
     const int port_;
-    detail::LinkRecord link_;
+    transport_detail::LinkRecord link_;
     std::unique_ptr<mqtt::async_client> client_;  // reset first in the destructor (see there)
-    detail::Outbox outbox_;
+    transport_detail::Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;
 
     std::mutex mutex_;  // started_, stopping_, supervisor wake-ups
     std::condition_variable wake_;
-    detail::SubscriptionSet subscriptions_;
+    transport_detail::SubscriptionSet subscriptions_;
     bool started_ = false;
     bool stopping_ = false;
     std::thread supervisor_;
@@ -409,7 +409,7 @@ private:
     bool session_established_ = false;  // supervisor only: a connection has had a session
 
     std::mutex watchdog_mutex_;  // watchdog_: progress on paho's thread, checks on the supervisor
-    detail::AckWatchdog watchdog_;
+    transport_detail::AckWatchdog watchdog_;
 };
 
 }  // namespace
@@ -418,7 +418,8 @@ Result<std::unique_ptr<Transport>> make_paho_transport(MqttOptions options, Logg
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     std::string host, scheme;
     int port = 0;
-    if (!detail::parse_broker_url(options.broker_url, host, port, scheme)) return check_broker_url(options.broker_url).error();
+    if (!transport_detail::parse_broker_url(options.broker_url, host, port, scheme))
+        return check_broker_url(options.broker_url).error();
     if ((scheme == "ssl" || scheme == "mqtts" || scheme == "wss") && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
     try {

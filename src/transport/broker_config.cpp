@@ -1,19 +1,19 @@
 #include "transport/broker_config.hpp"
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOptions>& tls) {
     if (!tls) return;
-    resolve_against(config_path, tls->ca_file);
-    resolve_against(config_path, tls->cert_file);
-    resolve_against(config_path, tls->key_file);
+    core_detail::resolve_against(config_path, tls->ca_file);
+    core_detail::resolve_against(config_path, tls->cert_file);
+    core_detail::resolve_against(config_path, tls->key_file);
 }
 
-Result<void> read_tls(ConfigReader& broker, std::optional<MqttTlsOptions>& tls) {
+Result<void> read_tls(core_detail::ConfigReader& broker, std::optional<MqttTlsOptions>& tls) {
     const Json* section = broker.object("tls");
     if (!section) return ok_result();
     if (!section->is_object()) return broker.fail(ErrorCode::value_type, "tls", "must be an object");
-    ConfigReader t(*section, broker.where() + "tls.", pointer_append(broker.pointer(), "tls"));
+    core_detail::ConfigReader t(*section, broker.where() + "tls.", core_detail::pointer_append(broker.pointer(), "tls"));
     MqttTlsOptions o = tls.value_or(MqttTlsOptions{});
     NCLINK_TRY(t.str("ca_file", o.ca_file));
     NCLINK_TRY(t.str("cert_file", o.cert_file));
@@ -25,7 +25,7 @@ Result<void> read_tls(ConfigReader& broker, std::optional<MqttTlsOptions>& tls) 
     return ok_result();
 }
 
-Result<void> read_broker_settings(ConfigReader& broker, transport_detail::BrokerSettings& s) {
+Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& s) {
     NCLINK_TRY(broker.str("url", s.broker_url));
     NCLINK_TRY(broker.str("client_id", s.client_id));
     NCLINK_TRY(broker.str("username", s.username));
@@ -47,4 +47,4 @@ Result<void> read_broker_settings(ConfigReader& broker, transport_detail::Broker
     return ok_result();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 class LinkRecord {
 public:
@@ -104,4 +104,4 @@ private:
     bool refused_ = false;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail
