@@ -32,7 +32,7 @@ bool lock_within(Lock& lock, std::chrono::nanoseconds wait) {
 thread_local const void* tls_worker_of = nullptr;
 // The exclusive hold on `calls` of the task running on this worker (a
 // serialized driver), so an in-place read can let sampling in between chunks.
-thread_local std::unique_lock<std::shared_timed_mutex>* tls_exclusive_call = nullptr;
+thread_local std::unique_lock<CallLock>* tls_exclusive_call = nullptr;
 // Whether the task running on this worker holds `calls` (shared or
 // exclusive); false in a post_unlocked() task.
 thread_local bool tls_holds_calls = false;
@@ -184,6 +184,7 @@ DriverRunner::DriverRunner(std::shared_ptr<Driver> driver, Options options, Logg
     : driver_(std::move(driver)), options_(options), logger_(std::move(logger)), name_(driver_->info().name) {
     const std::size_t count = driver_->info().concurrent ? std::max<std::size_t>(1, options_.concurrent_workers) : 1;
     queue_->concurrent = driver_->info().concurrent;
+    if (!queue_->concurrent) queue_->calls.serialize();
     if (options_.pool) {
         queue_->pool = options_.pool;
         queue_->max_drains = count;
@@ -199,13 +200,13 @@ void DriverRunner::run_task(Queue& queue, Queue::Task& task) {
     if (!task.hold_calls) {
         task.run();
     } else if (queue.concurrent) {
-        std::shared_lock<std::shared_timed_mutex> call(queue.calls);
+        std::shared_lock<CallLock> call(queue.calls);
         tls_holds_calls = true;
         task.run();
         tls_holds_calls = false;
     } else {
         yield_to_priority(queue);
-        std::unique_lock<std::shared_timed_mutex> call(queue.calls);
+        std::unique_lock<CallLock> call(queue.calls);
         tls_exclusive_call = &call;
         tls_holds_calls = true;
         task.run();
@@ -315,11 +316,11 @@ void DriverRunner::call_in_place(Queue& queue, Call&& call) {
     if (tls_holds_calls) {
         call();
     } else if (queue.concurrent) {
-        std::shared_lock<std::shared_timed_mutex> hold(queue.calls);
+        std::shared_lock<CallLock> hold(queue.calls);
         call();
     } else {
         yield_to_priority(queue);
-        std::unique_lock<std::shared_timed_mutex> hold(queue.calls);
+        std::unique_lock<CallLock> hold(queue.calls);
         call();
     }
 }
@@ -339,7 +340,7 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         // 1 ms channel from its reads). A task holding it exclusively lets
         // the sampler in between chunks.
         const bool per_chunk_lock = !tls_holds_calls;
-        std::unique_lock<std::shared_timed_mutex>* hold = tls_exclusive_call;
+        std::unique_lock<CallLock>* hold = tls_exclusive_call;
         if (!per_chunk_lock && (hold == nullptr || points.size() <= kReadChunk)) {
             read_locked(*driver, *queue, points, generation, results);
             return results;
@@ -386,7 +387,7 @@ namespace {
 // Runs `call` under `Lock` (shared for a concurrent driver, exclusive for a
 // serialized one) if the lock is had within `wait`.
 template <typename Lock, typename Call>
-bool call_locked(std::shared_timed_mutex& calls, std::chrono::nanoseconds wait, Call& call) {
+bool call_locked(CallLock& calls, std::chrono::nanoseconds wait, Call& call) {
     Lock lock(calls, std::defer_lock);
     if (!lock_within(lock, wait)) return false;
     call();
@@ -402,8 +403,8 @@ bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
         std::atomic<int>& waiters;
         ~Done() { waiters.fetch_sub(1, std::memory_order_acq_rel); }
     } done{queue_->priority_waiters};
-    const bool called = queue_->concurrent ? call_locked<std::shared_lock<std::shared_timed_mutex>>(queue_->calls, wait, call)
-                                           : call_locked<std::unique_lock<std::shared_timed_mutex>>(queue_->calls, wait, call);
+    const bool called = queue_->concurrent ? call_locked<std::shared_lock<CallLock>>(queue_->calls, wait, call)
+                                           : call_locked<std::unique_lock<CallLock>>(queue_->calls, wait, call);
     if (!called) count_timeout();
     return called;
 }
@@ -452,7 +453,7 @@ DriverRunner::TypedRead DriverRunner::read_samples_direct(const std::vector<Poin
 Result<std::shared_ptr<const PointTable>> DriverRunner::bind(const std::vector<BindPoint>& points) {
     // Exclusive whatever info().concurrent says: no read may straddle two
     // bindings.
-    std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
+    std::unique_lock<CallLock> calls(queue_->calls, std::defer_lock);
     if (!lock_within(calls, options_.call_timeout)) {
         count_timeout();
         return make_error(ErrorCode::timeout,
@@ -554,7 +555,7 @@ void DriverRunner::stop(std::chrono::milliseconds grace) {
     }
     {
         // No read_direct() may be inside the driver when it closes.
-        std::unique_lock<std::shared_timed_mutex> calls(queue_->calls, std::defer_lock);
+        std::unique_lock<CallLock> calls(queue_->calls, std::defer_lock);
         if (!lock_within(calls, grace)) {
             logger_.error("driver '{}': a direct read did not return within {} ms of shutdown; not closing it", name_,
                           grace.count());

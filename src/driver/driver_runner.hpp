@@ -18,6 +18,7 @@
 #pragma once
 
 #include "core/worker_pool.hpp"
+#include "driver/call_lock.hpp"
 #include "driver/point_table.hpp"
 
 #include <nclink/driver.hpp>
@@ -121,6 +122,9 @@ public:
     /// at shutdown never holds a dangling driver.
     std::shared_ptr<Driver> shared_driver() const { return driver_; }
     std::uint64_t timeouts() const;
+    /// True when callers waiting for the driver lend their priority to the
+    /// call running in it (a serialized driver; call_lock.hpp).
+    bool inherits_priority() const noexcept { return queue_->calls.inherits_priority(); }
     /// Driver::link(), a throw taken as unknown. Thread-safe.
     MachineLinkStatus link() const;
 
@@ -142,8 +146,9 @@ private:
         std::size_t max_drains = 1;  // on a pool: drains at once
         // Serializes driver calls between the workers and read_direct():
         // exclusive per call for a serialized driver, shared for a concurrent
-        // one; stop() takes it exclusively before close().
-        std::shared_timed_mutex calls;
+        // one; stop() takes it exclusively before close(). Priority
+        // inheriting for a serialized driver (call_lock.hpp).
+        CallLock calls;
         bool concurrent = false;
         std::atomic<bool> closed{false};
         // Sampling deadlines come first: callers of read_direct() /
