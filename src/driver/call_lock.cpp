@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <ctime>
 #include <system_error>
+#include <thread>
 
 namespace nclink::driver_detail {
 
@@ -21,7 +22,19 @@ CallLock::~CallLock() {
     if (pi_ready_) pthread_mutex_destroy(&pi_mutex_);
 }
 
-void CallLock::serialize() { pi_ = pi_ready_; }
+void CallLock::serialize() {
+    if (!pi_ready_) return;
+    // Probe the timed wait once, from another thread while this one holds
+    // the mutex (only a contended wait reaches the kernel), with a deadline
+    // already past: a platform whose PI futexes lack it (an emulator, an old
+    // kernel) keeps the reader-writer lock instead of failing every
+    // sampler's wait. Once per driver, at start.
+    if (pthread_mutex_lock(&pi_mutex_) != 0) return;
+    int waited = 0;
+    std::thread([&] { waited = pi_wait_until(std::chrono::steady_clock::now()); }).join();
+    pthread_mutex_unlock(&pi_mutex_);
+    pi_ = waited == ETIMEDOUT;
+}
 
 void CallLock::lock() {
     if (!pi_) return rw_.lock();
@@ -42,7 +55,9 @@ void CallLock::unlock_shared() { pi_ ? unlock() : rw_.unlock_shared(); }
 
 bool CallLock::try_lock_shared() { return pi_ ? try_lock() : rw_.try_lock_shared(); }
 
-bool CallLock::pi_lock_until(std::chrono::steady_clock::time_point deadline) {
+bool CallLock::pi_lock_until(std::chrono::steady_clock::time_point deadline) { return pi_wait_until(deadline) == 0; }
+
+int CallLock::pi_wait_until(std::chrono::steady_clock::time_point deadline) {
     // The steady clock is CLOCK_MONOTONIC (libstdc++): a clock step cannot
     // stretch the wait. PI futexes take it since Linux 5.14 (FUTEX_LOCK_PI2).
     const auto since_epoch = deadline.time_since_epoch();
@@ -61,7 +76,7 @@ bool CallLock::pi_lock_until(std::chrono::steady_clock::time_point deadline) {
         ts.tv_nsec = static_cast<long>(total % 1000000000LL);
         e = pthread_mutex_timedlock(&pi_mutex_, &ts);
     }
-    return e == 0;
+    return e;
 }
 
 }  // namespace nclink::driver_detail

@@ -70,6 +70,7 @@ public:
 
 private:
     bool pi_lock_until(std::chrono::steady_clock::time_point deadline);
+    int pi_wait_until(std::chrono::steady_clock::time_point deadline);  ///< 0, ETIMEDOUT or why not
 
     std::shared_timed_mutex rw_;
     pthread_mutex_t pi_mutex_;
