@@ -5,6 +5,19 @@
 
 namespace nclink {
 
+std::shared_ptr<const Model> ModelBuilder::finish() {
+    if (model_) {
+        Model& m = *model_;
+        m.devices_.shrink_to_fit();
+        m.components_.shrink_to_fit();
+        m.data_objects_.shrink_to_fit();
+        m.channels_.shrink_to_fit();
+        m.methods_.shrink_to_fit();
+        m.objects_.shrink_to_fit();
+    }
+    return std::move(model_);
+}
+
 bool ModelBuilder::index(ObjectInfo info, std::size_t typed) {
     Model& m = *model_;
     const auto found = m.by_id_.find(info.id);

@@ -150,3 +150,17 @@ TEST_CASE("a model is safe to read from many threads") {
     for (auto& th : threads) th.join();
     CHECK(m->find("z_position")->path == "/MACHINE@0001/AXIS@Z/POSITION");
 }
+
+TEST_CASE("a loaded model keeps no spare capacity in its object vectors") {
+    // A gateway holds one model per machine for as long as it serves it:
+    // what the vectors reserved while growing is given back (ModelBuilder::finish).
+    const auto model = sim_mill();
+    const Model& m = *model;
+    REQUIRE(m.data_objects().size() > 8);
+    CHECK(m.data_objects().capacity() == m.data_objects().size());
+    CHECK(m.objects().capacity() == m.objects().size());
+    CHECK(m.components().capacity() == m.components().size());
+    CHECK(m.devices().capacity() == m.devices().size());
+    CHECK(m.channels().capacity() == m.channels().size());
+    CHECK(m.methods().capacity() == m.methods().size());
+}
