@@ -47,8 +47,8 @@ struct NCLINK_API MqttOptions {
     /// broker refuses a 5 CONNECT (closes the connection or answers
     /// "unsupported protocol version"; RabbitMQ 3.10, docs/scaling.md); the
     /// level a CONNACK accepted is kept for every reconnection to the same
-    /// broker (a failover to another one of failover_urls tries 5 first
-    /// again). Both transports (libmosquitto and paho).
+    /// broker (a failover to another one of failover_urls tries 5 first again;
+    /// paho, once connected at 3.1.1, keeps 3.1.1). Both transports.
     int mqtt_version = 4;
     bool clean_session = true;
     std::chrono::seconds keep_alive{20};

@@ -338,7 +338,11 @@ private:
                 next = brokers_.current().url;
                 protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
             }
-            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = 5;
+            // A paho client that has connected at 3.1.1 refuses to connect at
+            // 5 from then on ("Client created for another version of MQTT",
+            // before any byte is sent): after a 3.1.1 connection, "auto"
+            // asks every broker for 3.1.1.
+            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = spoke_311_ ? 4 : 5;
         }
         link_.attempt_failed(why, refused, delay, next);
     }
@@ -427,6 +431,7 @@ private:
                 if (ok && options_.mqtt_version == 0 && !protocol_settled_)
                     logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", url, protocol >= 5 ? "5" : "3.1.1");
                 if (ok) protocol_settled_ = true;
+                if (ok && protocol < 5) spoke_311_ = true;
                 if (ok && protocol >= 5) {
                     // paho keeps QoS 1 messages beyond the broker's Receive
                     // Maximum in its own queue and sends them only when woken
@@ -489,6 +494,7 @@ private:
     std::atomic<int> protocol_{options_.mqtt_version == 0 ? 5 : options_.mqtt_version};
     bool protocol_settled_ = false;  ///< supervisor only: a CONNACK accepted protocol_ (from this broker)
     bool fell_back_ = false;         ///< supervisor only: the next attempt stays on the broker at 3.1.1
+    bool spoke_311_ = false;         ///< supervisor only: a connection was made at 3.1.1 (see connect_failed())
 
     std::mutex watchdog_mutex_;  // watchdog_: progress on paho's thread, checks on the supervisor
     detail::AckWatchdog watchdog_;

@@ -12,6 +12,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <memory>
 #include <vector>
 
 using namespace nclink;
@@ -116,5 +117,27 @@ TEST_CASE("mqtt_version auto: a broker that is down is not taken for one that re
     broker.accept_mqtt5(true);
     REQUIRE(eventually([&] { return transport.state() == LinkState::connected; }, 10s));
     CHECK(broker.levels() == std::vector<int>{5});
+    transport.stop(0ms);
+}
+
+TEST_CASE("mqtt_version auto after a 3.1.1 connection fails over to the next broker at 3.1.1") {
+    // paho refuses to connect at 5 once it has connected at 3.1.1: asking
+    // the next broker for 5 would fail before a byte is sent, for ever.
+    auto first = std::make_unique<Mqtt5RefusingBroker>();
+    Mqtt5RefusingBroker second;
+    second.accept_mqtt5(true);
+    MqttOptions o = options_for(first->url(), 0);
+    o.failover_urls = {second.url()};
+    auto made = make_paho_transport(o);
+    REQUIRE(made);
+    auto& transport = **made;
+    REQUIRE(transport.start());
+    REQUIRE(eventually([&] { return transport.state() == LinkState::connected; }, 10s));
+    CHECK(first->levels() == std::vector<int>{5, 4});
+
+    first.reset();  // gone: its port refuses from now on
+    REQUIRE(eventually([&] { return transport.state() == LinkState::connected && transport.stats().broker == second.url(); }, 10s));
+    CHECK(second.levels() == std::vector<int>{4});
+    CHECK(transport.stats().failovers == 1);
     transport.stop(0ms);
 }
