@@ -25,13 +25,13 @@ int main(int argc, char** argv) {
     constexpr std::size_t kWidth = 6;
 
     std::atomic<std::uint64_t> rows_out{0};
-    detail::EngineDeps deps;
+    sampling_detail::EngineDeps deps;
     deps.clock = std::make_shared<SystemClock>();
-    deps.sleeper = std::make_shared<detail::NanosleepSleeper>();
+    deps.sleeper = std::make_shared<sampling_detail::NanosleepSleeper>();
     deps.dev = "bench";
     deps.sink = [&](Message m) { rows_out += m.payload.size() > 0 ? 1 : 0; };
-    detail::SamplingEngine engine(std::move(deps));
-    detail::ChannelSpec spec;
+    sampling_detail::SamplingEngine engine(std::move(deps));
+    sampling_detail::ChannelSpec spec;
     spec.id = "servo";
     for (std::size_t i = 0; i < kWidth; ++i) spec.points.push_back(PointRef{"p" + std::to_string(i), DataKind::single});
     spec.sample_interval_ms = 0.001;  // a ring for 10 ms of 1 MHz pushes

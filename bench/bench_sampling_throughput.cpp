@@ -192,7 +192,7 @@ int publisher_child(int port, int qos, const std::string& payload_file, std::siz
                               mqtt::create_options(MQTTVERSION_3_1_1, 64 + 16), nullptr);
     auto options = mqtt::connect_options_builder().clean_session(true).max_inflight(64).finalize();
     if (!client.connect(options)->wait_for(10s)) return 1;
-    detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
+    transport_detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
     std::printf("ready\n");
     std::fflush(stdout);
     std::getline(std::cin, line);  // "mark"
@@ -236,7 +236,7 @@ public:
         });
         auto options = mqtt::connect_options_builder().clean_session(true).finalize();
         client_.connect(options)->wait();
-        detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
+        transport_detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
         client_.subscribe(topics::dynamic_sample(kDev, kEx, "+"), qos)->wait();
         client_.subscribe(topics::sample_register_response(kDev, kEx), 1)->wait();
     }

@@ -57,7 +57,7 @@ void report(const char* name, const std::vector<double>& late_us) {
 std::vector<double> bare_loop(const Options& o) {
     std::vector<double> late;
     std::thread t([&] {
-        (void)detail::apply_realtime(o.sampling, Logger{});
+        (void)sampling_detail::apply_realtime(o.sampling, Logger{});
         const std::int64_t period = 1'000'000;
         const std::size_t ticks = static_cast<std::size_t>(o.seconds * 1000);
         late.reserve(ticks);
@@ -84,16 +84,16 @@ struct EngineRun {
 EngineRun engine_run(const Options& o) {
     EngineRun run;
     auto driver = std::make_shared<FastDriver>();
-    detail::DriverRunner runner(driver, {}, Logger{});
+    driver_detail::DriverRunner runner(driver, {}, Logger{});
     std::mutex mutex;
     std::vector<std::string> payloads;
     payloads.reserve(static_cast<std::size_t>(o.seconds * 10) + 16);
     run.late_us.reserve(static_cast<std::size_t>(o.seconds * 1000) + 16);
 
-    detail::EngineDeps deps;
+    sampling_detail::EngineDeps deps;
     deps.driver = &runner;
     deps.clock = std::make_shared<SystemClock>();
-    deps.sleeper = std::make_shared<detail::NanosleepSleeper>();
+    deps.sleeper = std::make_shared<sampling_detail::NanosleepSleeper>();
     deps.config = o.sampling;
     deps.dev = "bench";
     deps.sink = [&](Message m) {
@@ -103,8 +103,8 @@ EngineRun engine_run(const Options& o) {
     deps.tick_observer = [&](const std::string&, std::int64_t late_ns) {
         run.late_us.push_back(static_cast<double>(late_ns) / 1000.0);
     };
-    detail::SamplingEngine engine(std::move(deps));
-    detail::ChannelSpec spec;
+    sampling_detail::SamplingEngine engine(std::move(deps));
+    sampling_detail::ChannelSpec spec;
     spec.id = "ch_fast";
     for (std::size_t i = 0; i < o.points; ++i) spec.points.push_back(PointRef{"p" + std::to_string(i), DataKind::single});
     spec.sample_interval_ms = 1;

@@ -23,7 +23,7 @@ inline void connect_and_subscribe(mqtt::async_client& client, const std::string&
     // The broker's end of this connection, as nclink's own transports do
     // (docs/performance.md, "Broker"): the floor must not pay a Nagle delay
     // the adapter does not.
-    detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
+    transport_detail::apply_tcp_nodelay_to_peer("127.0.0.1", port);
     if (!client.subscribe(topic, 1)->wait_for(std::chrono::seconds(10)))
         throw std::runtime_error("subscribe of " + client.get_client_id() + " timed out");
 }

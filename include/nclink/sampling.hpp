@@ -27,8 +27,8 @@
 
 namespace nclink {
 
-namespace detail {
-class ChannelCore;
+namespace sampling_detail {
+class ChannelCore;  // the sampling module's own (src/sampling/channel_core.hpp)
 }
 
 /// Upper bounds (us, exclusive) of the lateness histogram buckets; the last
@@ -88,7 +88,7 @@ struct NCLINK_API SamplingStats {
 class NCLINK_API PushChannel {
 public:
     PushChannel() = default;
-    explicit PushChannel(std::shared_ptr<detail::ChannelCore> core) : core_(std::move(core)) {}
+    explicit PushChannel(std::shared_ptr<sampling_detail::ChannelCore> core) : core_(std::move(core)) {}
 
     /// Appends one row: `values[i]` is the i-th point of the channel (the
     /// channel's `ids` order); `count` must equal points(). Timestamped with
@@ -109,7 +109,7 @@ public:
     explicit operator bool() const noexcept { return static_cast<bool>(core_); }
 
 private:
-    std::shared_ptr<detail::ChannelCore> core_;
+    std::shared_ptr<sampling_detail::ChannelCore> core_;
 };
 
 }  // namespace nclink

@@ -74,7 +74,7 @@ enum class ValueShape : std::uint8_t {
     number_or_string,  ///< where table 14 and appendix A disagree (TOOL_PARAM radius/length)
 };
 
-namespace detail {
+namespace model_detail {
 struct ObjectSpec;  // the keys of one table-14 object (src/model/value_tables.hpp)
 }
 
@@ -134,8 +134,8 @@ private:
     std::vector<std::int64_t> int_enumeration_;  ///< allowed integers besides (STATUS 0/1/2, appendix A)
     bool has_min_ = false, has_max_ = false;
     double min_ = 0, max_ = 0;
-    const detail::ObjectSpec* object_ = nullptr;  ///< keys of table 14 (static storage)
-    std::vector<std::string> axes_;               ///< the device's AXIS numbers, upper case (COORDINATE); empty = not checked
+    const model_detail::ObjectSpec* object_ = nullptr;  ///< keys of table 14 (static storage)
+    std::vector<std::string> axes_;  ///< the device's AXIS numbers, upper case (COORDINATE); empty = not checked
 };
 
 /// Every data object's rule, compiled from one model. Immutable.

@@ -19,7 +19,7 @@
 
 namespace nclink {
 
-using detail::DriverRunner;
+using driver_detail::DriverRunner;
 
 Result<void> Adapter::Impl::start() {
     {
@@ -31,7 +31,7 @@ Result<void> Adapter::Impl::start() {
     // open(): a start that fails later leaves an opened driver unclosed.
     if (!transport)
         if (auto usable = check_broker_url(config.broker_url); !usable) return usable;
-    auto loaded = detail::load_adapter_model(config, host, logger);
+    auto loaded = adapter_detail::load_adapter_model(config, host, logger);
     if (!loaded) return std::move(loaded).error();
 
     if (!driver && !config.driver_plugin.empty()) {
@@ -49,14 +49,14 @@ Result<void> Adapter::Impl::start() {
         logger.debug(
             "heap_keep_bytes: the allocator does not take glibc's mallopt settings (another C library, or a "
             "sanitizer's allocator); left as it is");
-    DriverRunner::Options runner_options;
+    driver_detail::DriverRunner::Options runner_options;
     runner_options.call_timeout = config.driver_timeout;
     if (shared_threads) runner_options.pool = &shared_threads->impl().drivers;
-    runner = std::make_unique<DriverRunner>(driver, runner_options, logger);
+    runner = std::make_unique<driver_detail::DriverRunner>(driver, runner_options, logger);
 
     auto built = host.build(loaded.value(), config.device_id, *driver);
     if (!built) return std::move(built).error();
-    if (auto bound = detail::ModelHost::bind(*built.value(), *runner); !bound)
+    if (auto bound = adapter_detail::ModelHost::bind(*built.value(), *runner); !bound)
         return make_error(bound.error().code, "driver refused the model in bind(): " + bound.error().message);
     host.install(built.value());
     dev = resolve_dev_uuid(*built.value()->device, config.dev_uuid);
@@ -75,28 +75,29 @@ Result<void> Adapter::Impl::start() {
         // with the connection's I/O on the shared loop ("mosquitto") or on a
         // loop of its own ("paho", docs/gateway.md).
         auto* work = shared_threads ? &shared_threads->impl().work : nullptr;
-        auto made = shared_threads && shared_threads->impl().multiplexed_mqtt && detail::mosquitto_supports(options.broker_url)
-                        ? detail::make_mosquitto_transport(std::move(options), logger,
-                                                           detail::shared_mqtt_loop(shared_threads->impl(), logger), work)
-                        : detail::make_own_loop_transport(std::move(options), logger, work);
+        auto made =
+            shared_threads && shared_threads->impl().multiplexed_mqtt && transport_detail::mosquitto_supports(options.broker_url)
+                ? transport_detail::make_mosquitto_transport(
+                      std::move(options), logger, transport_detail::shared_mqtt_loop(shared_threads->impl(), logger), work)
+                : transport_detail::make_own_loop_transport(std::move(options), logger, work);
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
-    transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
+    transport = transport_detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
 
     // The objects, each on what it needs (adapter_impl.hpp).
     auto* shared = shared_threads ? &shared_threads->impl() : nullptr;
-    link = std::make_unique<detail::AdapterLink>(config, *transport, host, clock, logger, dev, instance, [this] {
+    link = std::make_unique<adapter_detail::AdapterLink>(config, *transport, host, clock, logger, dev, instance, [this] {
         if (housekeeping) housekeeping->wake();
     });
-    applications = std::make_unique<detail::ApplicationWatch>(
+    applications = std::make_unique<adapter_detail::ApplicationWatch>(
         *transport, dev, config.application_lease, logger, [this](const std::string& ex) { features.on_application_gone(ex); });
-    model_change = std::make_unique<detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features, listeners,
-                                                         [this] { return running(); });
-    requests = std::make_unique<detail::RequestIntake>(
-        detail::RequestIntake::Parts{config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features,
-                                     *applications, *model_change, [this] { return to_json(self->stats()); }, shared});
-    housekeeping = std::make_unique<detail::Housekeeping>(
+    model_change = std::make_unique<adapter_detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features,
+                                                                 listeners, [this] { return running(); });
+    requests = std::make_unique<adapter_detail::RequestIntake>(
+        adapter_detail::RequestIntake::Parts{config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features,
+                                             *applications, *model_change, [this] { return to_json(self->stats()); }, shared});
+    housekeeping = std::make_unique<adapter_detail::Housekeeping>(
         *link, *applications, [this] { return features.ready() ? drops_now() : Json(); }, clock, logger,
         shared ? &shared->timers : nullptr);
     composed.store(true, std::memory_order_release);
@@ -111,11 +112,11 @@ Result<void> Adapter::Impl::start() {
     if (auto subscribed = transport->subscribe(subscriptions, 1); !subscribed) return subscribed;
     // The features beside Query/Set/Probe (adapter_features.cpp lists them).
     if (auto begun = features.start(
-            detail::FeatureHost{dev, logger, clock, *transport, *runner, host, features.sample_tap(), *value_guard,
-                                [this](const ParsedTopic& topic, const Json& reply) { link->respond(topic, reply); },
-                                [this] { return link->next_msg_id(); }, config.persistence_dir, config.driver_timeout,
-                                shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0,
-                                shared ? &shared->work : nullptr},
+            feature_detail::FeatureHost{dev, logger, clock, *transport, *runner, host, features.sample_tap(), *value_guard,
+                                        [this](const ParsedTopic& topic, const Json& reply) { link->respond(topic, reply); },
+                                        [this] { return link->next_msg_id(); }, config.persistence_dir, config.driver_timeout,
+                                        shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0,
+                                        shared ? &shared->work : nullptr},
             config);
         !begun)
         return begun;
@@ -132,7 +133,7 @@ MqttOptions Adapter::Impl::mqtt_options() const {
     if (o.client_id.empty()) o.client_id = "nclink-adapter-" + dev;
     o.outbox.max_bytes = config.offline_buffer_bytes;
     o.outbox.max_in_flight = config.max_in_flight;
-    o.last_will = detail::state_message(dev, "offline");
+    o.last_will = adapter_detail::state_message(dev, "offline");
     return o;
 }
 
@@ -178,7 +179,7 @@ void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
     if (requests) requests->close();  // answers what is queued
     features.stop();
     if (transport) {
-        (void)transport->publish(detail::state_message(dev, "offline"));  // a clean stop sends no last will
+        (void)transport->publish(adapter_detail::state_message(dev, "offline"));  // a clean stop sends no last will
         transport->stop(flush_timeout);
     }
     // A driver call gets its usual deadline to finish; one stuck longer
@@ -209,7 +210,7 @@ ConfigReload Adapter::reload(const AdapterConfig& next) {
     std::lock_guard<std::mutex> lock(impl_->reload_mutex);
     // Compared with the configuration the adapter runs on, so a key waiting
     // for a restart is reported at every reload until then.
-    for (auto& key : detail::adapter_config_changes(impl_->config, next))
+    for (auto& key : adapter_detail::adapter_config_changes(impl_->config, next))
         if (key != "log_level") report.restart_needed.push_back(std::move(key));
     if (next.log_level != impl_->reloaded_level) {
         impl_->logger.set_min_level(next.log_level);
@@ -241,14 +242,14 @@ void Adapter::notify_value(const std::string& id, Json value) {
 }
 
 Result<PushChannel> Adapter::push_channel(const std::string& channel_id) const {
-    auto* sampling = impl_->features.find<detail::SamplingService>();
+    auto* sampling = impl_->features.find<sampling_detail::SamplingService>();
     if (!sampling || !impl_->config.sampling.enabled)
         return make_error(ErrorCode::unavailable, "sampling is not running (adapter not started, or sampling.enabled is false)");
     return sampling->push_channel(channel_id);
 }
 
 SamplingStats Adapter::sampling_stats() const {
-    auto* sampling = impl_->features.find<detail::SamplingService>();
+    auto* sampling = impl_->features.find<sampling_detail::SamplingService>();
     return sampling ? sampling->typed_stats() : SamplingStats{};
 }
 

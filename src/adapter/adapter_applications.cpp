@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 ApplicationWatch::ApplicationWatch(Transport& transport, std::string dev, std::chrono::milliseconds lease, const Logger& logger,
                                    std::function<void(const std::string&)> gone)
@@ -49,4 +49,4 @@ void ApplicationWatch::gone(const std::string& ex, std::string_view why) {
     on_gone_(ex);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -23,7 +23,7 @@
 #include <string>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class ApplicationWatch {
 public:
@@ -54,4 +54,4 @@ private:
     std::atomic<std::uint64_t> released_{0};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

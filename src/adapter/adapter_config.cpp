@@ -5,18 +5,18 @@
 #include "adapter/adapter_features.hpp"
 
 namespace nclink {
-using detail::ConfigReader;
+using core_detail::ConfigReader;
 
 Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c) {
     if (!json.is_object())
         return make_error(ErrorCode::syntax_error,
                           "configuration: the file must hold a JSON object");  // pointer "": the whole document
-    ConfigReader top(json, "");
+    core_detail::ConfigReader top(json, "");
 
     if (const Json* broker = top.object("broker")) {
         if (!broker->is_object()) return top.fail(ErrorCode::value_type, "broker", "must be an object");
-        ConfigReader b(*broker, "broker.");
-        NCLINK_TRY(detail::read_broker_common(b, c));
+        core_detail::ConfigReader b(*broker, "broker.");
+        NCLINK_TRY(transport_detail::read_broker_common(b, c));
         NCLINK_TRY(b.boolean("clean_session", c.clean_session));
         NCLINK_TRY(b.no_unknown_keys());
     }
@@ -39,14 +39,14 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
     NCLINK_TRY(top.duration("register_retry_max_ms", c.register_retry_max));
     NCLINK_TRY(top.duration("application_lease_ms", c.application_lease));
     NCLINK_TRY(top.count("heap_keep_bytes", c.heap_keep_bytes));
-    NCLINK_TRY(detail::read_feature_sections(top, c));  // "sampling", "events", "methods"
+    NCLINK_TRY(adapter_detail::read_feature_sections(top, c));  // "sampling", "events", "methods"
 
-    NCLINK_TRY(detail::read_log_level(top, c.log_level));
-    NCLINK_TRY(detail::read_http_limits(top, "metrics", c.metrics));
+    NCLINK_TRY(core_detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(core_detail::read_http_limits(top, "metrics", c.metrics));
 
     if (const Json* driver = top.object("driver")) {
         if (!driver->is_object()) return top.fail(ErrorCode::value_type, "driver", "must be an object");
-        ConfigReader d(*driver, "driver.");
+        core_detail::ConfigReader d(*driver, "driver.");
         NCLINK_TRY(d.str("plugin", c.driver_plugin));
         if (const Json* config = d.object("config")) c.driver_config = *config;
         NCLINK_TRY(d.no_unknown_keys());
@@ -58,16 +58,16 @@ Result<AdapterConfig> adapter_config_from_json(const Json& json, AdapterConfig c
 }
 
 Result<AdapterConfig> load_adapter_config(const std::string& path, AdapterConfig base) {
-    auto doc = detail::read_config_document(path);
+    auto doc = core_detail::read_config_document(path);
     if (!doc) return std::move(doc).error();
     auto config = adapter_config_from_json(doc->json, std::move(base));
-    if (!config) return detail::located(*doc, std::move(config).error());
+    if (!config) return core_detail::located(*doc, std::move(config).error());
     const Json* json = &doc->json;
     AdapterConfig& c = config.value();
-    if (json->contains("model")) detail::resolve_against(path, c.model_path);
-    if (json->contains("persistence_dir")) detail::resolve_against(path, c.persistence_dir);
-    if (json->contains("driver")) detail::resolve_against(path, c.driver_plugin);
-    if (json->contains("broker")) detail::resolve_tls_paths(path, c.tls);
+    if (json->contains("model")) core_detail::resolve_against(path, c.model_path);
+    if (json->contains("persistence_dir")) core_detail::resolve_against(path, c.persistence_dir);
+    if (json->contains("driver")) core_detail::resolve_against(path, c.driver_plugin);
+    if (json->contains("broker")) transport_detail::resolve_tls_paths(path, c.tls);
     return config;
 }
 

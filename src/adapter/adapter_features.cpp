@@ -12,43 +12,43 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
-Result<void> read_feature_sections(ConfigReader& top, AdapterConfig& c) {
-    if (const Json* section = top.object("sampling")) NCLINK_TRY(read_sampling_config(*section, c.sampling));
-    if (const Json* section = top.object("events")) NCLINK_TRY(read_events_config(*section, c.events));
-    if (const Json* section = top.object("methods")) NCLINK_TRY(read_methods_config(*section, c.methods));
+Result<void> read_feature_sections(core_detail::ConfigReader& top, AdapterConfig& c) {
+    if (const Json* section = top.object("sampling")) NCLINK_TRY(sampling_detail::read_sampling_config(*section, c.sampling));
+    if (const Json* section = top.object("events")) NCLINK_TRY(events_detail::read_events_config(*section, c.events));
+    if (const Json* section = top.object("methods")) NCLINK_TRY(methods_detail::read_methods_config(*section, c.methods));
     return ok_result();
 }
 
 void feature_config_changes(const AdapterConfig& a, const AdapterConfig& b, std::vector<std::string>& out) {
-    sampling_config_changes(a.sampling, b.sampling, out);
-    events_config_changes(a.events, b.events, out);
-    methods_config_changes(a.methods, b.methods, out);
+    sampling_detail::sampling_config_changes(a.sampling, b.sampling, out);
+    events_detail::events_config_changes(a.events, b.events, out);
+    methods_detail::methods_config_changes(a.methods, b.methods, out);
 }
 
-std::vector<std::unique_ptr<Feature>> make_features(FeatureHost& host, const AdapterConfig& config) {
-    std::vector<std::unique_ptr<Feature>> features;
-    features.push_back(make_sampling_service(host, config.sampling));
-    features.push_back(make_methods_service(host, config.methods));
-    features.push_back(make_events_service(host, config.events));
+std::vector<std::unique_ptr<feature_detail::Feature>> make_features(feature_detail::FeatureHost& host, const AdapterConfig& config) {
+    std::vector<std::unique_ptr<feature_detail::Feature>> features;
+    features.push_back(sampling_detail::make_sampling_service(host, config.sampling));
+    features.push_back(methods_detail::make_methods_service(host, config.methods));
+    features.push_back(events_detail::make_events_service(host, config.events));
     return features;
 }
 
-void feature_drops_from_stats(const Json& features, DropCounts& out) {
-    sampling_drops_from_stats(json_member(features, "sampling"), out);
-    events_drops_from_stats(json_member(features, "events"), out);
+void feature_drops_from_stats(const Json& features, feature_detail::DropCounts& out) {
+    sampling_detail::sampling_drops_from_stats(feature_detail::json_member(features, "sampling"), out);
+    events_detail::events_drops_from_stats(feature_detail::json_member(features, "events"), out);
 }
 
-void feature_metrics_from_stats(PrometheusText& out, const MetricLabels& device, const Json& features,
+void feature_metrics_from_stats(core_detail::PrometheusText& out, const core_detail::MetricLabels& device, const Json& features,
                                 const SamplingStats& sampling) {
-    add_sampling_metrics(out, {device, json_member(features, "sampling")}, sampling);
-    add_events_metrics(out, {device, json_member(features, "events")});
-    add_methods_metrics(out, {device, json_member(features, "methods")});
+    sampling_detail::add_sampling_metrics(out, {device, feature_detail::json_member(features, "sampling")}, sampling);
+    events_detail::add_events_metrics(out, {device, feature_detail::json_member(features, "events")});
+    methods_detail::add_methods_metrics(out, {device, feature_detail::json_member(features, "methods")});
 }
 
-Result<void> FeatureSet::start(FeatureHost host, const AdapterConfig& config) {
-    host_ = std::make_unique<FeatureHost>(std::move(host));
+Result<void> FeatureSet::start(feature_detail::FeatureHost host, const AdapterConfig& config) {
+    host_ = std::make_unique<feature_detail::FeatureHost>(std::move(host));
     features_ = make_features(*host_, config);
     for (std::size_t i = 0; i < features_.size(); ++i) {
         if (auto begun = features_[i]->start(); !begun) {
@@ -80,7 +80,7 @@ void FeatureSet::on_link(LinkState link) {
     for (auto& feature : features_) feature->on_link(link);
 }
 
-void FeatureSet::on_model(const std::shared_ptr<const ModelState>& state) {
+void FeatureSet::on_model(const std::shared_ptr<const feature_detail::ModelState>& state) {
     for (auto& feature : features_) feature->on_model(state);
 }
 
@@ -97,8 +97,8 @@ void FeatureSet::add_stats(Json& out) const {
     for (const auto& feature : features_) out[std::string(feature->name())] = feature->stats();
 }
 
-void FeatureSet::add_drops(DropCounts& out) const {
+void FeatureSet::add_drops(feature_detail::DropCounts& out) const {
     for (const auto& feature : features_) feature->add_drops(out);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

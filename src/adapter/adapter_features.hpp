@@ -24,25 +24,25 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 /// Reads the features' sections of a configuration file (docs/configuration.md).
-Result<void> read_feature_sections(ConfigReader& top, AdapterConfig& out);
+Result<void> read_feature_sections(core_detail::ConfigReader& top, AdapterConfig& out);
 
 /// Appends the keys of the features' sections that differ (adapter_reload.hpp).
 void feature_config_changes(const AdapterConfig& a, const AdapterConfig& b, std::vector<std::string>& out);
 
 /// The features, in start order (stopped in reverse), each given its own section.
-std::vector<std::unique_ptr<Feature>> make_features(FeatureHost& host, const AdapterConfig& config);
+std::vector<std::unique_ptr<feature_detail::Feature>> make_features(feature_detail::FeatureHost& host, const AdapterConfig& config);
 
 /// Every feature's drop causes read from a statistics snapshot's "features"
 /// object (AdapterStats::features): what their add_drops() count live.
-void feature_drops_from_stats(const Json& features, DropCounts& out);
+void feature_drops_from_stats(const Json& features, feature_detail::DropCounts& out);
 
 /// Every feature's families of the adapter's exposition (docs/metrics.md),
 /// written by the feature's module from a statistics snapshot's "features"
 /// object and the sample channels.
-void feature_metrics_from_stats(PrometheusText& out, const MetricLabels& device, const Json& features,
+void feature_metrics_from_stats(core_detail::PrometheusText& out, const core_detail::MetricLabels& device, const Json& features,
                                 const SamplingStats& sampling);
 
 /// The running features and their host.
@@ -51,23 +51,23 @@ public:
     /// Makes the features (make_features) on `host` and starts them in
     /// order; on a failure the started ones are stopped again and the
     /// error names the feature. Owner thread, once.
-    Result<void> start(FeatureHost host, const AdapterConfig& config);
+    Result<void> start(feature_detail::FeatureHost host, const AdapterConfig& config);
     /// Stops them in reverse order. Owner thread.
     void stop();
     /// True once every feature started: notify_value and the statistics may reach them.
     bool ready() const { return ready_.load(std::memory_order_acquire); }
 
-    SampleTap& sample_tap() { return sample_tap_; }
+    feature_detail::SampleTap& sample_tap() { return sample_tap_; }
 
     /// Hands a request to the feature that answers its kind; false when none does.
     bool handle(const ParsedTopic& topic, const std::string& payload);
     void on_link(LinkState link);
-    void on_model(const std::shared_ptr<const ModelState>& state);
+    void on_model(const std::shared_ptr<const feature_detail::ModelState>& state);
     void on_application_gone(const std::string& ex_cid);
     void on_value(const std::string& id, const Json& value);
     /// Each feature's statistics under its name (AdapterStats::features).
     void add_stats(Json& out) const;
-    void add_drops(DropCounts& out) const;
+    void add_drops(feature_detail::DropCounts& out) const;
     /// The feature of type T, null when it does not run (e.g. SamplingService).
     template <class T>
     T* find() const {
@@ -78,10 +78,10 @@ public:
     }
 
 private:
-    SampleTap sample_tap_;
-    std::unique_ptr<FeatureHost> host_;
-    std::vector<std::unique_ptr<Feature>> features_;
+    feature_detail::SampleTap sample_tap_;
+    std::unique_ptr<feature_detail::FeatureHost> host_;
+    std::vector<std::unique_ptr<feature_detail::Feature>> features_;
     std::atomic<bool> ready_{false};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

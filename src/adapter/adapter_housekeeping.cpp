@@ -3,10 +3,10 @@
 
 #include "core/thread_name.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 Housekeeping::Housekeeping(AdapterLink& link, ApplicationWatch& applications, std::function<Json()> drops,
-                           std::shared_ptr<const Clock> clock, const Logger& logger, PollHost* timers)
+                           std::shared_ptr<const Clock> clock, const Logger& logger, core_detail::PollHost* timers)
     : link_(link),
       applications_(applications),
       drops_(std::move(drops)),
@@ -16,14 +16,14 @@ Housekeeping::Housekeeping(AdapterLink& link, ApplicationWatch& applications, st
 
 void Housekeeping::start() {
     if (timers_) {
-        entry_ = timers_->add([this](PollHost::Time now) {
+        entry_ = timers_->add([this](core_detail::PollHost::Time now) {
             pass();
             return now + kSharedHousekeepingPeriod;
         });
         return;
     }
     thread_ = std::thread([this] {
-        name_this_thread("nclink-house");
+        core_detail::name_this_thread("nclink-house");
         run();
     });
 }
@@ -72,4 +72,4 @@ void Housekeeping::pass() {
     }
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -26,7 +26,7 @@
 #include <mutex>
 #include <thread>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 /// How often housekeeping looks at registration retries, leases and drops
 /// (real time; the registration and lease clocks are the injected clock).
@@ -42,7 +42,7 @@ public:
     /// is nothing to look at). `timers`: the shared timer threads, or null
     /// for a thread of its own. Everything referenced outlives it.
     Housekeeping(AdapterLink& link, ApplicationWatch& applications, std::function<Json()> drops,
-                 std::shared_ptr<const Clock> clock, const Logger& logger, PollHost* timers);
+                 std::shared_ptr<const Clock> clock, const Logger& logger, core_detail::PollHost* timers);
     ~Housekeeping() { stop(); }
 
     void start();
@@ -59,15 +59,15 @@ private:
     ApplicationWatch& applications_;
     const std::function<Json()> drops_;
     const std::shared_ptr<const Clock> clock_;
-    PollHost* const timers_;
+    core_detail::PollHost* const timers_;
     DropReporter drop_reporter_;                               // passes only (one at a time)
     std::chrono::steady_clock::time_point last_drop_check_{};  // passes only
 
     std::mutex mutex_;  // stopping_, with wake_
     std::condition_variable wake_;
     bool stopping_ = false;
-    std::thread thread_;      // without shared timers
-    PollHost::Handle entry_;  // with shared timers
+    std::thread thread_;                   // without shared timers
+    core_detail::PollHost::Handle entry_;  // with shared timers
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

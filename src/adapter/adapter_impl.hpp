@@ -69,11 +69,12 @@ struct NCLINK_LOCAL Adapter::Impl {
     std::unique_ptr<Transport> transport;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
     std::shared_ptr<SharedThreads> shared_threads;  // gateway mode; null: the adapter's own threads
-    detail::ModelHost host;
-    std::unique_ptr<detail::DriverRunner> runner;
+    adapter_detail::ModelHost host;
+    std::unique_ptr<driver_detail::DriverRunner> runner;
     /// Chapter 7 checks of driver values (shared: a driver-affine task may outlive the adapter).
-    std::shared_ptr<detail::ValueGuard> value_guard = std::make_shared<detail::ValueGuard>(logger, config.check_values);
-    std::shared_ptr<detail::DtuCounter> dtus = std::make_shared<detail::DtuCounter>();  // DTUs by kind
+    std::shared_ptr<feature_detail::ValueGuard> value_guard =
+        std::make_shared<feature_detail::ValueGuard>(logger, config.check_values);
+    std::shared_ptr<transport_detail::DtuCounter> dtus = std::make_shared<transport_detail::DtuCounter>();  // DTUs by kind
     std::string dev;
 
     // ---- lifecycle (mutex)
@@ -85,13 +86,13 @@ struct NCLINK_LOCAL Adapter::Impl {
 
     // ---- the objects; built in start(), in this order, then `composed` is
     // set and they stay until the Impl goes (threads stop in stop()).
-    detail::ModelListeners listeners;  // from construction: listeners come before start()
-    detail::FeatureSet features;
-    std::unique_ptr<detail::AdapterLink> link;
-    std::unique_ptr<detail::ApplicationWatch> applications;
-    std::unique_ptr<detail::ModelChange> model_change;
-    std::unique_ptr<detail::RequestIntake> requests;
-    std::unique_ptr<detail::Housekeeping> housekeeping;
+    adapter_detail::ModelListeners listeners;  // from construction: listeners come before start()
+    adapter_detail::FeatureSet features;
+    std::unique_ptr<adapter_detail::AdapterLink> link;
+    std::unique_ptr<adapter_detail::ApplicationWatch> applications;
+    std::unique_ptr<adapter_detail::ModelChange> model_change;
+    std::unique_ptr<adapter_detail::RequestIntake> requests;
+    std::unique_ptr<adapter_detail::Housekeeping> housekeeping;
     std::atomic<bool> composed{false};
 
     // ---- lifecycle (adapter.cpp), owner thread

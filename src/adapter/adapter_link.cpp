@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 Message state_message(const std::string& dev, const char* state_text) {
     NotifyState notify;
@@ -14,7 +14,7 @@ Message state_message(const std::string& dev, const char* state_text) {
     return Message{topics::notify_state(dev), encode(notify), 1, true};
 }
 
-AdapterLink::AdapterLink(const AdapterConfig& config, Transport& transport, const ModelSource& model,
+AdapterLink::AdapterLink(const AdapterConfig& config, Transport& transport, const feature_detail::ModelSource& model,
                          std::shared_ptr<const Clock> clock, const Logger& logger, std::string dev, std::string instance,
                          std::function<void()> wake_housekeeping)
     : config_(config),
@@ -203,4 +203,4 @@ void AdapterLink::retry_kept() {
     if (transport_.state() == LinkState::connected) fire(AdapterEvent::retry_due);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 /// The retained Notify/State of terminal `dev` (8.2.16): "online", or
 /// "offline" (also the last will, before any link exists).
@@ -45,8 +45,9 @@ public:
     /// `instance` names this run of the adapter (docs/wire.md);
     /// `wake_housekeeping` is called when a registration went out or was
     /// answered, so its retry clock is looked at at once.
-    AdapterLink(const AdapterConfig& config, Transport& transport, const ModelSource& model, std::shared_ptr<const Clock> clock,
-                const Logger& logger, std::string dev, std::string instance, std::function<void()> wake_housekeeping);
+    AdapterLink(const AdapterConfig& config, Transport& transport, const feature_detail::ModelSource& model,
+                std::shared_ptr<const Clock> clock, const Logger& logger, std::string dev, std::string instance,
+                std::function<void()> wake_housekeeping);
 
     AdapterState state() const;
     bool registered() const { return registration_.registered(); }
@@ -82,7 +83,7 @@ private:
 
     const AdapterConfig& config_;
     Transport& transport_;
-    const ModelSource& model_;
+    const feature_detail::ModelSource& model_;
     const std::shared_ptr<const Clock> clock_;
     const Logger& logger_;
     const std::string dev_;
@@ -99,4 +100,4 @@ private:
     ResponseCache responses_;  // state-machine text items 75, 79: kept while the link will not take them
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

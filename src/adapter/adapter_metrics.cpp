@@ -17,13 +17,13 @@ TrafficStats Adapter::traffic_stats() const {
     return t;
 }
 
-namespace detail {
+namespace adapter_detail {
 
-void add_adapter_metrics(PrometheusText& out, const std::string& dev, const AdapterStats& s, const SamplingStats& sampling,
-                         const TrafficStats& traffic) {
-    const MetricLabels d{{"dev", dev}};
+void add_adapter_metrics(core_detail::PrometheusText& out, const std::string& dev, const AdapterStats& s,
+                         const SamplingStats& sampling, const TrafficStats& traffic) {
+    const core_detail::MetricLabels d{{"dev", dev}};
     auto with = [&](const char* name, std::string value) {
-        MetricLabels l = d;
+        core_detail::MetricLabels l = d;
         l.emplace_back(name, std::move(value));
         return l;
     };
@@ -83,17 +83,17 @@ void add_adapter_metrics(PrometheusText& out, const std::string& dev, const Adap
 
     // ---- drops by cause (each in its own unit: see docs/metrics.md); the
     // features add theirs with their own families (adapter_features.hpp)
-    add_drop_metric(out, d, "outbox_full", t.dropped);
+    feature_detail::add_drop_metric(out, d, "outbox_full", t.dropped);
     feature_metrics_from_stats(out, d, s.features, sampling);
 }
 
-}  // namespace detail
+}  // namespace adapter_detail
 
 std::string prometheus_metrics(const std::vector<const Adapter*>& adapters) {
-    detail::PrometheusText out;
+    core_detail::PrometheusText out;
     for (const Adapter* a : adapters) {
         if (!a) continue;
-        detail::add_adapter_metrics(out, a->dev_uuid(), a->stats(), a->sampling_stats(), a->traffic_stats());
+        adapter_detail::add_adapter_metrics(out, a->dev_uuid(), a->stats(), a->sampling_stats(), a->traffic_stats());
     }
     return out.str();
 }

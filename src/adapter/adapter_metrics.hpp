@@ -10,9 +10,9 @@
 
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
-void add_adapter_metrics(PrometheusText& out, const std::string& dev, const AdapterStats& stats, const SamplingStats& sampling,
-                         const TrafficStats& traffic);
+void add_adapter_metrics(core_detail::PrometheusText& out, const std::string& dev, const AdapterStats& stats,
+                         const SamplingStats& sampling, const TrafficStats& traffic);
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

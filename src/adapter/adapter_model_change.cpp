@@ -8,10 +8,10 @@
 #include "adapter/request_handlers.hpp"
 #include "protocol/driver_failure.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 ModelChange::ModelChange(const AdapterConfig& config, const Logger& logger, std::string dev, ModelHost& host,
-                         const Driver& driver, DriverRunner& runner, AdapterLink& link, FeatureSet& features,
+                         const Driver& driver, driver_detail::DriverRunner& runner, AdapterLink& link, FeatureSet& features,
                          ModelListeners& listeners, std::function<bool()> running)
     : config_(config),
       logger_(logger),
@@ -76,7 +76,7 @@ ProbeSetResponse ModelChange::probe_set(const ProbeSetRequest& request) {
             // The driver's refusal (bind()) or a persistence failure: the
             // table-19 status, the words in privateInfo (docs/wire.md,
             // "Vendor errors").
-            const auto failure = driver_failure(e);
+            const auto failure = protocol_detail::driver_failure(e);
             response.status = failure.status;
             response.private_info = failure.private_info;
         }
@@ -89,7 +89,7 @@ void ModelChange::rebind_current() {
     if (!current) return;
     // A copy of the model in force with fresh handles: snapshots still held
     // elsewhere keep working (the runner re-resolves their refs by id).
-    auto again = std::make_shared<ModelState>(*current);
+    auto again = std::make_shared<feature_detail::ModelState>(*current);
     if (auto bound = ModelHost::bind(*again, runner_); !bound) {
         logger_.error("could not bind the model in force again: {}", bound.error().describe());
         return;
@@ -97,4 +97,4 @@ void ModelChange::rebind_current() {
     host_.install(std::move(again));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

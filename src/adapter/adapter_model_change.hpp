@@ -26,7 +26,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 /// The model listeners of the adapter (Adapter::add_model_listener), from
 /// before start() on. Any thread; the listeners run outside the lock.
@@ -51,7 +51,7 @@ public:
     /// Everything referenced outlives it. `running()`: the adapter serves
     /// (started, not stopping, initialized); a change is refused otherwise.
     ModelChange(const AdapterConfig& config, const Logger& logger, std::string dev, ModelHost& host, const Driver& driver,
-                DriverRunner& runner, AdapterLink& link, FeatureSet& features, ModelListeners& listeners,
+                driver_detail::DriverRunner& runner, AdapterLink& link, FeatureSet& features, ModelListeners& listeners,
                 std::function<bool()> running);
 
     /// Validates, persists and swaps in a whole model; returns its version.
@@ -70,7 +70,7 @@ private:
     const std::string dev_;
     ModelHost& host_;
     const Driver& driver_;
-    DriverRunner& runner_;
+    driver_detail::DriverRunner& runner_;
     AdapterLink& link_;
     FeatureSet& features_;
     ModelListeners& listeners_;
@@ -78,4 +78,4 @@ private:
     std::mutex serial_;  // one model change at a time: binds and installs come in one order
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

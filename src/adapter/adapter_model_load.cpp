@@ -12,7 +12,7 @@
 #include <cstring>
 #include <filesystem>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 namespace {
 
@@ -85,4 +85,4 @@ Result<LoadResult> load_adapter_model(const AdapterConfig& config, const ModelHo
     return loaded;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -9,11 +9,11 @@
 #include <nclink/model.hpp>
 #include <nclink/result.hpp>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 /// The model to serve, loaded and checked (refused models are an error
 /// naming every problem); removes a persisted model a newer shipped one
 /// replaces.
 Result<LoadResult> load_adapter_model(const AdapterConfig& config, const ModelHost& host, const Logger& logger);
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

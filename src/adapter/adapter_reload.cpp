@@ -3,7 +3,7 @@
 
 #include "transport/broker_settings.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const AdapterConfig& b) {
     using transport_detail::BrokerSettings;
@@ -39,4 +39,4 @@ std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const Ad
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 std::vector<std::string> adapter_config_changes(const AdapterConfig& a, const AdapterConfig& b);
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -7,20 +7,20 @@
 #include "adapter/request_handlers.hpp"
 #include "protocol/query_request_fast.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 RequestIntake::RequestIntake(Parts parts)
     : parts_(std::move(parts)),
       gate_(std::make_shared<RequestGate>(parts_.config.max_pending_requests, parts_.config.max_request_bytes, parts_.logger)),
       dedup_(parts_.config.dedup_window, parts_.config.dedup_capacity, parts_.clock) {
     if (parts_.shared) {
-        executor_ = std::make_unique<TaskGroup>(parts_.shared->requests);
-        watchdog_ = std::make_unique<WatchdogScope>(parts_.shared->watchdog);
+        executor_ = std::make_unique<core_detail::TaskGroup>(parts_.shared->requests);
+        watchdog_ = std::make_unique<core_detail::WatchdogScope>(parts_.shared->watchdog);
     } else {
-        own_executor_ = std::make_shared<Executor>(parts_.config.request_threads);
-        executor_ = std::make_unique<TaskGroup>(own_executor_);
-        own_watchdog_ = std::make_unique<DeadlineWatchdog>();
-        watchdog_ = std::make_unique<WatchdogScope>(*own_watchdog_);
+        own_executor_ = std::make_shared<core_detail::Executor>(parts_.config.request_threads);
+        executor_ = std::make_unique<core_detail::TaskGroup>(own_executor_);
+        own_watchdog_ = std::make_unique<core_detail::DeadlineWatchdog>();
+        watchdog_ = std::make_unique<core_detail::WatchdogScope>(*own_watchdog_);
     }
 }
 
@@ -153,7 +153,7 @@ bool RequestIntake::dispatch_driver_affine(const ParsedTopic& topic, const std::
                                            std::shared_ptr<RequestGate::Ticket> ticket,
                                            std::chrono::steady_clock::time_point received, Decoded decoded) {
     const auto& config = parts_.config;
-    auto claim = std::make_shared<AnswerClaim>();
+    auto claim = std::make_shared<core_detail::AnswerClaim>();
     // The ticket goes with the driver's task only: the watchdog's callback
     // lives until the deadline even when the driver answered long before.
     // Unlocked: the task holds the driver only while it reads, not while it
@@ -168,11 +168,11 @@ bool RequestIntake::dispatch_driver_affine(const ParsedTopic& topic, const std::
     watchdog_->arm(std::chrono::steady_clock::now() + config.driver_timeout, [this, claim, topic, payload] {
         const auto timeout = parts_.config.driver_timeout;
         const auto deadline = claim->claim_deadline();
-        if (deadline == AnswerClaim::Deadline::lost) return;
+        if (deadline == core_detail::AnswerClaim::Deadline::lost) return;
         ++affine_timeouts_;
         const char* what = topic.kind == TopicKind::set_request ? "Set" : "Query";
         parts_.logger.warn("driver '{}' did not answer a {} within {} ms", parts_.driver.info().name, what, timeout.count());
-        if (deadline == AnswerClaim::Deadline::during_work && topic.kind == TopicKind::set_request) {
+        if (deadline == core_detail::AnswerClaim::Deadline::during_work && topic.kind == TopicKind::set_request) {
             // The worker is inside the driver with this Set: which items it
             // has written is not known here, so the whole Set answers 203.
             const Error unknown =
@@ -285,4 +285,4 @@ void RequestIntake::handle(const ParsedTopic& topic, const std::string& payload,
     deliver();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -45,7 +45,7 @@
 #include <optional>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class RequestIntake {
 public:
@@ -56,9 +56,9 @@ public:
         const std::string& dev;
         std::shared_ptr<const Clock> clock;
         const Driver& driver;  ///< its name, in the deadline's log line
-        DriverRunner& runner;
+        driver_detail::DriverRunner& runner;
         ModelHost& host;
-        std::shared_ptr<ValueGuard> values;  ///< shared: a driver-affine task may outlive the adapter
+        std::shared_ptr<feature_detail::ValueGuard> values;  ///< shared: a driver-affine task may outlive the adapter
         AdapterLink& link;
         FeatureSet& features;
         ApplicationWatch& applications;
@@ -98,7 +98,7 @@ private:
         bool alive = true;
     };
     struct Affine {
-        AnswerClaim* claim = nullptr;  ///< null: not a driver-affine task
+        core_detail::AnswerClaim* claim = nullptr;  ///< null: not a driver-affine task
         Lifetime* life = nullptr;
     };
     /// A Query or Set already decoded on the transport thread, which parses
@@ -123,15 +123,15 @@ private:
     void observe(TopicKind kind, std::chrono::steady_clock::time_point received) noexcept;
 
     Parts parts_;
-    std::shared_ptr<Executor> own_executor_;          // without shared threads
-    std::unique_ptr<TaskGroup> executor_;             // this adapter's request tasks (on either)
-    std::unique_ptr<DeadlineWatchdog> own_watchdog_;  // without shared threads
-    std::unique_ptr<WatchdogScope> watchdog_;         // this adapter's deadlines (on either)
-    std::shared_ptr<RequestGate> gate_;               // bounded request intake (its own lock)
-    DedupWindow dedup_;                               // its own lock
+    std::shared_ptr<core_detail::Executor> own_executor_;          // without shared threads
+    std::unique_ptr<core_detail::TaskGroup> executor_;             // this adapter's request tasks (on either)
+    std::unique_ptr<core_detail::DeadlineWatchdog> own_watchdog_;  // without shared threads
+    std::unique_ptr<core_detail::WatchdogScope> watchdog_;         // this adapter's deadlines (on either)
+    std::shared_ptr<RequestGate> gate_;                            // bounded request intake (its own lock)
+    DedupWindow dedup_;                                            // its own lock
     std::shared_ptr<Lifetime> lifetime_ = std::make_shared<Lifetime>();
     std::atomic<std::uint64_t> requests_{0}, ignored_retained_{0}, ignored_duplicates_{0}, rejected_{0}, affine_timeouts_{0};
-    std::array<LatencyHistogram, kTopicKindCount> latency_;
+    std::array<core_detail::LatencyHistogram, transport_detail::kTopicKindCount> latency_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -36,19 +36,19 @@ AdapterStats Adapter::stats() const {
 namespace {
 
 // The same counts read from a statistics snapshot (its features' JSON).
-detail::DropCounts feature_drops(const AdapterStats& s) {
-    detail::DropCounts d;
-    detail::feature_drops_from_stats(s.features, d);
+feature_detail::DropCounts feature_drops(const AdapterStats& s) {
+    feature_detail::DropCounts d;
+    adapter_detail::feature_drops_from_stats(s.features, d);
     return d;
 }
 
 }  // namespace
 
-namespace detail {
+namespace adapter_detail {
 
 // Every place a DTU or a value can be lost, by cause (docs/delivery.md,
 // "Counted drops"). Each is also logged, once per burst, where it happens.
-Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
+Json drops_by_cause(const feature_detail::DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
     Json out{{"offline_buffer_full", offline_buffer_full},
              // Requests beyond max_pending_requests: dropped unanswered
              // (the requester's timeout, 203, is its answer).
@@ -57,22 +57,22 @@ Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_ful
     return out;
 }
 
-}  // namespace detail
+}  // namespace adapter_detail
 
 // Straight from the counters: the housekeeping's once-a-second look, which
 // building the whole statistics made a quarter of a 1,000-machine gateway's
 // CPU (perf, docs/performance.md "Fleet").
 Json Adapter::Impl::drops_now() const {
-    detail::DropCounts d;
+    feature_detail::DropCounts d;
     features.add_drops(d);
-    return detail::drops_by_cause(d, transport->stats().dropped, requests->shed());
+    return adapter_detail::drops_by_cause(d, transport->stats().dropped, requests->shed());
 }
 
 Json to_json(const AdapterStats& s) {
     const auto& t = s.transport;
     return Json{{"requests", s.requests},
                 {"applications_released", s.applications_released},
-                {"drops", detail::drops_by_cause(feature_drops(s), s.transport.dropped, s.shed)},
+                {"drops", adapter_detail::drops_by_cause(feature_drops(s), s.transport.dropped, s.shed)},
                 {"ignored_retained", s.ignored_retained},
                 {"ignored_duplicates", s.ignored_duplicates},
                 {"rejected", s.rejected},

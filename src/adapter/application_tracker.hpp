@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class ApplicationTracker {
 public:
@@ -54,4 +54,4 @@ private:
     std::map<std::string, Clock::Steady> last_seen_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -15,7 +15,7 @@
 #include <string_view>
 #include <unordered_set>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class DedupWindow {
 public:
@@ -66,4 +66,4 @@ private:
     std::unordered_set<std::string> keys_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

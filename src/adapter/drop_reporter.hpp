@@ -14,11 +14,14 @@
 #include <map>
 #include <string>
 
-namespace nclink::detail {
-
+namespace nclink::feature_detail {
 class DropCounts;
+}
+
+namespace nclink::adapter_detail {
+
 /// The statistics' "drops" object: every cause by name (adapter_stats.cpp).
-Json drops_by_cause(const DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed);
+Json drops_by_cause(const feature_detail::DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed);
 
 class DropReporter {
 public:
@@ -56,4 +59,4 @@ private:
     std::map<std::string, Cause> causes_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

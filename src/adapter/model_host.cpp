@@ -5,14 +5,14 @@
 #include <fstream>
 #include <sstream>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 ModelHost::ModelHost(std::string persistence_dir, Logger logger) : dir_(std::move(persistence_dir)), logger_(std::move(logger)) {}
 
-Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
-                                                     const Driver& driver) const {
+Result<std::shared_ptr<feature_detail::ModelState>> ModelHost::build(const LoadResult& loaded, const std::string& device_id,
+                                                                     const Driver& driver) const {
     if (!loaded.model) return make_error(ErrorCode::syntax_error, "the model has fatal problems");
-    auto state = std::make_shared<ModelState>();
+    auto state = std::make_shared<feature_detail::ModelState>();
     state->model = loaded.model;
     for (const auto& p : loaded.problems)
         if (p.severity != Severity::fatal) state->problems.push_back(p);
@@ -59,7 +59,7 @@ Result<std::shared_ptr<ModelState>> ModelHost::build(const LoadResult& loaded, c
     return state;
 }
 
-Result<void> ModelHost::bind(ModelState& state, DriverRunner& runner) {
+Result<void> ModelHost::bind(feature_detail::ModelState& state, driver_detail::DriverRunner& runner) {
     std::vector<BindPoint> points;
     const Model& model = *state.model;
     for (const auto& object : model.data_objects()) {
@@ -97,12 +97,12 @@ Result<void> ModelHost::bind(ModelState& state, DriverRunner& runner) {
     return ok_result();
 }
 
-std::shared_ptr<const ModelState> ModelHost::current() const {
+std::shared_ptr<const feature_detail::ModelState> ModelHost::current() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return current_;
 }
 
-void ModelHost::install(std::shared_ptr<const ModelState> state) {
+void ModelHost::install(std::shared_ptr<const feature_detail::ModelState> state) {
     std::lock_guard<std::mutex> lock(mutex_);
     current_ = std::move(state);
 }
@@ -115,7 +115,7 @@ std::string ModelHost::persisted_model_path() const {
 
 Result<void> ModelHost::persist_model(const std::string& text) const {
     if (dir_.empty()) return ok_result();
-    return write_file_atomically((std::filesystem::path(dir_) / "model.json").string(), text);
+    return core_detail::write_file_atomically((std::filesystem::path(dir_) / "model.json").string(), text);
 }
 
 Result<void> ModelHost::persist_values(const ValueStore& store) const {
@@ -127,8 +127,8 @@ Result<void> ModelHost::persist_values(const ValueStore& store) const {
         const DataObject* object = state ? state->model->data_object(it.key()) : nullptr;
         if (object && object->setable) settable[it.key()] = it.value();
     }
-    return write_file_atomically((std::filesystem::path(dir_) / "values.json").string(),
-                                 settable.dump(2, ' ', false, Json::error_handler_t::replace));
+    return core_detail::write_file_atomically((std::filesystem::path(dir_) / "values.json").string(),
+                                              settable.dump(2, ' ', false, Json::error_handler_t::replace));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

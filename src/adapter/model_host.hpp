@@ -16,9 +16,9 @@
 #include <mutex>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
-class ModelHost final : public ModelSource {
+class ModelHost final : public feature_detail::ModelSource {
 public:
     ModelHost(std::string persistence_dir, Logger logger);
 
@@ -26,15 +26,16 @@ public:
     /// the store with fixed values and unclaimed configs, restoring persisted
     /// values of settable ones. Errors: 401 when the device is not in the model.
     /// The state is not bound yet (bind()).
-    Result<std::shared_ptr<ModelState>> build(const LoadResult& loaded, const std::string& device_id, const Driver& driver) const;
+    Result<std::shared_ptr<feature_detail::ModelState>> build(const LoadResult& loaded, const std::string& device_id,
+                                                              const Driver& driver) const;
     /// Asks the driver for its handles (Driver::bind) for every point of
     /// `state` it is asked about: the data items of the device (and of the
     /// root configs) that the store does not hold, and the METHODs. Sets
     /// state.points; the driver's error (or 203 when busy) otherwise.
-    static Result<void> bind(ModelState& state, DriverRunner& runner);
+    static Result<void> bind(feature_detail::ModelState& state, driver_detail::DriverRunner& runner);
 
-    std::shared_ptr<const ModelState> current() const override;
-    void install(std::shared_ptr<const ModelState> state);
+    std::shared_ptr<const feature_detail::ModelState> current() const override;
+    void install(std::shared_ptr<const feature_detail::ModelState> state);
 
     /// The model file a previous Probe/Set persisted, if any ("" = none).
     std::string persisted_model_path() const;
@@ -47,7 +48,7 @@ private:
     const std::string dir_;
     const Logger logger_;
     mutable std::mutex mutex_;
-    std::shared_ptr<const ModelState> current_;
+    std::shared_ptr<const feature_detail::ModelState> current_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 void Registration::sent(std::string msg_id, Clock::Steady now) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -46,4 +46,4 @@ bool Registration::registered() const {
     return registered_;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

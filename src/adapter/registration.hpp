@@ -14,7 +14,7 @@
 #include <mutex>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class Registration {
 public:
@@ -52,4 +52,4 @@ private:
     bool registered_ = false;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

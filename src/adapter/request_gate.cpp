@@ -1,6 +1,6 @@
 #include "adapter/request_gate.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 RequestGate::RequestGate(std::size_t max_pending, std::size_t max_bytes, Logger logger)
     : max_pending_(max_pending == 0 ? 1 : max_pending), max_bytes_(max_bytes), logger_(std::move(logger)) {}
@@ -41,4 +41,4 @@ RequestGate::Admission RequestGate::admit(std::size_t payload_bytes) {
 
 void RequestGate::release() { --pending_; }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

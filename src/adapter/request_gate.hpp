@@ -17,7 +17,7 @@
 #include <memory>
 #include <mutex>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class RequestGate : public std::enable_shared_from_this<RequestGate> {
 public:
@@ -65,4 +65,4 @@ private:
     std::uint64_t shed_at_burst_start_ = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -2,7 +2,7 @@
 #include "protocol/driver_failure.hpp"
 #include "protocol/query_answer_text.hpp"
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 namespace {
 
 Error unknown_item(const std::string& id) {
@@ -42,7 +42,7 @@ std::optional<Json> echo_params(const Json& params) {
 
 // The driver's ref of an item found by ModelState::entry(), as
 // ModelState::point() gives it: its binding's, or identified by id alone.
-PointRef driver_ref(const ModelState::ItemEntry& found, const std::string& id) {
+PointRef driver_ref(const feature_detail::ModelState::ItemEntry& found, const std::string& id) {
     return found.bound ? *found.bound : PointRef{id, found.object->kind, no_handle};
 }
 
@@ -52,7 +52,7 @@ Error not_served(const std::string& id) { return make_error(ErrorCode::unavailab
 // timeout, machine disconnected): status and vendor text (docs/wire.md).
 template <class Item>
 void put_driver_failure(Item& item, const Error& error) {
-    auto failure = driver_failure(error);
+    auto failure = protocol_detail::driver_failure(error);
     item.status = std::move(failure.status);
     item.private_info = std::move(failure.private_info);
 }
@@ -90,7 +90,7 @@ std::string handle_query(const QueryRequest& request, const HandlerContext& cont
     };
     for (const QueryItem& item : request.ids) {
         const Json& params = item.params ? *item.params : no_params;
-        const ModelState::ItemEntry found = context.state.entry(item.id);
+        const feature_detail::ModelState::ItemEntry found = context.state.entry(item.id);
         const DataObject* object = found.object;
         if (!object && context.stats && !context.stats_item.empty() && item.id == context.stats_item) {
             // The SDK's own statistics (docs/sampling.md): a dict, so `keys` selects parts.
@@ -181,7 +181,7 @@ SetResponse handle_set(const SetRequest& request, const HandlerContext& context)
         const SetItem& item = request.values[i];
         SetResult& result = response.results[i];
         result.id = item.id;
-        const ModelState::ItemEntry found = context.state.entry(item.id);
+        const feature_detail::ModelState::ItemEntry found = context.state.entry(item.id);
         const DataObject* object = found.object;
         auto folded = effective_params(item);
         if (!folded) {
@@ -294,4 +294,4 @@ std::string refusal_reasons(const LoadResult& loaded, bool strict) {
     return text;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

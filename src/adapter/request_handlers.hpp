@@ -12,11 +12,11 @@
 #include <functional>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 struct HandlerContext {
-    const ModelState& state;
-    DriverRunner& driver;
+    const feature_detail::ModelState& state;
+    driver_detail::DriverRunner& driver;
     const ModelHost& host;
     const std::string& dev;
     const Logger& logger;
@@ -31,7 +31,7 @@ struct HandlerContext {
     /// SDK-held items answer (and are set) as usual.
     const Error* driver_expired = nullptr;
     /// Checks the driver's values against chapter 7 (null: not checked).
-    ValueGuard* values = nullptr;
+    feature_detail::ValueGuard* values = nullptr;
 };
 
 /// 8.2.11/8.2.12: the answer's text, one result per requested item, in
@@ -54,4 +54,4 @@ std::string handle_probe_query(const ProbeQueryRequest& request, const HandlerCo
 /// conformance when strict), "" when acceptable.
 std::string refusal_reasons(const LoadResult& loaded, bool strict);
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

@@ -13,7 +13,7 @@
 #include <deque>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::adapter_detail {
 
 class ResponseCache {
 public:
@@ -49,4 +49,4 @@ private:
     std::deque<Message> messages_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::adapter_detail

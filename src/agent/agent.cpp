@@ -44,26 +44,27 @@ Result<void> Agent::Impl::start() {
     }
     auto rule = TerminalIdRule::make(config.registration);
     if (!rule) return std::move(rule).error();
-    {
-        std::lock_guard<std::mutex> lock(mutex);
-        registrar = std::make_unique<Registrar>(std::move(rule).value(), config.registration);
-        if (auto read = store.load(*registrar, presence, models, log); !read) return read;
-        saves.loaded();
-        for (const auto& [tid, entry] : config.registration.terminals) presence.set_kind(tid, kind_from_string(entry.kind));
-        log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id, registrar->all().size(),
-                 models.all().size(), store.enabled() ? config.state_dir : std::string("(not persisted)"));
+    auto loaded = picture.with([&](State& p) -> Result<void> {
+        p.registrar = std::make_unique<agent_detail::Registrar>(std::move(rule).value(), config.registration);
+        if (auto read = store.load(*p.registrar, p.presence, p.models, log); !read) return read;
+        p.saves.loaded();
+        for (const auto& [tid, entry] : config.registration.terminals) p.presence.set_kind(tid, kind_from_string(entry.kind));
+        log.info("agent {}: {} registered terminal(s), {} cached model(s) from {}", config.agent_id, p.registrar->all().size(),
+                 p.models.all().size(), store.enabled() ? config.state_dir : std::string("(not persisted)"));
         // Seed 004 item 31: the registrations were checked (read) above; the
         // pairs leave `initial` and follow who is online from now on.
         const auto row = agent_transition(AgentState::initial, AgentEvent::initialized);
-        started_serving = row.next != AgentState::initial;
+        p.started_serving = row.next != AgentState::initial;
         log.info("agent {}: state {} -> {} (initialized)", config.agent_id, to_string(AgentState::initial), to_string(row.next));
-    }
+        return ok_result();
+    });
+    if (!loaded) return loaded;
     if (!transport) {
         auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
     }
-    transport = detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
+    transport = transport_detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
     transport->set_message_handler([this](const Message& m) { on_message(m); });
     transport->set_state_handler([this](LinkState s, std::string_view detail) {
         log.info("agent {}: broker link {} ({})", config.agent_id, to_string(s), detail);
@@ -93,50 +94,53 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     auto rule = TerminalIdRule::make(next.registration);
     if (!rule) return std::move(rule).error();
     std::lock_guard<std::mutex> life(lifecycle);
-    std::lock_guard<std::mutex> lock(mutex);
-    const bool running = started && !stopped && registrar;
-    auto restart_only = [&](bool same, const char* key) {
-        if (!same) (running ? report.restart_needed : report.applied).push_back(key);
-    };
-    auto reloadable = [&](bool same, const char* key) {
-        if (!same) report.applied.push_back(key);
-    };
-    for (const std::string& key : transport_detail::broker_reload_keys(transport_detail::BrokerSettings::of(config),
-                                                                       transport_detail::BrokerSettings::of(next)))
-        restart_only(false, key.c_str());
-    restart_only(config.agent_id == next.agent_id, "agent_id");
-    restart_only(config.share_group == next.share_group, "share_group");
-    restart_only(config.state_dir == next.state_dir, "state_dir");
-    restart_only(config.observe_samples == next.observe_samples, "observe_samples");
-    restart_only(config.tick == next.tick, "tick_ms");
-    restart_only(config.metrics == next.metrics, "metrics");  // the program's /metrics server, bound once
-    const bool registration_changed = !same_registration(config.registration, next.registration);
-    reloadable(!registration_changed, "registration");
-    reloadable(same_access(config.access, next.access), "access");
-    reloadable(config.request_timeout == next.request_timeout, "request_timeout_ms");
-    reloadable(config.adapter_liveness == next.adapter_liveness, "adapter_liveness_ms");
-    reloadable(config.application_liveness == next.application_liveness, "application_liveness_ms");
-    reloadable(config.acl_agent_user == next.acl_agent_user, "acl.agent_user");
-    reloadable(config.log_level == next.log_level, "log_level");
-    if (config.log_level != next.log_level) log.set_min_level(next.log_level);
+    // Under the picture's lock: every DTU handler reads the configuration
+    // there, so a DTU sees the old or the new rules, never a mix.
+    return picture.with([&](State& p) -> Result<ConfigReload> {
+        const bool running = started && !stopped && p.registrar;
+        auto restart_only = [&](bool same, const char* key) {
+            if (!same) (running ? report.restart_needed : report.applied).push_back(key);
+        };
+        auto reloadable = [&](bool same, const char* key) {
+            if (!same) report.applied.push_back(key);
+        };
+        for (const std::string& key : transport_detail::broker_reload_keys(transport_detail::BrokerSettings::of(config),
+                                                                           transport_detail::BrokerSettings::of(next)))
+            restart_only(false, key.c_str());
+        restart_only(config.agent_id == next.agent_id, "agent_id");
+        restart_only(config.share_group == next.share_group, "share_group");
+        restart_only(config.state_dir == next.state_dir, "state_dir");
+        restart_only(config.observe_samples == next.observe_samples, "observe_samples");
+        restart_only(config.tick == next.tick, "tick_ms");
+        restart_only(config.metrics == next.metrics, "metrics");  // the program's /metrics server, bound once
+        const bool registration_changed = !same_registration(config.registration, next.registration);
+        reloadable(!registration_changed, "registration");
+        reloadable(same_access(config.access, next.access), "access");
+        reloadable(config.request_timeout == next.request_timeout, "request_timeout_ms");
+        reloadable(config.adapter_liveness == next.adapter_liveness, "adapter_liveness_ms");
+        reloadable(config.application_liveness == next.application_liveness, "application_liveness_ms");
+        reloadable(config.acl_agent_user == next.acl_agent_user, "acl.agent_user");
+        reloadable(config.log_level == next.log_level, "log_level");
+        if (config.log_level != next.log_level) log.set_min_level(next.log_level);
 
-    if (!running) {  // nothing runs yet: the whole new configuration counts
-        config = next;
+        if (!running) {  // nothing runs yet: the whole new configuration counts
+            config = next;
+            return report;
+        }
+        if (registration_changed) {
+            p.registrar->set_policy(std::move(rule).value(), next.registration);
+            for (const auto& [tid, entry] : next.registration.terminals) p.presence.set_kind(tid, kind_from_string(entry.kind));
+        }
+        config.registration = next.registration;
+        config.access = next.access;
+        config.request_timeout = next.request_timeout;
+        config.adapter_liveness = next.adapter_liveness;
+        config.application_liveness = next.application_liveness;
+        p.presence.set_liveness(next.adapter_liveness, next.application_liveness);
+        config.acl_agent_user = next.acl_agent_user;
+        config.log_level = next.log_level;
         return report;
-    }
-    if (registration_changed) {
-        registrar->set_policy(std::move(rule).value(), next.registration);
-        for (const auto& [tid, entry] : next.registration.terminals) presence.set_kind(tid, kind_from_string(entry.kind));
-    }
-    config.registration = next.registration;
-    config.access = next.access;
-    config.request_timeout = next.request_timeout;
-    config.adapter_liveness = next.adapter_liveness;
-    config.application_liveness = next.application_liveness;
-    presence.set_liveness(next.adapter_liveness, next.application_liveness);
-    config.acl_agent_user = next.acl_agent_user;
-    config.log_level = next.log_level;
-    return report;
+    });
 }
 
 MqttOptions Agent::Impl::mqtt_options() const {
@@ -211,41 +215,25 @@ AgentStats Agent::stats() const {
     s.state_notifications = c.notifications;
     s.malformed = c.malformed;
     s.ignored_retained = c.retained;
-    {
-        std::lock_guard<std::mutex> lock(impl_->mutex);
-        s.pending = impl_->pending.size();
-        s.state = std::string(to_string(impl_->started_serving ? AgentState::normal : AgentState::initial));
-    }
+    impl_->picture.with([&](const Impl::State& p) {
+        s.pending = p.pending.size();
+        s.state = std::string(to_string(p.started_serving ? AgentState::normal : AgentState::initial));
+    });
     s.held_responses = c.held;
     if (impl_->transport) s.transport = impl_->transport->stats();
     return s;
 }
 
 std::vector<TerminalInfo> Agent::terminals() const {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    std::set<std::string> ids;
-    for (const auto& tid : impl_->presence.known()) ids.insert(tid);
-    if (impl_->registrar)
-        for (const auto& [tid, r] : impl_->registrar->all()) ids.insert(tid);
-    std::vector<TerminalInfo> out;
-    for (const auto& tid : ids) {
-        TerminalInfo info;
-        info.id = tid;
-        info.kind = to_string(impl_->presence.kind(tid));
-        info.registered = impl_->registrar && impl_->registrar->registered(tid);
-        info.status = to_wire(impl_->presence.status(tid));
-        info.last_alive_s = impl_->presence.last_alive_s(tid);
-        if (const auto* cached = impl_->models.find(tid)) info.version = cached->version;
-        out.push_back(std::move(info));
-    }
-    return out;
+    return impl_->picture.with([](const Impl::State& p) { return p.terminals(); });
 }
 
 std::optional<Json> Agent::cached_model(const std::string& dev) const {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    const auto* cached = impl_->models.find(dev);
-    if (!cached || !cached->model) return std::nullopt;
-    return cached->model;
+    return impl_->picture.with([&](const Impl::State& p) -> std::optional<Json> {
+        const auto* cached = p.models.find(dev);
+        if (!cached || !cached->model) return std::nullopt;
+        return cached->model;
+    });
 }
 
 }  // namespace nclink

@@ -7,14 +7,14 @@
 #include "transport/broker_config.hpp"
 
 namespace nclink {
-using detail::ConfigReader;
+using core_detail::ConfigReader;
 
 namespace {
 
 Result<void> read_broker(const Json& broker, AgentConfig& c) {
     ConfigReader b(broker, "broker.");
     if (!broker.is_object()) return b.fail(ErrorCode::value_type, "", "must be an object");
-    NCLINK_TRY(detail::read_broker_common(b, c));
+    NCLINK_TRY(transport_detail::read_broker_common(b, c));
     return b.no_unknown_keys();
 }
 
@@ -29,7 +29,7 @@ Result<void> read_registration(const Json& section, RegistrationPolicy& p) {
         for (auto it = terminals->begin(); it != terminals->end(); ++it) {
             // Terminal ids may hold dots: the pointer is built from the keys.
             ConfigReader t(*it, "registration.terminals." + it.key() + ".",
-                           detail::pointer_append("/registration/terminals", it.key()));
+                           core_detail::pointer_append("/registration/terminals", it.key()));
             if (!it->is_object()) return t.fail(ErrorCode::value_type, "", "must be an object");
             TerminalEntry entry;
             NCLINK_TRY(t.str("kind", entry.kind));
@@ -60,7 +60,7 @@ Result<void> read_access(const Json& section, AccessPolicy& p) {
     if (const Json* apps = a.object("applications")) {
         if (!apps->is_object()) return a.fail(ErrorCode::value_type, "applications", "must be an object");
         for (auto app = apps->begin(); app != apps->end(); ++app) {
-            const std::string app_pointer = detail::pointer_append("/access/applications", app.key());
+            const std::string app_pointer = core_detail::pointer_append("/access/applications", app.key());
             if (!app->is_object()) {
                 Error e =
                     make_error(ErrorCode::value_type, "configuration: access.applications." + app.key() + " must be an object");
@@ -70,7 +70,7 @@ Result<void> read_access(const Json& section, AccessPolicy& p) {
             auto& entry = p.applications[app.key()];
             for (auto dev = app->begin(); dev != app->end(); ++dev) {
                 auto bits = agent_detail::parse_rights(*dev, "access.applications." + app.key() + "." + dev.key(),
-                                                       detail::pointer_append(app_pointer, dev.key()));
+                                                       core_detail::pointer_append(app_pointer, dev.key()));
                 if (!bits) return std::move(bits).error();
                 entry[dev.key()] = *bits;
             }
@@ -101,8 +101,8 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
         NCLINK_TRY(a.str("agent_user", c.acl_agent_user));
         NCLINK_TRY(a.no_unknown_keys());
     }
-    NCLINK_TRY(detail::read_log_level(top, c.log_level));
-    NCLINK_TRY(detail::read_http_limits(top, "metrics", c.metrics));
+    NCLINK_TRY(core_detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(core_detail::read_http_limits(top, "metrics", c.metrics));
     NCLINK_TRY(top.no_unknown_keys());
     if (c.request_timeout.count() <= 0) return top.fail(ErrorCode::out_of_range, "request_timeout_ms", "must be positive");
     if (c.tick.count() <= 0) c.tick = std::chrono::milliseconds(1);
@@ -114,14 +114,14 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
 }
 
 Result<AgentConfig> load_agent_config(const std::string& path, AgentConfig base) {
-    auto doc = detail::read_config_document(path);
+    auto doc = core_detail::read_config_document(path);
     if (!doc) return std::move(doc).error();
     auto config = agent_config_from_json(doc->json, std::move(base));
-    if (!config) return detail::located(*doc, std::move(config).error());
+    if (!config) return core_detail::located(*doc, std::move(config).error());
     const Json* json = &doc->json;
     AgentConfig& c = config.value();
-    if (json->contains("state_dir")) detail::resolve_against(path, c.state_dir);
-    if (json->contains("broker")) detail::resolve_tls_paths(path, c.tls);
+    if (json->contains("state_dir")) core_detail::resolve_against(path, c.state_dir);
+    if (json->contains("broker")) transport_detail::resolve_tls_paths(path, c.tls);
     return config;
 }
 

@@ -7,19 +7,19 @@ namespace nclink {
 
 using namespace agent_detail;
 
-void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::on_request(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.retained) {
         ++counters.retained;
         return;  // docs/wire.md: never act on a replayed (retained) request
     }
     if (topic.ex && *topic.ex == config.agent_id) return;  // our own model fetch
-    if (topic.ex) alive(*topic.ex, Kind::application, out);
+    if (topic.ex) alive(p, *topic.ex, Kind::application, out);
     const std::string& dev = topic.dev;
     const std::string ex = topic.ex.value_or("");
     const MessageId msg_id = peek_message_id(m.payload);
     // With a closed allowlist registration is required (8.2.1): a terminal
     // that did not register is refused as one without the right.
-    const bool unregistered = !config.registration.open && !registrar->registered(ex);
+    const bool unregistered = !config.registration.open && !p.registrar->registered(ex);
     if (unregistered || !allowed(config.access, ex, dev, *required_right(topic.kind))) {
         ++counters.denied;
         log.info("agent: {} from '{}' to {} denied (301{})", to_string(topic.kind), ex, dev,
@@ -30,11 +30,11 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
             reply_all(out, topic, marked(*answer));
         return;
     }
-    const AgentState pair = pair_state(topic.ex, dev);
+    const AgentState pair = p.pair_state(topic.ex, dev);
     const auto row = agent_transition(pair, AgentEvent::request_received);
     if (row.actions & agent_action_hold_request) {
         log.debug("agent: {} -> {} is {}: {} answered in the adapter's place", ex, dev, to_string(pair), to_string(topic.kind));
-        const CachedModel* cached = models.find(dev);
+        const CachedModel* cached = p.models.find(dev);
         if (topic.kind == TopicKind::probe_query_request && cached && cached->model) {
             ProbeQueryResponse response;
             response.msg_id = msg_id;
@@ -57,28 +57,28 @@ void Agent::Impl::on_request(const ParsedTopic& topic, const Message& m, Out& ou
     request.msg_id = msg_id;
     request.topic = m.topic;
     request.deadline = clock->now() + config.request_timeout;
-    pending.add(std::move(request));
+    p.pending.add(std::move(request));
 }
 
-void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::on_response(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.retained || from_agent(m.payload)) return;  // an agent's answer says nothing about the adapter
     const std::string id = id_text(peek_message_id(m.payload));
     if (topic.kind == TopicKind::probe_query_response) {
         // Our fetch's answer, or any application's: either refreshes the cache.
         auto response = decode<ProbeQueryResponse>(m.payload);
         if (response && response->status.ok && response->probe && response->probe->is_object()) {
-            if (models.store(topic.dev, std::move(*response->probe), wall_s())) {
+            if (p.models.store(topic.dev, std::move(*response->probe), wall_s())) {
                 ++counters.fetched;
-                saves.model_changed(topic.dev);
-                log.info("agent: cached the model of {} (version {})", topic.dev, models.find(topic.dev)->version);
+                p.saves.model_changed(topic.dev);
+                log.info("agent: cached the model of {} (version {})", topic.dev, p.models.find(topic.dev)->version);
             }
-        } else if (topic.ex && *topic.ex == config.agent_id && models.is_fetch(topic.dev, id)) {
+        } else if (topic.ex && *topic.ex == config.agent_id && p.models.is_fetch(topic.dev, id)) {
             log.warn("agent: fetching the model of {} failed", topic.dev);
-            models.fetching(topic.dev, "", clock->now());
+            p.models.fetching(topic.dev, "", clock->now());
         }
     }
-    alive(topic.dev, Kind::adapter, out);
-    const AgentState pair = pair_state(topic.ex, topic.dev);
+    alive(p, topic.dev, Kind::adapter, out);
+    const AgentState pair = p.pair_state(topic.ex, topic.dev);
     if (agent_transition(pair, AgentEvent::response_received).actions & agent_action_hold_response) {
         // The broker keeps it in the application's session (QoS 1) until it
         // is back (the state-machine text 42, 58; 8.3.2): counted, nothing to send now.
@@ -86,7 +86,7 @@ void Agent::Impl::on_response(const ParsedTopic& topic, const Message& m, Out& o
         log.debug("agent: {} -> {} is {}: {} held for the application", topic.ex.value_or(""), topic.dev, to_string(pair),
                   to_string(topic.kind));
     }
-    if (!id.empty()) (void)pending.answered(topic.kind, topic.dev, topic.ex, id);
+    if (!id.empty()) (void)p.pending.answered(topic.kind, topic.dev, topic.ex, id);
 }
 
 bool Agent::Impl::from_agent(const std::string& payload) {

@@ -8,10 +8,7 @@ using namespace agent_detail;
 
 void Agent::Impl::housekeep() {
     Out out;
-    {
-        std::lock_guard<std::mutex> state(mutex);
-        tick(out);
-    }
+    picture.with([&](State& p) { tick(p, out); });
     publish(out);
     if (clock->now() - last_save >= std::chrono::seconds(1)) {
         persist(false);
@@ -19,9 +16,9 @@ void Agent::Impl::housekeep() {
     }
 }
 
-void Agent::Impl::tick(Out& out) {
+void Agent::Impl::tick(State& p, Out& out) {
     const auto now = clock->now();
-    for (auto& request : pending.take_expired(now)) {
+    for (auto& request : p.pending.take_expired(now)) {
         ++counters.timeouts;
         log.info("agent: {} to {} not answered within {} ms: 203", to_string(request.kind), request.dev,
                  config.request_timeout.count());
@@ -29,13 +26,13 @@ void Agent::Impl::tick(Out& out) {
                                            make_error(ErrorCode::timeout, "no answer from the adapter")))
             for (auto& t : response_topics(request.topic, true)) reply(out, std::move(t), marked(*answer));
     }
-    for (const auto& tid : presence.expire(now)) {
-        log.info("agent: {} {} is offline (no DTU for its liveness time)", to_string(presence.kind(tid)), tid);
-        announce_state(tid, Status::offline, out);
-        saves.registry_changed();
-        unreachable_for(tid, out);
+    for (const auto& tid : p.presence.expire(now)) {
+        log.info("agent: {} {} is offline (no DTU for its liveness time)", to_string(p.presence.kind(tid)), tid);
+        announce_state(p, tid, Status::offline, out);
+        p.saves.registry_changed();
+        unreachable_for(p, tid, out);
     }
-    models.expire_fetches(now);
+    p.models.expire_fetches(now);
 }
 
 // Writes what changed; the text is built under the lock, written outside it.
@@ -43,13 +40,12 @@ void Agent::Impl::persist(bool all) {
     if (!store.enabled()) return;
     std::optional<std::pair<Registrar, Presence>> registry;
     std::vector<std::pair<std::string, CachedModel>> dirty_models;
-    {
-        std::lock_guard<std::mutex> lock(mutex);
-        auto batch = saves.take(all);  // nothing before the files were read
-        if (batch.registry) registry.emplace(*registrar, presence);
+    picture.with([&](State& p) {
+        auto batch = p.saves.take(all);  // nothing before the files were read
+        if (batch.registry) registry.emplace(*p.registrar, p.presence);
         for (const auto& dev : batch.models)
-            if (const auto* entry = models.find(dev)) dirty_models.emplace_back(dev, *entry);
-    }
+            if (const auto* entry = p.models.find(dev)) dirty_models.emplace_back(dev, *entry);
+    });
     if (registry)
         if (auto r = store.save_registry(registry->first, registry->second); !r)
             log.error("agent: cannot save the registry: {}", r.error().describe());

@@ -10,19 +10,21 @@
 //   agent_housekeeping.cpp timeouts, liveness and the state files
 //   agent_metrics.cpp      DTUs by kind and the Prometheus text of the stats
 //
-// Every DTU is handled on the transport's callback thread under one mutex
-// (bookkeeping only, no I/O); what it decides to publish is collected and
-// published after the lock is released. The housekeeping thread runs the
-// timeouts and liveness on the injected clock and writes the state files.
+// and the objects it composes: Picture (agent_picture.hpp: what the agent
+// knows of every terminal, behind its one lock), StateStore (the state
+// files), the transport (the broker link) and the housekeeping thread.
+//
+// Every DTU is handled on the transport's callback thread inside
+// Picture::with() (bookkeeping only, no I/O): each handler gets the picture
+// as `State& p`, so none can reach it unlocked. What a handler decides to
+// publish is collected and published after the lock is released. The
+// housekeeping thread runs the timeouts and liveness on the injected clock
+// and writes the state files.
 // Nothing outside src/agent/ includes this.
 #pragma once
 
 #include "agent/access.hpp"
-#include "agent/model_cache.hpp"
-#include "agent/pending_forwards.hpp"
-#include "agent/pending_saves.hpp"
-#include "agent/presence.hpp"
-#include "agent/registrar.hpp"
+#include "agent/agent_picture.hpp"
 #include "agent/state_store.hpp"
 #include "agent/terminal_id.hpp"
 #include "core/periodic_thread.hpp"
@@ -55,10 +57,8 @@ bool is_response(TopicKind kind);
 
 struct NCLINK_LOCAL Agent::Impl {
     using Kind = agent_detail::Kind;
-    using ModelCache = agent_detail::ModelCache;
-    using PendingForwards = agent_detail::PendingForwards;
-    using Presence = agent_detail::Presence;
-    using Registrar = agent_detail::Registrar;
+    using Picture = agent_detail::Picture;
+    using State = agent_detail::Picture::State;
     using StateStore = agent_detail::StateStore;
     using Status = agent_detail::Status;
     struct Counters {
@@ -73,28 +73,20 @@ struct NCLINK_LOCAL Agent::Impl {
     std::unique_ptr<Transport> transport;
     StateStore store;
     Counters counters;
-    std::shared_ptr<detail::DtuCounter> dtus = std::make_shared<detail::DtuCounter>();  // docs/metrics.md
+    std::shared_ptr<transport_detail::DtuCounter> dtus = std::make_shared<transport_detail::DtuCounter>();  // docs/metrics.md
 
-    mutable std::mutex mutex;  // everything below up to the housekeeping part
-    Presence presence;
-    std::unique_ptr<Registrar> registrar;
-    ModelCache models;
-    PendingForwards pending;
-    std::map<std::string, int> expected_echo;  // "tid\nstate" -> our own Notify/State still to come back
-    agent_detail::PendingSaves saves;          // what the housekeeping thread writes next
-    std::uint64_t msg_counter = 0;
-    std::set<std::string> kind_probes;  // online terminals of unknown kind asked with a Probe/Query
+    Picture picture;  // the terminals, behind the one lock every DTU handler takes
 
     std::mutex lifecycle;
     bool started = false;
     bool stopped = false;
-    detail::PeriodicThread housekeeping;  // housekeep() every config.tick
+    core_detail::PeriodicThread housekeeping;  // housekeep() every config.tick
 
     Impl(AgentConfig c, Logger l)
         : config(std::move(c)),
           log(std::move(l)),
           store(config.state_dir),
-          presence(config.adapter_liveness, config.application_liveness) {}
+          picture(config.adapter_liveness, config.application_liveness) {}
 
     std::int64_t wall_s() const { return clock->wall_ms() / 1000; }
 
@@ -119,12 +111,12 @@ struct NCLINK_LOCAL Agent::Impl {
 
     // ------------------------------------------------------------ messages
 
-    // Thread: transport callback.
+    // Thread: transport callback. Takes the picture's lock for dispatch().
     void on_message(const Message& m);
 
     void publish(Out& out);
 
-    void dispatch(const ParsedTopic& topic, const Message& m, Out& out);
+    void dispatch(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
     void reply(Out& out, std::string topic, const Json& payload);
 
@@ -134,32 +126,32 @@ struct NCLINK_LOCAL Agent::Impl {
 
     void reply_all(Out& out, const ParsedTopic& request, const Json& payload);
 
-    void announce_state(const std::string& tid, Status status, Out& out);
+    void announce_state(State& p, const std::string& tid, Status status, Out& out);
 
     // A DTU from `tid`: a sign of life (3.22/3.23).
-    void alive(const std::string& tid, Kind kind, Out& out);
+    void alive(State& p, const std::string& tid, Kind kind, Out& out);
 
     // ---- 8.2.1 / 8.2.2 ----
-    void on_register(const Message& m, Out& out);
+    void on_register(State& p, const Message& m, Out& out);
 
-    void on_register_response(const ParsedTopic& topic, const Message& m);
+    void on_register_response(State& p, const ParsedTopic& topic, const Message& m);
 
     // ---- 8.2.3 / 8.2.4 ----
-    void on_discovery(const ParsedTopic& topic, const Message& m, Out& out);
+    void on_discovery(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
     // ---- 8.2.5 / 8.2.6 and the model fetch of 8.2.7 ----
-    void on_version(const ParsedTopic& topic, const Message& m, Out& out);
+    void on_version(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
-    void fetch_model(const std::string& dev, Out& out);
-    void learn_kind(const std::string& tid, Out& out);
+    void fetch_model(State& p, const std::string& dev, Out& out);
+    void learn_kind(State& p, const std::string& tid, Out& out);
 
-    void on_version_response(const ParsedTopic& topic, const Message& m, Out&);
+    void on_version_response(State& p, const ParsedTopic& topic, const Message& m, Out&);
 
     // ---- 8.2.16 ----
-    void on_notify(const ParsedTopic& topic, const Message& m, Out& out);
+    void on_notify(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
     // 8.3.5: the adapter went away while requests to it were waiting.
-    void unreachable_for(const std::string& dev, Out& out);
+    void unreachable_for(State& p, const std::string& dev, Out& out);
 
     void answer_unreachable(TopicKind kind, const std::string& request_topic, const std::string& dev,
                             const std::optional<std::string>& ex, const MessageId& msg_id, Out& out) {
@@ -174,18 +166,9 @@ struct NCLINK_LOCAL Agent::Impl {
     }
 
     // ---- requests to adapters: 301, DEV_UNREACHABLE, cached probe, 203 ----
-    void on_request(const ParsedTopic& topic, const Message& m, Out& out);
+    void on_request(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
-    void on_response(const ParsedTopic& topic, const Message& m, Out& out);
-
-    // The state-machine state of the pair (application `ex`, adapter `dev`) from
-    // who is online now; "unknown" counts as online (nothing said otherwise).
-    AgentState pair_state(const std::optional<std::string>& ex, const std::string& dev) const {
-        if (!started_serving) return AgentState::initial;
-        const bool app = !ex || presence.status(*ex) != Status::offline;
-        return agent_state_of(app, presence.status(dev) != Status::offline);
-    }
-    bool started_serving = false;  // the `initialized` row (31) was taken
+    void on_response(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
     static bool from_agent(const std::string& payload);
 
@@ -196,7 +179,7 @@ struct NCLINK_LOCAL Agent::Impl {
     void housekeep();
     Clock::Steady last_save{};  // housekeeping thread only
 
-    void tick(Out& out);
+    void tick(State& p, Out& out);
 
     // Writes what changed; the text is built under the lock, written outside it.
     void persist(bool all);

@@ -1,5 +1,5 @@
-// Every DTU the agent receives: routed to its handler under the agent's
-// mutex, the replies it produces published after the lock is released.
+// Every DTU the agent receives: routed to its handler inside the picture's
+// lock (Picture::with), the replies it produces published after it.
 #include "agent/agent_impl.hpp"
 
 namespace nclink {
@@ -39,14 +39,13 @@ void Agent::Impl::on_message(const Message& m) {
     const auto parsed = parse_topic(m.topic);
     if (!parsed) return;  // not NC-Link
     Out out;
-    {
-        std::lock_guard<std::mutex> lock(mutex);
+    picture.with([&](State& p) {
         try {
-            dispatch(*parsed, m, out);
+            dispatch(p, *parsed, m, out);
         } catch (const std::exception& e) {  // a bug must not kill the callback thread
             log.error("agent: handling {} failed: {}", m.topic, e.what());
         }
-    }
+    });
     publish(out);
 }
 
@@ -55,21 +54,21 @@ void Agent::Impl::publish(Out& out) {
         if (auto r = transport->publish(std::move(message)); !r) log.warn("agent: publish failed: {}", r.error().describe());
 }
 
-void Agent::Impl::dispatch(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     switch (topic.kind) {
-        case TopicKind::register_request: return on_register(m, out);
-        case TopicKind::register_response: return on_register_response(topic, m);
-        case TopicKind::discovery_request: return on_discovery(topic, m, out);
-        case TopicKind::probe_version: return on_version(topic, m, out);
-        case TopicKind::probe_version_response: return on_version_response(topic, m, out);
-        case TopicKind::notify_state: return on_notify(topic, m, out);
+        case TopicKind::register_request: return on_register(p, m, out);
+        case TopicKind::register_response: return on_register_response(p, topic, m);
+        case TopicKind::discovery_request: return on_discovery(p, topic, m, out);
+        case TopicKind::probe_version: return on_version(p, topic, m, out);
+        case TopicKind::probe_version_response: return on_version_response(p, topic, m, out);
+        case TopicKind::notify_state: return on_notify(p, topic, m, out);
         case TopicKind::sample:
         case TopicKind::dynamic_sample:
-        case TopicKind::event: return alive(topic.dev, Kind::adapter, out);
+        case TopicKind::event: return alive(p, topic.dev, Kind::adapter, out);
         default: break;
     }
-    if (required_right(topic.kind)) return on_request(topic, m, out);
-    if (is_response(topic.kind)) return on_response(topic, m, out);
+    if (required_right(topic.kind)) return on_request(p, topic, m, out);
+    if (is_response(topic.kind)) return on_response(p, topic, m, out);
 }
 
 void Agent::Impl::reply(Out& out, std::string topic, const Json& payload) {
@@ -88,23 +87,17 @@ void Agent::Impl::reply_all(Out& out, const ParsedTopic& request, const Json& pa
     for (auto& t : response_topics(request, true)) reply(out, std::move(t), payload);
 }
 
-void Agent::Impl::announce_state(const std::string& tid, Status status, Out& out) {
-    NotifyState notify;
-    notify.tid = tid;
-    notify.state = to_wire(status);
-    ++expected_echo[tid + "\n" + notify.state];
+void Agent::Impl::announce_state(State& p, const std::string& tid, Status status, Out& out) {
     ++counters.notifications;
-    out.push_back(Message{topics::notify_state(tid), encode(notify), 1, true});
+    out.push_back(p.announce(tid, status));
 }
 
 // A DTU from `tid`: a sign of life (3.22/3.23).
-void Agent::Impl::alive(const std::string& tid, Kind kind, Out& out) {
+void Agent::Impl::alive(State& p, const std::string& tid, Kind kind, Out& out) {
     if (tid.empty() || tid == config.agent_id) return;
-    presence.set_kind(tid, kind);
-    if (presence.saw_dtu(tid, clock->now(), wall_s())) {
-        log.info("agent: {} {} is online (it sent a DTU)", to_string(presence.kind(tid)), tid);
-        announce_state(tid, Status::online, out);
-        saves.registry_changed();
+    if (p.saw(tid, kind, clock->now(), wall_s())) {
+        log.info("agent: {} {} is online (it sent a DTU)", to_string(p.presence.kind(tid)), tid);
+        announce_state(p, tid, Status::online, out);
     }
 }
 

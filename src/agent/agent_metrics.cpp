@@ -19,9 +19,9 @@ TrafficStats Agent::traffic_stats() const {
 
 namespace agent_detail {
 
-void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const std::vector<TerminalInfo>& terminals,
+void add_agent_metrics(core_detail::PrometheusText& out, const AgentStats& s, const std::vector<TerminalInfo>& terminals,
                        const TrafficStats& traffic) {
-    using detail::MetricLabels;
+    using core_detail::MetricLabels;
     const MetricLabels none;
     const char* reg_help = "Register/Request answered, by outcome (8.2.2)";
     out.counter("nclink_agent_registrations_total", reg_help, {{"outcome", "accepted"}}, s.registrations);
@@ -85,7 +85,7 @@ void add_agent_metrics(detail::PrometheusText& out, const AgentStats& s, const s
 }  // namespace agent_detail
 
 std::string prometheus_metrics(const Agent& agent) {
-    detail::PrometheusText out;
+    core_detail::PrometheusText out;
     agent_detail::add_agent_metrics(out, agent.stats(), agent.terminals(), agent.traffic_stats());
     return out.str();
 }

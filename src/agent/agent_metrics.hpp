@@ -11,7 +11,7 @@
 
 namespace nclink::agent_detail {
 
-void add_agent_metrics(detail::PrometheusText& out, const AgentStats& stats, const std::vector<TerminalInfo>& terminals,
+void add_agent_metrics(core_detail::PrometheusText& out, const AgentStats& stats, const std::vector<TerminalInfo>& terminals,
                        const TrafficStats& traffic);
 
 }  // namespace nclink::agent_detail

@@ -7,7 +7,7 @@ namespace nclink {
 
 using namespace agent_detail;
 
-void Agent::Impl::on_register(const Message& m, Out& out) {
+void Agent::Impl::on_register(State& p, const Message& m, Out& out) {
     if (m.retained) {
         ++counters.retained;
         return;
@@ -28,19 +28,19 @@ void Agent::Impl::on_register(const Message& m, Out& out) {
         return;
     }
     const std::string& cli = request->cli_uuid;
-    if (registrar->valid_id(cli)) {
-        presence.set_kind(cli, registrar->listed_kind(cli));
-        alive(cli, Kind::unknown, out);  // before deciding: the registration belongs to this online period
+    if (p.registrar->valid_id(cli)) {
+        p.presence.set_kind(cli, p.registrar->listed_kind(cli));
+        alive(p, cli, Kind::unknown, out);  // before deciding: the registration belongs to this online period
     }
-    const auto decision = registrar->decide(*request, presence, wall_s());
+    const auto decision = p.registrar->decide(*request, p.presence, wall_s());
     RegisterResponse response;
     response.msg_id = request->msg_id;
     response.cli_uuid = cli;
     response.status = decision.status;
     if (decision.status.ok) {
         ++counters.registrations;
-        saves.registry_changed();
-        log.info("agent: registered {} {}", to_string(presence.kind(cli)), cli);
+        p.saves.registry_changed();
+        log.info("agent: registered {} {}", to_string(p.presence.kind(cli)), cli);
     } else {
         ++counters.refused;
         log.warn("agent: registration of '{}' refused ({} {}): {}", cli, response.status.error.value_or(0),
@@ -50,20 +50,20 @@ void Agent::Impl::on_register(const Message& m, Out& out) {
     reply(out, topics::register_response(cli), to_json(response));
 }
 
-void Agent::Impl::on_register_response(const ParsedTopic& topic, const Message& m) {
+void Agent::Impl::on_register_response(State& p, const ParsedTopic& topic, const Message& m) {
     auto response = decode<RegisterResponse>(m.payload);
     if (!response || !response->status.ok || response->cli_uuid != topic.dev) return;
-    if (!registrar->registered(topic.dev)) saves.registry_changed();
-    registrar->record(topic.dev, presence.kind(topic.dev), wall_s(), presence.online_periods(topic.dev));
+    if (!p.registrar->registered(topic.dev)) p.saves.registry_changed();
+    p.registrar->record(topic.dev, p.presence.kind(topic.dev), wall_s(), p.presence.online_periods(topic.dev));
 }
 
-void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::on_discovery(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.retained) {
         ++counters.retained;
         return;
     }
     const std::string ex = topic.ex.value_or("");
-    alive(ex, Kind::application, out);
+    alive(p, ex, Kind::application, out);
     auto request = decode<DiscoveryRequest>(m.payload);
     if (!request) {
         ++counters.malformed;
@@ -78,21 +78,21 @@ void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& 
     const auto add = [&](const std::string& tid) {
         DeviceListEntry entry;
         entry.guid = tid;
-        entry.status = to_wire(presence.status(tid));
-        entry.last_alive_time_stamp = std::to_string(presence.last_alive_s(tid));
+        entry.status = to_wire(p.presence.status(tid));
+        entry.last_alive_time_stamp = std::to_string(p.presence.last_alive_s(tid));
         list.push_back(std::move(entry));
     };
-    for (const auto& [tid, registration] : registrar->all()) {
-        const Kind kind = presence.kind(tid) != Kind::unknown ? presence.kind(tid) : registration.kind;
+    for (const auto& [tid, registration] : p.registrar->all()) {
+        const Kind kind = p.presence.kind(tid) != Kind::unknown ? p.presence.kind(tid) : registration.kind;
         if (kind != Kind::adapter || rights_of(config.access, ex, tid) == access_none) continue;
         add(tid);
     }
     // Online adapters the agent has not seen register: after a restart
     // without its state directory they are known from their retained
-    // Notify/State and their traffic only (learn_kind()).
-    for (const auto& tid : presence.known()) {
-        if (presence.kind(tid) != Kind::adapter || presence.status(tid) != Status::online) continue;
-        if (registrar->all().count(tid) || rights_of(config.access, ex, tid) == access_none) continue;
+    // Notify/State and their traffic only (learn_kind(p, )).
+    for (const auto& tid : p.presence.known()) {
+        if (p.presence.kind(tid) != Kind::adapter || p.presence.status(tid) != Status::online) continue;
+        if (p.registrar->all().count(tid) || rights_of(config.access, ex, tid) == access_none) continue;
         if (!config.registration.open && !config.registration.terminals.count(tid)) continue;  // never allowed in
         add(tid);
     }
@@ -101,9 +101,9 @@ void Agent::Impl::on_discovery(const ParsedTopic& topic, const Message& m, Out& 
     reply(out, topics::discovery_response(ex), to_json(response));
 }
 
-void Agent::Impl::on_version(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::on_version(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     const std::string& dev = topic.dev;
-    alive(dev, Kind::adapter, out);
+    alive(p, dev, Kind::adapter, out);
     if (m.retained) return;  // a stale announcement replayed by the broker
     auto request = decode<ProbeVersionRequest>(m.payload);
     ProbeVersionResponse response;
@@ -120,29 +120,29 @@ void Agent::Impl::on_version(const ParsedTopic& topic, const Message& m, Out& ou
     response.version = request->version;
     ++counters.versions;
     reply(out, topics::probe_version_response(dev), to_json(response));
-    if (models.announce(dev, request->version, clock->now())) fetch_model(dev, out);
+    if (p.models.announce(dev, request->version, clock->now())) fetch_model(p, dev, out);
 }
 
-void Agent::Impl::fetch_model(const std::string& dev, Out& out) {
+void Agent::Impl::fetch_model(State& p, const std::string& dev, Out& out) {
     ProbeQueryRequest query;
-    const std::string id = config.agent_id + "-fetch-" + std::to_string(++msg_counter);
+    const std::string id = p.next_id(config.agent_id, "fetch");
     query.msg_id = Json(id);
     query.guid = dev;
-    models.fetching(dev, id, clock->now() + config.request_timeout);
-    log.info("agent: fetching the model of {} (version {})", dev, models.find(dev)->version);
+    p.models.fetching(dev, id, clock->now() + config.request_timeout);
+    log.info("agent: fetching the model of {} (version {})", dev, p.models.find(dev)->version);
     out.push_back(Message{topics::probe_query_request(dev, config.agent_id), encode(query), 1, false});
 }
 
-void Agent::Impl::on_version_response(const ParsedTopic& topic, const Message& m, Out&) {
+void Agent::Impl::on_version_response(State& p, const ParsedTopic& topic, const Message& m, Out&) {
     // Another agent (or an application) acknowledged a version: keep the
     // number; the model comes with that agent's fetch, which every agent sees.
     auto response = decode<ProbeVersionResponse>(m.payload);
     if (!response || !response->version || (response->status && !response->status->ok)) return;
-    presence.set_kind(topic.dev, Kind::adapter);
-    (void)models.announce(topic.dev, *response->version, clock->now());
+    p.presence.set_kind(topic.dev, Kind::adapter);
+    (void)p.models.announce(topic.dev, *response->version, clock->now());
 }
 
-void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out) {
+void Agent::Impl::on_notify(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
     if (m.payload.empty()) return;  // a cleared retained state
     auto notify = decode<NotifyState>(m.payload);
     if (!notify || (notify->state != "online" && notify->state != "offline")) {
@@ -151,20 +151,17 @@ void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out
     }
     const std::string& tid = topic.dev;
     if (tid == config.agent_id) return;
-    if (auto echo = expected_echo.find(tid + "\n" + notify->state); echo != expected_echo.end()) {
-        if (--echo->second == 0) expected_echo.erase(echo);
-        return;  // our own announcement coming back
-    }
+    if (p.own_echo(tid, notify->state)) return;  // our own announcement coming back
     const Status status = notify->state == "online" ? Status::online : Status::offline;
-    if (presence.set_state(tid, status, clock->now(), wall_s())) {
-        saves.registry_changed();
+    if (p.presence.set_state(tid, status, clock->now(), wall_s())) {
+        p.saves.registry_changed();
         log.info("agent: {} is {}{}", tid, notify->state, m.retained ? " (retained state)" : "");
     }
     if (status == Status::offline) {
-        kind_probes.erase(tid);
-        unreachable_for(tid, out);
-    } else if (presence.kind(tid) == Kind::unknown) {
-        learn_kind(tid, out);
+        p.kind_probes.erase(tid);
+        unreachable_for(p, tid, out);
+    } else if (p.presence.kind(tid) == Kind::unknown) {
+        learn_kind(p, tid, out);
     }
 }
 
@@ -176,22 +173,22 @@ void Agent::Impl::on_notify(const ParsedTopic& topic, const Message& m, Out& out
 // (and the answer fills the model cache, which the agent needs for an
 // offline adapter anyway); an application does not, and nothing else
 // happens. Asked once per online period.
-void Agent::Impl::learn_kind(const std::string& tid, Out& out) {
-    if (!publishable_level(tid) || !kind_probes.insert(tid).second) return;
-    if (const auto* cached = models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
+void Agent::Impl::learn_kind(State& p, const std::string& tid, Out& out) {
+    if (!publishable_level(tid) || !p.kind_probes.insert(tid).second) return;
+    if (const auto* cached = p.models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
     ProbeQueryRequest query;
-    const std::string id = config.agent_id + "-kind-" + std::to_string(++msg_counter);
+    const std::string id = p.next_id(config.agent_id, "kind");
     query.msg_id = Json(id);
     query.guid = tid;
     // Also the model fetch: a Probe/Version arriving meanwhile waits for this answer.
-    models.fetching(tid, id, clock->now() + config.request_timeout);
+    p.models.fetching(tid, id, clock->now() + config.request_timeout);
     log.debug("agent: {} is online but of unknown kind: asking it for its model", tid);
     out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
 }
 
 // 8.3.5: the adapter went away while requests to it were waiting.
-void Agent::Impl::unreachable_for(const std::string& dev, Out& out) {
-    for (auto& request : pending.take_for(dev))
+void Agent::Impl::unreachable_for(State& p, const std::string& dev, Out& out) {
+    for (auto& request : p.pending.take_for(dev))
         answer_unreachable(request.kind, request.topic, dev, request.ex, request.msg_id, out);
 }
 

@@ -82,13 +82,13 @@ Result<void> StateStore::save_registry(const Registrar& registrar, const Presenc
             {"kind", to_string(kind)}, {"registeredAt", r.registered_at_s}, {"lastAlive", presence.last_alive_s(tid)}};
     }
     const Json doc = {{"format", 1}, {"terminals", std::move(terminals)}};
-    return detail::write_file_atomically(registry_path(), doc.dump(2, ' ', false, Json::error_handler_t::replace));
+    return core_detail::write_file_atomically(registry_path(), doc.dump(2, ' ', false, Json::error_handler_t::replace));
 }
 
 Result<void> StateStore::save_model(const std::string& dev, const CachedModel& entry) const {
     if (!enabled() || !entry.model) return ok_result();
     const Json doc = {{"dev", dev}, {"version", entry.model_version}, {"fetchedAt", entry.fetched_at_s}, {"model", *entry.model}};
-    return detail::write_file_atomically(model_path(dev), doc.dump(-1, ' ', false, Json::error_handler_t::replace));
+    return core_detail::write_file_atomically(model_path(dev), doc.dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
 }  // namespace nclink::agent_detail

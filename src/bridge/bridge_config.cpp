@@ -5,7 +5,7 @@
 #include "transport/broker_config.hpp"
 
 namespace nclink::bridge {
-using detail::ConfigReader;
+using core_detail::ConfigReader;
 
 Result<std::pair<std::string, int>> parse_host_port(const std::string& text) {
     const auto colon = text.rfind(':');
@@ -43,7 +43,7 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     if (const Json* broker = top.object("broker")) {
         if (!broker->is_object()) return make_error(ErrorCode::value_type, "configuration: broker must be an object");
         ConfigReader b(*broker, "broker.");
-        NCLINK_TRY(detail::read_broker_common(b, c));
+        NCLINK_TRY(transport_detail::read_broker_common(b, c));
         NCLINK_TRY(b.no_unknown_keys());
     }
     NCLINK_TRY(top.str("ex_cid", c.ex_cid));
@@ -77,7 +77,7 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     NCLINK_TRY(top.duration("request_timeout_ms", c.request_timeout));
     NCLINK_TRY(top.boolean("use_events", c.use_events));
     NCLINK_TRY(top.duration("heartbeat_ms", c.heartbeat));
-    NCLINK_TRY(detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(core_detail::read_log_level(top, c.log_level));
     NCLINK_TRY(top.no_unknown_keys());
     if (c.buffer_size < 1 || c.buffer_size > (1u << 26))
         return make_error(ErrorCode::out_of_range, "configuration: buffer_size must be 1..67108864");
@@ -97,11 +97,11 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
 }
 
 Result<BridgeConfig> load_bridge_config(const std::string& path, BridgeConfig defaults) {
-    auto json = detail::read_config_file(path);
+    auto json = core_detail::read_config_file(path);
     if (!json) return std::move(json).error();
     auto config = bridge_config_from_json(*json, std::move(defaults));
     if (!config) return config;
-    detail::resolve_tls_paths(path, config->tls);
+    transport_detail::resolve_tls_paths(path, config->tls);
     return config;
 }
 

@@ -46,7 +46,7 @@ Json OpsApi::health() const {
 }
 
 std::string OpsApi::metrics() const {
-    detail::PrometheusText out;
+    core_detail::PrometheusText out;
     const Fleet f = fleet(store_);
     for (const auto& [state, n] : f.by_state)
         out.gauge("nclink_bridge_devices", "Devices the bridge follows, by state (8.2.16)", {{"state", state}},
@@ -91,7 +91,7 @@ std::string OpsApi::metrics() const {
 
 void OpsApi::install(http::HttpServer& server) {
     server.get("/metrics", [this](const http::HttpRequest&) {
-        return http::text_response(metrics(), std::string(detail::prometheus_content_type));
+        return http::text_response(metrics(), std::string(core_detail::prometheus_content_type));
     });
     server.get("/nclink/v1/health", [this](const http::HttpRequest&) { return http::json_response(health()); });
     // (the router treats /dashboard and /dashboard/ alike)

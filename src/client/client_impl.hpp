@@ -2,14 +2,17 @@
 //   client.cpp           the public facade: create, lifecycle, the core
 //                        requests (register, discovery, probe, query, set),
 //                        subscriptions, statistics
-//   client_impl.cpp      the engine: transport callbacks handed to the
-//                        dispatch thread, response matching by @id,
-//                        notifications, deadlines
+//   client_impl.cpp      the engine: the lifecycle, transport callbacks
+//                        handed to the dispatch thread, deadlines
+//   client_liveness.cpp  keep-alive Queries (3.22)
+//   client_model_cache.cpp the model cache and standing registrations
 //   client_methods.cpp, client_sampling.cpp, client_events.cpp: one feature each
 // and the objects it composes, each owning its state and lock: ClientLink
 // (the transport, the link's state, the subscriptions), PendingRequests and
 // ClientStateMachine (the send path), Dispatcher (the dispatch thread),
-// ModelCacheState, EventRoutes, KeepAlive, DuplicateFilter.
+// MessageRouter (every DTU in: responses by @id, subscriptions, repeats
+// dropped, the last Notify/State per terminal), ModelCacheState,
+// EventRoutes, KeepAlive.
 // Nothing outside src/client/ includes this.
 #pragma once
 
@@ -21,8 +24,9 @@
 #include "client/responders.hpp"
 #include "client/client_events.hpp"
 #include "client/client_model_cache.hpp"
-#include "client/duplicate_filter.hpp"
 #include "client/keep_alive.hpp"
+#include "client/message_router.hpp"
+#include "client/safely.hpp"
 
 #include <nclink/client.hpp>
 #include <nclink/topics.hpp>
@@ -37,36 +41,15 @@
 
 namespace nclink {
 
-namespace client_detail {
-
-/// Runs a user callback; what it throws is logged, never propagated into
-/// the client's threads.
-template <class F>
-void safely(const Logger& log, F&& f) noexcept {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        log.error("client: a callback threw: {}", e.what());
-    } catch (...) {
-        log.error("client: a callback threw");
-    }
-}
-
-}  // namespace client_detail
-
 struct NCLINK_LOCAL Client::Impl {
     using Clock = client_detail::Clock;
-    struct Counters {
-        std::atomic<std::uint64_t> requests{0}, responses{0}, timeouts{0}, late{0}, unmatched{0}, malformed{0}, unreachable{0},
-            samples{0}, notifications{0}, queued{0}, events{0}, duplicates{0}, keepalives{0}, resent{0};
-    };
 
     ClientOptions options;
     Logger log;
     client_detail::ClientLink link;  // the transport, the link's state, the subscriptions
     client_detail::RequestIds ids;
     client_detail::PendingRequests pending;
-    Counters counters;
+    client_detail::ClientCounters counters;
     std::mutex lifecycle_mutex;
     bool started = false;
     bool stopped = false;
@@ -75,12 +58,8 @@ struct NCLINK_LOCAL Client::Impl {
     client_detail::ModelCacheState model_cache;  // client_model_cache.cpp
     Client* owner = nullptr;                     // the facade, for the cache's own requests (set once, by Client's constructor)
     client_detail::KeepAlive keep_alive;         // client_liveness.cpp
-    client_detail::DuplicateFilter duplicates;   // dispatch thread only
-    // The last Notify/State seen per terminal (on the dispatch thread, from
-    // any state subscription), so a request that times out can name a
-    // retained "offline" (8.2.16) instead of only "no response".
-    std::map<std::string, std::string> known_states;  // dispatch thread only
-    client_detail::Dispatcher dispatcher;             // last: its thread uses everything above
+    client_detail::MessageRouter router;         // every DTU in (dispatch thread)
+    client_detail::Dispatcher dispatcher;        // last: its thread uses everything above
 
     Impl(std::unique_ptr<Transport> t, ClientOptions o)
         : options(std::move(o)),
@@ -92,7 +71,11 @@ struct NCLINK_LOCAL Client::Impl {
                       [this] { return pending.size() > 0; }, [this](Message m) { return link.transport().publish(std::move(m)); }},
                   options.max_queued_requests),
           keep_alive(options.keepalive_interval),
-          duplicates(options.duplicate_memory),
+          router(client_detail::MessageRouter::Parts{options.ex_cid, log, counters, link, pending, event_routes,
+                                                     [this](const std::string& dev, const std::string& payload) {
+                                                         note_instance(dev, payload);
+                                                     }},
+                 options.duplicate_memory),
           dispatcher(client_detail::Dispatcher::Hooks{
               [this] { return next_wake(); },
               [this](Clock::time_point now) {
@@ -102,8 +85,6 @@ struct NCLINK_LOCAL Client::Impl {
               [this] { fail_all(); },
               [this](const char* what) { log.error("client: a callback threw: {}", what); },
           }) {}
-
-    std::vector<std::string> response_filters() const;
 
     Result<void> start();
 
@@ -115,39 +96,11 @@ struct NCLINK_LOCAL Client::Impl {
     void on_link(LinkState state, std::string_view detail);
 
     // ---- dispatch thread ----
-    void handle_message(const Message& m);
-
-    void handle_response(const ParsedTopic& topic, const std::string& payload);
-
-    void handle_notification(const ParsedTopic& topic, const Message& m);
-
-    /// Event/{dev}/{ex}: this client's own go to their registrations
-    /// (client_events.cpp), every one to subscribe_events() handlers.
-    void handle_event(const ParsedTopic& topic, const Message& m);
-
-    /// Method/Status and Method/Result/{dev}/{ex}: this client's own go to
-    /// their calls (client_methods.cpp), every one to subscribe_method_runs() handlers.
-    void handle_method_run(const ParsedTopic& topic, const Message& m);
-
-    template <class Handler, class Dtu>
-    void deliver_to(const std::vector<std::shared_ptr<client_detail::Subscription>>& subs, const Dtu& dtu,
-                    std::atomic<std::uint64_t>& counter) {
-        for (const auto& sub : subs) {
-            const auto* handler = std::get_if<Handler>(&sub->handler);
-            if (!handler || !*handler || !sub->alive) continue;
-            ++counter;
-            client_detail::safely(log, [&] { (*handler)(dtu); });
-        }
-    }
-
     void expire(Clock::time_point now);
 
-    // ---- liveness and de-duplication (client_liveness.cpp) ----
+    // ---- liveness (client_liveness.cpp) ----
     std::optional<Clock::time_point> next_wake() const;
     void send_keepalives(Clock::time_point now);  ///< dispatch thread
-    /// False for a Sample/Event DTU already handed on (counted): Samples by
-    /// topic and beginTime, Events by device and @id.
-    bool first_delivery(const std::string& stream, const std::string& key);
 
     void fail_all();
 

@@ -1,6 +1,5 @@
-// Client: liveness towards the adapters (GB/T 41970-2022 3.22) and handing
-// each QoS 1 DTU on once (client_impl.hpp, keep_alive.hpp,
-// duplicate_filter.hpp; docs/delivery.md).
+// Client: liveness towards the adapters (GB/T 41970-2022 3.22): the
+// keep-alive Queries (client_impl.hpp, keep_alive.hpp; docs/delivery.md).
 #include "client/client_impl.hpp"
 #include "client/responders.hpp"
 
@@ -34,13 +33,6 @@ void Client::Impl::send_keepalives(Clock::time_point now) {
         send(TopicKind::query_response, topics::query_request(dev, options.ex_cid), std::move(request), std::move(responder),
              request_options);
     }
-}
-
-bool Client::Impl::first_delivery(const std::string& stream, const std::string& key) {
-    if (duplicates.first(stream, key)) return true;
-    ++counters.duplicates;
-    log.debug("client: repeated DTU on {} ({}) not handed on again", stream, key);
-    return false;
 }
 
 }  // namespace nclink

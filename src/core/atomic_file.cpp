@@ -9,7 +9,7 @@
 #include <cstring>
 #include <filesystem>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 namespace {
 Error io_error(const char* what, const std::string& path, int err) {
@@ -51,4 +51,4 @@ Result<void> write_file_atomically(const std::string& path, const std::string& t
     return ok_result();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -7,10 +7,10 @@
 
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// Writes `text` to `path` atomically: a sibling temp file, fsync, rename.
 /// Creates missing parent directories. The error names the file and errno.
 Result<void> write_file_atomically(const std::string& path, const std::string& text);
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 Result<ConfigDocument> read_config_document(const std::string& path) {
     errno = 0;
@@ -96,4 +96,4 @@ Result<void> read_http_limits(ConfigReader& top, const char* section, HttpLimits
     return ok_result();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// A configuration file: its text (to locate errors in) and its JSON.
 struct ConfigDocument {
@@ -41,4 +41,4 @@ Result<void> read_log_level(ConfigReader& top, LogLevel& out);
 /// or connection count of 0 or a deadline of 0 is refused (out of range).
 Result<void> read_http_limits(ConfigReader& top, const char* section, HttpLimits& out);
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

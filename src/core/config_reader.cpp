@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cctype>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 namespace {
 
 std::string folded(std::string_view word) {
@@ -83,4 +83,4 @@ Result<void> ConfigReader::no_unknown_keys() const {
     return ok_result();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

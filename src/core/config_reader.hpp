@@ -22,7 +22,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// The candidate closest to `word` (edit distance with transpositions,
 /// ignoring case, '_' and '-'), if it is close enough to be a likely typo.
@@ -118,4 +118,4 @@ private:
         if (auto r_ = (expr); !r_) return std::move(r_).error(); \
     } while (0)
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

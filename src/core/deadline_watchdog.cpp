@@ -1,7 +1,7 @@
 #include "core/deadline_watchdog.hpp"
 #include "core/thread_name.hpp"
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 DeadlineWatchdog::DeadlineWatchdog() : thread_([this] { loop(); }) {}
 
@@ -51,4 +51,4 @@ void DeadlineWatchdog::loop() {
     }
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

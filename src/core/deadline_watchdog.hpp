@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class DeadlineWatchdog {
 public:
@@ -84,4 +84,4 @@ private:
     std::atomic<int> state_{kOpen};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -1,7 +1,7 @@
 #include "core/executor.hpp"
 #include "core/thread_name.hpp"
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 Executor::Executor(std::size_t threads) {
     if (threads == 0) threads = 1;
@@ -54,4 +54,4 @@ void Executor::work() {
     }
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class Executor {
 public:
@@ -37,4 +37,4 @@ private:
     std::vector<std::thread> threads_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 namespace {
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
@@ -211,4 +211,4 @@ std::optional<TextPosition> locate_pointer(std::string_view text, std::string_vi
     return position_of_offset(text, found);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

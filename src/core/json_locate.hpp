@@ -7,7 +7,7 @@
 #include <optional>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// 1-based line and column; the column counts characters (UTF-8 code points).
 struct TextPosition {
@@ -24,4 +24,4 @@ TextPosition position_of_offset(std::string_view text, std::size_t offset);
 /// the text. With duplicate keys the last one counts, as when parsing.
 std::optional<TextPosition> locate_pointer(std::string_view text, std::string_view pointer);
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

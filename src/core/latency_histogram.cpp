@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 void LatencyHistogram::observe(std::chrono::nanoseconds elapsed) noexcept {
     const auto ns = std::max<std::int64_t>(0, elapsed.count());
@@ -27,4 +27,4 @@ HistogramSnapshot LatencyHistogram::snapshot() const {
     return s;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

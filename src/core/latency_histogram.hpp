@@ -12,7 +12,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// Upper bounds in seconds: 100 us .. 10 s, the range of request round trips
 /// on a broker (docs/metrics.md).
@@ -31,4 +31,4 @@ private:
     std::atomic<std::uint64_t> sum_ns_{0};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -27,7 +27,7 @@ LogSink stderr_sink() {
         // int64 milliseconds, never time_t: 32 bits on Debian 12 armhf.
         const std::int64_t now_ms = duration_cast<milliseconds>(system_clock::now().time_since_epoch()).count();
         // One fwrite per line: stdio locks the stream, so lines never interleave.
-        const std::string line = fmt::format("{} {:<5} {}\n", detail::utc_iso8601_ms(now_ms), to_string(level), message);
+        const std::string line = fmt::format("{} {:<5} {}\n", core_detail::utc_iso8601_ms(now_ms), to_string(level), message);
         std::fwrite(line.data(), 1, line.size(), stderr);
     };
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 namespace {
 
 char fold(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }
@@ -60,4 +60,4 @@ std::optional<std::string> nearest_name(std::string_view name, const std::vector
     return std::nullopt;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// Edit distance (insertions, deletions, substitutions, and swaps of two
 /// neighbouring characters), compared case-insensitively.
@@ -20,4 +20,4 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 /// 3). Ties go to the first candidate given.
 std::optional<std::string> nearest_name(std::string_view name, const std::vector<std::string_view>& candidates);
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -3,7 +3,7 @@
 
 #include "core/thread_name.hpp"
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 bool PeriodicThread::start(std::chrono::milliseconds period, std::function<void()> task, std::string name) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -40,4 +40,4 @@ bool PeriodicThread::running() const {
     return thread_.joinable() && !stopping_;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -13,7 +13,7 @@
 #include <string>
 #include <thread>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class PeriodicThread {
 public:
@@ -38,4 +38,4 @@ private:
     std::thread thread_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

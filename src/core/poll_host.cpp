@@ -1,7 +1,7 @@
 #include "core/poll_host.hpp"
 #include "core/thread_name.hpp"
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 struct PollHost::Entry {
     Poll poll;
@@ -162,4 +162,4 @@ void PollHost::work(std::size_t index) {
     }
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

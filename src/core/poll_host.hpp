@@ -37,7 +37,7 @@
 #include <thread>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class PollHost {
 public:
@@ -100,4 +100,4 @@ private:
     std::vector<std::thread> threads_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 namespace {
 
 // Length of the valid UTF-8 sequence at s[i], 0 when it is none.
@@ -139,4 +139,4 @@ std::string PrometheusText::str() const {
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

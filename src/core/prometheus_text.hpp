@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 using MetricLabels = std::vector<std::pair<std::string, std::string>>;
 
@@ -66,4 +66,4 @@ std::string format_metric_value(double value);
 /// The content type of the text exposition.
 inline constexpr std::string_view prometheus_content_type = "text/plain; version=0.0.4; charset=utf-8";
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -23,7 +23,7 @@
 #include <memory>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class SerialWork {
 public:
@@ -62,4 +62,4 @@ private:
     PollHost::Handle handle_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

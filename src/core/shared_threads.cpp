@@ -15,7 +15,7 @@ std::size_t sized_to_box(std::size_t asked) {
 SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
     : timers(sized_to_box(options.timer_threads), "nclink-timer"),
       work(sized_to_box(options.work_threads), "nclink-work"),
-      requests(std::make_shared<detail::Executor>(sized_to_box(options.request_threads))),
+      requests(std::make_shared<core_detail::Executor>(sized_to_box(options.request_threads))),
       drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
       request_threads(sized_to_box(options.request_threads)),
       multiplexed_mqtt(options.shared_mqtt_io) {}

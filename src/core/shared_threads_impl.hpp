@@ -14,7 +14,7 @@
 #include <memory>
 #include <mutex>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 class MqttLoop;  // transport module: made there, only held here
 }
 
@@ -22,20 +22,20 @@ namespace nclink {
 
 struct NCLINK_LOCAL SharedThreads::Impl {
     explicit Impl(const SharedThreadsOptions& options);
-    detail::PollHost timers;
+    core_detail::PollHost timers;
     /// Every adapter's serial background work (core/serial_work.hpp): not
     /// on `timers`, so a burst of publishing or a spool's disk write never
     /// holds up a sampling deadline.
-    detail::PollHost work;
-    std::shared_ptr<detail::Executor> requests;
-    detail::DeadlineWatchdog watchdog;
-    detail::WorkerPool drivers;
+    core_detail::PollHost work;
+    std::shared_ptr<core_detail::Executor> requests;
+    core_detail::DeadlineWatchdog watchdog;
+    core_detail::WorkerPool drivers;
     std::size_t request_threads = 0;
     /// SharedThreadsOptions::shared_mqtt_io. The first adapter that connects
     /// makes the loop (transport/mqtt_loop.hpp).
     bool multiplexed_mqtt = false;
     std::mutex mqtt_loop_mutex;
-    std::shared_ptr<detail::MqttLoop> mqtt_loop;
+    std::shared_ptr<transport_detail::MqttLoop> mqtt_loop;
 
     /// Where in its channels' interval grid the next adapter samples, a
     /// fraction in [0, 1): 0, 1/2, 1/4, 3/4, 1/8, ... (the base-2 van der

@@ -13,7 +13,7 @@
 #include <memory>
 #include <mutex>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class TaskGroup {
 public:
@@ -72,4 +72,4 @@ private:
     std::shared_ptr<State> state_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -8,11 +8,11 @@
 
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 inline void name_this_thread(const std::string& name) {
     const std::string cut = name.substr(0, 15);
     pthread_setname_np(pthread_self(), cut.c_str());
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

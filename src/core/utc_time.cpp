@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 namespace {
 
@@ -47,4 +47,4 @@ std::string utc_iso8601_ms(std::int64_t ms) {
                        second_of_day / 60 % 60, second_of_day % 60, millis);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

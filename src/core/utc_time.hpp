@@ -7,10 +7,10 @@
 #include <cstdint>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 /// "2026-12-03T08:15:00.123Z" (proleptic Gregorian calendar; times before
 /// 1970 too). Allocates only the returned string.
 std::string utc_iso8601_ms(std::int64_t ms_since_epoch);
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -10,7 +10,7 @@
 #include <memory>
 #include <mutex>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class WatchdogScope {
 public:
@@ -45,4 +45,4 @@ private:
     std::shared_ptr<State> state_ = std::make_shared<State>();
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 namespace {
 // A replacement thread that found nothing to do for this long leaves.
@@ -129,4 +129,4 @@ void WorkerPool::work(const std::shared_ptr<State>& state, Worker* self) {
     s.exited.notify_all();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

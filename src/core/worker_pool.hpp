@@ -20,7 +20,7 @@
 #include <string>
 #include <thread>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
 
 class WorkerPool {
 public:
@@ -76,4 +76,4 @@ private:
     std::shared_ptr<State> state_ = std::make_shared<State>();
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::core_detail

@@ -7,7 +7,7 @@
 #include <iterator>
 #include <optional>
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 namespace {
 
 // Takes `lock` within `wait`. libstdc++ waits on the steady clock with
@@ -216,7 +216,7 @@ void DriverRunner::run_task(Queue& queue, Queue::Task& task) {
 }
 
 void DriverRunner::work(const std::shared_ptr<Queue>& queue) {
-    name_this_thread("nclink-driver");
+    core_detail::name_this_thread("nclink-driver");
     tls_worker_of = queue.get();
     std::unique_lock<std::mutex> lock(queue->mutex);
     for (;;) {
@@ -574,4 +574,4 @@ std::uint64_t DriverRunner::timeouts() const {
     return queue_->timeouts;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

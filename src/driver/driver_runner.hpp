@@ -33,7 +33,7 @@
 #include <thread>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 
 class DriverRunner {
 public:
@@ -44,7 +44,7 @@ public:
         /// this shared pool instead of the runner's own worker(s), still one
         /// at a time (or concurrent_workers at a time for a concurrent
         /// driver). Must outlive stop().
-        WorkerPool* pool = nullptr;
+        core_detail::WorkerPool* pool = nullptr;
     };
 
     DriverRunner(std::shared_ptr<Driver> driver, Options options, Logger logger);
@@ -138,7 +138,7 @@ private:
         std::deque<Task> tasks;
         bool stopping = false;
         std::size_t running_workers = 0;  // own workers alive; on a pool: drains posted or running
-        WorkerPool* pool = nullptr;
+        core_detail::WorkerPool* pool = nullptr;
         std::size_t max_drains = 1;  // on a pool: drains at once
         // Serializes driver calls between the workers and read_direct():
         // exclusive per call for a serialized driver, shared for a concurrent
@@ -190,4 +190,4 @@ private:
     std::vector<std::thread> workers_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 
 /// A plugin's failure: its code as is (table 19, or the vendor's own below
 /// 0; docs/wire.md, "Vendor errors", decides how it goes on the wire) with
@@ -39,4 +39,4 @@ inline int kind_to_c(DataKind kind) {
     return kind == DataKind::list ? 1 : kind == DataKind::dict ? 2 : 0;  // NCLINK_KIND_*
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

@@ -14,7 +14,7 @@
 #include <cstddef>
 #include <cstring>
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 namespace {
 
 // read(): Json values per point.
@@ -339,4 +339,4 @@ Result<std::shared_ptr<Driver>> make_plugin_driver_v2(std::shared_ptr<void> libr
         std::make_shared<PluginDriverV2>(std::move(library), d, instance, std::move(host), std::move(owned_logger)));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

@@ -40,8 +40,8 @@ Result<std::shared_ptr<Driver>> load_driver_plugin(const std::string& path, cons
         return make_error(ErrorCode::unavailable, fmt::format("{}: {}() returned no descriptor", path, NCLINK_DRIVER_ENTRY_SYMBOL));
     const std::uint32_t version = *static_cast<const std::uint32_t*>(entry_result);
     if (version == NCLINK_DRIVER_ABI_VERSION)
-        return detail::make_plugin_driver_v2(std::move(library), *static_cast<const nclink_driver_descriptor*>(entry_result),
-                                             path, config, std::move(logger));
+        return driver_detail::make_plugin_driver_v2(
+            std::move(library), *static_cast<const nclink_driver_descriptor*>(entry_result), path, config, std::move(logger));
     return make_error(ErrorCode::value_type,
                       fmt::format("{}: driver ABI version {} is not supported (this nclink loads version {})", path, version,
                                   NCLINK_DRIVER_ABI_VERSION));

@@ -1,6 +1,6 @@
 #include "driver/point_table.hpp"
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 
 PointTable::PointTable(std::uint64_t generation, std::vector<PointRef> points)
     : generation_(generation), points_(std::move(points)) {
@@ -13,4 +13,4 @@ const PointRef* PointTable::find(std::string_view id) const {
     return it == index_.end() ? nullptr : &points_[it->second];
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

@@ -11,7 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::driver_detail {
 
 class PointTable {
 public:
@@ -36,4 +36,4 @@ private:
 /// tests): the runner resolves them by id against the current binding.
 inline constexpr std::uint64_t unbound = 0;
 
-}  // namespace nclink::detail
+}  // namespace nclink::driver_detail

@@ -71,7 +71,7 @@ int create(const nclink_adapter_options* options, nclink_adapter** out, nclink_e
 
     Logger logger = make_logger(o, config->log_level);
     const std::string name = d->name ? d->name : "driver";
-    auto driver = detail::make_plugin_driver_v2(nullptr, *d, "C driver " + name, config->driver_config, logger);
+    auto driver = driver_detail::make_plugin_driver_v2(nullptr, *d, "C driver " + name, config->driver_config, logger);
     if (!driver) return report(error, driver.error());
     auto handle = std::make_unique<nclink_adapter>();
     handle->adapter = std::make_unique<Adapter>(std::move(config).value(), std::move(driver).value(), std::move(logger));

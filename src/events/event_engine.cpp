@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 EventEngine::EventEngine(std::size_t capacity, std::string id_prefix) : capacity_(capacity), id_prefix_(std::move(id_prefix)) {}
 
@@ -120,4 +120,4 @@ std::set<std::string> EventEngine::watched_items() const {
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

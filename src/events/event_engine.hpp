@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 /// An event to publish: to `owner` (Event/{dev}/{owner}; Event/{dev} when the
 /// registration came without a terminal id). msg_id and guid are left empty.
@@ -91,4 +91,4 @@ private:
     std::uint64_t released_ = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

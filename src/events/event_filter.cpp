@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 namespace {
 
 Error mismatch(std::string message) { return make_error(ErrorCode::filter_arguments_mismatch, std::move(message)); }
@@ -175,4 +175,4 @@ std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, 
     return std::nullopt;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

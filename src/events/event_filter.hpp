@@ -23,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 enum class FilterType { change, equal, range, less, greater, include };
 
@@ -75,4 +75,4 @@ std::optional<std::size_t> first_match(const std::vector<EventFilter>& filters, 
 /// else as JSON.
 bool same_value(const Json& a, const Json& b);
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

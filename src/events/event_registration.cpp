@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 Result<EventSpec> validate_registration(const EventRegisterRequest& request, const DataObject* item) {
     if (!item) return make_error(ErrorCode::node_not_exists, fmt::format("no data item '{}' on this device", request.id));
@@ -66,4 +66,4 @@ Result<Json> extract_element(const EventSpec& spec, const Json& whole) {
     return whole;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 struct EventSpec {
     std::string item;  ///< data item id
@@ -47,4 +47,4 @@ Result<EventSpec> validate_registration(const EventRegisterRequest& request, con
 /// list is too short, 202 when the value is not a dict/list as the model says.
 Result<Json> extract_element(const EventSpec& spec, const Json& whole);
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

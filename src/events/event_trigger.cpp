@@ -6,7 +6,7 @@
 #include <cctype>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 std::string_view to_string(TriggerType type) noexcept {
     switch (type) {
@@ -45,4 +45,4 @@ bool TriggerState::fire(bool matched) noexcept {
     return fires;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

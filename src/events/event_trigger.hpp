@@ -17,7 +17,7 @@
 #include <optional>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 enum class TriggerType { always, normal, once };
 
@@ -44,4 +44,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -1,6 +1,6 @@
 #include "events/event_watch.hpp"
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 EventWatch::EventWatch(std::vector<EventFilter> filters, TriggerType trigger) : filters_(std::move(filters)), trigger_(trigger) {}
 
@@ -20,4 +20,4 @@ std::optional<EventFiring> EventWatch::observe(const Json& value) {
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -20,7 +20,7 @@
 #include <optional>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 struct EventFiring {
     std::optional<Json> old_value;  ///< absent for the registration's first value
@@ -46,4 +46,4 @@ private:
     std::uint64_t evaluations_ = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

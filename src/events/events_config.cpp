@@ -2,10 +2,10 @@
 
 #include "core/config_reader.hpp"
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 Result<void> read_events_config(const Json& section, EventsConfig& out) {
-    ConfigReader r(section, "events.");
+    core_detail::ConfigReader r(section, "events.");
     if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.count("max_events", out.max_events));
     NCLINK_TRY(r.duration("poll_interval_ms", out.poll_interval));
@@ -27,4 +27,4 @@ void events_config_changes(const EventsConfig& a, const EventsConfig& b, std::ve
     key(a.qos == b.qos, "events.qos");
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 Result<void> read_events_config(const Json& section, EventsConfig& out);
 
@@ -18,4 +18,4 @@ Result<void> read_events_config(const Json& section, EventsConfig& out);
 /// Adapter::reload reports (docs/configuration.md, "Reloading").
 void events_config_changes(const EventsConfig& a, const EventsConfig& b, std::vector<std::string>& out);
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -3,8 +3,8 @@
 
 #include "feature/feature_metrics.hpp"
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
-void add_events_metrics(PrometheusText& out, const FeatureMetricsInput& in);
+void add_events_metrics(core_detail::PrometheusText& out, const feature_detail::FeatureMetricsInput& in);
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

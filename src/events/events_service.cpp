@@ -14,7 +14,7 @@
 #include <random>
 #include <thread>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 namespace {
 
 // While only the manual test clock moves, the events engine must look at it
@@ -25,9 +25,9 @@ constexpr std::chrono::milliseconds kMaxSleep{20};
 constexpr std::string_view kValuesQueueFull = "event_values_queue_full";
 constexpr std::string_view kPublishRefused = "events_publish_refused";
 
-class EventsServiceImpl final : public Feature {
+class EventsServiceImpl final : public feature_detail::Feature {
 public:
-    EventsServiceImpl(FeatureHost& host, EventsConfig config)
+    EventsServiceImpl(feature_detail::FeatureHost& host, EventsConfig config)
         : host_(host),
           config_(std::move(config)),
           engine_(config_.max_events, fmt::format("{:x}", std::random_device{}() & 0xffffffu)) {}
@@ -53,7 +53,7 @@ public:
         // Started before the inbox may wake it (a driver's push can come
         // from any thread at any time); what was queued before the waker
         // was set is taken by the wake-up after it.
-        engine_work_.start(host_.work, "nclink-events", [this](PollHost::Time) { return turn(); });
+        engine_work_.start(host_.work, "nclink-events", [this](core_detail::PollHost::Time) { return turn(); });
         inbox_->set_waker([this] { engine_work_.wake(); });
         engine_work_.wake();
         return ok_result();
@@ -70,7 +70,7 @@ public:
     // resolves: it is released and its owner told so with the answer a new
     // registration of it would get, 401 Node not exists (table 19), as an
     // unsolicited Register/Event/Response carrying the event id (docs/wire.md).
-    void on_model(std::shared_ptr<const ModelState> state) override {
+    void on_model(std::shared_ptr<const feature_detail::ModelState> state) override {
         std::vector<std::pair<std::string, std::optional<std::string>>> released;
         {
             std::lock_guard<std::mutex> lock(engine_mutex_);
@@ -122,7 +122,7 @@ public:
                     {"publish_errors", publish_errors_.load()},
                     {"dropped_values", inbox_->dropped()}};
     }
-    void add_drops(DropCounts& out) const override {
+    void add_drops(feature_detail::DropCounts& out) const override {
         out.add(kValuesQueueFull, inbox_->dropped());
         out.add(kPublishRefused, publish_errors_.load());
     }
@@ -220,7 +220,7 @@ private:
     }
 
     // The whole value now: the store for SDK-held items, else the driver.
-    std::optional<Json> read_current(const ModelState& state, const EventSpec& spec) {
+    std::optional<Json> read_current(const feature_detail::ModelState& state, const EventSpec& spec) {
         if (state.sdk_held(spec.item)) {
             auto value = state.store->get(spec.item);
             if (value) return std::move(value).value();
@@ -240,9 +240,9 @@ private:
     // the registration that ended an idle spell (not after the moment a
     // turn noticed it), so a test's manual clock and a real one agree.
     // While no event exists nothing is due: the next push wakes it.
-    PollHost::Time turn() {
+    core_detail::PollHost::Time turn() {
         auto work = inbox_->take();
-        if (work.closed) return PollHost::Time::max();
+        if (work.closed) return core_detail::PollHost::Time::max();
         const bool poll_enabled = config_.poll_interval.count() > 0;
         for (auto& item : work.items) {
             process(item);
@@ -252,7 +252,7 @@ private:
             }
         }
         if (polling_ && !has_active()) polling_ = false;
-        if (!polling_) return PollHost::Time::max();
+        if (!polling_) return core_detail::PollHost::Time::max();
         const auto now = host_.clock->now();
         if (now >= next_poll_) {
             poll();
@@ -297,13 +297,13 @@ private:
     // What a poll reads, resolved to the driver's handles once per model and
     // per change of the watched items (never per poll). Events thread only.
     struct PollPlan {
-        std::shared_ptr<const ModelState> state;
+        std::shared_ptr<const feature_detail::ModelState> state;
         std::uint64_t watched_version = 0;
         std::vector<PointRef> driver_points;  // with their handles; not_served left out
         std::vector<std::string> store_ids;
     };
 
-    void refresh_poll_plan(const std::shared_ptr<const ModelState>& state) {
+    void refresh_poll_plan(const std::shared_ptr<const feature_detail::ModelState>& state) {
         const std::uint64_t version = watched_version_.load(std::memory_order_acquire);
         if (plan_.state == state && plan_.watched_version == version) return;
         std::map<std::string, DataKind> items;
@@ -397,7 +397,7 @@ private:
         }
     }
 
-    FeatureHost& host_;
+    feature_detail::FeatureHost& host_;
     const EventsConfig config_;
     std::shared_ptr<ValueInbox> inbox_ = std::make_shared<ValueInbox>(config_.max_queued_values);
     mutable std::mutex engine_mutex_;
@@ -410,18 +410,18 @@ private:
     PollPlan plan_;                                                 // the engine's turns only
     // (A flag beside the time rather than std::optional: g++ 12 -O2 warns
     // maybe-uninitialized on optional<time_point> here.)
-    bool polling_ = false;       // the engine's turns only; false while idle
-    Clock::Steady next_poll_{};  // the engine's turns only
-    SerialWork engine_work_;     // last: stopped before the rest goes
+    bool polling_ = false;                 // the engine's turns only; false while idle
+    Clock::Steady next_poll_{};            // the engine's turns only
+    core_detail::SerialWork engine_work_;  // last: stopped before the rest goes
 };
 
 }  // namespace
 
-std::unique_ptr<Feature> make_events_service(FeatureHost& host, const EventsConfig& config) {
+std::unique_ptr<feature_detail::Feature> make_events_service(feature_detail::FeatureHost& host, const EventsConfig& config) {
     return std::make_unique<EventsServiceImpl>(host, config);
 }
 
-void events_drops_from_stats(const Json& stats, DropCounts& out) {
+void events_drops_from_stats(const Json& stats, feature_detail::DropCounts& out) {
     const auto count = [&](const char* key) -> std::uint64_t {
         if (!stats.is_object()) return 0;
         const auto it = stats.find(key);
@@ -431,4 +431,4 @@ void events_drops_from_stats(const Json& stats, DropCounts& out) {
     out.add(kPublishRefused, count("publish_errors"));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -24,16 +24,16 @@
 
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 class EventsService;
 
 /// The service; `host` outlives it. `config`: the "events" section of the
 /// configuration (this feature's own).
-std::unique_ptr<Feature> make_events_service(FeatureHost& host, const EventsConfig& config);
+std::unique_ptr<feature_detail::Feature> make_events_service(feature_detail::FeatureHost& host, const EventsConfig& config);
 
 /// The causes the service's add_drops adds, read back from its stats() JSON
 /// (a statistics snapshot's "events"; null when absent: all 0).
-void events_drops_from_stats(const Json& stats, DropCounts& out);
+void events_drops_from_stats(const Json& stats, feature_detail::DropCounts& out);
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 std::optional<Json> sample_value_to_json(const SampleValue& value) {
     switch (value.kind()) {
@@ -117,4 +117,4 @@ std::uint64_t ValueInbox::dropped() const {
     return dropped_;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::events_detail {
 
 /// A sample value as JSON: text as a string, serialized JSON parsed.
 /// std::nullopt for a missed read (a null slot of the row), NaN/infinity and
@@ -91,4 +91,4 @@ private:
     bool closed_ = false;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::events_detail

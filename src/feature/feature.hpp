@@ -37,18 +37,18 @@
 #include <utility>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 /// What the host lends its features. Every member outlives the features.
 struct FeatureHost {
     const std::string& dev;  ///< the terminal id of the host (dev_uuid)
     const Logger& logger;
-    std::shared_ptr<const Clock> clock;  ///< injected in tests (ManualClock)
-    Transport& transport;                ///< publish() is thread-safe; buffered while offline
-    DriverRunner& driver;                ///< deadlines, serialization
-    const ModelSource& model;            ///< model.current(): the snapshot to serve
-    SampleTap& sample_tap;               ///< sampled rows, for events watching the sample stream
-    ValueGuard& values;                  ///< chapter 7 checks of every value a driver returns
+    std::shared_ptr<const Clock> clock;   ///< injected in tests (ManualClock)
+    Transport& transport;                 ///< publish() is thread-safe; buffered while offline
+    driver_detail::DriverRunner& driver;  ///< deadlines, serialization
+    const ModelSource& model;             ///< model.current(): the snapshot to serve
+    SampleTap& sample_tap;                ///< sampled rows, for events watching the sample stream
+    ValueGuard& values;                   ///< chapter 7 checks of every value a driver returns
     /// Publishes a reply on the response topic(s) mirroring `request` (both
     /// spellings where docs/wire.md says so) and updates the host's state.
     std::function<void(const ParsedTopic& request, const Json& reply)> respond;
@@ -63,14 +63,14 @@ struct FeatureHost {
     std::chrono::milliseconds driver_timeout;
     /// Gateway mode: shared timer threads for periodic work (e.g. the
     /// sampling scheduler and uploader); null: each feature runs its own threads.
-    PollHost* timers = nullptr;
+    core_detail::PollHost* timers = nullptr;
     /// Gateway mode: where in their interval's grid this adapter's periodic
     /// ticks fall, a fraction in [0, 1) (EngineDeps::phase); 0 on its own.
     double timer_phase = 0;
     /// Gateway mode: the shared work threads for a feature's serial
     /// background work (core/serial_work.hpp: the events engine, the method
     /// status ticker, the sample spool); null: a thread of its own each.
-    PollHost* work = nullptr;
+    core_detail::PollHost* work = nullptr;
 };
 
 /// The losses the features count, by cause (the names of the statistics'
@@ -125,4 +125,4 @@ public:
     virtual void add_drops(DropCounts& /*out*/) const {}
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
-void add_drop_metric(PrometheusText& out, const MetricLabels& device, const char* cause, std::uint64_t n) {
-    MetricLabels labels = device;
+void add_drop_metric(core_detail::PrometheusText& out, const core_detail::MetricLabels& device, const char* cause, std::uint64_t n) {
+    core_detail::MetricLabels labels = device;
     labels.emplace_back("cause", cause);
     out.counter("nclink_adapter_drops_total",
                 "Data lost, by cause: outbox_full (MQTT messages), ring_full (sample rows), spool_full (Sample DTUs), "
@@ -28,4 +28,4 @@ const Json& json_member(const Json& object, const char* key) {
     return it == object.end() ? none : *it;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

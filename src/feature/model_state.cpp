@@ -1,6 +1,6 @@
 #include "feature/model_state.hpp"
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 const DataObject* ModelState::item(const std::string& id) const {
     const DataObject* object = model ? model->data_object(id) : nullptr;
@@ -31,4 +31,4 @@ PointRef ModelState::point(const std::string& id, DataKind kind) const {
     return PointRef{id, kind, no_handle};
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

@@ -16,7 +16,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 /// What one snapshot of the adapter serves: the model, the device this
 /// adapter is, and the SDK-held values.
@@ -33,7 +33,7 @@ struct ModelState {
     /// What the driver's bind() answered for this model: every data item the
     /// driver is asked about and every METHOD, with its handle (driver.hpp).
     /// Null only in tests that build a state by hand.
-    std::shared_ptr<const PointTable> points;
+    std::shared_ptr<const driver_detail::PointTable> points;
 
     /// True when `id` is answered from the store rather than the driver.
     bool sdk_held(const std::string& id) const { return store && store->contains(id); }
@@ -47,7 +47,7 @@ struct ModelState {
     /// ({id, kind, no_handle}) when the binding does not have it.
     PointRef point(const std::string& id, DataKind kind) const;
     /// The binding's generation, to hand the runner with refs from point().
-    std::uint64_t generation() const { return points ? points->generation() : unbound; }
+    std::uint64_t generation() const { return points ? points->generation() : driver_detail::unbound; }
 
     /// What a request needs of one data item, as item(), bound() and the
     /// rule's lookup give it.
@@ -76,4 +76,4 @@ public:
     virtual std::shared_ptr<const ModelState> current() const = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 class SampleTap {
 public:
@@ -70,4 +70,4 @@ private:
     std::atomic<bool> active_{false};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

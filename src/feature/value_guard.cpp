@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 void ValueGuard::screen(const ModelState& state, const std::string& id, Result<Json>& read, std::string_view source) {
     if (!enabled_ || !read || !state.rules) return;
@@ -51,4 +51,4 @@ void ValueGuard::report(const ValueRule& rule, std::string_view source, ErrorCod
         rule.id(), source, to_int(code), message);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

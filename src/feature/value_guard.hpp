@@ -24,7 +24,7 @@
 #include <string_view>
 #include <unordered_set>
 
-namespace nclink::detail {
+namespace nclink::feature_detail {
 
 class ValueGuard {
 public:
@@ -63,4 +63,4 @@ private:
     std::unordered_set<std::string> logged_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::feature_detail

@@ -11,7 +11,7 @@ namespace nclink {
 
 namespace {
 
-using detail::ConfigReader;
+using core_detail::ConfigReader;
 
 void resolve(const std::string& base_dir, std::string& path) {
     if (base_dir.empty() || path.empty()) return;
@@ -78,7 +78,7 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     if (c.mqtt_client != "mosquitto" && c.mqtt_client != "paho")
         return make_error(ErrorCode::out_of_range,
                           fmt::format("configuration: mqtt_client must be \"mosquitto\" or \"paho\", not \"{}\"", c.mqtt_client));
-    NCLINK_TRY(detail::read_log_level(top, c.log_level));
+    NCLINK_TRY(core_detail::read_log_level(top, c.log_level));
     const Json* machines = top.object("machines");
     NCLINK_TRY(top.no_unknown_keys());
     if (!machines) return make_error(ErrorCode::parameter_missing, "configuration: machines is missing");
@@ -103,7 +103,7 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
 }
 
 Result<GatewayConfig> load_gateway_config(const std::string& path) {
-    auto json = detail::read_config_file(path);
+    auto json = core_detail::read_config_file(path);
     if (!json) return std::move(json).error();
     const std::string dir = std::filesystem::absolute(std::filesystem::path(path)).parent_path().string();
     auto config = gateway_config_from_json(*json, dir);

@@ -8,11 +8,11 @@ void HttpMetrics::observe(const RequestRecord& record) {
     ++requests_[{std::string(record.method), std::string(record.route), record.status}];
     if (record.stream) return;
     auto& histogram = latency_[std::string(record.route)];
-    if (!histogram) histogram = std::make_unique<detail::LatencyHistogram>();
+    if (!histogram) histogram = std::make_unique<core_detail::LatencyHistogram>();
     histogram->observe(record.elapsed);
 }
 
-void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix) const {
+void HttpMetrics::render(core_detail::PrometheusText& out, const std::string& prefix) const {
     const std::string requests = prefix + "_http_requests_total";
     const std::string duration = prefix + "_http_request_duration_seconds";
     const char* requests_help = "HTTP requests answered, by method, route pattern and status code";
@@ -27,7 +27,7 @@ void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix)
         out.histogram(duration, duration_help, {{"route", route}}, histogram->snapshot());
 }
 
-void HttpMetrics::render(detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& c) {
+void HttpMetrics::render(core_detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& c) {
     // What the connection gate did with slow, idle and surplus clients
     // (docs/bridge.md "Slow and idle clients"): the counters say whether the
     // limits bite, and which.

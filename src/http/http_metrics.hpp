@@ -28,7 +28,7 @@ public:
     }
     /// Adds `<prefix>_http_requests_total` and
     /// `<prefix>_http_request_duration_seconds` (e.g. prefix "nclink_bridge").
-    void render(detail::PrometheusText& out, const std::string& prefix) const;
+    void render(core_detail::PrometheusText& out, const std::string& prefix) const;
     /// Adds the server's connection counters (HttpServer::connection_counters()):
     /// `<prefix>_http_connections_accepted_total`,
     /// `<prefix>_http_connections_refused_total{cap="total"|"per_peer"}`,
@@ -36,12 +36,12 @@ public:
     /// `<prefix>_http_connections_open`, `<prefix>_http_connections_waiting`,
     /// `<prefix>_http_streams_total`, `<prefix>_http_streams_refused_total` and
     /// `<prefix>_http_streams`. Static: the counters are the server's.
-    static void render(detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& counters);
+    static void render(core_detail::PrometheusText& out, const std::string& prefix, const ConnectionCounters& counters);
 
 private:
     mutable std::mutex mutex_;
-    std::map<std::tuple<std::string, std::string, int>, std::uint64_t> requests_;  // method, route, status
-    std::map<std::string, std::unique_ptr<detail::LatencyHistogram>> latency_;     // route
+    std::map<std::tuple<std::string, std::string, int>, std::uint64_t> requests_;    // method, route, status
+    std::map<std::string, std::unique_ptr<core_detail::LatencyHistogram>> latency_;  // route
 };
 
 }  // namespace nclink::http

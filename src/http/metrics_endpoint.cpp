@@ -44,10 +44,10 @@ Result<std::unique_ptr<MetricsEndpoint>> MetricsEndpoint::start(const std::strin
     HttpServer& server = *endpoint->server_;
     endpoint->server_->set_observer(metrics.observer());
     endpoint->server_->get("/metrics", [text = std::move(text), &metrics, &server, prefix](const HttpRequest&) {
-        detail::PrometheusText own;
+        core_detail::PrometheusText own;
         metrics.render(own, prefix);
         HttpMetrics::render(own, prefix, server.connection_counters());
-        return text_response(text() + own.str(), std::string(detail::prometheus_content_type));
+        return text_response(text() + own.str(), std::string(core_detail::prometheus_content_type));
     });
     if (auto started = endpoint->server_->start(); !started) return std::move(started).error();
     return Result<std::unique_ptr<MetricsEndpoint>>(std::move(endpoint));

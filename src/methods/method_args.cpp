@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 namespace {
 
 struct Param {
@@ -78,4 +78,4 @@ Result<Json> check_method_args(const Method& method, const std::optional<Json>& 
     return args;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

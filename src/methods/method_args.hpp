@@ -16,7 +16,7 @@
 
 #include <optional>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 /// The args object to hand the driver ({} when the call gave none), or
 ///   405 Value type error    the call's args is not an object;
@@ -25,4 +25,4 @@ namespace nclink::detail {
 /// Pure; thread-safe.
 Result<Json> check_method_args(const Method& method, const std::optional<Json>& call_args);
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

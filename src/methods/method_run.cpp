@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 const char* to_string(RunPhase phase) noexcept {
     switch (phase) {
@@ -90,4 +90,4 @@ void MethodRun::changed() {
     if (listener_) listener_(*this);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

@@ -23,7 +23,7 @@
 #include <optional>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 enum class RunPhase { waiting, executing, stopped, sleep };
 
@@ -90,4 +90,4 @@ private:
     PhaseListener listener_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <system_error>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 namespace {
 
 // The ticker re-reads the injected clock at least this often (a ManualClock
@@ -18,12 +18,13 @@ topics::OptEx ex_of(const ParsedTopic& topic) { return topic.ex ? topics::OptEx(
 }  // namespace
 
 std::shared_ptr<MethodTable> MethodTable::create(MethodsConfig config, Outlet outlet, Logger logger,
-                                                 std::shared_ptr<const Clock> clock, PollHost* work) {
+                                                 std::shared_ptr<const Clock> clock, core_detail::PollHost* work) {
     return std::shared_ptr<MethodTable>(
         new MethodTable(std::move(config), std::move(outlet), std::move(logger), std::move(clock), work));
 }
 
-MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock, PollHost* work)
+MethodTable::MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
+                         core_detail::PollHost* work)
     : config_(std::move(config)), logger_(std::move(logger)), clock_(std::move(clock)), work_(work), outlet_(std::move(outlet)) {}
 
 MethodTable::~MethodTable() {
@@ -105,7 +106,7 @@ MethodResult MethodTable::result_of(const MethodRun& run, const Result<Json>& ou
         // The reason stays the table-19 string; the driver's own words go in
         // privateInfo, the implementation's part of the DTU (table 45); a
         // vendor code follows docs/wire.md, "Vendor errors".
-        auto failure = driver_failure(outcome.error());
+        auto failure = protocol_detail::driver_failure(outcome.error());
         result.status = std::move(failure.status);
         result.private_info = std::move(failure.private_info);
     }
@@ -187,12 +188,12 @@ void MethodTable::start_ticker() {
     ticker_started_ = true;
     // "nclink-method-0" on a host of its own: 15 characters, the most a
     // thread's name keeps.
-    ticker_.start(work_, "nclink-method", [this](PollHost::Time) { return tick(); });
+    ticker_.start(work_, "nclink-method", [this](core_detail::PollHost::Time) { return tick(); });
 }
 
-PollHost::Time MethodTable::tick() {
+core_detail::PollHost::Time MethodTable::tick() {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (ticker_stop_) return PollHost::Time::max();
+    if (ticker_stop_) return core_detail::PollHost::Time::max();
     const auto now = clock_->now();
     std::vector<std::shared_ptr<MethodRun>> due;
     std::vector<std::thread> finished;
@@ -219,7 +220,7 @@ PollHost::Time MethodTable::tick() {
     // Idle (no run under way): nothing is due until start() or a finishing
     // run wakes it, so a gateway of many idle machines costs no wake-ups.
     // With runs, poll the injected clock (tests drive it by hand).
-    if (entries_.empty()) return PollHost::Time::max();
+    if (entries_.empty()) return core_detail::PollHost::Time::max();
     return std::chrono::steady_clock::now() + kTickerPoll;
 }
 
@@ -274,4 +275,4 @@ Json MethodTable::stats() const {
                 {"status_dtus", statuses_.load()}};
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

@@ -34,7 +34,7 @@
 #include <thread>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 class MethodTable : public std::enable_shared_from_this<MethodTable> {
 public:
@@ -48,7 +48,7 @@ public:
     /// `work`: the shared work threads the ticker runs on (gateway mode), or
     /// null for a ticker thread of its own.
     static std::shared_ptr<MethodTable> create(MethodsConfig config, Outlet outlet, Logger logger,
-                                               std::shared_ptr<const Clock> clock, PollHost* work = nullptr);
+                                               std::shared_ptr<const Clock> clock, core_detail::PollHost* work = nullptr);
     ~MethodTable();
 
     /// Admits an accepted call: 417 when max_running runs are under way, 202
@@ -80,20 +80,21 @@ private:
         Clock::Steady next_status{};
     };
 
-    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock, PollHost* work);
+    MethodTable(MethodsConfig config, Outlet outlet, Logger logger, std::shared_ptr<const Clock> clock,
+                core_detail::PollHost* work);
 
     void execute(const std::shared_ptr<MethodRun>& run, const PointRef& method, Driver& driver);
     MethodResult result_of(const MethodRun& run, const Result<Json>& outcome) const;
     void finish(std::uint64_t serial);
     /// One turn of the ticker; returns when it must look again.
-    PollHost::Time tick();
+    core_detail::PollHost::Time tick();
     void publish_status(MethodRun& run);
     void publish_result(MethodRun& run, const MethodResult& result);
 
     const MethodsConfig config_;
     const Logger logger_;
     const std::shared_ptr<const Clock> clock_;
-    PollHost* const work_;
+    core_detail::PollHost* const work_;
 
     // Publishing: once `closed_`, nothing goes out (the outlet may dangle).
     std::mutex gate_mutex_;
@@ -111,7 +112,7 @@ private:
 
     std::atomic<std::uint64_t> accepted_{0}, finished_count_{0}, canceled_{0}, errors_{0}, statuses_{0};
     // Started and woken under mutex_ only; last, so it stops first.
-    SerialWork ticker_;
+    core_detail::SerialWork ticker_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

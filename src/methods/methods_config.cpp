@@ -2,10 +2,10 @@
 
 #include "core/config_reader.hpp"
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 Result<void> read_methods_config(const Json& section, MethodsConfig& out) {
-    ConfigReader r(section, "methods.");
+    core_detail::ConfigReader r(section, "methods.");
     if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.count("max_running", out.max_running));
     NCLINK_TRY(r.duration("status_period_ms", out.status_period));
@@ -25,4 +25,4 @@ void methods_config_changes(const MethodsConfig& a, const MethodsConfig& b, std:
     key(a.stop_grace == b.stop_grace, "methods.stop_grace_ms");
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

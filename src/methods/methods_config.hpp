@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 Result<void> read_methods_config(const Json& section, MethodsConfig& out);
 
@@ -18,4 +18,4 @@ Result<void> read_methods_config(const Json& section, MethodsConfig& out);
 /// Adapter::reload reports (docs/configuration.md, "Reloading").
 void methods_config_changes(const MethodsConfig& a, const MethodsConfig& b, std::vector<std::string>& out);
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

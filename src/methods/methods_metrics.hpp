@@ -3,8 +3,8 @@
 
 #include "feature/feature_metrics.hpp"
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
-void add_methods_metrics(PrometheusText& out, const FeatureMetricsInput& in);
+void add_methods_metrics(core_detail::PrometheusText& out, const feature_detail::FeatureMetricsInput& in);
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

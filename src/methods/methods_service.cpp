@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <atomic>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 namespace {
 
 enum class Action { stop, resume, cancel };
@@ -30,9 +30,9 @@ std::optional<Json> detail_of(const Error& error) {
     return Json{{"message", error.message}};
 }
 
-class MethodsService final : public Feature {
+class MethodsService final : public feature_detail::Feature {
 public:
-    MethodsService(FeatureHost& host, const MethodsConfig& config) : host_(host), stop_grace_(config.stop_grace) {
+    MethodsService(feature_detail::FeatureHost& host, const MethodsConfig& config) : host_(host), stop_grace_(config.stop_grace) {
         MethodTable::Outlet outlet;
         outlet.dev = host.dev;
         outlet.transport = &host.transport;
@@ -187,7 +187,7 @@ private:
         return method;
     }
 
-    FeatureHost& host_;
+    feature_detail::FeatureHost& host_;
     const std::chrono::milliseconds stop_grace_;
     std::shared_ptr<MethodTable> table_;
     std::atomic<std::uint64_t> rejected_calls_{0}, control_requests_{0};
@@ -195,8 +195,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Feature> make_methods_service(FeatureHost& host, const MethodsConfig& config) {
+std::unique_ptr<feature_detail::Feature> make_methods_service(feature_detail::FeatureHost& host, const MethodsConfig& config) {
     return std::make_unique<MethodsService>(host, config);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

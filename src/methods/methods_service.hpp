@@ -8,12 +8,12 @@
 
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::methods_detail {
 
 /// Runs accepted calls on method threads of their own (up to
 /// MethodsConfig::max_running), beside the driver runner's read()/write()
 /// worker: a long method never holds up Query, Set or sampling.
 /// `config`: the "methods" section of the configuration (this feature's own).
-std::unique_ptr<Feature> make_methods_service(FeatureHost& host, const MethodsConfig& config);
+std::unique_ptr<feature_detail::Feature> make_methods_service(feature_detail::FeatureHost& host, const MethodsConfig& config);
 
-}  // namespace nclink::detail
+}  // namespace nclink::methods_detail

@@ -16,8 +16,8 @@
 
 namespace nclink {
 
-using detail::KeySpec;
-using detail::ObjectSpec;
+using model_detail::KeySpec;
+using model_detail::ObjectSpec;
 
 namespace {
 
@@ -67,7 +67,7 @@ bool key_shape_ok(ValueShape shape, const Json& value, std::string* why) {
         case ValueShape::array: return value.is_array();
         case ValueShape::dict: return value.is_object() || value.is_array();
         case ValueShape::number_or_string: return value.is_number() || value.is_string();
-        case ValueShape::file: return check_object(detail::file_object(), value, {}, why) == ValueFault::none;
+        case ValueShape::file: return check_object(model_detail::file_object(), value, {}, why) == ValueFault::none;
     }
     return true;
 }
@@ -102,7 +102,7 @@ ValueFault check_object(const ObjectSpec& spec, const Json& value, const std::ve
             }
             continue;
         }
-        if (!spec.axis_keys || !detail::is_axis_key(name)) continue;  // a key of the user's own
+        if (!spec.axis_keys || !model_detail::is_axis_key(name)) continue;  // a key of the user's own
         if (!member.is_number()) {
             if (why) say(why, fmt::format("axis value \"{}\" of a {} is a number, not {}", name, spec.name, member.type_name()));
             return ValueFault::key_type;
@@ -166,7 +166,7 @@ ValueRule ValueRule::compile(const DataObject& object, std::string_view parent_t
     ValueRule r;
     r.id_ = object.id;
     r.type_ = object.type;
-    const detail::TypeSpec* spec = detail::type_spec(object.type);
+    const model_detail::TypeSpec* spec = model_detail::type_spec(object.type);
     ValueShape base = spec ? spec->shape : ValueShape::any;
     r.typed_ = spec != nullptr;
     r.where_ = spec ? std::string(spec->where) : std::string();
@@ -175,18 +175,18 @@ ValueRule ValueRule::compile(const DataObject& object, std::string_view parent_t
         for (auto v : spec->enumeration) r.enumeration_.emplace_back(v);
         r.int_enumeration_ = spec->int_enumeration;
         r.has_min_ = spec->has_min;
-        r.min_ = spec->temperature ? detail::absolute_zero(object.units) : spec->min;
+        r.min_ = spec->temperature ? model_detail::absolute_zero(object.units) : spec->min;
         r.has_max_ = spec->has_max;
         r.max_ = spec->max;
         if (object.type == "CATAGORY")
-            for (auto v : detail::catagory_values(parent_type)) r.enumeration_.emplace_back(v);
+            for (auto v : model_detail::catagory_values(parent_type)) r.enumeration_.emplace_back(v);
         if (object.type == "COORDINATE")
             for (const auto& a : axes) r.axes_.push_back(upper(a));
     }
     if (object.datatype_file) {
         // `datatype: "file"` (6.2.1): a whole value naming a file, whatever the type.
         base = ValueShape::file;
-        r.object_ = &detail::file_object();
+        r.object_ = &model_detail::file_object();
         r.typed_ = true;
         if (r.where_.empty()) r.where_ = "6.2.1";
     }
@@ -209,7 +209,7 @@ ValueRule ValueRule::compile(const DataObject& object, std::string_view parent_t
             }
             break;
     }
-    if (base == ValueShape::file && r.object_ == nullptr) r.object_ = &detail::file_object();
+    if (base == ValueShape::file && r.object_ == nullptr) r.object_ = &model_detail::file_object();
     return r;
 }
 

@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::model_detail {
 namespace {
 
 using S = ValueShape;
@@ -191,4 +191,4 @@ bool is_axis_key(std::string_view key) noexcept {
     return true;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::model_detail

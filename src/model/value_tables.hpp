@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::model_detail {
 
 /// One key of a table-14 object.
 struct KeySpec {
@@ -60,4 +60,4 @@ double absolute_zero(std::string_view units) noexcept;
 /// optionally followed by decimal digits (x1 ... xn, table 14).
 bool is_axis_key(std::string_view key) noexcept;
 
-}  // namespace nclink::detail
+}  // namespace nclink::model_detail

@@ -278,7 +278,7 @@ std::optional<std::string> hint_or_nearest(const std::vector<std::string_view>& 
         const bool axis = std::string_view(h.meant).rfind("AXIS ", 0) == 0;  // "AXIS with number ..."
         if ((axis && components) || std::find(names.begin(), names.end(), h.meant) != names.end()) return std::string(h.meant);
     }
-    return detail::nearest_name(text, names);
+    return core_detail::nearest_name(text, names);
 }
 
 std::vector<std::string_view> names(const std::vector<VocabularyTerm>& table) {
@@ -316,7 +316,7 @@ std::optional<std::string> nearest_unit(std::string_view units) {
     for (const auto& group : vocabulary_units()) all.insert(all.end(), group.units.begin(), group.units.end());
     for (const auto& h : vocabulary_hints())
         if (h.used == units && std::find(all.begin(), all.end(), h.meant) != all.end()) return std::string(h.meant);
-    return detail::nearest_name(units, all);
+    return core_detail::nearest_name(units, all);
 }
 
 }  // namespace model_detail

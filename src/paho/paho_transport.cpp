@@ -31,7 +31,7 @@ using std::chrono::milliseconds;
 
 class MqttTransport final : public Transport, private mqtt::iaction_listener {
 public:
-    MqttTransport(MqttOptions options, Logger logger, std::vector<detail::BrokerAddress> brokers)
+    MqttTransport(MqttOptions options, Logger logger, std::vector<transport_detail::BrokerAddress> brokers)
         : options_(std::move(options)),
           logger_(std::move(logger)),
           brokers_(std::move(brokers)),
@@ -47,7 +47,7 @@ public:
           outbox_(
               options_.outbox,
               [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
-          watchdog_(detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {
+          watchdog_(transport_detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {
         link_.brokers(brokers_.size());
     }
 
@@ -75,7 +75,7 @@ public:
         client_->set_connected_handler([this](const std::string&) { on_connected(); });
         client_->set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
         supervisor_ = std::thread([this] {
-            detail::name_this_thread("nclink-mqtt");
+            core_detail::name_this_thread("nclink-mqtt");
             supervise();
         });
         return ok_result();
@@ -166,7 +166,7 @@ private:
     void on_success(const mqtt::token& tok) override {
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            watchdog_.progress(detail::AckWatchdog::Clock::now());
+            watchdog_.progress(transport_detail::AckWatchdog::Clock::now());
         }
         outbox_.delivered(reinterpret_cast<std::uintptr_t>(tok.get_user_context()));
     }
@@ -184,15 +184,15 @@ private:
     // Thread: paho callback thread.
     void on_connected() {
         if (options_.tcp_nodelay) {
-            const detail::BrokerAddress broker = current_broker();
-            const int nodelay = detail::apply_tcp_nodelay_to_peer(broker.host, broker.port);
+            const transport_detail::BrokerAddress broker = current_broker();
+            const int nodelay = transport_detail::apply_tcp_nodelay_to_peer(broker.host, broker.port);
             link_.nodelay_sockets(nodelay);
             if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
         for (const auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(filters, qos);
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            watchdog_.connected(detail::AckWatchdog::Clock::now());
+            watchdog_.connected(transport_detail::AckWatchdog::Clock::now());
         }
         link_.connected();
         link_.set_state(LinkState::connected, link_.broker(), on_state_);
@@ -318,9 +318,10 @@ private:
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
 #if NCLINK_WITH_TLS
         if (options_.tls) {
-            const detail::BrokerAddress broker = current_broker();
-            if (auto problem = detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
-            if (auto problem = detail::tls_handshake_problem(broker.host, broker.port, *options_.tls, options_.connect_timeout))
+            const transport_detail::BrokerAddress broker = current_broker();
+            if (auto problem = transport_detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
+            if (auto problem =
+                    transport_detail::tls_handshake_problem(broker.host, broker.port, *options_.tls, options_.connect_timeout))
                 return connect_failed(*problem, true, delay);
         }
 #endif
@@ -347,7 +348,7 @@ private:
         link_.attempt_failed(why, refused, delay, next);
     }
 
-    detail::BrokerAddress current_broker() const {
+    transport_detail::BrokerAddress current_broker() const {
         std::lock_guard<std::mutex> lock(brokers_mutex_);
         return brokers_.current();
     }
@@ -359,7 +360,7 @@ private:
     bool ack_stalled() {
         const std::size_t in_flight = outbox_.in_flight();
         std::lock_guard<std::mutex> lock(watchdog_mutex_);
-        return watchdog_.stalled(detail::AckWatchdog::Clock::now(), in_flight);
+        return watchdog_.stalled(transport_detail::AckWatchdog::Clock::now(), in_flight);
     }
 
     // Thread: supervisor, without mutex_. Drops the stalled connection; the
@@ -370,7 +371,7 @@ private:
         std::chrono::milliseconds waited{0};
         {
             std::lock_guard<std::mutex> lock(watchdog_mutex_);
-            waited = watchdog_.waited(detail::AckWatchdog::Clock::now());
+            waited = watchdog_.waited(transport_detail::AckWatchdog::Clock::now());
         }
         link_.stalled(waited, outbox_.in_flight());
         outbox_.link_down();
@@ -407,9 +408,9 @@ private:
                 // closing the lost socket ("socket error"), which would move
                 // a failover list on from a broker that is still there.
                 if (std::exchange(was_up, false) &&
-                    wake_.wait_for(lock, detail::jittered(delay, rng_), [this] { return stopping_; }))
+                    wake_.wait_for(lock, transport_detail::jittered(delay, rng_), [this] { return stopping_; }))
                     continue;
-                const milliseconds retry = detail::jittered(delay, rng_);
+                const milliseconds retry = transport_detail::jittered(delay, rng_);
                 lock.unlock();
                 const std::string url = current_broker().url;
                 const int protocol = protocol_;
@@ -473,16 +474,16 @@ private:
     const MqttOptions options_;
     const Logger logger_;
     mutable std::mutex brokers_mutex_;  // brokers_: moved on by the supervisor, read on paho's thread too
-    detail::BrokerRotation brokers_;
-    detail::LinkRecord link_;
+    transport_detail::BrokerRotation brokers_;
+    transport_detail::LinkRecord link_;
     std::unique_ptr<mqtt::async_client> client_;  // reset first in the destructor (see there)
-    detail::Outbox outbox_;
+    transport_detail::Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;
 
     std::mutex mutex_;  // started_, stopping_, supervisor wake-ups
     std::condition_variable wake_;
-    detail::SubscriptionSet subscriptions_;
+    transport_detail::SubscriptionSet subscriptions_;
     bool started_ = false;
     bool stopping_ = false;
     std::thread supervisor_;
@@ -497,14 +498,14 @@ private:
     bool spoke_311_ = false;         ///< supervisor only: a connection was made at 3.1.1 (see connect_failed())
 
     std::mutex watchdog_mutex_;  // watchdog_: progress on paho's thread, checks on the supervisor
-    detail::AckWatchdog watchdog_;
+    transport_detail::AckWatchdog watchdog_;
 };
 
 }  // namespace
 
 Result<std::unique_ptr<Transport>> make_paho_transport(MqttOptions options, Logger logger) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
-    auto brokers = detail::broker_list(options.broker_url, options.failover_urls);
+    auto brokers = transport_detail::broker_list(options.broker_url, options.failover_urls);
     if (!brokers) return std::move(brokers).error();
     const std::string& scheme = brokers.value().front().scheme;
     if ((scheme == "ssl" || scheme == "mqtts" || scheme == "wss") && !options.tls) options.tls = MqttTlsOptions{};

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::protocol_detail {
 
 WireFailure driver_failure(const Error& error) {
     WireFailure out;
@@ -18,4 +18,4 @@ WireFailure driver_failure(const Error& error) {
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::protocol_detail

@@ -8,7 +8,7 @@
 
 #include <optional>
 
-namespace nclink::detail {
+namespace nclink::protocol_detail {
 
 struct WireFailure {
     ResponseStatus status;             ///< NG, error and reason per table 19
@@ -24,4 +24,4 @@ struct WireFailure {
 ///   <n>: <text>"} (the number survives in the text).
 WireFailure driver_failure(const Error& error);
 
-}  // namespace nclink::detail
+}  // namespace nclink::protocol_detail

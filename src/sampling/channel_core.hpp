@@ -21,7 +21,7 @@
 #include <string>
 #include <unordered_set>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class ChannelCore {
 public:
@@ -127,4 +127,4 @@ private:
     const std::size_t text_budget_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -2,7 +2,7 @@
 
 #include <nclink/topics.hpp>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 namespace {
 
 Json refuse(SampleRegisterResponse response, ErrorCode code) {
@@ -26,7 +26,7 @@ int requested_qos(const std::optional<Json>& private_info, int fallback) {
 
 }  // namespace
 
-DynamicChannels::DynamicChannels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config)
+DynamicChannels::DynamicChannels(feature_detail::FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config)
     : host_(host), engine_(engine), config_(config) {}
 
 bool DynamicChannels::handles(TopicKind kind) const {
@@ -123,7 +123,7 @@ Json DynamicChannels::unregister_channel(const ParsedTopic& topic, const SampleU
     return to_json(response);
 }
 
-void DynamicChannels::on_model(const std::shared_ptr<const ModelState>& state) {
+void DynamicChannels::on_model(const std::shared_ptr<const feature_detail::ModelState>& state) {
     if (!state) return;
     std::vector<std::pair<std::string, std::string>> released;  // channel, owner
     {
@@ -195,8 +195,9 @@ Json DynamicChannels::stats() const {
                 {"owners", owners}};
 }
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config) {
+std::unique_ptr<SamplingExtension> make_dynamic_channels(feature_detail::FeatureHost& host, SamplingEngine& engine,
+                                                         const SamplingConfig& config) {
     return std::make_unique<DynamicChannels>(host, engine, config);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

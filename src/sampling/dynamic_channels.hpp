@@ -36,11 +36,11 @@
 #include <mutex>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class DynamicChannels final : public SamplingExtension {
 public:
-    DynamicChannels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config);
+    DynamicChannels(feature_detail::FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config);
 
     std::string_view name() const override { return "dynamic"; }
     bool handles(TopicKind kind) const override;
@@ -49,7 +49,7 @@ public:
     /// A new model: channels naming an item it no longer has are released and
     /// their owner told with an unsolicited Register/Sample/Response 401
     /// carrying the channel id (docs/wire.md).
-    void on_model(const std::shared_ptr<const ModelState>& state) override;
+    void on_model(const std::shared_ptr<const feature_detail::ModelState>& state) override;
     Json stats() const override;
 
     /// Channel ids owned by `ex_cid` (for tests and `nclink stats`).
@@ -59,7 +59,7 @@ private:
     Json register_channel(const ParsedTopic& topic, const SampleRegisterRequest& request);
     Json unregister_channel(const ParsedTopic& topic, const SampleUnregisterRequest& request);
 
-    FeatureHost& host_;
+    feature_detail::FeatureHost& host_;
     SamplingEngine& engine_;
     const SamplingConfig& config_;  // the service's, which outlives its extensions
 
@@ -70,6 +70,7 @@ private:
     std::uint64_t registered_ = 0, unregistered_ = 0, released_ = 0, refused_ = 0;
 };
 
-std::unique_ptr<SamplingExtension> make_dynamic_channels(FeatureHost& host, SamplingEngine& engine, const SamplingConfig& config);
+std::unique_ptr<SamplingExtension> make_dynamic_channels(feature_detail::FeatureHost& host, SamplingEngine& engine,
+                                                         const SamplingConfig& config);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

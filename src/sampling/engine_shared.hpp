@@ -13,7 +13,7 @@
 #include <set>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 struct EngineShared {
     explicit EngineShared(EngineDeps d) : deps(std::move(d)) {
@@ -27,14 +27,14 @@ struct EngineShared {
     mutable std::mutex mutex;
     /// Every channel, also removed ones until the uploader published their last rows.
     std::vector<std::shared_ptr<ChannelCore>> channels;
-    std::shared_ptr<const ModelState> model;
+    std::shared_ptr<const feature_detail::ModelState> model;
     bool sampler_running = false;  ///< the sampling thread runs (it then sets producer_done)
     RealtimeStatus realtime;
 
     std::atomic<std::uint64_t> version{1};        ///< bumped on every change of `channels`
     std::atomic<std::uint64_t> model_version{1};  ///< bumped by set_model()
 
-    std::shared_ptr<const ModelState> current_model() const {
+    std::shared_ptr<const feature_detail::ModelState> current_model() const {
         std::lock_guard<std::mutex> lock(mutex);
         return model;
     }
@@ -51,4 +51,4 @@ struct EngineShared {
     }
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 namespace {
 
@@ -98,4 +98,4 @@ RealtimeStatus apply_realtime(const SamplingConfig& config, const Logger& logger
     return status;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -9,7 +9,7 @@
 
 #include <cstdint>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 /// Applies the options to the calling thread. Never fails: what the system
 /// refuses (EPERM without CAP_SYS_NICE or an RLIMIT_RTPRIO) is reported.
@@ -19,4 +19,4 @@ RealtimeStatus apply_realtime(const SamplingConfig& config, const Logger& logger
 /// sched_runtime), 0 where the kernel does not report one (before 6.12).
 std::uint64_t thread_slice_ns();
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 namespace {
 
 std::size_t cost(const Message& m) { return m.topic.size() + m.payload.size(); }
@@ -55,7 +55,7 @@ bool is_replayed(const Json& dtu) {
     return flag != info->end() && flag->is_boolean() && flag->get<bool>();
 }
 
-SampleSpool::SampleSpool(SpoolOptions options, Transport& transport, Logger logger, PollHost* work)
+SampleSpool::SampleSpool(SpoolOptions options, Transport& transport, Logger logger, core_detail::PollHost* work)
     : options_(std::move(options)),
       transport_(transport),
       logger_(std::move(logger)),
@@ -91,7 +91,7 @@ Result<void> SampleSpool::start() {
         }
     }
     link_up_ = transport_.state() == LinkState::connected;
-    worker_.start(work_, "nclink-spool", [this](PollHost::Time) { return turn(); });
+    worker_.start(work_, "nclink-spool", [this](core_detail::PollHost::Time) { return turn(); });
     return ok_result();
 }
 
@@ -192,7 +192,7 @@ void SampleSpool::drop_memory_front_locked() {
     memory_.pop_front();
 }
 
-PollHost::Time SampleSpool::turn() {
+core_detail::PollHost::Time SampleSpool::turn() {
     std::unique_lock<std::mutex> lock(mutex_);
     for (std::size_t step = 0; !stopping_; ++step) {
         // A long replay goes in turns, so the other machines on the shared
@@ -213,9 +213,9 @@ PollHost::Time SampleSpool::turn() {
             if (!replayed) return std::chrono::steady_clock::now() + kBacklogPoll;
             continue;
         }
-        return PollHost::Time::max();  // publish() or on_link() wakes it
+        return core_detail::PollHost::Time::max();  // publish() or on_link() wakes it
     }
-    return PollHost::Time::max();
+    return core_detail::PollHost::Time::max();
 }
 
 void SampleSpool::spill_one_segment(std::unique_lock<std::mutex>& lock) {
@@ -388,4 +388,4 @@ void SampleSpool::persist_on_stop() {
     memory_used_ = 0;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

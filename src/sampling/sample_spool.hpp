@@ -59,7 +59,7 @@
 #include <string>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 struct SpoolOptions {
     /// RAM for spooled DTUs (topic + payload bytes). 0 = no spool: Sample
@@ -101,7 +101,7 @@ class SampleSpool {
 public:
     /// `work`: the shared work threads the spool's worker runs on (gateway
     /// mode), or null for a thread of its own.
-    SampleSpool(SpoolOptions options, Transport& transport, Logger logger, PollHost* work = nullptr);
+    SampleSpool(SpoolOptions options, Transport& transport, Logger logger, core_detail::PollHost* work = nullptr);
     ~SampleSpool();  ///< stop()s
     SampleSpool(const SampleSpool&) = delete;
     SampleSpool& operator=(const SampleSpool&) = delete;
@@ -127,7 +127,7 @@ public:
 private:
     /// One turn of the worker (spill, replay; at most kStepsPerTurn steps,
     /// then it yields the shared thread); returns when it must look again.
-    PollHost::Time turn();
+    core_detail::PollHost::Time turn();
     std::size_t pending_locked() const;
     void enqueue_locked(Message message);
     void drop_memory_front_locked();
@@ -146,7 +146,7 @@ private:
     Transport& transport_;
     const Logger logger_;
     const std::size_t segment_bytes_;
-    PollHost* const work_;
+    core_detail::PollHost* const work_;
 
     // Held from taking a DTU (live or spooled) until the transport has it, so
     // hand-overs keep production order. Never taken by on_link().
@@ -169,7 +169,7 @@ private:
     std::chrono::steady_clock::time_point disk_retry_at_{};
     SpoolStats counters_;
     std::uint64_t drop_burst_ = 0;
-    SerialWork worker_;  // last: stopped before the rest goes
+    core_detail::SerialWork worker_;  // last: stopped before the rest goes
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -2,10 +2,10 @@
 
 #include "core/config_reader.hpp"
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
-    ConfigReader r(section, "sampling.");
+    core_detail::ConfigReader r(section, "sampling.");
     if (!section.is_object()) return r.fail(ErrorCode::value_type, "", "must be an object");
     NCLINK_TRY(r.boolean("enabled", out.enabled));
     NCLINK_TRY(r.count("max_dynamic_channels", out.max_dynamic_channels));
@@ -88,4 +88,4 @@ void sampling_config_changes(const SamplingConfig& s, const SamplingConfig& t, s
     key(s.spool_disk_bytes == t.spool_disk_bytes, "sampling.spool_disk_bytes");
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

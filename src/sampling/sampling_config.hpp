@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 Result<void> read_sampling_config(const Json& section, SamplingConfig& out);
 
@@ -18,4 +18,4 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out);
 /// Adapter::reload reports (docs/configuration.md, "Reloading").
 void sampling_config_changes(const SamplingConfig& a, const SamplingConfig& b, std::vector<std::string>& out);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

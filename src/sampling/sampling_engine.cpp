@@ -38,7 +38,7 @@ const std::string& PushChannel::id() const noexcept { return core_ ? core_->spec
 
 }  // namespace nclink
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 namespace {
 
@@ -46,23 +46,23 @@ namespace {
 // a removed channel's last rows sampled) make its two pollables due now.
 class HostWaker final : public Sleeper {
 public:
-    explicit HostWaker(PollHost& host) : host_(host) {}
+    explicit HostWaker(core_detail::PollHost& host) : host_(host) {}
     void sleep_until(Clock::Steady, std::uint64_t) override {}  // the host waits, never the engine
     void wake() override {
         std::lock_guard<std::mutex> lock(mutex_);
         host_.wake(sampler_);
         host_.wake(uploader_);
     }
-    void set(PollHost::Handle sampler, PollHost::Handle uploader) {
+    void set(core_detail::PollHost::Handle sampler, core_detail::PollHost::Handle uploader) {
         std::lock_guard<std::mutex> lock(mutex_);
         sampler_ = std::move(sampler);
         uploader_ = std::move(uploader);
     }
 
 private:
-    PollHost& host_;
+    core_detail::PollHost& host_;
     std::mutex mutex_;
-    PollHost::Handle sampler_, uploader_;
+    core_detail::PollHost::Handle sampler_, uploader_;
 };
 
 }  // namespace
@@ -87,7 +87,7 @@ struct SamplingEngine::State {
     std::thread uploader_thread;
     // gateway mode: the pollables on the shared timer threads instead
     std::shared_ptr<HostWaker> waker;
-    PollHost::Handle sampler_entry, uploader_entry;
+    core_detail::PollHost::Handle sampler_entry, uploader_entry;
 
     // Safety net of the shared mode: a pollable is looked at at least once
     // a second even if a wake-up were missed (the own threads wait at most
@@ -108,13 +108,13 @@ struct SamplingEngine::State {
             std::lock_guard<std::mutex> lock(shared.mutex);
             shared.realtime = rt;
         }
-        PollHost& host = *shared.deps.timers;
-        sampler_entry = host.add([this](PollHost::Time) {
-            if (stop_sampler.load(std::memory_order_acquire)) return PollHost::Time::max();
+        core_detail::PollHost& host = *shared.deps.timers;
+        sampler_entry = host.add([this](core_detail::PollHost::Time) {
+            if (stop_sampler.load(std::memory_order_acquire)) return core_detail::PollHost::Time::max();
             return capped(scheduler.poll());
         });
-        uploader_entry = host.add([this](PollHost::Time) {
-            if (stop_uploader.load(std::memory_order_acquire)) return PollHost::Time::max();
+        uploader_entry = host.add([this](core_detail::PollHost::Time) {
+            if (stop_uploader.load(std::memory_order_acquire)) return core_detail::PollHost::Time::max();
             return capped(uploader.poll(false));
         });
         waker->set(sampler_entry, uploader_entry);
@@ -267,11 +267,11 @@ void SamplingEngine::start() {
     }
     auto* state = state_.get();
     state_->sampler_thread = std::thread([state] {
-        name_this_thread("nclink-sampler");
+        core_detail::name_this_thread("nclink-sampler");
         state->sample_loop();
     });
     state_->uploader_thread = std::thread([state] {
-        name_this_thread("nclink-upload");
+        core_detail::name_this_thread("nclink-upload");
         state->upload_loop();
     });
 }
@@ -305,7 +305,7 @@ void SamplingEngine::stop() {
     state_->running = false;
 }
 
-void SamplingEngine::set_model(std::shared_ptr<const ModelState> state) {
+void SamplingEngine::set_model(std::shared_ptr<const feature_detail::ModelState> state) {
     {
         std::lock_guard<std::mutex> lock(state_->shared.mutex);
         state_->shared.model = std::move(state);
@@ -352,4 +352,4 @@ bool SamplingEngine::running() const {
 void SamplingEngine::run_sampling_once() { state_->scheduler.poll(); }
 void SamplingEngine::run_upload_once(bool final_flush) { state_->uploader.poll(final_flush); }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -38,7 +38,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 using nclink::ChannelStats;
 
@@ -58,18 +58,18 @@ using DtuSink = std::function<void(Message)>;
 
 /// Everything the engine needs. References/pointers must outlive the engine.
 struct EngineDeps {
-    DriverRunner* driver = nullptr;                            ///< may be null when every channel is push-mode or SDK-held
-    std::function<std::shared_ptr<const ModelState>()> model;  ///< current snapshot (may return null)
-    std::shared_ptr<const Clock> clock;                        ///< monotonic deadlines + wall timestamps
-    std::shared_ptr<Sleeper> sleeper;                          ///< how the sampling/uploader threads wait (fake in tests)
+    driver_detail::DriverRunner* driver = nullptr;  ///< may be null when every channel is push-mode or SDK-held
+    std::function<std::shared_ptr<const feature_detail::ModelState>()> model;  ///< current snapshot (may return null)
+    std::shared_ptr<const Clock> clock;                                        ///< monotonic deadlines + wall timestamps
+    std::shared_ptr<Sleeper> sleeper;  ///< how the sampling/uploader threads wait (fake in tests)
     Logger logger;
     SamplingConfig config;
     std::string dev;  ///< guid in the DTUs
     DtuSink sink;
-    SampleTap* tap = nullptr;  ///< optional: rows for watchers
+    feature_detail::SampleTap* tap = nullptr;  ///< optional: rows for watchers
     /// Optional: checks every sampled value against chapter 7 (a breaking
     /// value is sent as null and counted; value_guard.hpp). Null: unchecked.
-    ValueGuard* values = nullptr;
+    feature_detail::ValueGuard* values = nullptr;
     /// Optional, for benchmarks/diagnostics: called on the sampling thread for
     /// every tick (served or missed) with how late (ns) the pass that produced
     /// its row started after the tick's deadline. Must be quick.
@@ -79,7 +79,7 @@ struct EngineDeps {
     /// the engine's own. Only with a SystemClock (the host waits on real
     /// time); `sleeper` is then unused and the real-time options are not
     /// applied (logged).
-    PollHost* timers = nullptr;
+    core_detail::PollHost* timers = nullptr;
     /// Where the channels' timelines sit in their interval's grid, a fraction
     /// in [0, 1): 0 puts the first tick on a multiple of the interval of the
     /// monotonic clock, 0.5 half an interval later. The channels of one
@@ -118,7 +118,7 @@ public:
 
     // ---- additions beyond the agreed API
     /// A Probe/Set installed a model: re-resolve points (store vs driver). Thread-safe.
-    void set_model(std::shared_ptr<const ModelState> state);
+    void set_model(std::shared_ptr<const feature_detail::ModelState> state);
     /// Handle for a push-mode channel (error 401 unknown id, 405 not push-mode). Thread-safe.
     Result<PushChannel> push_channel(const std::string& id) const;
     /// Ids of the channels (in add order). Thread-safe.
@@ -137,4 +137,4 @@ private:
     std::shared_ptr<State> state_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

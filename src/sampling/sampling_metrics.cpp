@@ -1,7 +1,7 @@
 // The sampling feature's metrics (sampling_metrics.hpp).
 #include "sampling/sampling_metrics.hpp"
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 namespace {
 
 // ChannelStats::lateness in Prometheus form: bounds in seconds.
@@ -19,28 +19,29 @@ HistogramSnapshot lateness_histogram(const ChannelStats& c) {
 
 }  // namespace
 
-void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, const SamplingStats& channels) {
-    const MetricLabels& d = in.device;
-    const Json& spool = json_member(in.stats, "spool");
+void add_sampling_metrics(core_detail::PrometheusText& out, const feature_detail::FeatureMetricsInput& in,
+                          const SamplingStats& channels) {
+    const core_detail::MetricLabels& d = in.device;
+    const Json& spool = feature_detail::json_member(in.stats, "spool");
     std::uint64_t ring_drops = 0;
     for (const auto& c : channels.channels) ring_drops += c.drops;
-    add_drop_metric(out, d, "ring_full", ring_drops);
-    add_drop_metric(out, d, "spool_full", json_count(spool, "dropped"));
+    feature_detail::add_drop_metric(out, d, "ring_full", ring_drops);
+    feature_detail::add_drop_metric(out, d, "spool_full", feature_detail::json_count(spool, "dropped"));
 
     // ---- store and forward
     out.gauge("nclink_adapter_spool_dtus", "Sample DTUs held while the broker was unreachable (RAM and disk)", d,
-              static_cast<double>(json_count(spool, "pending")));
+              static_cast<double>(feature_detail::json_count(spool, "pending")));
     out.gauge("nclink_adapter_spool_memory_bytes", "Bytes of spooled Sample DTUs in memory", d,
-              static_cast<double>(json_count(spool, "memory_bytes")));
+              static_cast<double>(feature_detail::json_count(spool, "memory_bytes")));
     out.gauge("nclink_adapter_spool_disk_bytes", "Bytes of spooled Sample DTUs on disk", d,
-              static_cast<double>(json_count(spool, "disk_bytes")));
+              static_cast<double>(feature_detail::json_count(spool, "disk_bytes")));
     out.counter("nclink_adapter_spool_replayed_total", "Spooled Sample DTUs sent after the link came back", d,
-                json_count(spool, "replayed"));
+                feature_detail::json_count(spool, "replayed"));
 
     // ---- per channel
     out.gauge("nclink_adapter_sampling_running", "1 while the sample channels run", d, channels.running ? 1 : 0);
     for (const auto& c : channels.channels) {
-        MetricLabels l = d;
+        core_detail::MetricLabels l = d;
         l.emplace_back("channel", c.id);
         out.gauge("nclink_adapter_sampling_interval_seconds", "The channel's sampleInterval", l, c.sample_interval_ms / 1e3);
         out.counter("nclink_adapter_sampling_rows_total", "Rows sampled into the channel's ring (rows of missed ticks too)", l,
@@ -60,10 +61,10 @@ void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, co
                       "How late each tick's pass started after its deadline (buckets count lateness below le)", l,
                       lateness_histogram(c));
     }
-    const Json& dynamic = json_member(in.stats, "dynamic");
+    const Json& dynamic = feature_detail::json_member(in.stats, "dynamic");
     if (dynamic.is_object())
         out.gauge("nclink_adapter_dynamic_channels", "Dynamic sample channels registered by applications (8.2.17)", d,
-                  static_cast<double>(json_count(dynamic, "channels")));
+                  static_cast<double>(feature_detail::json_count(dynamic, "channels")));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -7,9 +7,10 @@
 
 #include <nclink/sampling.hpp>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 /// `channels`: the sample channels (Adapter::sampling_stats()).
-void add_sampling_metrics(PrometheusText& out, const FeatureMetricsInput& in, const SamplingStats& channels);
+void add_sampling_metrics(core_detail::PrometheusText& out, const feature_detail::FeatureMetricsInput& in,
+                          const SamplingStats& channels);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 namespace {
 
@@ -18,7 +18,8 @@ std::shared_ptr<Sleeper> sleeper_for(const std::shared_ptr<const Clock>& clock) 
 
 }  // namespace
 
-SamplingService::SamplingService(FeatureHost& host, SamplingConfig config) : host_(host), config_(std::move(config)) {
+SamplingService::SamplingService(feature_detail::FeatureHost& host, SamplingConfig config)
+    : host_(host), config_(std::move(config)) {
     sink_ = [this](Message message) {
         if (auto published = host_.transport.publish(std::move(message)); !published) {
             publish_errors_.fetch_add(1, std::memory_order_relaxed);
@@ -94,7 +95,7 @@ void SamplingService::stop() {
     engine_->stop();  // publishes what the rings hold
 }
 
-void SamplingService::start_model_channels(const ModelState& state) {
+void SamplingService::start_model_channels(const feature_detail::ModelState& state) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!state.model || !state.device) return;
     const auto& config = config_;
@@ -130,7 +131,7 @@ void SamplingService::start_model_channels(const ModelState& state) {
     }
 }
 
-void SamplingService::on_model(std::shared_ptr<const ModelState> state) {
+void SamplingService::on_model(std::shared_ptr<const feature_detail::ModelState> state) {
     engine_->set_model(state);
     if (config_.enabled && state) {
         std::vector<std::string> old;
@@ -189,14 +190,14 @@ std::uint64_t count_at(const Json& object, std::initializer_list<const char*> pa
 }
 }  // namespace
 
-void SamplingService::add_drops(DropCounts& out) const {
+void SamplingService::add_drops(feature_detail::DropCounts& out) const {
     out.add(kRingFull, engine_->ring_drops());
     out.add(kSpoolFull, 0);  // the spool extension adds its own
     out.add(kPublishRefused, publish_errors_.load(std::memory_order_relaxed));
     for (const auto& extension : extensions_) extension->add_drops(out);
 }
 
-void sampling_drops_from_stats(const Json& stats, DropCounts& out) {
+void sampling_drops_from_stats(const Json& stats, feature_detail::DropCounts& out) {
     std::uint64_t ring_full = 0;
     if (stats.is_object())
         if (const auto channels = stats.find("channels"); channels != stats.end() && channels->is_array())
@@ -247,8 +248,8 @@ Json to_json(const SamplingStats& stats) {
     return Json{{"running", stats.running}, {"realtime", realtime}, {"channels", channels}};
 }
 
-std::unique_ptr<Feature> make_sampling_service(FeatureHost& host, const SamplingConfig& config) {
+std::unique_ptr<feature_detail::Feature> make_sampling_service(feature_detail::FeatureHost& host, const SamplingConfig& config) {
     return std::make_unique<SamplingService>(host, config);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class SamplingExtension {
 public:
@@ -37,17 +37,17 @@ public:
     virtual void handle(const ParsedTopic&, const std::string&) {}
     virtual Result<void> start() { return ok_result(); }
     virtual void stop() {}
-    virtual void on_model(const std::shared_ptr<const ModelState>&) {}
+    virtual void on_model(const std::shared_ptr<const feature_detail::ModelState>&) {}
     virtual void on_link(LinkState) {}
     virtual void on_application_gone(const std::string&) {}
     virtual Json stats() const { return Json::object(); }
-    virtual void add_drops(DropCounts& /*out*/) const {}
+    virtual void add_drops(feature_detail::DropCounts& /*out*/) const {}
 };
 
-class SamplingService final : public Feature {
+class SamplingService final : public feature_detail::Feature {
 public:
     /// `config`: the "sampling" section of the configuration (this feature's own).
-    SamplingService(FeatureHost& host, SamplingConfig config);
+    SamplingService(feature_detail::FeatureHost& host, SamplingConfig config);
     ~SamplingService() override;
 
     std::string_view name() const override { return "sampling"; }
@@ -55,11 +55,11 @@ public:
     void handle(const ParsedTopic& topic, const std::string& payload) override;
     Result<void> start() override;
     void stop() override;
-    void on_model(std::shared_ptr<const ModelState> state) override;
+    void on_model(std::shared_ptr<const feature_detail::ModelState> state) override;
     void on_link(LinkState link) override;
     void on_application_gone(const std::string& ex_cid) override;
     Json stats() const override;
-    void add_drops(DropCounts& out) const override;
+    void add_drops(feature_detail::DropCounts& out) const override;
 
     void add_extension(std::unique_ptr<SamplingExtension> extension);
     /// Replaces the DTU sink by wrapper(previous). Before start() only.
@@ -73,9 +73,9 @@ public:
     Result<PushChannel> push_channel(const std::string& id) const;
 
 private:
-    void start_model_channels(const ModelState& state);
+    void start_model_channels(const feature_detail::ModelState& state);
 
-    FeatureHost& host_;
+    feature_detail::FeatureHost& host_;
     const SamplingConfig config_;
     DtuSink sink_;  // what the engine's sink forwards to (wrappable before start)
     std::unique_ptr<SamplingEngine> engine_;
@@ -86,13 +86,13 @@ private:
     std::atomic<std::uint64_t> publish_errors_{0};
 };
 
-std::unique_ptr<Feature> make_sampling_service(FeatureHost& host, const SamplingConfig& config);
+std::unique_ptr<feature_detail::Feature> make_sampling_service(feature_detail::FeatureHost& host, const SamplingConfig& config);
 
 /// The causes SamplingService::add_drops adds, read back from its stats()
 /// JSON (a statistics snapshot's "sampling"; null when absent: all 0).
-void sampling_drops_from_stats(const Json& stats, DropCounts& out);
+void sampling_drops_from_stats(const Json& stats, feature_detail::DropCounts& out);
 
 /// Json view of the typed stats (also what `nclink stats` prints).
 Json to_json(const SamplingStats& stats);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 SampleValue to_sample_value(const Json& value, ChannelCore& channel) {
     switch (value.type()) {
@@ -66,7 +66,7 @@ void Scheduler::refresh(Clock::Steady now) {
     if (released) shared_.deps.sleeper->wake();
 }
 
-void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model, std::uint64_t version) {
+void Scheduler::plan(Lane& lane, const std::shared_ptr<const feature_detail::ModelState>& model, std::uint64_t version) {
     lane.model = model;
     lane.model_version = version;
     lane.driver_points.clear();
@@ -76,7 +76,7 @@ void Scheduler::plan(Lane& lane, const std::shared_ptr<const ModelState>& model,
     lane.null_columns.clear();
     lane.typed = true;  // a new model may come with a new driver behaviour: ask again
     // Ids are resolved to the driver's handles here, once per model.
-    lane.generation = model ? model->generation() : unbound;
+    lane.generation = model ? model->generation() : driver_detail::unbound;
     const auto& points = lane.core->spec().points;
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (model && model->sdk_held(points[i].id)) {
@@ -99,7 +99,7 @@ Clock::Steady Scheduler::poll() {
     const auto& clock = *shared_.deps.clock;
     refresh(clock.now());
     const auto model_version = shared_.model_version.load(std::memory_order_acquire);
-    std::shared_ptr<const ModelState> model;
+    std::shared_ptr<const feature_detail::ModelState> model;
     Clock::Steady earliest = clock.now() + std::chrono::hours(1);
     for (auto& lane : lanes_) {
         if (lane.model_version != model_version) {
@@ -217,7 +217,7 @@ void Scheduler::report_burst(const ChannelCore& core, std::uint64_t missed, std:
 
 std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
     ChannelCore& core = *lane.core;
-    DriverRunner* driver = shared_.deps.driver;
+    driver_detail::DriverRunner* driver = shared_.deps.driver;
     const std::size_t n = lane.driver_points.size();
     std::uint64_t nulls = 0;
     if (driver == nullptr) {
@@ -237,7 +237,7 @@ std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
             out = lane.samples.data();
         }
         const auto outcome = driver->read_samples_direct(lane.driver_points, out, wait, lane.generation);
-        if (outcome == DriverRunner::TypedRead::unsupported) {
+        if (outcome == driver_detail::DriverRunner::TypedRead::unsupported) {
             lane.typed = false;  // asked once per plan; read() from now on
         } else {
             // Borrowed text lives in the driver until its next call: copy it.
@@ -280,4 +280,4 @@ std::uint64_t Scheduler::read_driver_columns(Lane& lane, SampleValue* row) {
     return nulls;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class Scheduler {
 public:
@@ -54,7 +54,7 @@ private:
         std::vector<std::size_t> null_columns;  // points the driver does not serve: always null
         std::vector<std::string> store_ids;
         std::vector<std::size_t> store_columns;
-        std::shared_ptr<const ModelState> model;
+        std::shared_ptr<const feature_detail::ModelState> model;
         std::vector<Result<Json>> results;  // read() path
         std::vector<SampleValue> samples;   // read_samples() path, when columns are not the whole row
         bool typed = true;                  // the driver may implement read_samples()
@@ -64,7 +64,7 @@ private:
     };
 
     void refresh(Clock::Steady now);
-    void plan(Lane& lane, const std::shared_ptr<const ModelState>& model, std::uint64_t version);
+    void plan(Lane& lane, const std::shared_ptr<const feature_detail::ModelState>& model, std::uint64_t version);
     /// Serves `lane` if due; returns its next deadline.
     Clock::Steady serve(Lane& lane, Clock::Steady now);
     bool produce_null_row(Lane& lane, std::uint64_t k);
@@ -91,4 +91,4 @@ private:
 /// A driver/store value as a SampleValue (text kept alive by the channel).
 SampleValue to_sample_value(const Json& value, ChannelCore& channel);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -3,7 +3,7 @@
 #include <cerrno>
 #include <ctime>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 void NanosleepSleeper::sleep_until(Clock::Steady deadline, std::uint64_t /*seen: wake() is not delivered*/) {
     // steady_clock is CLOCK_MONOTONIC in libstdc++ on Linux, so its epoch
@@ -79,4 +79,4 @@ bool ManualSleeper::wait_idle(int threads, std::chrono::milliseconds timeout) {
     return cv_.wait_for(lock, timeout, [&] { return idle_locked(threads); });
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -14,7 +14,7 @@
 #include <list>
 #include <utility>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class Sleeper {
 public:
@@ -88,4 +88,4 @@ private:
     std::uint64_t wakes_ = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

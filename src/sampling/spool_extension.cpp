@@ -4,10 +4,10 @@
 
 #include <filesystem>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 namespace {
 
-SpoolOptions spool_options(const FeatureHost& host, const SamplingConfig& config) {
+SpoolOptions spool_options(const feature_detail::FeatureHost& host, const SamplingConfig& config) {
     SpoolOptions o;
     o.memory_bytes = config.spool_memory_bytes;
     o.disk_bytes = config.spool_disk_bytes;
@@ -20,7 +20,7 @@ SpoolOptions spool_options(const FeatureHost& host, const SamplingConfig& config
 
 class SpoolExtension final : public SamplingExtension {
 public:
-    SpoolExtension(FeatureHost& host, SamplingService& service)
+    SpoolExtension(feature_detail::FeatureHost& host, SamplingService& service)
         : engine_(service.engine()),
           spool_(std::make_shared<SampleSpool>(spool_options(host, service.config()), host.transport, host.logger, host.work)) {
         // The sink holds the spool: the engine may flush into it until it is
@@ -38,7 +38,7 @@ public:
     }
     void on_link(LinkState link) override { spool_->on_link(link); }
     Json stats() const override { return to_json(spool_->stats()); }
-    void add_drops(DropCounts& out) const override { out.add("sample_spool_full", spool_->stats().dropped); }
+    void add_drops(feature_detail::DropCounts& out) const override { out.add("sample_spool_full", spool_->stats().dropped); }
 
 private:
     SamplingEngine& engine_;
@@ -47,8 +47,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SamplingExtension> make_spool_extension(FeatureHost& host, SamplingService& service) {
+std::unique_ptr<SamplingExtension> make_spool_extension(feature_detail::FeatureHost& host, SamplingService& service) {
     return std::make_unique<SpoolExtension>(host, service);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -6,9 +6,9 @@
 
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 /// Wraps `service`'s sink at once (call from the service's constructor).
-std::unique_ptr<SamplingExtension> make_spool_extension(FeatureHost& host, SamplingService& service);
+std::unique_ptr<SamplingExtension> make_spool_extension(feature_detail::FeatureHost& host, SamplingService& service);
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <iterator>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 namespace {
 
 constexpr char kMagic[] = "NCLSPL1\n";
@@ -124,7 +124,7 @@ Result<SegmentInfo> write_segment(const std::string& dir, std::uint64_t seq, con
     info.path = (std::filesystem::path(dir) / fmt::format("{:016x}-{}.seg", seq, messages.size())).string();
     const std::string bytes = encode_segment(messages);
     info.bytes = bytes.size();
-    if (auto written = write_file_atomically(info.path, bytes); !written) return std::move(written).error();
+    if (auto written = core_detail::write_file_atomically(info.path, bytes); !written) return std::move(written).error();
     return info;
 }
 
@@ -161,4 +161,4 @@ Result<std::vector<SegmentInfo>> list_segments(const std::string& dir) {
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

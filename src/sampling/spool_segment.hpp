@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 struct SegmentInfo {
     std::string path;
@@ -58,4 +58,4 @@ Result<std::vector<SegmentInfo>> list_segments(const std::string& dir);
 /// CRC-32 (IEEE 802.3, as zlib's crc32), continuing from `crc`.
 std::uint32_t crc32(const void* data, std::size_t size, std::uint32_t crc = 0) noexcept;
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

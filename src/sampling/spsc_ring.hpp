@@ -42,7 +42,7 @@
 #include <cstdint>
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 enum class FullPolicy { drop_oldest, block };
 
@@ -193,4 +193,4 @@ inline SpscRowRing::SpscRowRing(std::size_t capacity, std::size_t width, FullPol
       times_(new std::int64_t[capacity_]()),
       seqs_(new std::uint64_t[capacity_]()) {}
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <limits>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 void Uploader::refresh(Clock::Steady now) {
     const auto version = shared_.version.load(std::memory_order_acquire);
@@ -101,7 +101,7 @@ void Uploader::drain(Lane& lane) {
         lane.seqs.push_back(ring.seq(i));
     }
     ring.release(n);
-    SampleTap* tap = shared_.deps.tap;
+    feature_detail::SampleTap* tap = shared_.deps.tap;
     if (tap != nullptr && n > 0 && tap->active()) {
         for (std::size_t r = before; r < lane.times.size(); ++r)
             tap->deliver(core.ids(), lane.values.data() + r * width, lane.times[r] / 1'000'000);
@@ -109,7 +109,7 @@ void Uploader::drain(Lane& lane) {
 }
 
 bool Uploader::prepare_screen(Lane& lane) {
-    ValueGuard* guard = shared_.deps.values;
+    feature_detail::ValueGuard* guard = shared_.deps.values;
     if (guard == nullptr || !guard->enabled()) return false;
     ChannelCore& core = *lane.core;
     const std::size_t width = core.ring().width();
@@ -253,4 +253,4 @@ void Uploader::publish_segment(Lane& lane, std::size_t first, std::size_t count)
     core.dtus_published.add();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

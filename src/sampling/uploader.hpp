@@ -20,7 +20,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::sampling_detail {
 
 class Uploader {
 public:
@@ -43,7 +43,7 @@ private:
         double bytes_per_row = 0;  // of the last DTU (0 = none yet)
         // chapter 7 checks: each column's rule under the model of `rules_version`
         std::uint64_t rules_version = 0;
-        std::shared_ptr<const ModelState> model;  // keeps `rules` alive
+        std::shared_ptr<const feature_detail::ModelState> model;  // keeps `rules` alive
         // Per column; rule null = unchecked. A float64 inside [lo, hi]
         // passes inline, without a call into the rule (the bulk): a
         // single-valued number rule's bounds, (-inf, +inf) without a rule,
@@ -78,4 +78,4 @@ private:
     SampleEncoder encoder_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::sampling_detail

@@ -19,7 +19,7 @@
 #include <chrono>
 #include <cstddef>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 /// The limit a transport's watchdog uses: MqttOptions::ack_timeout when set,
 /// else two keep-alive periods of the keep-alive the client really uses.
@@ -61,4 +61,4 @@ private:
     Clock::time_point since_{};
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -8,7 +8,7 @@
 #include <chrono>
 #include <random>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 inline std::chrono::milliseconds jittered(std::chrono::milliseconds delay, std::mt19937& rng) {
     if (delay.count() <= 1) return delay;
@@ -16,4 +16,4 @@ inline std::chrono::milliseconds jittered(std::chrono::milliseconds delay, std::
     return std::chrono::milliseconds(spread(rng));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -4,20 +4,20 @@
 
 #include <fmt/format.h>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOptions>& tls) {
     if (!tls) return;
-    resolve_against(config_path, tls->ca_file);
-    resolve_against(config_path, tls->cert_file);
-    resolve_against(config_path, tls->key_file);
+    core_detail::resolve_against(config_path, tls->ca_file);
+    core_detail::resolve_against(config_path, tls->cert_file);
+    core_detail::resolve_against(config_path, tls->key_file);
 }
 
-Result<void> read_tls(ConfigReader& broker, std::optional<MqttTlsOptions>& tls) {
+Result<void> read_tls(core_detail::ConfigReader& broker, std::optional<MqttTlsOptions>& tls) {
     const Json* section = broker.object("tls");
     if (!section) return ok_result();
     if (!section->is_object()) return broker.fail(ErrorCode::value_type, "tls", "must be an object");
-    ConfigReader t(*section, broker.where() + "tls.", pointer_append(broker.pointer(), "tls"));
+    core_detail::ConfigReader t(*section, broker.where() + "tls.", core_detail::pointer_append(broker.pointer(), "tls"));
     MqttTlsOptions o = tls.value_or(MqttTlsOptions{});
     NCLINK_TRY(t.str("ca_file", o.ca_file));
     NCLINK_TRY(t.str("cert_file", o.cert_file));
@@ -33,7 +33,7 @@ namespace {
 
 // "failover": an array of broker URLs or "host:port" (MqttOptions::
 // failover_urls). A bad entry is named by its index and points at itself.
-Result<void> read_failover(ConfigReader& broker, transport_detail::BrokerSettings& s) {
+Result<void> read_failover(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& s) {
     const Json* list = broker.object("failover");
     if (!list) return ok_result();
     const auto must = [&] { return broker.fail(ErrorCode::value_type, "failover", "must be an array of broker URLs"); };
@@ -47,7 +47,7 @@ Result<void> read_failover(ConfigReader& broker, transport_detail::BrokerSetting
         if (auto problem = failover_entry_problem(s.broker_url, urls, i)) {
             Error e =
                 make_error(ErrorCode::value_type, fmt::format("configuration: {}failover[{}]: {}", broker.where(), i, *problem));
-            e.pointer = pointer_append(pointer_append(broker.pointer(), "failover"), std::to_string(i));
+            e.pointer = core_detail::pointer_append(core_detail::pointer_append(broker.pointer(), "failover"), std::to_string(i));
             return e;
         }
     }
@@ -57,7 +57,7 @@ Result<void> read_failover(ConfigReader& broker, transport_detail::BrokerSetting
 
 }  // namespace
 
-Result<void> read_broker_settings(ConfigReader& broker, transport_detail::BrokerSettings& s) {
+Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& s) {
     NCLINK_TRY(broker.str("url", s.broker_url));
     NCLINK_TRY(broker.str("client_id", s.client_id));
     NCLINK_TRY(broker.str("username", s.username));
@@ -80,4 +80,4 @@ Result<void> read_broker_settings(ConfigReader& broker, transport_detail::Broker
     return ok_result();
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cctype>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 namespace {
 
@@ -73,4 +73,4 @@ Result<std::vector<BrokerAddress>> broker_list(const std::string& primary_url, c
     return out;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

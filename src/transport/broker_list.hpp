@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 struct BrokerAddress {
     std::string url;  ///< SCHEME://HOST[:PORT]; a "host:port" entry has the scheme of broker_url
@@ -60,4 +60,4 @@ private:
     std::size_t at_ = 0;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -15,7 +15,7 @@ constexpr const char* kForm = "SCHEME://HOST[:PORT] with SCHEME tcp, mqtt, ssl, 
 Result<void> check_broker_url(const std::string& url) {
     std::string host, scheme;
     int port = 0;
-    if (detail::parse_broker_url(url, host, port, scheme)) return ok_result();
+    if (transport_detail::parse_broker_url(url, host, port, scheme)) return ok_result();
     std::string why;
     const auto sep = url.find("://");
     if (url.empty()) why = "it is empty";

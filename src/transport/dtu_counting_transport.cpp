@@ -1,6 +1,6 @@
 #include "transport/dtu_counting_transport.hpp"
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 std::size_t DtuCounter::slot(std::string_view topic) noexcept {
     try {
@@ -64,4 +64,4 @@ std::unique_ptr<Transport> count_dtus(std::unique_ptr<Transport> inner, std::sha
     return std::make_unique<CountingTransport>(std::move(inner), std::move(counter));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 /// Number of TopicKind values (event is the last).
 inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::event) + 1;
@@ -45,4 +45,4 @@ private:
 /// `inner` with every published and delivered message counted in `counter`.
 std::unique_ptr<Transport> count_dtus(std::unique_ptr<Transport> inner, std::shared_ptr<DtuCounter> counter);
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

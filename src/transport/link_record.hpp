@@ -16,7 +16,7 @@
 #include <string>
 #include <string_view>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 class LinkRecord {
 public:
@@ -149,4 +149,4 @@ private:
     std::set<std::string> refused_by_;  ///< brokers whose last attempt was refused, since the last connection
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -314,10 +314,10 @@ private:
     LoopbackBroker::Impl& broker_;
     const LoopbackOptions options_;
     const Logger logger_;
-    detail::Outbox outbox_;
+    transport_detail::Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;
-    detail::SubscriptionSet subscriptions_;
+    transport_detail::SubscriptionSet subscriptions_;
     std::atomic<bool> started_{false};
     std::atomic<bool> stopped_{false};
     std::atomic<LinkState> state_{LinkState::disconnected};

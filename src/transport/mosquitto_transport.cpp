@@ -31,7 +31,7 @@
 #include <unordered_set>
 #include <utility>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 namespace {
 
 using std::chrono::milliseconds;
@@ -53,7 +53,7 @@ void init_library_once() {
 // library must not also replay its own copy (a duplicate, out of order).
 class MosquittoTransport final : public Transport, private LoopMember {
 public:
-    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop, PollHost* work,
+    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop, core_detail::PollHost* work,
                        std::vector<BrokerAddress> brokers)
         : options_(std::move(options)),
           logger_(std::move(logger)),
@@ -148,7 +148,9 @@ private:
     static std::chrono::seconds effective_keep_alive(const MqttOptions& o) {
         return std::max<std::chrono::seconds>(std::chrono::seconds(5), o.keep_alive);
     }
-    static milliseconds ack_limit(const MqttOptions& o) { return detail::ack_limit(o.ack_timeout, effective_keep_alive(o)); }
+    static milliseconds ack_limit(const MqttOptions& o) {
+        return transport_detail::ack_limit(o.ack_timeout, effective_keep_alive(o));
+    }
 
     // ---- any thread -------------------------------------------------------
 
@@ -591,7 +593,7 @@ bool mosquitto_supports(const std::string& broker_url) {
 }
 
 Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop,
-                                                            PollHost* work) {
+                                                            core_detail::PollHost* work) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     if (!loop) return make_error(ErrorCode::parameter_missing, "MQTT loop missing");
     auto brokers = broker_list(options.broker_url, options.failover_urls);
@@ -615,7 +617,7 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
                                                                            work, std::move(brokers).value()));
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail
 
 namespace nclink {
 
@@ -623,14 +625,14 @@ namespace nclink {
 // (the transport holds the only reference), and its thread is the
 // transport's callback thread.
 Result<std::unique_ptr<Transport>> make_mqtt_transport(MqttOptions options, Logger logger) {
-    return detail::make_own_loop_transport(std::move(options), std::move(logger), nullptr);
+    return transport_detail::make_own_loop_transport(std::move(options), std::move(logger), nullptr);
 }
 
 }  // namespace nclink
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
-Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, Logger logger, PollHost* work) {
+Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, Logger logger, core_detail::PollHost* work) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     if (auto usable = check_broker_url(options.broker_url); !usable) return std::move(usable).error();
     std::shared_ptr<MqttLoop> loop;
@@ -642,4 +644,4 @@ Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, 
     return make_mosquitto_transport(std::move(options), std::move(logger), std::move(loop), work);
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -9,10 +9,13 @@
 
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::core_detail {
+class PollHost;
+}
+
+namespace nclink::transport_detail {
 
 class MqttLoop;
-class PollHost;
 
 /// Whether the multiplexed transport can reach `broker_url` (tcp, mqtt, ssl, mqtts).
 bool mosquitto_supports(const std::string& broker_url);
@@ -20,11 +23,11 @@ bool mosquitto_supports(const std::string& broker_url);
 /// `work`: the shared work threads its outbox's sender runs on (a
 /// gateway's, core/serial_work.hpp), or null for a sender thread of its own.
 Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop,
-                                                            PollHost* work = nullptr);
+                                                            core_detail::PollHost* work = nullptr);
 
 /// make_mqtt_transport() (a loop of its own, one I/O thread) with its
 /// outbox's sender on `work` (a gateway's shared work threads; null: a
 /// thread of its own, as make_mqtt_transport()).
-Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, Logger logger, PollHost* work);
+Result<std::unique_ptr<Transport>> make_own_loop_transport(MqttOptions options, Logger logger, core_detail::PollHost* work);
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

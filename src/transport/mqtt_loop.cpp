@@ -12,7 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick) : logger_(std::move(logger)), tick_(tick) {
     epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
@@ -27,7 +27,7 @@ MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick) : logger_(std:
     e.data.ptr = nullptr;  // the wake-up descriptor
     ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, event_fd_, &e);
     thread_ = std::thread([this] {
-        name_this_thread("nclink-mqtt-io");
+        core_detail::name_this_thread("nclink-mqtt-io");
         thread_id_ = std::this_thread::get_id();
         run();
     });
@@ -177,4 +177,4 @@ std::shared_ptr<MqttLoop> shared_mqtt_loop(SharedThreads::Impl& threads, const L
     return threads.mqtt_loop;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

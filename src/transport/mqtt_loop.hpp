@@ -20,7 +20,7 @@
 #include <unordered_set>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 /// A connection served by an MqttLoop. Every call is on the loop's thread,
 /// never concurrently with another call to the same or any other member.
@@ -95,4 +95,4 @@ private:
 /// The loop of a gateway's shared threads, made on first use (thread-safe).
 std::shared_ptr<MqttLoop> shared_mqtt_loop(SharedThreads::Impl& threads, const Logger& logger);
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
-Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger, PollHost* work)
+Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger, core_detail::PollHost* work)
     : limits_(limits), send_(std::move(send)), logger_(std::move(logger)), window_(limits.max_in_flight) {
-    sender_.start(work, "nclink-outbox", [this](PollHost::Time) { return send_waiting(); });
+    sender_.start(work, "nclink-outbox", [this](core_detail::PollHost::Time) { return send_waiting(); });
 }
 
 Outbox::~Outbox() { stop(); }
@@ -144,7 +144,7 @@ bool Outbox::wait_drained(std::chrono::milliseconds timeout) {
     return drained_.wait_for(lock, timeout, [this] { return entries_.empty() || stopping_; }) && entries_.empty();
 }
 
-PollHost::Time Outbox::send_waiting() {
+core_detail::PollHost::Time Outbox::send_waiting() {
     std::unique_lock<std::mutex> lock(mutex_);
     ++sender_wakeups_;
     for (std::size_t sent = 0; !stopping_; ++sent) {
@@ -152,7 +152,7 @@ PollHost::Time Outbox::send_waiting() {
         const bool waiting = entries_.size() > in_flight_;
         if (!waiting || !can_send_locked()) {
             if (waiting && link_up_ && now < paused_until_) return paused_until_;
-            return PollHost::Time::max();  // push(), an ack, link_up() or set_window() wakes it
+            return core_detail::PollHost::Time::max();  // push(), an ack, link_up() or set_window() wakes it
         }
         // A backlog of thousands (a reconnect) is sent in turns, so the
         // other machines on the shared threads are not held up behind it.
@@ -166,7 +166,7 @@ PollHost::Time Outbox::send_waiting() {
         }
         lock.lock();
     }
-    return PollHost::Time::max();
+    return core_detail::PollHost::Time::max();
 }
 
 void Outbox::put_back_locked(std::uint64_t attempt) {
@@ -189,4 +189,4 @@ void Outbox::fill_stats(TransportStats& stats) const {
     stats.in_flight = in_flight_;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

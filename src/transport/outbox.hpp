@@ -25,7 +25,7 @@
 #include <memory>
 #include <mutex>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 class Outbox {
 public:
@@ -41,7 +41,7 @@ public:
 
     /// `work`: the shared work threads the sender runs on (gateway mode), or
     /// null for a sender thread of its own.
-    Outbox(OutboxLimits limits, SendFn send, Logger logger, PollHost* work = nullptr);
+    Outbox(OutboxLimits limits, SendFn send, Logger logger, core_detail::PollHost* work = nullptr);
     ~Outbox();
     Outbox(const Outbox&) = delete;
     Outbox& operator=(const Outbox&) = delete;
@@ -86,7 +86,7 @@ private:
     /// The sender: hands over what the window allows, a turn of at most
     /// kSendsPerTurn (then it yields the shared thread and comes back at
     /// once); returns when it must look again.
-    PollHost::Time send_waiting();
+    core_detail::PollHost::Time send_waiting();
     std::size_t cost(const Message& m) const { return m.topic.size() + m.payload.size(); }
     void drop_oldest_waiting_locked();
     void put_back_locked(std::uint64_t attempt);
@@ -117,7 +117,7 @@ private:
     std::uint64_t dropped_bytes_ = 0;
     std::uint64_t drop_burst_ = 0;  // drops since the last log line
     std::uint64_t sender_wakeups_ = 0;
-    SerialWork sender_;  // last: stopped before the rest goes
+    core_detail::SerialWork sender_;  // last: stopped before the rest goes
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 class SubscriptionSet {
 public:
@@ -35,4 +35,4 @@ private:
     std::map<std::string, int> qos_of_;
 };
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

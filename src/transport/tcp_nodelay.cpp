@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 namespace {
 
 struct Endpoint {
@@ -141,4 +141,4 @@ int apply_tcp_nodelay_to_peer(const std::string& host, int port) {
     return count;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 /// Host and port of tcp://, ssl://, mqtt://, mqtts://, ws:// and wss:// URLs
 /// (default ports 1883/8883/80/443). False for an unparsable URL.
@@ -29,4 +29,4 @@ struct PeerSocket {
 };
 std::vector<PeerSocket> sockets_connected_to(const std::string& host, int port);
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -19,7 +19,7 @@
 #include <cstdio>
 #include <memory>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 namespace {
 
 template <class T, void (*Free)(T*)>
@@ -182,4 +182,4 @@ std::optional<std::string> tls_handshake_problem(const std::string& host, int po
     return problem;
 }
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -14,7 +14,7 @@
 #include <optional>
 #include <string>
 
-namespace nclink::detail {
+namespace nclink::transport_detail {
 
 /// A problem with the configured files themselves (unreadable, not PEM, a
 /// client certificate expired or not yet valid, a key that does not match
@@ -27,4 +27,4 @@ std::optional<std::string> tls_file_problem(const MqttTlsOptions& tls);
 std::optional<std::string> tls_handshake_problem(const std::string& host, int port, const MqttTlsOptions& tls,
                                                  std::chrono::milliseconds timeout);
 
-}  // namespace nclink::detail
+}  // namespace nclink::transport_detail

@@ -92,7 +92,7 @@ ConfigCheck check_config_text(std::string_view text, const ConfigKind* kind) {
     try {
         document = Json::parse(text);
     } catch (const Json::parse_error& e) {
-        const auto at = detail::position_of_offset(text, e.byte == 0 ? 0 : e.byte - 1);
+        const auto at = core_detail::position_of_offset(text, e.byte == 0 ? 0 : e.byte - 1);
         std::string what = e.what();
         if (const auto colon = what.find(": "); colon != std::string::npos) what = what.substr(colon + 2);
         out.problems.push_back(ConfigProblem{"", at.line, at.column, ErrorCode::syntax_error, "not valid JSON: " + what});
@@ -116,7 +116,7 @@ ConfigCheck check_config_text(std::string_view text, const ConfigKind* kind) {
         if (checked) break;
         const Error& e = checked.error();
         ConfigProblem p{e.pointer, 0, 0, e.code, without_prefix(e.message)};
-        if (const auto at = detail::locate_pointer(text, e.pointer); at && (!e.pointer.empty() || !document.is_object())) {
+        if (const auto at = core_detail::locate_pointer(text, e.pointer); at && (!e.pointer.empty() || !document.is_object())) {
             p.line = at->line;
             p.column = at->column;
         }

@@ -48,7 +48,8 @@ std::unique_ptr<Transport> make_transport(Client c, MqttOptions o) {
     o.connect_timeout = 2000ms;
     Result<std::unique_ptr<Transport>> made = make_error(ErrorCode::unavailable, "not made");
     if (c == Client::shared_loop)
-        made = detail::make_mosquitto_transport(std::move(o), test_logger(), std::make_shared<detail::MqttLoop>(test_logger()));
+        made = transport_detail::make_mosquitto_transport(std::move(o), test_logger(),
+                                                          std::make_shared<transport_detail::MqttLoop>(test_logger()));
     else if (c == Client::paho) made = make_paho_transport(std::move(o), test_logger());
     else made = make_mqtt_transport(std::move(o), test_logger());
     INFO((made ? "" : made.error().describe()));
@@ -172,7 +173,7 @@ TEST_CASE("failover: a lost connection is made again to the same broker first wh
     auto t = make_transport(client, options(first.url(), "failover-stay", {second.url()}));
     REQUIRE(t->start());
     REQUIRE(eventually([&] { return t->state() == LinkState::connected; }, 10s));
-    const auto sockets = detail::sockets_connected_to("127.0.0.1", first.port());
+    const auto sockets = transport_detail::sockets_connected_to("127.0.0.1", first.port());
     REQUIRE(sockets.size() == 1);
     ::shutdown(sockets.front().fd, SHUT_RDWR);  // the network "fails"; the broker stays
     REQUIRE(eventually([&] { return t->stats().connects == 2 && t->state() == LinkState::connected; }, 20s));

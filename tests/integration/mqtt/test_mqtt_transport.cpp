@@ -63,18 +63,19 @@ const char* client_name(Client c) {
     INFO(client_name(g_client))
 
 // One loop for the transports alive at once, as in a gateway.
-std::shared_ptr<detail::MqttLoop> shared_loop() {
-    static std::weak_ptr<detail::MqttLoop> current;
+std::shared_ptr<transport_detail::MqttLoop> shared_loop() {
+    static std::weak_ptr<transport_detail::MqttLoop> current;
     auto loop = current.lock();
     if (!loop) {
-        loop = std::make_shared<detail::MqttLoop>(o_logger);
+        loop = std::make_shared<transport_detail::MqttLoop>(o_logger);
         current = loop;
     }
     return loop;
 }
 
 Result<std::unique_ptr<Transport>> make_transport(MqttOptions o, Logger logger = o_logger) {
-    if (g_client == Client::shared_loop) return detail::make_mosquitto_transport(std::move(o), std::move(logger), shared_loop());
+    if (g_client == Client::shared_loop)
+        return transport_detail::make_mosquitto_transport(std::move(o), std::move(logger), shared_loop());
     if (g_client == Client::paho) return make_paho_transport(std::move(o), std::move(logger));
     return make_mqtt_transport(std::move(o), std::move(logger));
 }
@@ -87,7 +88,7 @@ std::unique_ptr<Transport> connect(MqttOptions o) {
 
 std::set<int> broker_fds(int port) {
     std::set<int> fds;
-    for (const auto& s : detail::sockets_connected_to("127.0.0.1", port)) fds.insert(s.fd);
+    for (const auto& s : transport_detail::sockets_connected_to("127.0.0.1", port)) fds.insert(s.fd);
     return fds;
 }
 
@@ -120,7 +121,7 @@ TEST_CASE("publish and subscribe through mosquitto, in order, with TCP_NODELAY o
 
     // Every socket this process has to the broker carries TCP_NODELAY.
     CHECK(pub->stats().tcp_nodelay_sockets >= 1);
-    const auto sockets = detail::sockets_connected_to("127.0.0.1", broker.port());
+    const auto sockets = transport_detail::sockets_connected_to("127.0.0.1", broker.port());
     REQUIRE(sockets.size() >= 2);
     for (const auto& s : sockets) CHECK(s.nodelay);
     pub->stop();
@@ -135,7 +136,7 @@ TEST_CASE("without the option no TCP_NODELAY is set (the test above can fail)") 
     auto t = connect(o);
     REQUIRE(t->start().ok());
     REQUIRE(eventually([&] { return t->state() == LinkState::connected; }));
-    const auto sockets = detail::sockets_connected_to("127.0.0.1", broker.port());
+    const auto sockets = transport_detail::sockets_connected_to("127.0.0.1", broker.port());
     REQUIRE(sockets.size() == 1);
     CHECK_FALSE(sockets[0].nodelay);
     CHECK(t->stats().tcp_nodelay_sockets == 0);
@@ -489,14 +490,14 @@ TEST_CASE("the transport of libnclink refuses WebSocket brokers and names the pl
 TEST_CASE("broker URLs parse with default ports") {
     std::string host, scheme;
     int port = 0;
-    REQUIRE(detail::parse_broker_url("tcp://127.0.0.1:1884", host, port, scheme));
+    REQUIRE(transport_detail::parse_broker_url("tcp://127.0.0.1:1884", host, port, scheme));
     CHECK((host == "127.0.0.1" && port == 1884 && scheme == "tcp"));
-    REQUIRE(detail::parse_broker_url("ssl://broker.plant", host, port, scheme));
+    REQUIRE(transport_detail::parse_broker_url("ssl://broker.plant", host, port, scheme));
     CHECK((host == "broker.plant" && port == 8883));
-    REQUIRE(detail::parse_broker_url("ws://[::1]:9001/mqtt", host, port, scheme));
+    REQUIRE(transport_detail::parse_broker_url("ws://[::1]:9001/mqtt", host, port, scheme));
     CHECK((host == "::1" && port == 9001));
-    CHECK_FALSE(detail::parse_broker_url("ftp://x", host, port, scheme));
-    CHECK_FALSE(detail::parse_broker_url("tcp://:1883", host, port, scheme));
+    CHECK_FALSE(transport_detail::parse_broker_url("ftp://x", host, port, scheme));
+    CHECK_FALSE(transport_detail::parse_broker_url("tcp://:1883", host, port, scheme));
 }
 
 TEST_CASE("broker round trip: measured through a real broker on connections of its own") {
@@ -539,12 +540,12 @@ TEST_CASE("two hundred connections share one I/O thread and each gets exactly it
     g_client = Client::shared_loop;
     MosquittoBroker broker;
     constexpr int kMachines = 200;
-    auto loop = std::make_shared<detail::MqttLoop>(o_logger);
+    auto loop = std::make_shared<transport_detail::MqttLoop>(o_logger);
     std::vector<std::unique_ptr<Transport>> machines;
     for (int i = 0; i < kMachines; ++i) {
         auto o = options_for(broker, "nclink-test-gw-" + std::to_string(i));
         o.last_will = Message{"Notify/State/gw-" + std::to_string(i), "offline", 1, false};
-        auto made = detail::make_mosquitto_transport(o, o_logger, loop);
+        auto made = transport_detail::make_mosquitto_transport(o, o_logger, loop);
         REQUIRE(made.ok());
         machines.push_back(std::move(made).value());
         // Each machine answers on its own connection what it received on it.

@@ -16,7 +16,7 @@ using namespace nclink::test;
 
 namespace {
 
-std::map<std::string, std::uint64_t> as_map(const detail::DropCounts& d) {
+std::map<std::string, std::uint64_t> as_map(const feature_detail::DropCounts& d) {
     std::map<std::string, std::uint64_t> out;
     for (const auto& [cause, count] : d.causes()) out[cause] = count;
     return out;
@@ -25,7 +25,7 @@ std::map<std::string, std::uint64_t> as_map(const detail::DropCounts& d) {
 }  // namespace
 
 TEST_CASE("drop counts: a cause added twice sums, a zero is kept, the order is first added") {
-    detail::DropCounts d;
+    feature_detail::DropCounts d;
     d.add("b", 0);
     d.add("a", 2);
     d.add("b", 3);
@@ -41,21 +41,21 @@ TEST_CASE("feature drops from a statistics snapshot: each feature reads its own 
          {{"channels", Json::array({Json{{"drops", 3}}, Json{{"drops", 4}}})}, {"spool", {{"dropped", 2}}}, {"publish_errors", 1}}},
         {"events", {{"dropped_values", 5}, {"publish_errors", 6}}},
         {"methods", Json::object()}};
-    detail::DropCounts d;
-    detail::feature_drops_from_stats(features, d);
+    feature_detail::DropCounts d;
+    adapter_detail::feature_drops_from_stats(features, d);
     CHECK(as_map(d) == std::map<std::string, std::uint64_t>{{"sample_ring_full", 7},
                                                             {"sample_spool_full", 2},
                                                             {"sample_publish_refused", 1},
                                                             {"event_values_queue_full", 5},
                                                             {"events_publish_refused", 6}});
-    detail::DropCounts none;
-    detail::feature_drops_from_stats(Json::object(), none);  // no feature in the snapshot: every cause at 0
+    feature_detail::DropCounts none;
+    adapter_detail::feature_drops_from_stats(Json::object(), none);  // no feature in the snapshot: every cause at 0
     CHECK(as_map(none) == std::map<std::string, std::uint64_t>{{"sample_ring_full", 0},
                                                                {"sample_spool_full", 0},
                                                                {"sample_publish_refused", 0},
                                                                {"event_values_queue_full", 0},
                                                                {"events_publish_refused", 0}});
-    const Json drops = detail::drops_by_cause(d, 8, 9);
+    const Json drops = adapter_detail::drops_by_cause(d, 8, 9);
     CHECK(drops["offline_buffer_full"] == 8);
     CHECK(drops["requests_shed"] == 9);
     CHECK(drops["sample_ring_full"] == 7);

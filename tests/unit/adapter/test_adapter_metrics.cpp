@@ -72,8 +72,8 @@ TEST_CASE("adapter metrics: drops by cause, spool, sampling lateness, events and
     sampling.channels.push_back(c);
     TrafficStats traffic;
     traffic.dtus_in["query_request"] = 3;
-    detail::PrometheusText out;
-    detail::add_adapter_metrics(out, "m\"1", s, sampling, traffic);
+    core_detail::PrometheusText out;
+    adapter_detail::add_adapter_metrics(out, "m\"1", s, sampling, traffic);
     const std::string text = out.str();
     check_format(text);
     std::vector<PromSample> samples;

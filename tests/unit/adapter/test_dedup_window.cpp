@@ -11,7 +11,7 @@
 #include <vector>
 
 using nclink::Json;
-using nclink::detail::DedupWindow;
+using nclink::adapter_detail::DedupWindow;
 
 TEST_CASE("dedup window: a repeat within the window is dropped, after it or past the capacity it is new") {
     auto clock = std::make_shared<nclink::ManualClock>();

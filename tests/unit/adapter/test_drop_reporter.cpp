@@ -14,7 +14,7 @@ TEST_CASE("drop reporter: a warning when a cause starts dropping, one line when 
     std::vector<std::pair<LogLevel, std::string>> lines;
     const Logger logger([&](LogLevel level, std::string_view text) { lines.emplace_back(level, std::string(text)); },
                         LogLevel::debug);
-    nclink::detail::DropReporter reporter(logger);
+    nclink::adapter_detail::DropReporter reporter(logger);
     reporter.observe(Json{{"offline_buffer_full", 0}, {"sample_ring_full", 0}});
     CHECK(lines.empty());
     reporter.observe(Json{{"offline_buffer_full", 5}, {"sample_ring_full", 0}});

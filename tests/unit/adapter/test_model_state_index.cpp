@@ -8,7 +8,9 @@
 #include <catch2/catch.hpp>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::adapter_detail;
+using namespace nclink::driver_detail;
+using namespace nclink::feature_detail;
 
 TEST_CASE("ModelState::entry answers as item(), bound() and the rule lookup, indexed or not") {
     const Logger logger(stderr_sink(), LogLevel::warn);

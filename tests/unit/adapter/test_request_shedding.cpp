@@ -18,22 +18,22 @@ using namespace nclink::test;
 using namespace std::chrono_literals;
 
 TEST_CASE("request gate: admits up to its bound, sheds beyond, releases with the last ticket") {
-    auto gate = std::make_shared<detail::RequestGate>(2, 100, Logger{});
+    auto gate = std::make_shared<adapter_detail::RequestGate>(2, 100, Logger{});
     auto a = gate->admit(10);
     auto b = gate->admit(10);
-    CHECK(a.verdict == detail::RequestGate::Verdict::admitted);
-    CHECK(b.verdict == detail::RequestGate::Verdict::admitted);
+    CHECK(a.verdict == adapter_detail::RequestGate::Verdict::admitted);
+    CHECK(b.verdict == adapter_detail::RequestGate::Verdict::admitted);
     CHECK(gate->pending() == 2);
-    CHECK(gate->admit(10).verdict == detail::RequestGate::Verdict::shed);
+    CHECK(gate->admit(10).verdict == adapter_detail::RequestGate::Verdict::shed);
     CHECK(gate->shed() == 1);
-    CHECK(gate->admit(101).verdict == detail::RequestGate::Verdict::oversized);
+    CHECK(gate->admit(101).verdict == adapter_detail::RequestGate::Verdict::oversized);
     CHECK(gate->oversized() == 1);
     auto copy = a.ticket;  // a request answered by two tasks holds one slot
     a.ticket.reset();
     CHECK(gate->pending() == 2);
     copy.reset();
     CHECK(gate->pending() == 1);
-    CHECK(gate->admit(10).verdict == detail::RequestGate::Verdict::admitted);  // the ticket is dropped at once
+    CHECK(gate->admit(10).verdict == adapter_detail::RequestGate::Verdict::admitted);  // the ticket is dropped at once
     CHECK(gate->pending() == 1);
 }
 

@@ -15,7 +15,7 @@
 #include <fstream>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <thread>
 #include <vector>
 
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 using Clock = std::chrono::steady_clock;
 
 TEST_CASE("the watchdog runs each callback once, never before its deadline, earliest first") {

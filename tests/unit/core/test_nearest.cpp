@@ -2,8 +2,8 @@
 
 #include <catch2/catch.hpp>
 
-using nclink::detail::edit_distance;
-using nclink::detail::nearest_name;
+using nclink::core_detail::edit_distance;
+using nclink::core_detail::nearest_name;
 
 TEST_CASE("edit distance counts swaps of neighbours as one, ignoring case") {
     CHECK(edit_distance("uri", "url") == 1);

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 using nclink::test::eventually;
 using namespace std::chrono_literals;
 using Time = PollHost::Time;

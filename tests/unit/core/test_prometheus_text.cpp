@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 using nclink::test::exposition_problems;
 using nclink::test::prom_value;
 using nclink::test::PromSample;

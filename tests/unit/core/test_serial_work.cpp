@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 using namespace std::chrono_literals;
 
 namespace {

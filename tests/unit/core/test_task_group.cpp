@@ -8,7 +8,7 @@
 #include <future>
 #include <thread>
 
-using namespace nclink::detail;
+using namespace nclink::core_detail;
 using nclink::test::eventually;
 using namespace std::chrono_literals;
 

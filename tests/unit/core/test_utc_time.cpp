@@ -5,7 +5,7 @@
 
 #include <catch2/catch.hpp>
 
-using nclink::detail::utc_iso8601_ms;
+using nclink::core_detail::utc_iso8601_ms;
 
 TEST_CASE("utc text: the epoch, milliseconds and times before it") {
     CHECK(utc_iso8601_ms(0) == "1970-01-01T00:00:00.000Z");

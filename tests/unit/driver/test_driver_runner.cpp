@@ -10,7 +10,7 @@
 #include <thread>
 
 using namespace nclink;
-using detail::DriverRunner;
+using driver_detail::DriverRunner;
 using test::GatedDriver;
 
 namespace {

@@ -15,8 +15,8 @@
 #include <thread>
 
 using namespace nclink;
-using detail::DriverRunner;
-using detail::WorkerPool;
+using core_detail::WorkerPool;
+using driver_detail::DriverRunner;
 using nclink::test::eventually;
 using namespace std::chrono_literals;
 

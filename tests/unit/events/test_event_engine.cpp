@@ -8,7 +8,7 @@
 #include <limits>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::events_detail;
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include <catch2/catch.hpp>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::events_detail;
 
 namespace {
 

@@ -14,7 +14,10 @@
 #include <thread>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::adapter_detail;
+using namespace nclink::driver_detail;
+using namespace nclink::events_detail;
+using namespace nclink::feature_detail;
 using nclink::test::eventually;
 using nclink::test::FakeDriver;
 

@@ -150,10 +150,10 @@ TEST_CASE("the stream counters reach the Prometheus text: begun, refused, runnin
         return r;
     });
     server.get("/metrics", [&](const HttpRequest&) {
-        detail::PrometheusText out;
+        core_detail::PrometheusText out;
         metrics.render(out, "nclink_test");
         HttpMetrics::render(out, "nclink_test", server.connection_counters());
-        return text_response(out.str(), std::string(detail::prometheus_content_type));
+        return text_response(out.str(), std::string(core_detail::prometheus_content_type));
     });
     REQUIRE(server.start().ok());
     std::vector<std::unique_ptr<RawPeer>> readers;

@@ -100,7 +100,7 @@ TEST_CASE("http metrics: requests by route and status, latency by route, valid P
     REQUIRE(client.Get("/nothing"));
     REQUIRE(client.Post("/devices/a", "x", "text/plain"));
     server.stop();
-    detail::PrometheusText out;
+    core_detail::PrometheusText out;
     metrics.render(out, "nclink_test");
     const std::string text = out.str();
     INFO(text);

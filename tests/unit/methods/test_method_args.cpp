@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace nclink;
-using nclink::detail::check_method_args;
+using nclink::methods_detail::check_method_args;
 
 namespace {
 Method method(Json args) {
@@ -54,11 +54,12 @@ TEST_CASE("no declaration accepts any args object and every method refuses args 
 
 TEST_CASE("the methods configuration section") {
     MethodsConfig c;
-    REQUIRE(detail::read_methods_config(Json{{"max_running", 2}, {"status_period_ms", 250}, {"stop_grace_ms", 100}}, c).ok());
+    REQUIRE(
+        methods_detail::read_methods_config(Json{{"max_running", 2}, {"status_period_ms", 250}, {"stop_grace_ms", 100}}, c).ok());
     CHECK(c.max_running == 2);
     CHECK(c.status_period == std::chrono::milliseconds(250));
     CHECK(c.stop_grace == std::chrono::milliseconds(100));
-    CHECK(detail::read_methods_config(Json{{"status_period_ms", 0}}, c).error().code == ErrorCode::out_of_range);
-    CHECK(detail::read_methods_config(Json{{"max_runing", 2}}, c).error().code == ErrorCode::keys_of_arguments);
-    CHECK(detail::read_methods_config(Json{{"max_running", -1}}, c).error().code == ErrorCode::value_type);
+    CHECK(methods_detail::read_methods_config(Json{{"status_period_ms", 0}}, c).error().code == ErrorCode::out_of_range);
+    CHECK(methods_detail::read_methods_config(Json{{"max_runing", 2}}, c).error().code == ErrorCode::keys_of_arguments);
+    CHECK(methods_detail::read_methods_config(Json{{"max_running", -1}}, c).error().code == ErrorCode::value_type);
 }

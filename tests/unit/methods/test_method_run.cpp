@@ -8,7 +8,7 @@
 #include <vector>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::methods_detail;
 
 namespace {
 

@@ -54,15 +54,15 @@ struct EngineFixture {
     /// `other_driver`: read that driver instead of the CountingDriver.
     /// `model`/`values`: the snapshot whose chapter-7 rules sampled values are checked against.
     explicit EngineFixture(SamplingConfig config = {}, bool manual_sleeper = false, std::shared_ptr<Driver> other_driver = nullptr,
-                           std::shared_ptr<const detail::ModelState> model = nullptr, detail::ValueGuard* values = nullptr,
-                           double phase = 0) {
+                           std::shared_ptr<const feature_detail::ModelState> model = nullptr,
+                           feature_detail::ValueGuard* values = nullptr, double phase = 0) {
         driver = std::make_shared<CountingDriver>();
-        runner = std::make_unique<detail::DriverRunner>(other_driver ? other_driver : std::shared_ptr<Driver>(driver),
-                                                        detail::DriverRunner::Options{}, Logger{});
-        detail::EngineDeps deps;
+        runner = std::make_unique<driver_detail::DriverRunner>(other_driver ? other_driver : std::shared_ptr<Driver>(driver),
+                                                               driver_detail::DriverRunner::Options{}, Logger{});
+        sampling_detail::EngineDeps deps;
         deps.driver = runner.get();
         deps.clock = clock;
-        sleeper = std::make_shared<detail::ManualSleeper>(clock);
+        sleeper = std::make_shared<sampling_detail::ManualSleeper>(clock);
         deps.sleeper = sleeper;
         (void)manual_sleeper;
         deps.config = config;
@@ -75,7 +75,7 @@ struct EngineFixture {
         if (model) deps.model = [model] { return model; };
         deps.values = values;
         deps.phase = phase;
-        engine = std::make_unique<detail::SamplingEngine>(std::move(deps));
+        engine = std::make_unique<sampling_detail::SamplingEngine>(std::move(deps));
     }
     ~EngineFixture() {
         engine->stop();
@@ -83,8 +83,9 @@ struct EngineFixture {
         runner->stop();
     }
 
-    static detail::ChannelSpec spec(const std::string& id, std::vector<std::string> ids, double sample_ms, double upload_ms) {
-        detail::ChannelSpec s;
+    static sampling_detail::ChannelSpec spec(const std::string& id, std::vector<std::string> ids, double sample_ms,
+                                             double upload_ms) {
+        sampling_detail::ChannelSpec s;
         s.id = id;
         for (auto& i : ids) s.points.push_back(PointRef{i, DataKind::single});
         s.sample_interval_ms = sample_ms;
@@ -120,7 +121,7 @@ struct EngineFixture {
         }
         return cols;
     }
-    detail::ChannelStats stats(const std::string& id) {
+    ChannelStats stats(const std::string& id) {
         for (auto& s : engine->stats())
             if (s.id == id) return s;
         FAIL("no stats for " << id);
@@ -128,13 +129,13 @@ struct EngineFixture {
     }
 
     std::shared_ptr<ManualClock> clock = std::make_shared<ManualClock>(1'700'000'000'000);
-    std::shared_ptr<detail::ManualSleeper> sleeper;
+    std::shared_ptr<sampling_detail::ManualSleeper> sleeper;
     std::shared_ptr<CountingDriver> driver;
-    std::unique_ptr<detail::DriverRunner> runner;
-    detail::SampleTap tap;
+    std::unique_ptr<driver_detail::DriverRunner> runner;
+    feature_detail::SampleTap tap;
     std::mutex mutex;
     std::vector<Message> sent;
-    std::unique_ptr<detail::SamplingEngine> engine;
+    std::unique_ptr<sampling_detail::SamplingEngine> engine;
 };
 
 }  // namespace nclink::test

@@ -199,7 +199,7 @@ TEST_CASE("text values survive until published and the tap sees every drained ro
 
 TEST_CASE("SDK-held items are read from the value store and not from the driver") {
     EngineFixture f;
-    auto state = std::make_shared<detail::ModelState>();
+    auto state = std::make_shared<feature_detail::ModelState>();
     state->store = std::make_shared<ValueStore>();
     REQUIRE(state->store->add("fixed", DataKind::single, false, Json(42)).ok());
     f.engine->set_model(state);
@@ -238,12 +238,12 @@ TEST_CASE("a channel added while the uploader retires a removed one still gets p
     EngineFixture f;
     std::vector<Message> sent;
     bool added = false;
-    detail::EngineDeps deps;
+    sampling_detail::EngineDeps deps;
     deps.driver = f.runner.get();
     deps.clock = f.clock;
     deps.sleeper = f.sleeper;
     deps.dev = "dev1";
-    detail::SamplingEngine* engine_ptr = nullptr;
+    sampling_detail::SamplingEngine* engine_ptr = nullptr;
     deps.sink = [&](Message m) {
         if (!added && m.topic == "Sample/dev1/ch1") {
             added = true;
@@ -251,7 +251,7 @@ TEST_CASE("a channel added while the uploader retires a removed one still gets p
         }
         sent.push_back(std::move(m));
     };
-    detail::SamplingEngine engine(std::move(deps));
+    sampling_detail::SamplingEngine engine(std::move(deps));
     engine_ptr = &engine;
     REQUIRE(engine.add_channel(EngineFixture::spec("ch1", {"a"}, 10, 100)).ok());
     engine.run_sampling_once();
@@ -288,8 +288,8 @@ TEST_CASE("a ring larger than the address space is refused with its channel, not
 }
 
 TEST_CASE("ring sizes: rounding saturates at the top bit and a size past size_t is 0") {
-    using detail::ring_bytes;
-    using detail::round_up_pow2;
+    using sampling_detail::ring_bytes;
+    using sampling_detail::round_up_pow2;
     constexpr std::size_t top = ~(~std::size_t{0} >> 1);
     CHECK(round_up_pow2(64) == 64);
     CHECK(round_up_pow2(65) == 128);

@@ -26,10 +26,10 @@ std::size_t threads_in_process() {
 }
 
 struct HostedEngine {
-    HostedEngine(detail::PollHost& host, const std::string& guid) : dev(guid) {
+    HostedEngine(core_detail::PollHost& host, const std::string& guid) : dev(guid) {
         driver = std::make_shared<CountingDriver>();
-        runner = std::make_unique<detail::DriverRunner>(driver, detail::DriverRunner::Options{}, Logger{});
-        detail::EngineDeps deps;
+        runner = std::make_unique<driver_detail::DriverRunner>(driver, driver_detail::DriverRunner::Options{}, Logger{});
+        sampling_detail::EngineDeps deps;
         deps.driver = runner.get();
         deps.clock = std::make_shared<SystemClock>();
         deps.dev = guid;
@@ -38,7 +38,7 @@ struct HostedEngine {
             sent.push_back(std::move(m));
         };
         deps.timers = &host;
-        engine = std::make_unique<detail::SamplingEngine>(std::move(deps));
+        engine = std::make_unique<sampling_detail::SamplingEngine>(std::move(deps));
     }
     ~HostedEngine() {
         engine->stop();
@@ -58,16 +58,16 @@ struct HostedEngine {
     }
     std::string dev;
     std::shared_ptr<CountingDriver> driver;
-    std::unique_ptr<detail::DriverRunner> runner;
+    std::unique_ptr<driver_detail::DriverRunner> runner;
     std::mutex mutex;
     std::vector<Message> sent;
-    std::unique_ptr<detail::SamplingEngine> engine;
+    std::unique_ptr<sampling_detail::SamplingEngine> engine;
 };
 
 }  // namespace
 
 TEST_CASE("engines on shared timer threads start no threads and sample and upload on the host's") {
-    detail::PollHost host(2, "t-timers");
+    core_detail::PollHost host(2, "t-timers");
     std::vector<std::unique_ptr<HostedEngine>> engines;
     for (int i = 0; i < 20; ++i) engines.push_back(std::make_unique<HostedEngine>(host, "dev" + std::to_string(i)));
     const std::size_t before = threads_in_process();
@@ -109,7 +109,7 @@ TEST_CASE("engines on shared timer threads start no threads and sample and uploa
 }
 
 TEST_CASE("a channel added to a running hosted engine is sampled at once, a removed one sends its last rows") {
-    detail::PollHost host(1, "t-timers");
+    core_detail::PollHost host(1, "t-timers");
     HostedEngine e(host, "dev1");
     e.engine->start();
     // Nothing to do yet: the scheduler asks for its next poll in a second at most.

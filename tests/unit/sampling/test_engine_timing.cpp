@@ -129,7 +129,7 @@ TEST_CASE("missed ticks are logged at most once per overrun_log_interval over al
     config.overrun_log_interval = 1000ms;
     EngineFixture f(config);
     // The fixture's engine logs nowhere: build one that logs into `lines`.
-    detail::EngineDeps deps;
+    sampling_detail::EngineDeps deps;
     deps.driver = f.runner.get();
     deps.clock = f.clock;
     deps.sleeper = f.sleeper;
@@ -143,7 +143,7 @@ TEST_CASE("missed ticks are logged at most once per overrun_log_interval over al
             lines->emplace_back(text);
         },
         LogLevel::debug);
-    detail::SamplingEngine engine(std::move(deps));
+    sampling_detail::SamplingEngine engine(std::move(deps));
     for (const char* id : {"a", "b", "c"}) REQUIRE(engine.add_channel(EngineFixture::spec(id, {id}, 10, 100)).ok());
     engine.run_sampling_once();
     const auto hiccup = [&] {  // every channel misses 2 ticks, then catches up

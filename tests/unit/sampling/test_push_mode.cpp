@@ -6,7 +6,7 @@ using namespace nclink::test;
 using namespace std::chrono_literals;
 
 namespace {
-detail::ChannelSpec push_spec(const std::string& id, std::vector<std::string> ids, double sample_ms, double upload_ms) {
+sampling_detail::ChannelSpec push_spec(const std::string& id, std::vector<std::string> ids, double sample_ms, double upload_ms) {
     auto s = EngineFixture::spec(id, std::move(ids), sample_ms, upload_ms);
     s.push = true;
     return s;

@@ -13,7 +13,7 @@
 #include <thread>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::sampling_detail;
 
 namespace {
 

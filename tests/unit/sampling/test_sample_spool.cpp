@@ -16,7 +16,7 @@
 #include <random>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::sampling_detail;
 using nclink::test::eventually;
 
 namespace {

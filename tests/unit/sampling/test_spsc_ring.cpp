@@ -9,8 +9,8 @@
 #include <vector>
 
 using namespace nclink;
-using nclink::detail::FullPolicy;
-using nclink::detail::SpscRowRing;
+using nclink::sampling_detail::FullPolicy;
+using nclink::sampling_detail::SpscRowRing;
 
 namespace {
 

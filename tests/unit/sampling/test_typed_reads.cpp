@@ -41,8 +41,8 @@ public:
     std::string text_buffer;
 };
 
-std::shared_ptr<const detail::ModelState> store_with(const std::string& id, Json value) {
-    auto state = std::make_shared<detail::ModelState>();
+std::shared_ptr<const feature_detail::ModelState> store_with(const std::string& id, Json value) {
+    auto state = std::make_shared<feature_detail::ModelState>();
     state->store = std::make_shared<ValueStore>();
     REQUIRE(state->store->add(id, DataKind::single, false, std::move(value)).ok());
     return state;

@@ -12,10 +12,10 @@ using namespace std::chrono_literals;
 
 namespace {
 
-std::shared_ptr<const detail::ModelState> state_of(const std::string& text) {
+std::shared_ptr<const feature_detail::ModelState> state_of(const std::string& text) {
     const LoadResult loaded = parse_model(text);
     REQUIRE(loaded.ok());
-    auto state = std::make_shared<detail::ModelState>();
+    auto state = std::make_shared<feature_detail::ModelState>();
     state->model = loaded.model;
     state->device = &loaded.model->devices().front();
     state->rules = std::make_shared<const ValueRules>(*loaded.model);
@@ -23,7 +23,7 @@ std::shared_ptr<const detail::ModelState> state_of(const std::string& text) {
 }
 
 /// A model of one MACHINE (guid dev1) whose data items are `items` (JSON).
-std::shared_ptr<const detail::ModelState> machine_with(const std::string& items) {
+std::shared_ptr<const feature_detail::ModelState> machine_with(const std::string& items) {
     return state_of(R"({"id":"r","type":"NC_LINK_ROOT","version":"1.0.0","devices":[{"id":"d","type":"MACHINE",
       "guid":"dev1","version":"1.0.0","dataItems":)" +
                     items + "}]}");
@@ -41,7 +41,7 @@ void sample_one_period(EngineFixture& f, const std::vector<std::string>& ids) {
 
 TEST_CASE("sampled values breaking chapter 7 are sent as null and counted") {
     auto state = machine_with(R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"n","type":"POSITION"},{"id":"w","type":"WARNING"}])");
-    detail::ValueGuard guard{Logger{}};
+    feature_detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->texts["mode"] = "spinning";  // not a value of table 15
     f.driver->texts["w"] = "text";         // a WARNING is an object
@@ -67,7 +67,7 @@ TEST_CASE("sampled doubles outside a number item's range are sent as null, those
     // MASS is never negative, POWER_FACTOR at most 1 (table 10); the
     // uploader checks float64 samples of such items inline.
     auto state = machine_with(R"([{"id":"m","type":"MASS"},{"id":"pf","type":"POWER_FACTOR"},{"id":"n","type":"POSITION"}])");
-    detail::ValueGuard guard{Logger{}};
+    feature_detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->doubles["m"] = -1.5;
     f.driver->doubles["pf"] = 0.75;
@@ -100,7 +100,7 @@ TEST_CASE("a double where an item takes text, or text where it takes a number, i
     // The inline range test only ever passes a double inside a number
     // item's bounds; everything else meets its item's full rule.
     auto state = machine_with(R"([{"id":"mode","type":"SPINDLE_MODE"},{"id":"m","type":"MASS"}])");
-    detail::ValueGuard guard{Logger{}};
+    feature_detail::ValueGuard guard{Logger{}};
     EngineFixture f({}, false, nullptr, state, &guard);
     f.driver->doubles["mode"] = 2.0;    // table 15 takes a text
     f.driver->texts["m"] = "heavy";     // table 10 takes a number

@@ -2,7 +2,7 @@
 
 #include <catch2/catch.hpp>
 
-using namespace nclink::detail;
+using namespace nclink::transport_detail;
 using namespace std::chrono_literals;
 
 namespace {

@@ -4,7 +4,7 @@
 
 #include <set>
 
-using namespace nclink::detail;
+using namespace nclink::transport_detail;
 using namespace std::chrono_literals;
 
 TEST_CASE("reconnect waits are jittered over the second half of the back-off") {

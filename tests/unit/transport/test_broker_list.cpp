@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace nclink;
-using namespace nclink::detail;
+using namespace nclink::transport_detail;
 
 TEST_CASE("failover list: a host:port entry takes the scheme of the url, a URL stays as given") {
     CHECK(failover_entry_url("b.plant:1884", "tcp://a.plant:1883") == "tcp://b.plant:1884");

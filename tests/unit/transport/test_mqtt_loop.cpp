@@ -21,9 +21,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
-struct Recorder : detail::LoopMember {
-    explicit Recorder(detail::MqttLoop& l) : loop(l) {}
-    detail::MqttLoop& loop;
+struct Recorder : transport_detail::LoopMember {
+    explicit Recorder(transport_detail::MqttLoop& l) : loop(l) {}
+    transport_detail::MqttLoop& loop;
     std::atomic<int> wakes{0}, ticks{0}, reads{0}, writes{0};
     std::atomic<bool> off_thread{false};
     int fd = -1;
@@ -79,7 +79,7 @@ struct Pipe {
 }  // namespace
 
 TEST_CASE("mqtt loop: wake-ups and ticks on the loop thread and a watched socket reported") {
-    detail::MqttLoop loop(Logger(), 10ms);
+    transport_detail::MqttLoop loop(Logger(), 10ms);
     Pipe pipe;
     Recorder member(loop);
     member.fd = pipe.r;
@@ -118,7 +118,7 @@ TEST_CASE("mqtt loop: wake-ups and ticks on the loop thread and a watched socket
 }
 
 TEST_CASE("mqtt loop: an idle loop sleeps between ticks") {
-    detail::MqttLoop loop(Logger(), 50ms);
+    transport_detail::MqttLoop loop(Logger(), 50ms);
     std::this_thread::sleep_for(20ms);
     const auto first = loop.iterations();
     std::this_thread::sleep_for(500ms);

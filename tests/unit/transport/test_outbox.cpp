@@ -37,7 +37,7 @@ TEST_CASE("acknowledgements wake the outbox's sender only when messages wait beh
     FakeLink link;
     OutboxLimits limits;
     limits.max_in_flight = 2;
-    detail::Outbox outbox(
+    transport_detail::Outbox outbox(
         limits,
         [&](const std::shared_ptr<const Message>& m, std::uint64_t attempt) {
             std::lock_guard<std::mutex> lock(link.mutex);
