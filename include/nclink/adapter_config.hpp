@@ -24,6 +24,7 @@ namespace nclink {
 struct NCLINK_API AdapterConfig {
     // --- broker (JSON: "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
+    std::vector<std::string> failover_urls;           ///< "failover": brokers to fail over to (MqttOptions::failover_urls)
     std::string client_id;                            ///< "client_id"; default "nclink-adapter-<dev_uuid>"
     std::string username;                             ///< "username"
     std::string password;                             ///< "password"

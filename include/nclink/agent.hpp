@@ -78,6 +78,7 @@ struct NCLINK_API RegistrationPolicy {
 struct NCLINK_API AgentConfig {
     // --- broker (JSON "broker": {...}) ---
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
+    std::vector<std::string> failover_urls;           ///< "failover": brokers to fail over to (MqttOptions::failover_urls)
     std::string client_id;                            ///< "client_id"; default "<agent_id>-<random>" (unique per instance)
     std::string username;                             ///< "username"
     std::string password;                             ///< "password"

@@ -29,6 +29,16 @@ struct NCLINK_API MqttOptions {
     /// tcp://host:port, ssl://host:port (TLS); ws:// and wss:// with the
     /// paho transport of libnclink-plant only (make_paho_transport()).
     std::string broker_url = "tcp://127.0.0.1:1883";
+    /// Further brokers to fail over to, in order ("failover" in a broker
+    /// section): "host:port" (the scheme of broker_url) or a URL as above.
+    /// When an attempt to connect fails, or a lost connection cannot be made
+    /// again to the same broker, the next attempt goes to the next broker of
+    /// [broker_url, failover_urls...] (after the last: broker_url again),
+    /// with the usual back-off. TLS, credentials, client id and last will
+    /// are the same for each; every entry must use TLS exactly when
+    /// broker_url does, and name a broker once. TransportStats::failovers
+    /// counts the connections made to another broker than the last one.
+    std::vector<std::string> failover_urls;
     std::string client_id;  ///< required; unique on the broker
     std::string username;   ///< empty = anonymous
     std::string password;
@@ -36,8 +46,9 @@ struct NCLINK_API MqttOptions {
     /// 4 = MQTT 3.1.1, 5 = MQTT 5, 0 = auto: MQTT 5, and 3.1.1 when the
     /// broker refuses a 5 CONNECT (closes the connection or answers
     /// "unsupported protocol version"; RabbitMQ 3.10, docs/scaling.md); the
-    /// level a CONNACK accepted is kept for every reconnection. The paho
-    /// transport (make_paho_transport()) speaks 3.1.1 for 0.
+    /// level a CONNACK accepted is kept for every reconnection to the same
+    /// broker (a failover to another one of failover_urls tries 5 first again;
+    /// paho, once connected at 3.1.1, keeps 3.1.1). Both transports.
     int mqtt_version = 4;
     bool clean_session = true;
     std::chrono::seconds keep_alive{20};

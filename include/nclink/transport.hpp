@@ -51,15 +51,23 @@ struct NCLINK_API TransportStats {
     /// e.g. "the broker refused the user name or password", "the broker's
     /// certificate did not verify: certificate has expired".
     std::string last_error;
-    /// The last attempt was refused (credentials, authorisation, a
-    /// certificate): retrying will not help until the configuration changes.
-    /// Programs exit on it at start (docs/security.md).
+    /// The last attempt was refused (credentials, authorisation, a certificate; with failover_urls:
+    /// the last attempt to every broker of the list was): retrying will not help until the
+    /// configuration changes. Programs exit on it at start (docs/security.md).
     bool refused = false;
     /// Connections dropped (and made again, every unacknowledged message sent
     /// again) because messages were in flight and the broker acknowledged
     /// none of them within MqttOptions::ack_timeout while the link otherwise
     /// looked alive. Logged as a warning each time (docs/delivery.md).
     std::uint64_t stalled_links = 0;
+    /// Connections made to another broker of the failover list
+    /// (MqttOptions::failover_urls) than the one of the connection before
+    /// (the first: than broker_url). Logged as a warning each time.
+    std::uint64_t failovers = 0;
+    /// The broker connected to, or tried next while the link is down (a URL
+    /// of the failover list, broker_url before the first attempt; "" for
+    /// transports without a broker).
+    std::string broker;
 };
 
 /// Called for every message matching a subscription.

@@ -75,6 +75,11 @@ void add_adapter_metrics(core_detail::PrometheusText& out, const std::string& de
     out.counter("nclink_adapter_mqtt_stalled_links_total",
                 "Connections dropped and made again because nothing in flight was acknowledged within the ack timeout", d,
                 t.stalled_links);
+    out.counter("nclink_adapter_mqtt_failovers_total",
+                "Connections made to another broker of the failover list than the connection before", d, t.failovers);
+    if (!t.broker.empty())
+        out.gauge("nclink_adapter_mqtt_broker", "1 for the broker connected to, or tried next while the link is down",
+                  with("broker", t.broker), 1);
 
     // ---- drops by cause (each in its own unit: see docs/metrics.md); the
     // features add theirs with their own families (adapter_features.hpp)

@@ -93,7 +93,9 @@ Json to_json(const AdapterStats& s) {
                   {"buffered_bytes", t.buffered_bytes},
                   {"in_flight", t.in_flight},
                   {"sessions_lost", t.sessions_lost},
-                  {"stalled_links", t.stalled_links}}},
+                  {"stalled_links", t.stalled_links},
+                  {"failovers", t.failovers},
+                  {"broker", t.broker}}},
                 {"values", {{"refused", s.values_refused}, {"refused_items", s.values_refused_items}}},
                 {"features", s.features}};
 }

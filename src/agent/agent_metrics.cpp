@@ -75,6 +75,11 @@ void add_agent_metrics(core_detail::PrometheusText& out, const AgentStats& s, co
     out.gauge("nclink_agent_mqtt_buffered_messages", "Messages waiting to go to the broker", none, static_cast<double>(t.buffered));
     out.counter("nclink_agent_mqtt_dropped_messages_total", "Messages dropped because the offline buffer was full", none,
                 t.dropped);
+    out.counter("nclink_agent_mqtt_failovers_total",
+                "Connections made to another broker of the failover list than the connection before", none, t.failovers);
+    if (!t.broker.empty())
+        out.gauge("nclink_agent_mqtt_broker", "1 for the broker connected to, or tried next while the link is down",
+                  {{"broker", t.broker}}, 1);
 }
 
 }  // namespace agent_detail

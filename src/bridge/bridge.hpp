@@ -26,7 +26,8 @@ namespace nclink::bridge {
 struct BridgeConfig {
     // broker section (as the adapter's and the agent's: src/transport/broker_config.hpp)
     std::string broker_url = "tcp://127.0.0.1:1883";
-    std::string client_id;  ///< MQTT client id; empty = ex_cid
+    std::vector<std::string> failover_urls;  ///< "failover": brokers to fail over to (MqttOptions::failover_urls)
+    std::string client_id;                   ///< MQTT client id; empty = ex_cid
     std::string username;
     std::string password;
     int mqtt_version = 4;

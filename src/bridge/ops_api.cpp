@@ -79,6 +79,11 @@ std::string OpsApi::metrics() const {
     const auto t = client_.transport().stats();
     out.counter("nclink_bridge_mqtt_connects_total", "Successful (re)connections to the broker", {}, t.connects);
     out.gauge("nclink_bridge_mqtt_buffered_messages", "Messages waiting to go to the broker", {}, static_cast<double>(t.buffered));
+    out.counter("nclink_bridge_mqtt_failovers_total",
+                "Connections made to another broker of the failover list than the connection before", {}, t.failovers);
+    if (!t.broker.empty())
+        out.gauge("nclink_bridge_mqtt_broker", "1 for the broker connected to, or tried next while the link is down",
+                  {{"broker", t.broker}}, 1);
     http_metrics_.render(out, "nclink_bridge");
     http::HttpMetrics::render(out, "nclink_bridge", server_.connection_counters());
     return out.str();

@@ -5,6 +5,7 @@
 #include "core/thread_name.hpp"
 #include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
+#include "transport/broker_list.hpp"
 #include "transport/link_record.hpp"
 #include "transport/subscription_set.hpp"
 #include "transport/tcp_nodelay.hpp"
@@ -21,6 +22,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 namespace nclink {
 namespace {
@@ -29,19 +31,25 @@ using std::chrono::milliseconds;
 
 class MqttTransport final : public Transport, private mqtt::iaction_listener {
 public:
-    MqttTransport(MqttOptions options, Logger logger, std::string host, int port)
+    MqttTransport(MqttOptions options, Logger logger, std::vector<transport_detail::BrokerAddress> brokers)
         : options_(std::move(options)),
           logger_(std::move(logger)),
-          host_(std::move(host)),
-          port_(port),
+          brokers_(std::move(brokers)),
           link_(logger_, options_.broker_url, options_.client_id),
+          // A client made for MQTT 5 connects at 3.1.1 too (not the other
+          // way round): "auto" needs both. The URI is the first broker's;
+          // every attempt names its broker in the connect options.
           client_(std::make_unique<mqtt::async_client>(
               options_.broker_url, options_.client_id,
-              mqtt::create_options(options_.mqtt_version, static_cast<int>(options_.outbox.max_in_flight) + 16), nullptr)),
+              mqtt::create_options(options_.mqtt_version == 0 ? MQTTVERSION_5 : options_.mqtt_version,
+                                   static_cast<int>(options_.outbox.max_in_flight) + 16),
+              nullptr)),
           outbox_(
               options_.outbox,
               [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(m, attempt); }, logger_),
-          watchdog_(transport_detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {}
+          watchdog_(transport_detail::ack_limit(options_.ack_timeout, options_.keep_alive)) {
+        link_.brokers(brokers_.size());
+    }
 
     ~MqttTransport() override {
         stop(milliseconds(0));
@@ -176,7 +184,8 @@ private:
     // Thread: paho callback thread.
     void on_connected() {
         if (options_.tcp_nodelay) {
-            const int nodelay = transport_detail::apply_tcp_nodelay_to_peer(host_, port_);
+            const transport_detail::BrokerAddress broker = current_broker();
+            const int nodelay = transport_detail::apply_tcp_nodelay_to_peer(broker.host, broker.port);
             link_.nodelay_sockets(nodelay);
             if (nodelay == 0) logger_.warn("mqtt: could not find the broker socket to set TCP_NODELAY");
         }
@@ -186,10 +195,10 @@ private:
             watchdog_.connected(transport_detail::AckWatchdog::Clock::now());
         }
         link_.connected();
-        link_.set_state(LinkState::connected, options_.broker_url, on_state_);
+        link_.set_state(LinkState::connected, link_.broker(), on_state_);
         // MQTT 5: the supervisor opens the outbox once it has read the
         // broker's Receive Maximum from the CONNACK (see supervise()).
-        if (options_.mqtt_version < 5) outbox_.link_up();
+        if (protocol_ < 5) outbox_.link_up();
     }
 
     // Thread: paho callback thread.
@@ -233,16 +242,20 @@ private:
         session_established_ = true;
     }
 
-    mqtt::connect_options connect_options() const {
+    // One attempt's options: to `url` only (paho would try every broker of
+    // a list in one attempt, without our back-off and always from the
+    // first), at the protocol level `protocol`.
+    mqtt::connect_options connect_options(const std::string& url, int protocol) const {
         mqtt::connect_options_builder builder;
-        builder.mqtt_version(options_.mqtt_version >= 5 ? MQTTVERSION_5 : MQTTVERSION_3_1_1);
+        builder.servers(mqtt::string_collection::create(std::vector<std::string>{url}));
+        builder.mqtt_version(protocol >= 5 ? MQTTVERSION_5 : MQTTVERSION_3_1_1);
         builder.keep_alive_interval(options_.keep_alive)
             .connect_timeout(options_.connect_timeout)
             .automatic_reconnect(false)  // we reconnect ourselves, with our backoff
             // paho holds QoS>0 messages back beyond its own window while QoS 0
             // ones pass: keep its window at least ours so order is preserved.
             .max_inflight(static_cast<int>(options_.outbox.max_in_flight));
-        if (options_.mqtt_version >= 5) builder.clean_start(options_.clean_session);
+        if (protocol >= 5) builder.clean_start(options_.clean_session);
         else builder.clean_session(options_.clean_session);
         if (!options_.username.empty()) builder.user_name(options_.username).password(options_.password);
         if (options_.last_will) {
@@ -262,10 +275,37 @@ private:
         return builder.finalize();
     }
 
+    // paho C 1.3 reports a connection that failed after the CONNECT was
+    // written and before a CONNACK came, and only that, as this failure; a
+    // broker that is down or unreachable is "TCP/TLS connect failure" (the
+    // stand-in of tests/support/mqtt5_refusing_broker.hpp and a closed port
+    // show both), so "auto" does not fall back for a broker that is merely
+    // down (tested: "a broker that is down is not taken for one that refuses 5").
+    static bool closed_without_connack(const mqtt::exception& e) {
+        return e.get_return_code() == MQTTASYNC_FAILURE && e.get_message() == "TCP connect completion failure";
+    }
+
+    // Thread: supervisor. Whether a failed MQTT 5 attempt was the broker
+    // refusing the level: an "unsupported protocol version" CONNACK (MQTT 5
+    // 3.2.2.2 0x84; 3.1.1 3.2.2.3 code 1 from a broker that answers in 3.1.1),
+    // or the connection closed after the CONNECT without a CONNACK (how
+    // RabbitMQ 3.10 refuses 5, docs/scaling.md).
+    static bool protocol_refused(const mqtt::exception& e) {
+        const int rc = e.get_return_code();
+        if (rc == 1 || rc == 0x84 || e.get_reason_code() == 0x84) return true;
+        return closed_without_connack(e);
+    }
+
     // Thread: supervisor. Names the cause of a failed attempt: the broker's
     // CONNACK code (3.1.1) or reason code (5) when it answered, else for TLS
-    // what a handshake of our own says (tls_check.hpp).
+    // what a handshake of our own says (tls_check.hpp). With mqtt_version
+    // "auto", a refused MQTT 5 is followed by 3.1.1 to the same broker.
     void connect_failed(const mqtt::exception& e, milliseconds delay) {
+        if (options_.mqtt_version == 0 && !protocol_settled_ && protocol_ == 5 && protocol_refused(e)) {
+            protocol_ = 4;
+            fell_back_ = true;
+            return connect_failed(fmt::format("the broker refused MQTT 5 ({}); trying MQTT 3.1.1", e.what()), false, delay);
+        }
         const int rc = e.get_return_code();
         // Over MQTT 5 paho reports the CONNACK reason code as the return
         // code ("MQTT error [135]"), over 3.1.1 the 3.1.1 code.
@@ -278,15 +318,40 @@ private:
         if (rc == 2 || reason == 0x85) return connect_failed("the broker refused the client id", true, delay);
 #if NCLINK_WITH_TLS
         if (options_.tls) {
+            const transport_detail::BrokerAddress broker = current_broker();
             if (auto problem = transport_detail::tls_file_problem(*options_.tls)) return connect_failed(*problem, true, delay);
-            if (auto problem = transport_detail::tls_handshake_problem(host_, port_, *options_.tls, options_.connect_timeout))
+            if (auto problem =
+                    transport_detail::tls_handshake_problem(broker.host, broker.port, *options_.tls, options_.connect_timeout))
                 return connect_failed(*problem, true, delay);
         }
 #endif
         connect_failed(e.what(), false, delay);
     }
 
-    void connect_failed(const std::string& why, bool refused, milliseconds delay) { link_.attempt_failed(why, refused, delay); }
+    // Thread: supervisor. The attempt to the current broker failed: the
+    // next one goes to the next broker of the failover list (the same one
+    // when the list has one, or after a protocol fall-back).
+    void connect_failed(const std::string& why, bool refused, milliseconds delay) {
+        std::string next;
+        if (!std::exchange(fell_back_, false)) {
+            std::lock_guard<std::mutex> lock(brokers_mutex_);
+            if (brokers_.advance()) {
+                next = brokers_.current().url;
+                protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+            }
+            // A paho client that has connected at 3.1.1 refuses to connect at
+            // 5 from then on ("Client created for another version of MQTT",
+            // before any byte is sent): after a 3.1.1 connection, "auto"
+            // asks every broker for 3.1.1.
+            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = spoke_311_ ? 4 : 5;
+        }
+        link_.attempt_failed(why, refused, delay, next);
+    }
+
+    transport_detail::BrokerAddress current_broker() const {
+        std::lock_guard<std::mutex> lock(brokers_mutex_);
+        return brokers_.current();
+    }
 
     // Thread: supervisor. Whether the link is up but has acknowledged none of
     // the messages in flight for the watchdog's limit (transport/
@@ -331,28 +396,44 @@ private:
     // whenever the link is lost (or found stalled), until stop().
     void supervise() {
         milliseconds delay = options_.reconnect_min;
-        const auto opts = connect_options();
         const auto check_period = ack_check_period();
+        bool was_up = false;  // the link was up: it was lost (or dropped as stalled)
         std::unique_lock<std::mutex> lock(mutex_);
         while (!stopping_) {
             if (link_.state() == LinkState::disconnected) {
+                // A lost link waits its back-off before the first attempt
+                // too, as the libmosquitto transport does: jittered, so the
+                // terminals one broker restart dropped do not come back in
+                // lockstep; and paho fails a connect issued while it is still
+                // closing the lost socket ("socket error"), which would move
+                // a failover list on from a broker that is still there.
+                if (std::exchange(was_up, false) &&
+                    wake_.wait_for(lock, transport_detail::jittered(delay, rng_), [this] { return stopping_; }))
+                    continue;
                 const milliseconds retry = transport_detail::jittered(delay, rng_);
                 lock.unlock();
-                link_.set_state(LinkState::connecting, options_.broker_url, on_state_);
+                const std::string url = current_broker().url;
+                const int protocol = protocol_;
+                link_.trying(url);
+                link_.set_state(LinkState::connecting, url, on_state_);
                 bool ok = false;
                 std::optional<std::size_t> receive_maximum;
                 try {
-                    auto token = client_->connect(opts);
+                    auto token = client_->connect(connect_options(url, protocol));
                     ok = token->wait_for(options_.connect_timeout + milliseconds(500));
                     if (!ok)
                         connect_failed(fmt::format("no answer within {} ms", options_.connect_timeout.count()), false, retry);
-                    if (ok && options_.mqtt_version >= 5) receive_maximum = broker_receive_maximum(*token);
+                    if (ok && protocol >= 5) receive_maximum = broker_receive_maximum(*token);
                     if (ok && !options_.clean_session) check_session(*token);
                 } catch (const mqtt::exception& e) {
                     connect_failed(e, retry);
                 }
                 ok = ok && client_->is_connected();  // paho call: before taking mutex_
-                if (ok && options_.mqtt_version >= 5) {
+                if (ok && options_.mqtt_version == 0 && !protocol_settled_)
+                    logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", url, protocol >= 5 ? "5" : "3.1.1");
+                if (ok) protocol_settled_ = true;
+                if (ok && protocol < 5) spoke_311_ = true;
+                if (ok && protocol >= 5) {
                     // paho keeps QoS 1 messages beyond the broker's Receive
                     // Maximum in its own queue and sends them only when woken
                     // (a new publish, or once a second): more in flight than
@@ -375,6 +456,7 @@ private:
                     continue;
                 }
                 delay = options_.reconnect_min;
+                was_up = true;
             }
             const auto lost = [this] { return stopping_ || link_.state() == LinkState::disconnected; };
             if (!check_period) {
@@ -391,8 +473,8 @@ private:
     std::mt19937 rng_{std::random_device{}()};  // supervisor thread only: reconnect jitter
     const MqttOptions options_;
     const Logger logger_;
-    const std::string host_;
-    const int port_;
+    mutable std::mutex brokers_mutex_;  // brokers_: moved on by the supervisor, read on paho's thread too
+    transport_detail::BrokerRotation brokers_;
     transport_detail::LinkRecord link_;
     std::unique_ptr<mqtt::async_client> client_;  // reset first in the destructor (see there)
     transport_detail::Outbox outbox_;
@@ -407,6 +489,13 @@ private:
     std::thread supervisor_;
 
     bool session_established_ = false;  // supervisor only: a connection has had a session
+    /// The protocol level of the next CONNECT: mqtt_version, or for 0
+    /// ("auto") 5 until a broker refuses it (connect_failed()). Written by
+    /// the supervisor, read on paho's thread (on_connected()).
+    std::atomic<int> protocol_{options_.mqtt_version == 0 ? 5 : options_.mqtt_version};
+    bool protocol_settled_ = false;  ///< supervisor only: a CONNACK accepted protocol_ (from this broker)
+    bool fell_back_ = false;         ///< supervisor only: the next attempt stays on the broker at 3.1.1
+    bool spoke_311_ = false;         ///< supervisor only: a connection was made at 3.1.1 (see connect_failed())
 
     std::mutex watchdog_mutex_;  // watchdog_: progress on paho's thread, checks on the supervisor
     transport_detail::AckWatchdog watchdog_;
@@ -416,14 +505,13 @@ private:
 
 Result<std::unique_ptr<Transport>> make_paho_transport(MqttOptions options, Logger logger) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
-    std::string host, scheme;
-    int port = 0;
-    if (!transport_detail::parse_broker_url(options.broker_url, host, port, scheme))
-        return check_broker_url(options.broker_url).error();
+    auto brokers = transport_detail::broker_list(options.broker_url, options.failover_urls);
+    if (!brokers) return std::move(brokers).error();
+    const std::string& scheme = brokers.value().front().scheme;
     if ((scheme == "ssl" || scheme == "mqtts" || scheme == "wss") && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
     try {
-        return std::unique_ptr<Transport>(new MqttTransport(std::move(options), std::move(logger), host, port));
+        return std::unique_ptr<Transport>(new MqttTransport(std::move(options), std::move(logger), std::move(brokers).value()));
     } catch (const mqtt::exception& e) {
         return make_error(ErrorCode::value_type, fmt::format("MQTT client: {}", e.what()));
     }

@@ -1,5 +1,9 @@
 #include "transport/broker_config.hpp"
 
+#include "transport/broker_list.hpp"
+
+#include <fmt/format.h>
+
 namespace nclink::transport_detail {
 
 void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOptions>& tls) {
@@ -25,6 +29,34 @@ Result<void> read_tls(core_detail::ConfigReader& broker, std::optional<MqttTlsOp
     return ok_result();
 }
 
+namespace {
+
+// "failover": an array of broker URLs or "host:port" (MqttOptions::
+// failover_urls). A bad entry is named by its index and points at itself.
+Result<void> read_failover(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& s) {
+    const Json* list = broker.object("failover");
+    if (!list) return ok_result();
+    const auto must = [&] { return broker.fail(ErrorCode::value_type, "failover", "must be an array of broker URLs"); };
+    if (!list->is_array()) return must();
+    std::vector<std::string> urls;
+    for (const Json& entry : *list) {
+        if (!entry.is_string()) return must();
+        urls.push_back(entry.get<std::string>());
+    }
+    for (std::size_t i = 0; i < urls.size(); ++i) {
+        if (auto problem = failover_entry_problem(s.broker_url, urls, i)) {
+            Error e =
+                make_error(ErrorCode::value_type, fmt::format("configuration: {}failover[{}]: {}", broker.where(), i, *problem));
+            e.pointer = core_detail::pointer_append(core_detail::pointer_append(broker.pointer(), "failover"), std::to_string(i));
+            return e;
+        }
+    }
+    s.failover_urls = std::move(urls);
+    return ok_result();
+}
+
+}  // namespace
+
 Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& s) {
     NCLINK_TRY(broker.str("url", s.broker_url));
     NCLINK_TRY(broker.str("client_id", s.client_id));
@@ -44,6 +76,7 @@ Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_d
     }
     NCLINK_TRY(broker.duration("keep_alive_s", s.keep_alive));
     NCLINK_TRY(read_tls(broker, s.tls));
+    NCLINK_TRY(read_failover(broker, s));  // last: the "valid keys" list keeps its order
     return ok_result();
 }
 

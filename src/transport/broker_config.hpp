@@ -1,5 +1,6 @@
 // The broker section every configuration file has (adapter, agent, bridge,
-// gateway): url, client id, credentials, MQTT version, keep-alive and TLS.
+// gateway): url, client id, credentials, MQTT version, keep-alive, TLS and
+// the brokers to fail over to.
 #pragma once
 
 #include "core/config_common.hpp"
@@ -20,7 +21,7 @@ void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOpti
 Result<void> read_tls(core_detail::ConfigReader& broker, std::optional<MqttTlsOptions>& tls);
 
 /// The keys every broker section has (url, client_id, username, password,
-/// mqtt_version, keep_alive_s, tls) into `settings`; the caller reads its own
+/// mqtt_version, keep_alive_s, tls, failover) into `settings`; the caller reads its own
 /// extra keys, then calls broker.no_unknown_keys().
 Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& settings);
 

@@ -10,6 +10,7 @@ std::vector<std::string> broker_changes(const BrokerSettings& was, const BrokerS
         if (!same) out.emplace_back(name);
     };
     key(was.broker_url == now.broker_url, "url");
+    key(was.failover_urls == now.failover_urls, "failover");
     key(was.client_id == now.client_id, "client_id");
     key(was.username == now.username, "username");
     key(was.password == now.password, "password");

@@ -18,6 +18,7 @@ namespace nclink::transport_detail {
 
 struct BrokerSettings {
     std::string broker_url = "tcp://127.0.0.1:1883";  ///< "url"
+    std::vector<std::string> failover_urls;           ///< "failover"
     std::string client_id;                            ///< "client_id"
     std::string username;                             ///< "username"
     std::string password;                             ///< "password"
@@ -44,7 +45,7 @@ inline bool operator!=(const BrokerSettings& a, const BrokerSettings& b) { retur
 
 /// What differs between `was` and `now`, each named by its key in the broker
 /// section of a configuration file, in the order the file documents them:
-/// "url", "client_id", "username", "password", "tls" (TLS added or removed)
+/// "url", "failover", "client_id", "username", "password", "tls" (TLS added or removed)
 /// or "tls.ca_file", "tls.cert_file", "tls.key_file", "tls.key_password",
 /// "tls.verify" (TLS kept, a file or check changed), "mqtt_version",
 /// "keep_alive_s", "clean_session". Empty when they are equal.
@@ -69,6 +70,7 @@ template <class Config>
 BrokerSettings BrokerSettings::of(const Config& c) {
     BrokerSettings s;
     s.broker_url = c.broker_url;
+    s.failover_urls = c.failover_urls;
     s.client_id = c.client_id;
     s.username = c.username;
     s.password = c.password;
@@ -82,6 +84,7 @@ BrokerSettings BrokerSettings::of(const Config& c) {
 template <class Target>
 void BrokerSettings::apply_to(Target& t) const {
     t.broker_url = broker_url;
+    t.failover_urls = failover_urls;
     t.client_id = client_id;
     t.username = username;
     t.password = password;

@@ -2,6 +2,7 @@
 
 #include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
+#include "transport/broker_list.hpp"
 #include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
 #include "transport/outbox.hpp"
@@ -28,6 +29,7 @@
 #include <shared_mutex>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 namespace nclink::transport_detail {
 namespace {
@@ -51,15 +53,19 @@ void init_library_once() {
 // library must not also replay its own copy (a duplicate, out of order).
 class MosquittoTransport final : public Transport, private LoopMember {
 public:
-    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop, core_detail::PollHost* work)
+    MosquittoTransport(MqttOptions options, Logger logger, std::shared_ptr<MqttLoop> loop, core_detail::PollHost* work,
+                       std::vector<BrokerAddress> brokers)
         : options_(std::move(options)),
           logger_(std::move(logger)),
           loop_(std::move(loop)),
           link_(logger_, options_.broker_url, options_.client_id),
+          brokers_(std::move(brokers)),
           outbox_(
               options_.outbox,
               [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work),
-          watchdog_(ack_limit(options_)) {}
+          watchdog_(ack_limit(options_)) {
+        link_.brokers(brokers_.size());
+    }
 
     ~MosquittoTransport() override {
         stop(milliseconds(0));
@@ -181,19 +187,33 @@ private:
 
     void set_state(LinkState next, std::string_view detail) { link_.set_state(next, detail, on_state_); }
 
-    // mqtt_version 0 ("auto"): until a CONNACK settles it, an attempt the
-    // broker refused for its protocol level (or closed without answering)
-    // is followed by one at the other level, 5 first. Once connected the
-    // level is kept for every reconnection. True when it switched.
+    // mqtt_version 0 ("auto"): until a CONNACK settles it, an MQTT 5
+    // attempt the broker refused for its protocol level (or closed without
+    // answering) is followed by a 3.1.1 one to the same broker. Once
+    // connected the level is kept for every reconnection to that broker.
+    // True when it fell back (connect_failed() then stays on the broker).
     bool try_other_protocol() {
-        if (options_.mqtt_version != 0 || protocol_settled_) return false;
-        protocol_ = protocol_ >= 5 ? 4 : 5;
+        if (options_.mqtt_version != 0 || protocol_settled_ || protocol_ != 5) return false;
+        protocol_ = 4;
+        fell_back_ = true;
         return true;
     }
 
+    // Loop thread: the attempt to brokers_.current() failed. The next one
+    // goes to the next broker of the failover list (the same one when the
+    // list has one, or after a protocol fall-back), after the back-off.
     void connect_failed(const std::string& why, bool refused) {
         const milliseconds retry = jittered(delay_, rng_);
-        link_.attempt_failed(why, refused, retry);
+        std::string next;
+        if (!std::exchange(fell_back_, false)) {
+            if (brokers_.advance()) {
+                next = brokers_.current().url;
+                protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+                tls_verdict_.reset();       // that verdict was about the other broker
+            }
+            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = 5;
+        }
+        link_.attempt_failed(why, refused, retry, next);
         retry_at_ = Steady::now() + retry;
         delay_ = std::min(delay_ * 2, options_.reconnect_max);
     }
@@ -239,6 +259,7 @@ private:
     void attempt_failed(int rc) {
 #if NCLINK_WITH_TLS
         if (rc == MOSQ_ERR_TLS && mosq_ != nullptr) {
+            const BrokerAddress tried = brokers_.current();  // connect_failed() may move on
             const auto* ssl = static_cast<const SSL*>(mosquitto_ssl_get(mosq_));
             const long verify = ssl != nullptr ? SSL_get_verify_result(ssl) : X509_V_OK;
             if (verify != X509_V_OK)
@@ -250,11 +271,13 @@ private:
             // libmosquitto freed the handshake before we could read its
             // verdict: a handshake of our own names it, off this thread (it
             // may take up to the connect timeout; the loop serves everyone).
-            if (!diagnosis_.valid())
-                diagnosis_ = std::async(std::launch::async,
-                                        [host = host_, port = port_, tls = *options_.tls, timeout = options_.connect_timeout] {
-                                            return tls_handshake_problem(host, port, tls, timeout);
-                                        });
+            if (!diagnosis_.valid()) {
+                diagnosed_url_ = tried.url;
+                diagnosis_ = std::async(std::launch::async, [host = tried.host, port = tried.port, tls = *options_.tls,
+                                                             timeout = options_.connect_timeout] {
+                    return tls_handshake_problem(host, port, tls, timeout);
+                });
+            }
             return;
         }
 #endif
@@ -270,7 +293,8 @@ private:
         }
 #if NCLINK_WITH_TLS
         if (diagnosis_.valid() && diagnosis_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
-            if (auto problem = diagnosis_.get(); problem && !connected_) {
+            // Only while the attempts still go to the broker it examined.
+            if (auto problem = diagnosis_.get(); problem && !connected_ && diagnosed_url_ == brokers_.current().url) {
                 tls_verdict_ = problem;
                 link_.attempt_named(*problem, true);  // retrying will not help until the configuration changes
             }
@@ -313,7 +337,9 @@ private:
     void begin_connect() {
         destroy_client();
         init_library_once();
-        set_state(LinkState::connecting, options_.broker_url);
+        const BrokerAddress& broker = brokers_.current();
+        link_.trying(broker.url);
+        set_state(LinkState::connecting, broker.url);
         mosquitto* m = mosquitto_new(options_.client_id.c_str(), options_.clean_session, this);
         if (m == nullptr) return connect_failed("libmosquitto could not create a client", false);
         mosquitto_threaded_set(m, true);
@@ -359,7 +385,7 @@ private:
         attempt_deadline_ = Steady::now() + options_.connect_timeout;
         next_misc_ = Steady::now() + std::chrono::seconds(1);
         const int keep_alive = static_cast<int>(effective_keep_alive(options_).count());
-        const int rc = mosquitto_connect_async(m, host_.c_str(), port_, keep_alive);
+        const int rc = mosquitto_connect_async(m, broker.host.c_str(), broker.port, keep_alive);
         if (rc != MOSQ_ERR_SUCCESS) {
             // On loopback the TCP connection, and so the TLS handshake, can fail right here.
             attempt_failed(rc);
@@ -436,7 +462,7 @@ private:
         }
         const bool session_present = (flags & 1) != 0;
         if (options_.mqtt_version == 0 && !protocol_settled_)
-            logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", options_.broker_url, protocol_ >= 5 ? "5" : "3.1.1");
+            logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", brokers_.current().url, protocol_ >= 5 ? "5" : "3.1.1");
         protocol_settled_ = true;
         if (!options_.clean_session) {
             if (session_established_ && !session_present) link_.session_lost();
@@ -449,7 +475,7 @@ private:
         link_.nodelay_sockets(options_.tcp_nodelay ? 1 : 0);
         for (auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(std::move(filters), qos);
         link_.connected();
-        set_state(LinkState::connected, options_.broker_url);
+        set_state(LinkState::connected, brokers_.current().url);
         outbox_.link_up();
     }
 
@@ -511,16 +537,11 @@ private:
     }
 #endif
 
-    friend Result<std::unique_ptr<Transport>> transport_detail::make_mosquitto_transport(MqttOptions, Logger,
-                                                                                         std::shared_ptr<MqttLoop>,
-                                                                                         core_detail::PollHost*);
-
     const MqttOptions options_;
     const Logger logger_;
     std::shared_ptr<MqttLoop> loop_;
     LinkRecord link_;
-    std::string host_;
-    int port_ = 0;
+    BrokerRotation brokers_;  // loop thread only: which broker of the failover list
     Outbox outbox_;
     MessageHandler on_message_;
     LinkStateHandler on_state_;
@@ -555,9 +576,11 @@ private:
     /// ("auto") 5 until the broker refuses it (try_other_protocol()).
     int protocol_ = options_.mqtt_version == 0 ? 5 : options_.mqtt_version;
     bool protocol_settled_ = false;  ///< a CONNACK accepted protocol_
+    bool fell_back_ = false;         ///< try_other_protocol() switched: the next attempt stays on the broker
     std::atomic<bool> connected_{false};
     std::future<std::optional<std::string>> diagnosis_;  // a TLS handshake of our own, under way
     std::optional<std::string> tls_verdict_;             // what it found
+    std::string diagnosed_url_;                          // the broker it examines
 };
 
 }  // namespace
@@ -573,14 +596,15 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
                                                             core_detail::PollHost* work) {
     if (options.client_id.empty()) return make_error(ErrorCode::parameter_missing, "MQTT client id is empty");
     if (!loop) return make_error(ErrorCode::parameter_missing, "MQTT loop missing");
-    std::string host, scheme;
-    int port = 0;
-    if (!parse_broker_url(options.broker_url, host, port, scheme)) return check_broker_url(options.broker_url).error();
-    if (!mosquitto_supports(options.broker_url))
-        return make_error(ErrorCode::value_type,
-                          fmt::format("{}: the MQTT client of libnclink (libmosquitto) speaks tcp:// and ssl:// only; "
-                                      "ws:// and wss:// need the paho transport of libnclink-plant",
-                                      options.broker_url));
+    auto brokers = broker_list(options.broker_url, options.failover_urls);
+    if (!brokers) return std::move(brokers).error();
+    for (const BrokerAddress& broker : brokers.value())
+        if (!mosquitto_supports(broker.url))
+            return make_error(ErrorCode::value_type,
+                              fmt::format("{}: the MQTT client of libnclink (libmosquitto) speaks tcp:// and ssl:// only; "
+                                          "ws:// and wss:// need the paho transport of libnclink-plant",
+                                          broker.url));
+    const std::string& scheme = brokers.value().front().scheme;
     const bool tls = scheme == "ssl" || scheme == "mqtts" || options.tls;
     if (tls && !kWithTls)
         return make_error(ErrorCode::value_type,
@@ -589,10 +613,8 @@ Result<std::unique_ptr<Transport>> make_mosquitto_transport(MqttOptions options,
                                       options.broker_url));
     if (tls && !options.tls) options.tls = MqttTlsOptions{};
     if (options.outbox.max_in_flight == 0) options.outbox.max_in_flight = 1;
-    auto t = std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop), work);
-    t->host_ = host;
-    t->port_ = port;
-    return std::unique_ptr<Transport>(std::move(t));
+    return std::unique_ptr<Transport>(std::make_unique<MosquittoTransport>(std::move(options), std::move(logger), std::move(loop),
+                                                                           work, std::move(brokers).value()));
 }
 
 }  // namespace nclink::transport_detail

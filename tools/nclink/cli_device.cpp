@@ -92,6 +92,7 @@ static std::string broker_password(const CliOptions& options) {
 std::unique_ptr<Client> connect_client(const CliOptions& options, const std::function<void(Client&)>& before_start) {
     MqttOptions mqtt;
     mqtt.broker_url = options.broker;
+    mqtt.failover_urls = options.failover;
     mqtt.client_id = options.client_id;
     mqtt.clean_session = !options.persistent;
     mqtt.connect_timeout = options.timeout;

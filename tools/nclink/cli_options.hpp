@@ -19,6 +19,7 @@ namespace nclink::cli {
 #define NCLINK_CLI_GLOBAL_OPTIONS                                                                    \
     "global options:\n"                                                                              \
     "  --broker URL      MQTT broker (default tcp://127.0.0.1:1883)\n"                               \
+    "  --failover URL    another broker to fail over to (host:port or a URL; repeat for more)\n"     \
     "  --device GUID     the adapter's terminal id (dev_uuid); required\n"                           \
     "  --client-id ID    this application's terminal id (default nclink-cli-<pid>)\n"                \
     "  --timeout MS      per-request timeout and broker connect timeout (default 2000)\n"            \
@@ -35,6 +36,7 @@ namespace nclink::cli {
 
 struct CliOptions {
     std::string broker = "tcp://127.0.0.1:1883";
+    std::vector<std::string> failover;  ///< --failover, in order (MqttOptions::failover_urls)
     std::string device;
     std::string client_id;  ///< empty = nclink-cli-<pid>, filled in by the caller
     std::chrono::milliseconds timeout{2000};
@@ -72,8 +74,8 @@ inline std::uint64_t parse_count(std::string_view option, std::string_view text,
 /// after `--` is positional). Throws UsageError on unknown options and
 /// missing or malformed values.
 inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {}) {
-    static const std::set<std::string> global_valued = {"--broker",        "--device",  "--client-id", "--timeout", "--username",
-                                                        "--password-file", "--ca-file", "--cert",      "--key"};
+    static const std::set<std::string> global_valued = {"--broker",   "--failover",      "--device",  "--client-id", "--timeout",
+                                                        "--username", "--password-file", "--ca-file", "--cert",      "--key"};
     CliOptions out;
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -107,6 +109,9 @@ inline CliOptions parse_cli_options(const Args& args, const OptionSpec& spec = {
             if (name == "--broker") {
                 if (value.empty()) throw UsageError{"--broker needs a URL"};
                 out.broker = value;
+            } else if (name == "--failover") {
+                if (value.empty()) throw UsageError{"--failover needs a broker (host:port or a URL)"};
+                out.failover.push_back(value);
             } else if (name == "--device") {
                 out.device = value;
             } else if (name == "--client-id") {

@@ -17,13 +17,15 @@ std::set<std::string> schema_keys(const ConfigKind& kind) {
     return keys;
 }
 
-// Removes the member `pointer` names; false when it names no object member.
+// Removes the member `pointer` names (for an entry of a list, such as one of
+// broker.failover: the whole list); false when it names no object member.
 bool set_aside(Json& document, const std::string& pointer) {
     if (pointer.empty()) return false;
     const auto slash = pointer.rfind('/');
     try {
         const Json::json_pointer parent(pointer.substr(0, slash));
         Json& container = document.at(parent);
+        if (container.is_array()) return set_aside(document, pointer.substr(0, slash));
         if (!container.is_object()) return false;
         const std::string key = Json::json_pointer(pointer).back();
         return container.erase(key) == 1;

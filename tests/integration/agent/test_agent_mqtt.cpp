@@ -8,6 +8,7 @@
 
 #include "support/inbox.hpp"
 #include "support/mosquitto_broker.hpp"
+#include "support/mqtt5_refusing_broker.hpp"
 #include "support/rig.hpp"
 #include "support/wait.hpp"
 #include "support/adapter_fixture.hpp"  // FakeDriver, scratch_dir, test_model_path
@@ -223,6 +224,56 @@ TEST_CASE("two agents on shared subscriptions answer once") {
             }));
         }
     }
+}
+
+// RabbitMQ 3.10 closes an MQTT 5 CONNECT without a CONNACK (docs/scaling.md):
+// here a proxy in front of mosquitto does the same and passes 3.1.1 through.
+TEST_CASE("an agent with mqtt_version auto behind a broker that refuses MQTT 5 falls back to 3.1.1 and serves") {
+    MosquittoBroker broker;
+    Mqtt5RefusingBroker refusing(broker.port());
+    AgentConfig c = agent_config(broker, "agent-auto");
+    c.broker_url = refusing.url();
+    c.mqtt_version = 0;  // "auto"
+    c.share_group = "";  // plain subscriptions, as on RabbitMQ
+    auto agent = start_agent(c);
+    CHECK(refusing.levels() == std::vector<int>{5, 4});
+
+    auto driver = std::make_shared<FakeDriver>();
+    auto adapter = start_adapter(broker, driver);
+    REQUIRE(eventually([&] { return adapter->stats().registered; }));
+    auto client = start_client(broker, "mes-auto");
+    auto registered = client->register_terminal();
+    REQUIRE(registered.ok());
+    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
+    auto list = client->discover();
+    REQUIRE(list.ok());
+    REQUIRE(list->size() == 1);
+    CHECK((*list)[0].guid == "test-dev");
+
+    // A reconnection keeps 3.1.1 at once.
+    refusing.drop_clients();
+    REQUIRE(eventually([&] { return agent->stats().transport.connects >= 2 && refusing.levels().size() == 3; }));
+    CHECK(refusing.levels() == std::vector<int>{5, 4, 4});
+    client->stop();
+    adapter->stop();
+    agent->stop();
+}
+
+TEST_CASE("an agent with mqtt_version auto speaks MQTT 5 to a broker that takes it, shared subscriptions and all") {
+    MosquittoBroker broker;
+    Mqtt5RefusingBroker recording(broker.port());
+    recording.accept_mqtt5(true);
+    AgentConfig c = agent_config(broker, "agent-auto-5");
+    c.broker_url = recording.url();
+    c.mqtt_version = 0;
+    auto agent = start_agent(c);
+    CHECK(recording.levels() == std::vector<int>{5});
+    auto client = start_client(broker, "mes-auto-5");
+    auto registered = client->register_terminal();
+    REQUIRE(registered.ok());
+    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
+    client->stop();
+    agent->stop();
 }
 
 TEST_CASE("broker ACL from the agent's configuration keeps denied requests from the adapter") {

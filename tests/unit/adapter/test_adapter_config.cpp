@@ -192,3 +192,43 @@ TEST_CASE("the metrics section sets the HTTP limits of nclink-sim --metrics, and
         CHECK(r.error().message.find("metrics") != std::string::npos);
     }
 }
+
+TEST_CASE("the broker section's failover list is read, and a bad entry is named where it is in the file") {
+    auto listed = adapter_config_from_json(
+        Json{{"broker", {{"url", "tcp://broker-1.plant:1883"}, {"failover", {"broker-2.plant:1883", "mqtt://broker-3.plant"}}}}});
+    INFO((listed.ok() ? "" : listed.error().describe()));
+    REQUIRE(listed.ok());
+    CHECK(listed->failover_urls == std::vector<std::string>{"broker-2.plant:1883", "mqtt://broker-3.plant"});
+    CHECK(AdapterConfig{}.failover_urls.empty());  // default: no failover
+
+    const auto dir = std::filesystem::temp_directory_path() / "nclink-config-failover";
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "adapter.json";
+    std::ofstream(file) << R"({
+  "broker": {
+    "url": "ssl://broker-1.plant:8883",
+    "failover": ["broker-2.plant:8883",
+                 "tcp://broker-3.plant:1883"]
+  }
+})";
+    auto mixed = load_adapter_config(file.string());
+    REQUIRE_FALSE(mixed.ok());
+    CHECK(mixed.error().code == ErrorCode::value_type);
+    CHECK(mixed.error().pointer == "/broker/failover/1");
+    CHECK_THAT(mixed.error().message,
+               Catch::StartsWith(file.string() + ":5:18: configuration: broker.failover[1]: 'tcp://broker-3.plant:1883' does "
+                                                 "not use TLS and url 'ssl://broker-1.plant:8883' does"));
+    std::filesystem::remove_all(dir);
+
+    auto not_list = adapter_config_from_json(Json{{"broker", {{"failover", "tcp://b:1883"}}}});
+    REQUIRE_FALSE(not_list.ok());
+    CHECK(not_list.error().message == "configuration: broker.failover must be an array of broker URLs");
+    CHECK(not_list.error().pointer == "/broker/failover");
+    CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"failover", {1883}}}}}).ok());
+    auto bad = adapter_config_from_json(Json{{"broker", {{"failover", {"b:1884", "b:x"}}}}});
+    REQUIRE_FALSE(bad.ok());
+    CHECK_THAT(bad.error().message, Catch::StartsWith("configuration: broker.failover[1]: unusable broker URL 'tcp://b:x'"));
+    auto same = adapter_config_from_json(Json{{"broker", {{"failover", {"127.0.0.1:1883"}}}}});
+    REQUIRE_FALSE(same.ok());
+    CHECK_THAT(same.error().message, Catch::Contains("names the broker of url 'tcp://127.0.0.1:1883' again"));
+}

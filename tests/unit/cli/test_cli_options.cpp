@@ -21,6 +21,14 @@ TEST_CASE("cli: defaults and global options in both spellings") {
     CHECK(o.timeout == std::chrono::milliseconds(150));
     CHECK(o.json);
     CHECK(o.positionals == std::vector<std::string>{"x=1", "y"});
+    CHECK(o.failover.empty());
+}
+
+TEST_CASE("cli: --failover adds brokers to fail over to, in order") {
+    const auto o = parse_cli_options({"--broker", "tcp://a:1883", "--failover", "b:1883", "--failover=tcp://c:1884"});
+    CHECK(o.failover == std::vector<std::string>{"b:1883", "tcp://c:1884"});
+    CHECK_THROWS_AS(parse_cli_options({"--failover="}), UsageError);
+    CHECK_THROWS_AS(parse_cli_options({"--failover"}), UsageError);
 }
 
 TEST_CASE("cli: command-specific options and positionals after --") {

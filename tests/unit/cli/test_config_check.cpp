@@ -39,6 +39,22 @@ TEST_CASE("config check: every problem is listed in file order with line column 
     CHECK_FALSE(check.ok());
 }
 
+TEST_CASE("config check: a bad failover entry is located at the entry, and the problems after it are listed too") {
+    const std::string text =
+        "{\n"
+        "  \"broker\": {\"url\": \"tcp://a.plant:1883\",\n"
+        "             \"failover\": [\"b.plant:1883\", \"b.plant:x\"]},\n"
+        "  \"modle\": \"m.json\"\n"
+        "}\n";
+    const ConfigCheck check = check_config_text(text, find_config_kind("adapter"));
+    REQUIRE(check.problems.size() == 2);
+    CHECK(check.problems[0].pointer == "/broker/failover/1");
+    CHECK(where(check.problems[0]) == "3:43");
+    CHECK(check.problems[0].code == ErrorCode::value_type);
+    CHECK_THAT(check.problems[0].message, Catch::StartsWith("broker.failover[1]: unusable broker URL 'tcp://b.plant:x'"));
+    CHECK(check.problems[1].pointer == "/modle");
+}
+
 TEST_CASE("config check: malformed JSON is located at the offending character") {
     const ConfigCheck check = check_config_text("{\n  \"broker\": {\"url\": \"x\",},\n  \"model\": \"m\"\n}\n", nullptr);
     REQUIRE(check.problems.size() == 1);

@@ -36,6 +36,7 @@ TEST_CASE("broker settings: every field counts for equality and is named by its 
     };
     const Case cases[] = {
         {"url", [](BrokerSettings& s) { s.broker_url = "ssl://plant:8883"; }},
+        {"failover", [](BrokerSettings& s) { s.failover_urls = {"ssl://plant-2:8883"}; }},
         {"client_id", [](BrokerSettings& s) { s.client_id = "mill-7"; }},
         {"username", [](BrokerSettings& s) { s.username = "mes"; }},
         {"password", [](BrokerSettings& s) { s.password = "secret"; }},
@@ -81,6 +82,13 @@ TEST_CASE("broker settings: a reload reports broker keys with every TLS change f
     BrokerSettings plain = was;
     plain.tls.reset();
     CHECK(broker_reload_keys(was, plain) == std::vector<std::string>{"broker.tls"});
+    // The failover list is ordered: the same brokers in another order are another list.
+    BrokerSettings listed = was;
+    listed.failover_urls = {"b:1883", "c:1883"};
+    CHECK(broker_reload_keys(was, listed) == std::vector<std::string>{"broker.failover"});
+    BrokerSettings reordered = listed;
+    reordered.failover_urls = {"c:1883", "b:1883"};
+    CHECK(broker_reload_keys(listed, reordered) == std::vector<std::string>{"broker.failover"});
 }
 
 TEST_CASE("broker settings: read from a configuration and applied to the transport options") {
@@ -93,8 +101,10 @@ TEST_CASE("broker settings: read from a configuration and applied to the transpo
     adapter.mqtt_version = 5;
     adapter.keep_alive = 7s;
     adapter.clean_session = false;
+    adapter.failover_urls = {"plant-2:8883", "ssl://plant-3:8883"};
     const BrokerSettings s = BrokerSettings::of(adapter);
     CHECK(s.broker_url == "ssl://plant:8883");
+    CHECK(s.failover_urls == std::vector<std::string>{"plant-2:8883", "ssl://plant-3:8883"});
     CHECK(s.client_id == "mill-1");
     CHECK(s.clean_session == false);
 
@@ -102,6 +112,7 @@ TEST_CASE("broker settings: read from a configuration and applied to the transpo
     options.connect_timeout = 1234ms;
     s.apply_to(options);
     CHECK(BrokerSettings::of(options) == s);
+    CHECK(options.failover_urls == s.failover_urls);
     CHECK(options.connect_timeout == 1234ms);  // not a broker setting: left alone
 
     // A configuration without clean_session (the agent's) keeps the default.
