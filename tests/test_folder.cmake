@@ -14,14 +14,16 @@
 #     [DEFINES_FOR_ALSO_COMPILED def...]
 #     [DEFINES def...]           compile definitions of the whole binary
 #     [INCLUDES dir...]          include directories of the whole binary
-#     [NAME exe] [PREFIX text] [LABELS label...] [TIMEOUT seconds])
+#     [NAME exe] [PREFIX text] [LABELS label...] [TIMEOUT seconds]
+#     [RESOURCE_LOCK name])      tests holding the same lock never run at once
+#                                (ctest -j): e.g. the RabbitMQ clusters
 #
 # Defaults follow the folder: tests/unit/<m>/ -> test_<m>, each TEST_CASE a
 # ctest "<m>:<name>" labelled "unit;<m>"; tests/integration/<m>/ -> itest_<m>,
 # "<m> (integration):<name>" labelled "integration;<m>"; timeout 300 s. (The
 # prefix ends in a space; Catch2's discovery script drops it.)
 function(nclink_test_folder)
-  cmake_parse_arguments(T "" "NAME;PREFIX;TIMEOUT"
+  cmake_parse_arguments(T "" "NAME;PREFIX;TIMEOUT;RESOURCE_LOCK"
                         "NEEDS;LINKS;RUNS;RUNS_IF_BUILT;ALSO_COMPILES;DEFINES_FOR_ALSO_COMPILED;DEFINES;INCLUDES;LABELS" ${ARGN})
   if(T_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "${CMAKE_CURRENT_SOURCE_DIR}: nclink_test_folder: unknown arguments ${T_UNPARSED_ARGUMENTS}")
@@ -101,10 +103,15 @@ function(nclink_test_folder)
     PROPERTIES LABELS "${_labels}" TIMEOUT ${_timeout})
   # catch_discover_tests() hands its PROPERTIES on flattened: of "LABELS
   # unit transport" only the first label stuck, and `ctest -L transport` (or
-  # -L cluster) found nothing. A file ctest reads after the discovered tests
-  # sets every label. (The flattening also leaves TIMEOUT unread, so ctest's
-  # default applies; left as it is until the suite's times are checked.)
+  # -L cluster) found nothing, and TIMEOUT was never read (ctest's default of
+  # 1500 s applied). A file ctest reads after the discovered tests sets every
+  # label, the folder's timeout (the longest test outside the clusters took
+  # 87 s of the default 300 here) and its resource lock.
+  set(_props "LABELS \"${_labels}\" TIMEOUT ${_timeout}")
+  if(T_RESOURCE_LOCK)
+    string(APPEND _props " RESOURCE_LOCK ${T_RESOURCE_LOCK}")
+  endif()
   set(_labels_file ${CMAKE_CURRENT_BINARY_DIR}/${_exe}_labels.cmake)
-  file(WRITE ${_labels_file} "if(${_exe}_TESTS)\n  set_tests_properties(\${${_exe}_TESTS} PROPERTIES LABELS \"${_labels}\")\nendif()\n")
+  file(WRITE ${_labels_file} "if(${_exe}_TESTS)\n  set_tests_properties(\${${_exe}_TESTS} PROPERTIES ${_props})\nendif()\n")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${_labels_file})
 endfunction()
