@@ -9,6 +9,7 @@
 
 #include "support/adapter_fixture.hpp"  // test_model_path(), scratch_dir(), FakeDriver
 #include "support/mosquitto_broker.hpp"
+#include "support/patient_query.hpp"
 #include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
@@ -54,21 +55,12 @@ std::unique_ptr<Client> client_on(const std::string& url, std::vector<std::strin
     return client;
 }
 
-// The adapter's answer to a Query of two items, asked until it comes (its
-// SUBSCRIBE may still be on its way after a (re)connection).
+// The adapter's answer to a Query of two items, asked until it comes.
 void query_answered(Client& client) {
-    RequestOptions patient;
-    patient.timeout = 3s;
-    Result<std::vector<QueryResult>> answer = make_error(ErrorCode::unavailable, "not asked yet");
-    REQUIRE(eventually(
-        [&] {
-            answer = client.query("test-dev", {{"pos", std::nullopt}, {"status", std::nullopt}}, patient);
-            return answer.ok();
-        },
-        30s));
-    REQUIRE(answer->size() == 2);
-    REQUIRE((*answer)[0].values);
-    CHECK(*(*answer)[0].values == Json::array({12.5}));
+    const auto answer = patient_query(client);
+    REQUIRE(answer.size() == 2);
+    REQUIRE(answer[0].values);
+    CHECK(*answer[0].values == Json::array({12.5}));
 }
 
 }  // namespace

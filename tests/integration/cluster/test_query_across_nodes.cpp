@@ -7,6 +7,7 @@
 
 #include "cluster_probe.hpp"
 #include "support/adapter_fixture.hpp"  // test_model_path(), scratch_dir(), FakeDriver
+#include "support/patient_query.hpp"
 
 using namespace nclink;
 using namespace nclink::test;
@@ -62,20 +63,12 @@ TEST_CASE("RabbitMQ cluster: an adapter on node 1 answers a Query from a client 
 
     // The adapter's SUBSCRIBE may still be on its way through the cluster:
     // asked again until answered.
-    RequestOptions patient;
-    patient.timeout = 3s;
-    Result<std::vector<QueryResult>> answer = make_error(ErrorCode::unavailable, "not asked yet");
-    REQUIRE(eventually(
-        [&] {
-            answer = client.query("test-dev", {{"pos", std::nullopt}, {"status", std::nullopt}}, patient);
-            return answer.ok();
-        },
-        30s));
-    REQUIRE(answer->size() == 2);
-    REQUIRE((*answer)[0].values);
-    CHECK(*(*answer)[0].values == Json::array({12.5}));
-    REQUIRE((*answer)[1].values);
-    CHECK(*(*answer)[1].values == Json::array({"running"}));
+    const auto answer = patient_query(client);
+    REQUIRE(answer.size() == 2);
+    REQUIRE(answer[0].values);
+    CHECK(*answer[0].values == Json::array({12.5}));
+    REQUIRE(answer[1].values);
+    CHECK(*answer[1].values == Json::array({"running"}));
 
     client.stop();
     adapter.stop();
