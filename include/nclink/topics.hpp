@@ -83,6 +83,9 @@ struct NCLINK_API ParsedTopic {
 /// is a version-check response; the 3-segment "Probe/Version/Response" is a
 /// version check from a device named "Response".
 NCLINK_API std::optional<ParsedTopic> parse_topic(std::string_view topic);
+/// parse_topic(topic)->kind, without copying the topic's parts: no heap
+/// allocation (a transport classifies every DTU it sends and receives).
+NCLINK_API std::optional<TopicKind> topic_kind(std::string_view topic) noexcept;
 
 /// Builds the topic described by `parsed` (inverse of parse_topic). Parts a
 /// kind does not use are ignored; a kind that needs ex/channel and lacks them

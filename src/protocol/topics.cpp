@@ -151,29 +151,40 @@ bool has_typo_spelling(TopicKind kind) noexcept {
     return first == "Register" || first == "Unregister";
 }
 
-std::optional<ParsedTopic> parse_topic(std::string_view topic) {
-    // Split; at most 6 segments exist in any shape.
-    std::array<std::string_view, 7> seg{};
+namespace {
+
+// A topic split and matched against the shapes, as views into it: what
+// parse_topic() copies into a ParsedTopic and topic_kind() needs no copy of.
+struct MatchedTopic {
+    const Shape* shape = nullptr;
+    Spelling spelling = Spelling::standard;
+    const std::string_view* params = nullptr;  // into `segments`
+    std::size_t param_count = 0;
+    std::array<std::string_view, 7> segments{};  // at most 6 segments exist in any shape
+};
+
+bool match_topic(std::string_view topic, MatchedTopic& out) noexcept {
+    auto& seg = out.segments;
     std::size_t count = 0;
     std::size_t start = 0;
     while (true) {
         const std::size_t slash = topic.find('/', start);
         const std::string_view part = topic.substr(start, slash == std::string_view::npos ? std::string_view::npos : slash - start);
-        if (part.empty() || count == seg.size()) return std::nullopt;
-        if (part.find_first_of(std::string_view("+#\0", 3)) != std::string_view::npos) return std::nullopt;
+        if (part.empty() || count == seg.size()) return false;
+        if (part.find_first_of(std::string_view("+#\0", 3)) != std::string_view::npos) return false;
         seg[count++] = part;
         if (slash == std::string_view::npos) break;
         start = slash + 1;
     }
 
-    Spelling spelling = Spelling::standard;
+    out.spelling = Spelling::standard;
     std::string_view first = seg[0];
     if (first == "Reigster") {
         first = "Register";
-        spelling = Spelling::typo;
+        out.spelling = Spelling::typo;
     } else if (first == "Unreigster") {
         first = "Unregister";
-        spelling = Spelling::typo;
+        out.spelling = Spelling::typo;
     }
 
     for (const auto& shape : kShapes) {
@@ -183,31 +194,48 @@ std::optional<ParsedTopic> parse_topic(std::string_view topic) {
         if (!match) continue;
         const std::size_t params = count - shape.prefix_size;
         if (!param_count_fits(shape.params, params)) continue;
-        const std::string_view* p = seg.data() + shape.prefix_size;
-        ParsedTopic out;
-        out.kind = shape.kind;
-        out.spelling = spelling;
-        switch (shape.params) {
-            case Params::none: break;
-            case Params::one: out.dev = std::string(p[0]); break;
-            case Params::ex_only: out.ex = std::string(p[0]); break;
-            case Params::dev_opt_ex:
-                out.dev = std::string(p[0]);
-                if (params == 2) out.ex = std::string(p[1]);
-                break;
-            case Params::dev_channel:
-                out.dev = std::string(p[0]);
-                out.channel = std::string(p[1]);
-                break;
-            case Params::dev_ex_channel:
-                out.dev = std::string(p[0]);
-                out.ex = std::string(p[1]);
-                out.channel = std::string(p[2]);
-                break;
-        }
-        return out;
+        out.shape = &shape;
+        out.params = seg.data() + shape.prefix_size;
+        out.param_count = params;
+        return true;
     }
-    return std::nullopt;
+    return false;
+}
+
+}  // namespace
+
+std::optional<ParsedTopic> parse_topic(std::string_view topic) {
+    MatchedTopic m;
+    if (!match_topic(topic, m)) return std::nullopt;
+    const std::string_view* p = m.params;
+    ParsedTopic out;
+    out.kind = m.shape->kind;
+    out.spelling = m.spelling;
+    switch (m.shape->params) {
+        case Params::none: break;
+        case Params::one: out.dev = std::string(p[0]); break;
+        case Params::ex_only: out.ex = std::string(p[0]); break;
+        case Params::dev_opt_ex:
+            out.dev = std::string(p[0]);
+            if (m.param_count == 2) out.ex = std::string(p[1]);
+            break;
+        case Params::dev_channel:
+            out.dev = std::string(p[0]);
+            out.channel = std::string(p[1]);
+            break;
+        case Params::dev_ex_channel:
+            out.dev = std::string(p[0]);
+            out.ex = std::string(p[1]);
+            out.channel = std::string(p[2]);
+            break;
+    }
+    return out;
+}
+
+std::optional<TopicKind> topic_kind(std::string_view topic) noexcept {
+    MatchedTopic m;
+    if (!match_topic(topic, m)) return std::nullopt;
+    return m.shape->kind;
 }
 
 std::string build_topic(const ParsedTopic& parsed) {

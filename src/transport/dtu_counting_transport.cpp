@@ -3,11 +3,7 @@
 namespace nclink::transport_detail {
 
 std::size_t DtuCounter::slot(std::string_view topic) noexcept {
-    try {
-        if (auto parsed = parse_topic(topic)) return static_cast<std::size_t>(parsed->kind);
-    } catch (...) {
-        // parse_topic allocates; out of memory is counted as unparsed
-    }
+    if (const auto kind = topic_kind(topic)) return static_cast<std::size_t>(*kind);
     return kTopicKindCount;
 }
 

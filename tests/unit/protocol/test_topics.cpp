@@ -26,6 +26,7 @@ void check_round_trip(const std::string& topic, const ParsedTopic& expected) {
     REQUIRE(p);
     CHECK(*p == expected);
     CHECK(build_topic(*p) == topic);
+    CHECK(topic_kind(topic) == expected.kind);  // the copy-free classification agrees
 }
 
 }  // namespace
@@ -182,8 +183,10 @@ TEST_CASE("malformed topics are rejected") {
                               "Unknown/Request/dev"}) {
         INFO(topic);
         CHECK_FALSE(parse_topic(topic));
+        CHECK_FALSE(topic_kind(topic));
     }
     CHECK_FALSE(parse_topic(std::string_view("Query/Request/d\0v", 17)));
+    CHECK_FALSE(topic_kind(std::string_view("Query/Request/d\0v", 17)));
 }
 
 TEST_CASE("adapter subscriptions cover every request it serves, both spellings") {
