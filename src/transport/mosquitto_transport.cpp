@@ -2,6 +2,7 @@
 
 #include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
+#include "transport/in_flight_ids.hpp"
 #include "transport/broker_list.hpp"
 #include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
@@ -27,8 +28,6 @@
 #include <mutex>
 #include <random>
 #include <shared_mutex>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 
 namespace nclink::transport_detail {
@@ -170,8 +169,7 @@ private:
         bool done = false;
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
-            if (early_acks_.erase(mid) > 0) done = true;
-            else in_flight_[mid] = attempt;
+            done = in_flight_.record(mid, attempt);
         }
         if (done) outbox_.delivered(attempt);
         loop_->wake(this);
@@ -402,7 +400,6 @@ private:
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
             in_flight_.clear();
-            early_acks_.clear();
         }
         if (was_connected) {
             // Unacknowledged messages wait again, in order, for the next connection.
@@ -502,13 +499,9 @@ private:
         std::uint64_t attempt = 0;
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
-            auto found = in_flight_.find(mid);
-            if (found == in_flight_.end()) {
-                early_acks_.insert(mid);  // send() has not recorded it yet
-                return;
-            }
-            attempt = found->second;
-            in_flight_.erase(found);
+            const auto found = in_flight_.confirm(mid);
+            if (!found) return;  // send() has not recorded it yet: it finds the confirmation
+            attempt = *found;
         }
         outbox_.delivered(attempt);
     }
@@ -552,8 +545,9 @@ private:
     mosquitto* mosq_ = nullptr;
 
     std::mutex acks_mutex_;  // message id -> outbox attempt
-    std::unordered_map<int, std::uint64_t> in_flight_;
-    std::unordered_set<int> early_acks_;
+    // Room for the outbox's window up front (at most 256 reserved: a larger
+    // window grows it once).
+    InFlightIds in_flight_{std::min<std::size_t>(options_.outbox.max_in_flight, 256)};
 
     std::mutex mutex_;  // started_, stopping_, closed_
     std::condition_variable closed_cv_;

@@ -62,7 +62,7 @@ void MqttLoop::remove(LoopMember* member) {
     std::unique_lock<std::mutex> lock(mutex_);
     removes_.push_back(member);
     const std::uint64_t ticket = ++removals_asked_;
-    wakes_.erase(member);
+    wakes_.erase(std::remove(wakes_.begin(), wakes_.end(), member), wakes_.end());
     lock.unlock();
     signal();
     lock.lock();
@@ -74,7 +74,7 @@ void MqttLoop::wake(LoopMember* member) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         first = wakes_.empty();
-        wakes_.insert(member);
+        wakes_.push_back(member);  // a repeat is folded on the loop thread
     }
     // One signal per batch: the loop takes every pending wake at once.
     if (first) signal();
@@ -107,9 +107,13 @@ void MqttLoop::take_requests() {
         std::lock_guard<std::mutex> lock(mutex_);
         adds.swap(adds_);
         removes.swap(removes_);
-        woken_.assign(wakes_.begin(), wakes_.end());
-        wakes_.clear();
+        // The two lists trade buffers: once grown, a wake allocates nothing
+        // (a set's node per wake was one allocation per published DTU).
+        woken_.clear();
+        woken_.swap(wakes_);
     }
+    std::sort(woken_.begin(), woken_.end());
+    woken_.erase(std::unique(woken_.begin(), woken_.end()), woken_.end());
     for (LoopMember* m : adds) {
         members_.push_back(m);
         watches_.emplace(m, Watch{});

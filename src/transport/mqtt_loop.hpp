@@ -17,7 +17,6 @@
 #include <mutex>
 #include <thread>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 namespace nclink::transport_detail {
@@ -77,7 +76,7 @@ private:
     std::condition_variable removed_;
     std::vector<LoopMember*> adds_;
     std::vector<LoopMember*> removes_;
-    std::unordered_set<LoopMember*> wakes_;
+    std::vector<LoopMember*> wakes_;  // in the order woken, repeats included
     std::uint64_t removals_done_ = 0;
     std::uint64_t removals_asked_ = 0;
     bool stopping_ = false;
