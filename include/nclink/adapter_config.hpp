@@ -52,7 +52,12 @@ struct NCLINK_API AdapterConfig {
     std::size_t dedup_capacity = 4096;              ///< "dedup_capacity": @ids remembered at most
 
     // --- behaviour ---
-    std::size_t request_threads = 2;  ///< "request_threads": workers handling requests
+    /// "request_threads": workers handling requests other than Query and
+    /// Set (Probe, registrations, method calls, malformed DTUs' answers);
+    /// Query and Set run on the driver's worker. One keeps a terminal at six
+    /// threads (docs/footprint.md); two let a long Probe/Set model change
+    /// overlap the others.
+    std::size_t request_threads = 1;
     /// "max_pending_requests": requests waiting or being handled at most;
     /// beyond it requests are shed (dropped, counted as "shed") so a flood
     /// neither queues without bound nor starves sampling (docs/security.md).

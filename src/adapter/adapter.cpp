@@ -69,12 +69,13 @@ Result<void> Adapter::Impl::start() {
                 built.value()->device->id, built.value()->device->version, built.value()->store->size(),
                 built.value()->points->points().size());
 
+    if (!shared_threads) background = std::make_unique<core_detail::PollHost>(kBackgroundThreads, "nclink-work");
+    auto* work = shared_threads ? &shared_threads->impl().work : background.get();
     if (!transport) {
         auto options = mqtt_options();
-        // Gateway mode: the outbox's sender on the shared work threads,
+        // The outbox's sender on the work threads (shared in gateway mode),
         // with the connection's I/O on the shared loop ("mosquitto") or on a
         // loop of its own ("paho", docs/gateway.md).
-        auto* work = shared_threads ? &shared_threads->impl().work : nullptr;
         auto made =
             shared_threads && shared_threads->impl().multiplexed_mqtt && transport_detail::mosquitto_supports(options.broker_url)
                 ? transport_detail::make_mosquitto_transport(
@@ -94,12 +95,18 @@ Result<void> Adapter::Impl::start() {
         *transport, dev, config.application_lease, logger, [this](const std::string& ex) { features.on_application_gone(ex); });
     model_change = std::make_unique<adapter_detail::ModelChange>(config, logger, dev, host, *driver, *runner, *link, features,
                                                                  listeners, [this] { return running(); });
-    requests = std::make_unique<adapter_detail::RequestIntake>(
-        adapter_detail::RequestIntake::Parts{config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features,
-                                             *applications, *model_change, [this] { return to_json(self->stats()); }, shared});
+    requests = std::make_unique<adapter_detail::RequestIntake>(adapter_detail::RequestIntake::Parts{
+        config, logger, dev, clock, *driver, *runner, host, value_guard, *link, features, *applications, *model_change,
+        [this] { return to_json(self->stats()); }, shared, background.get()});
     housekeeping = std::make_unique<adapter_detail::Housekeeping>(
-        *link, *applications, [this] { return features.ready() ? drops_now() : Json(); }, clock, logger,
-        shared ? &shared->timers : nullptr);
+        *link, *applications,
+        [this](feature_detail::DropCounts& drops) {
+            if (!features.ready()) return false;
+            add_drops_now(drops);
+            return true;
+        },
+        clock, logger, shared ? &shared->timers : background.get(),
+        shared ? adapter_detail::kSharedHousekeepingPeriod : adapter_detail::kHousekeepingPeriod);
     composed.store(true, std::memory_order_release);
 
     transport->set_message_handler([this](const Message& m) { on_message(m); });
@@ -115,8 +122,7 @@ Result<void> Adapter::Impl::start() {
             feature_detail::FeatureHost{dev, logger, clock, *transport, *runner, host, features.sample_tap(), *value_guard,
                                         [this](const ParsedTopic& topic, const Json& reply) { link->respond(topic, reply); },
                                         [this] { return link->next_msg_id(); }, config.persistence_dir, config.driver_timeout,
-                                        shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0,
-                                        shared ? &shared->work : nullptr},
+                                        shared ? &shared->timers : nullptr, shared ? shared->next_sampling_phase() : 0.0, work},
             config);
         !begun)
         return begun;
@@ -184,6 +190,7 @@ void Adapter::Impl::stop(std::chrono::milliseconds flush_timeout) {
     }
     // A driver call gets its usual deadline to finish; one stuck longer
     // is abandoned rather than holding up the shutdown.
+    if (background) background->stop();  // every pollable was removed above
     if (runner) runner->stop(std::max(config.driver_timeout, std::chrono::milliseconds(100)));
     // A driver-affine task still inside a stuck driver must not answer
     // through a destroyed adapter when it comes back.

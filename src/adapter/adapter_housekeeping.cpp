@@ -5,20 +5,21 @@
 
 namespace nclink::adapter_detail {
 
-Housekeeping::Housekeeping(AdapterLink& link, ApplicationWatch& applications, std::function<Json()> drops,
-                           std::shared_ptr<const Clock> clock, const Logger& logger, core_detail::PollHost* timers)
+Housekeeping::Housekeeping(AdapterLink& link, ApplicationWatch& applications, DropsNow drops, std::shared_ptr<const Clock> clock,
+                           const Logger& logger, core_detail::PollHost* timers, std::chrono::milliseconds period)
     : link_(link),
       applications_(applications),
       drops_(std::move(drops)),
       clock_(std::move(clock)),
       timers_(timers),
+      period_(period),
       drop_reporter_(logger) {}
 
 void Housekeeping::start() {
     if (timers_) {
         entry_ = timers_->add([this](core_detail::PollHost::Time now) {
             pass();
-            return now + kSharedHousekeepingPeriod;
+            return now + period_;
         });
         return;
     }
@@ -68,7 +69,8 @@ void Housekeeping::pass() {
     // loss logged once per burst (drop_reporter.hpp).
     if (const auto real = std::chrono::steady_clock::now(); real - last_drop_check_ >= std::chrono::seconds(1)) {
         last_drop_check_ = real;
-        drop_reporter_.observe(drops_());
+        drop_counts_.zero();
+        if (drops_(drop_counts_)) drop_reporter_.observe(drop_counts_);
     }
 }
 

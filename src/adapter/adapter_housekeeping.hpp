@@ -4,8 +4,9 @@
 // connected (AdapterLink::retry_kept) and, once a second, logs every loss
 // once per burst (drop_reporter.hpp).
 //
-// Threads: its own thread "nclink-house" (start() to stop()), or, in
-// gateway mode, a pollable on the shared timer threads. wake() from any
+// Threads: a pollable of a host: the shared timer threads of a gateway, or
+// a single adapter's background threads; without one (tests), a thread of
+// its own "nclink-house" (start() to stop()). wake() from any
 // thread. The registration and lease clocks are the injected clock, polled
 // every kHousekeepingPeriod, so tests drive them with a ManualClock.
 #pragma once
@@ -38,11 +39,13 @@ inline constexpr std::chrono::milliseconds kSharedHousekeepingPeriod{250};
 
 class Housekeeping {
 public:
-    /// `drops`: the statistics' "drops" object now (null Json while there
-    /// is nothing to look at). `timers`: the shared timer threads, or null
-    /// for a thread of its own. Everything referenced outlives it.
-    Housekeeping(AdapterLink& link, ApplicationWatch& applications, std::function<Json()> drops,
-                 std::shared_ptr<const Clock> clock, const Logger& logger, core_detail::PollHost* timers);
+    /// `drops`: adds the statistics' "drops" causes now to its argument
+    /// (false while there is nothing to look at). `timers`: the host it runs on every `period`,
+    /// or null for a thread of its own (every kHousekeepingPeriod).
+    /// Everything referenced outlives it.
+    using DropsNow = std::function<bool(feature_detail::DropCounts&)>;
+    Housekeeping(AdapterLink& link, ApplicationWatch& applications, DropsNow drops, std::shared_ptr<const Clock> clock,
+                 const Logger& logger, core_detail::PollHost* timers, std::chrono::milliseconds period = kSharedHousekeepingPeriod);
     ~Housekeeping() { stop(); }
 
     void start();
@@ -57,10 +60,12 @@ private:
 
     AdapterLink& link_;
     ApplicationWatch& applications_;
-    const std::function<Json()> drops_;
+    const DropsNow drops_;
     const std::shared_ptr<const Clock> clock_;
     core_detail::PollHost* const timers_;
+    const std::chrono::milliseconds period_;                   // on a host
     DropReporter drop_reporter_;                               // passes only (one at a time)
+    feature_detail::DropCounts drop_counts_;                   // passes only: filled again each second
     std::chrono::steady_clock::time_point last_drop_check_{};  // passes only
 
     std::mutex mutex_;  // stopping_, with wake_

@@ -66,6 +66,19 @@ struct NCLINK_LOCAL Adapter::Impl {
     AdapterConfig config;           // as started: never written after construction
     Logger logger;
     std::shared_ptr<Driver> driver;
+    /// A single adapter's background threads ("nclink-work", without
+    /// shared_threads): its outbox's sender, sample uploader, events engine,
+    /// method status ticker, spool, housekeeping and deadline watchdog, each
+    /// a pollable (core/poll_host.hpp), instead of a thread each
+    /// (docs/footprint.md, "Where the threads go"). Declared before
+    /// `transport` and the objects, which remove their pollables when they
+    /// go: the host goes after them.
+    std::unique_ptr<core_detail::PollHost> background;
+    /// Two: the events engine may wait in a driver read for up to the
+    /// driver's deadline; what falls due meanwhile (a Sample DTU to publish,
+    /// a request's deadline) is taken by the other thread after
+    /// PollHost::kBackstop (5 ms) instead.
+    static constexpr std::size_t kBackgroundThreads = 2;
     std::unique_ptr<Transport> transport;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
     std::shared_ptr<SharedThreads> shared_threads;  // gateway mode; null: the adapter's own threads
@@ -103,8 +116,9 @@ struct NCLINK_LOCAL Adapter::Impl {
     bool running();
     void on_message(const Message& message);  ///< transport thread; never blocks
     void on_link(LinkState link);             ///< transport thread; never blocks
-    /// The statistics' "drops" object, read from the counters (thread-safe).
-    Json drops_now() const;
+    /// Adds the causes of the statistics' "drops" object, read from the
+    /// counters (thread-safe; housekeeping's once-a-second look).
+    void add_drops_now(feature_detail::DropCounts& out) const;
 };
 
 }  // namespace nclink

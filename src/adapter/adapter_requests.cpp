@@ -19,7 +19,7 @@ RequestIntake::RequestIntake(Parts parts)
     } else {
         own_executor_ = std::make_shared<core_detail::Executor>(parts_.config.request_threads);
         executor_ = std::make_unique<core_detail::TaskGroup>(own_executor_);
-        own_watchdog_ = std::make_unique<core_detail::DeadlineWatchdog>();
+        own_watchdog_ = std::make_unique<core_detail::DeadlineWatchdog>(parts_.background);
         watchdog_ = std::make_unique<core_detail::WatchdogScope>(*own_watchdog_);
     }
 }

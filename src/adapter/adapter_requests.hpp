@@ -65,6 +65,9 @@ public:
         ModelChange& model_change;
         std::function<Json()> statistics;       ///< the statistics item's value (SamplingConfig::stats_item)
         SharedThreads::Impl* shared = nullptr;  ///< gateway mode; null: workers and watchdog of its own
+        /// Without `shared`: the adapter's background threads, where its own
+        /// deadline watchdog runs (null: a thread of its own).
+        core_detail::PollHost* background = nullptr;
     };
     explicit RequestIntake(Parts parts);
 

@@ -46,14 +46,22 @@ feature_detail::DropCounts feature_drops(const AdapterStats& s) {
 
 namespace adapter_detail {
 
+// The adapter's own causes of the "drops" object, beside the features'.
+void add_adapter_drops(feature_detail::DropCounts& out, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
+    out.add("offline_buffer_full", offline_buffer_full);
+    // Requests beyond max_pending_requests: dropped unanswered (the
+    // requester's timeout, 203, is its answer).
+    out.add("requests_shed", requests_shed);
+}
+
 // Every place a DTU or a value can be lost, by cause (docs/delivery.md,
 // "Counted drops"). Each is also logged, once per burst, where it happens.
 Json drops_by_cause(const feature_detail::DropCounts& features, std::uint64_t offline_buffer_full, std::uint64_t requests_shed) {
-    Json out{{"offline_buffer_full", offline_buffer_full},
-             // Requests beyond max_pending_requests: dropped unanswered
-             // (the requester's timeout, 203, is its answer).
-             {"requests_shed", requests_shed}};
-    for (const auto& [cause, count] : features.causes()) out[cause] = count;  // each feature's own
+    feature_detail::DropCounts all;
+    add_adapter_drops(all, offline_buffer_full, requests_shed);
+    for (const auto& [cause, count] : features.causes()) all.add(cause, count);  // each feature's own
+    Json out = Json::object();
+    for (const auto& [cause, count] : all.causes()) out[cause] = count;
     return out;
 }
 
@@ -62,10 +70,9 @@ Json drops_by_cause(const feature_detail::DropCounts& features, std::uint64_t of
 // Straight from the counters: the housekeeping's once-a-second look, which
 // building the whole statistics made a quarter of a 1,000-machine gateway's
 // CPU (perf, docs/performance.md "Fleet").
-Json Adapter::Impl::drops_now() const {
-    feature_detail::DropCounts d;
-    features.add_drops(d);
-    return adapter_detail::drops_by_cause(d, transport->stats().dropped, requests->shed());
+void Adapter::Impl::add_drops_now(feature_detail::DropCounts& out) const {
+    adapter_detail::add_adapter_drops(out, transport->stats().dropped, requests->shed());
+    features.add_drops(out);
 }
 
 Json to_json(const AdapterStats& s) {

@@ -8,7 +8,15 @@
 // decides (typically by losing a race on an atomic claim) that it has nothing
 // to do. So under steady load the watchdog wakes about once per deadline
 // period, not once per arm.
+//
+// It waits on a thread of its own ("nclink-deadline"), or, given a PollHost,
+// as one pollable of that host: a single adapter runs it on its background
+// threads (docs/footprint.md, "Where the threads go"), where the callbacks,
+// which only hand an answer to a request worker, are as quick as a poll
+// must be.
 #pragma once
+
+#include "core/poll_host.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -25,7 +33,9 @@ class DeadlineWatchdog {
 public:
     using Time = std::chrono::steady_clock::time_point;
 
-    DeadlineWatchdog();
+    /// `host`: null for a thread of its own, else a pollable of that host
+    /// (which must outlive the watchdog).
+    explicit DeadlineWatchdog(PollHost* host = nullptr);
     ~DeadlineWatchdog();  ///< stop()s
     DeadlineWatchdog(const DeadlineWatchdog&) = delete;
     DeadlineWatchdog& operator=(const DeadlineWatchdog&) = delete;
@@ -43,7 +53,11 @@ private:
         bool operator>(const Entry& other) const { return at > other.at; }
     };
     void loop();
+    /// Runs what is due; the time of the next entry (host mode).
+    Time poll();
 
+    PollHost* host_ = nullptr;
+    PollHost::Handle entry_;
     std::mutex mutex_;
     std::condition_variable wake_;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> entries_;

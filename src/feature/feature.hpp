@@ -67,9 +67,11 @@ struct FeatureHost {
     /// Gateway mode: where in their interval's grid this adapter's periodic
     /// ticks fall, a fraction in [0, 1) (EngineDeps::phase); 0 on its own.
     double timer_phase = 0;
-    /// Gateway mode: the shared work threads for a feature's serial
-    /// background work (core/serial_work.hpp: the events engine, the method
-    /// status ticker, the sample spool); null: a thread of its own each.
+    /// Where a feature's serial background work runs (core/serial_work.hpp:
+    /// the events engine, the method status ticker, the sample spool, and
+    /// without `timers` the sample uploader): the shared work threads of a
+    /// gateway, or a single adapter's own background threads; null (unit
+    /// tests): a thread of its own each.
     core_detail::PollHost* work = nullptr;
 };
 
@@ -91,6 +93,12 @@ public:
     }
     /// Cause -> count, in the order first added.
     const std::vector<std::pair<std::string, std::uint64_t>>& causes() const { return causes_; }
+    /// Every count back to 0, the causes kept: a DropCounts filled again
+    /// and again (the housekeeping's once-a-second look) allocates only the
+    /// first time.
+    void zero() noexcept {
+        for (auto& cause : causes_) cause.second = 0;
+    }
 
 private:
     std::vector<std::pair<std::string, std::uint64_t>> causes_;  // a handful: a scan beats a map

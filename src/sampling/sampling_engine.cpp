@@ -270,6 +270,17 @@ void SamplingEngine::start() {
         core_detail::name_this_thread("nclink-sampler");
         state->sample_loop();
     });
+    if (shared.deps.uploader_host) {
+        // As upload_loop(): looked at again at least every max_wait(), so a
+        // wake() of the sampler's sleeper (a removed channel's last rows)
+        // reaches it without the sleeper knowing the host.
+        state_->uploader_entry = shared.deps.uploader_host->add([state](core_detail::PollHost::Time) {
+            if (state->stop_uploader.load(std::memory_order_acquire)) return core_detail::PollHost::Time::max();
+            const auto next = state->uploader.poll(false);
+            return std::min(next, std::chrono::steady_clock::now() + state->shared.deps.sleeper->max_wait());
+        });
+        return;
+    }
     state_->uploader_thread = std::thread([state] {
         core_detail::name_this_thread("nclink-upload");
         state->upload_loop();
@@ -298,6 +309,10 @@ void SamplingEngine::stop() {
         shared.deps.timers->remove(state_->uploader_entry);
         state_->waker->set(nullptr, nullptr);
         state_->uploader.poll(true);  // what every ring holds goes out (on the stopping thread: no poll runs now)
+    } else if (shared.deps.uploader_host) {
+        shared.deps.uploader_host->remove(state_->uploader_entry);
+        state_->uploader_entry.reset();
+        state_->uploader.poll(true);  // as above
     } else {
         shared.deps.sleeper->wake();
         state_->uploader_thread.join();

@@ -80,6 +80,12 @@ struct EngineDeps {
     /// time); `sleeper` is then unused and the real-time options are not
     /// applied (logged).
     core_detail::PollHost* timers = nullptr;
+    /// Optional (a single adapter, without `timers`): run the uploader as a
+    /// pollable of this host (the adapter's background threads) instead of
+    /// a thread of its own. The sampler keeps its own thread, its
+    /// clock_nanosleep deadlines and its real-time options. Only with a
+    /// SystemClock, as `timers`.
+    core_detail::PollHost* uploader_host = nullptr;
     /// Where the channels' timelines sit in their interval's grid, a fraction
     /// in [0, 1): 0 puts the first tick on a multiple of the interval of the
     /// monotonic clock, 0.5 half an interval later. The channels of one

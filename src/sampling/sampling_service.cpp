@@ -31,8 +31,13 @@ SamplingService::SamplingService(feature_detail::FeatureHost& host, SamplingConf
     deps.model = [this] { return host_.model.current(); };
     deps.clock = host_.clock;
     deps.sleeper = sleeper_for(host_.clock);
-    // Shared timer threads wait on real time: only for a real clock.
-    if (dynamic_cast<const SystemClock*>(host_.clock.get()) != nullptr) deps.timers = host_.timers;
+    // Shared timer threads wait on real time: only for a real clock. A
+    // single adapter (no timers) runs its uploader on its background work
+    // threads, the sampler on a thread of its own.
+    if (dynamic_cast<const SystemClock*>(host_.clock.get()) != nullptr) {
+        deps.timers = host_.timers;
+        if (!deps.timers) deps.uploader_host = host_.work;
+    }
     deps.phase = host_.timer_phase;
     deps.logger = host_.logger;
     deps.config = config_;

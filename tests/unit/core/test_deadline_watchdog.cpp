@@ -11,7 +11,18 @@ using namespace nclink::core_detail;
 using Clock = std::chrono::steady_clock;
 
 TEST_CASE("the watchdog runs each callback once, never before its deadline, earliest first") {
-    DeadlineWatchdog watchdog;
+    // On a thread of its own, and as a pollable of a host (a single
+    // adapter's background threads), with another pollable busy beside it.
+    const bool on_host = GENERATE(false, true);
+    CAPTURE(on_host);
+    PollHost host(2, "test-host");
+    std::atomic<int> busy_polls{0};
+    auto busy = host.add([&](PollHost::Time now) {
+        ++busy_polls;
+        std::this_thread::sleep_for(std::chrono::milliseconds(3));
+        return now;
+    });
+    DeadlineWatchdog watchdog(on_host ? &host : nullptr);
     std::mutex mutex;
     std::vector<int> order;
     std::vector<bool> on_time;
@@ -34,15 +45,34 @@ TEST_CASE("the watchdog runs each callback once, never before its deadline, earl
     }
     CHECK(order == std::vector<int>{1, 2, 3});
     CHECK(on_time == std::vector<bool>{true, true, true});
+    host.remove(busy);
+    CHECK(busy_polls > 0);
 }
 
 TEST_CASE("stop drops what is armed and refuses new deadlines") {
+    const bool on_host = GENERATE(false, true);
+    CAPTURE(on_host);
+    PollHost host(1, "test-host");
     std::atomic<int> ran{0};
-    DeadlineWatchdog watchdog;
-    REQUIRE(watchdog.arm(Clock::now() + std::chrono::hours(1), [&] { ++ran; }));
+    DeadlineWatchdog watchdog(on_host ? &host : nullptr);
+    REQUIRE(watchdog.arm(Clock::now() + std::chrono::milliseconds(50), [&] { ++ran; }));
     watchdog.stop();
     CHECK_FALSE(watchdog.arm(Clock::now(), [&] { ++ran; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // past the first deadline
     CHECK(ran == 0);
+    CHECK(host.size() == 0);  // a stopped watchdog leaves the host
+}
+
+TEST_CASE("a watchdog on a host costs it one pollable, and no thread") {
+    PollHost host(1, "test-host");
+    {
+        DeadlineWatchdog watchdog(&host);
+        CHECK(host.size() == 1);
+        std::atomic<bool> ran{false};
+        REQUIRE(watchdog.arm(Clock::now(), [&] { ran = true; }));
+        while (!ran) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    CHECK(host.size() == 0);
 }
 
 TEST_CASE("an answer is claimed exactly once, by the worker or by the deadline") {
