@@ -52,15 +52,20 @@ constexpr std::array<std::pair<std::string_view, MillMethod>, 4> method_ids{{
 
 constexpr std::array<std::string_view, 5> signature_ids{"x_position", "y_position", "z_position", "spindle_speed", "status"};
 
-Json round_to(double v, int decimals) {
+SampleValue round_to(double v, int decimals) {
     const double scale = std::pow(10.0, decimals);
-    return std::round(v * scale) / scale;
+    return SampleValue::float64(std::round(v * scale) / scale);
 }
 
-/// An integral percent as a JSON integer, a fractional one as it was set.
-Json percent(double v) {
-    if (v == std::floor(v)) return static_cast<std::int64_t>(v);
-    return v;
+/// An integral percent as an integer, a fractional one as it was set.
+SampleValue percent(double v) {
+    if (v == std::floor(v)) return SampleValue::int64(static_cast<std::int64_t>(v));
+    return SampleValue::float64(v);
+}
+
+SampleValue text_of(std::string& text, std::string_view value) {
+    text.assign(value.data(), value.size());
+    return SampleValue::text(text);
 }
 
 /// Noise in [-1, 1] for measurement jitter.
@@ -93,7 +98,7 @@ std::optional<MillProfile> recognise_mill(const Model& model, const Device& devi
     return profile;
 }
 
-Json mill_reading(MillRole role, const MillMachine& m, double t, std::uint64_t stream) {
+SampleValue mill_sample(MillRole role, const MillMachine& m, double t, std::uint64_t stream, std::string& text) {
     const Vec3 v = m.velocity();
     const double rapid = m.config().rapid_mm_min;
     auto axis_load = [&](int axis) {
@@ -115,29 +120,43 @@ Json mill_reading(MillRole role, const MillMachine& m, double t, std::uint64_t s
         case MillRole::x_current: return round_to(axis_current(0), 2);
         case MillRole::y_current: return round_to(axis_current(1), 2);
         case MillRole::z_current: return round_to(axis_current(2), 2);
-        case MillRole::spindle_speed: return static_cast<std::int64_t>(std::llround(m.spindle_speed()));
+        case MillRole::spindle_speed: return SampleValue::int64(static_cast<std::int64_t>(std::llround(m.spindle_speed())));
         case MillRole::spindle_load: {
-            if (m.spindle_speed() <= 0) return 0.0;
+            if (m.spindle_speed() <= 0) return SampleValue::float64(0.0);
             const double load = 8.0 + 25.0 * m.spindle_speed() / m.config().spindle_max_rpm + (m.cutting() ? 30.0 : 0.0) +
                                 2.0 * jitter(stream, role, t);
             return round_to(std::max(0.0, load), 1);
         }
         case MillRole::spindle_override: return percent(m.spindle_override());
         case MillRole::spindle_mode:
-            return m.spindle_direction() > 0 ? "forward" : m.spindle_direction() < 0 ? "reverse" : "stop";
-        case MillRole::status: return to_string(m.status());
-        case MillRole::work_mode: return m.manual() ? "manual" : "auto";
-        case MillRole::program: return m.program_name();
-        case MillRole::line_number: return m.line_number();
-        case MillRole::part_count: return std::to_string(m.part_count());
+            return text_of(text, m.spindle_direction() > 0 ? "forward" : m.spindle_direction() < 0 ? "reverse" : "stop");
+        case MillRole::status: return text_of(text, to_string(m.status()));
+        case MillRole::work_mode: return text_of(text, m.manual() ? "manual" : "auto");
+        case MillRole::program: return text_of(text, m.program_name());
+        // Short decimal texts: within std::string's own buffer, no heap.
+        case MillRole::line_number: return text_of(text, m.line_number());
+        case MillRole::part_count: return text_of(text, std::to_string(m.part_count()));
         case MillRole::feed_speed: return round_to(m.path_speed() / 60.0, 2);  // model units: mm/s
         case MillRole::feed_override: return percent(m.feed_override());
-        case MillRole::tool_number: return m.tool_number();
-        case MillRole::door_closed: return m.status() != RunStatus::free;  // opened between cycles only
+        case MillRole::tool_number: return SampleValue::int64(m.tool_number());
+        case MillRole::door_closed: return SampleValue::boolean(m.status() != RunStatus::free);  // opened between cycles only
         case MillRole::warning:
         case MillRole::emergency_stop: break;  // held by the driver (alarms, E-stop)
     }
-    return nullptr;
+    return SampleValue::null();
+}
+
+Json mill_reading(MillRole role, const MillMachine& m, double t, std::uint64_t stream) {
+    std::string text;
+    const SampleValue v = mill_sample(role, m, t, stream, text);
+    switch (v.kind()) {
+        case SampleValue::Kind::boolean: return v.as_bool();
+        case SampleValue::Kind::int64: return v.as_int64();
+        case SampleValue::Kind::uint64: return v.as_uint64();
+        case SampleValue::Kind::float64: return v.as_double();
+        case SampleValue::Kind::text: return std::string(v.as_text());
+        default: return nullptr;
+    }
 }
 
 }  // namespace nclink::sim

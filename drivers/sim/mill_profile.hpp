@@ -7,6 +7,7 @@
 
 #include <nclink/json.hpp>
 #include <nclink/model.hpp>
+#include <nclink/sample_value.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -61,5 +62,9 @@ std::optional<MillProfile> recognise_mill(const Model& model, const Device& devi
 /// The value of a mill item now; `t` (seconds) and `stream` drive the
 /// measurement noise of loads and currents.
 Json mill_reading(MillRole role, const MillMachine& machine, double t, std::uint64_t stream);
+/// The same value as a sample, for the sampling path: a text is written
+/// into `text` (kept by the caller, so once it has room no reading
+/// allocates) and the sample views it. Null for the roles the driver holds.
+SampleValue mill_sample(MillRole role, const MillMachine& machine, double t, std::uint64_t stream, std::string& text);
 
 }  // namespace nclink::sim

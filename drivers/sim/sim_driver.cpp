@@ -154,6 +154,11 @@ Json SimDriver::Impl::value_of(const Item& item) const {
     return sim::generate(item.generator, t, wall_ms);
 }
 
+std::optional<SampleValue> SimDriver::Impl::sample_of(const Item& item, std::string& text) const {
+    if (item.pinned || item.use_stored || item.alarm || !item.role || *item.role == MillRole::emergency_stop) return std::nullopt;
+    return sim::mill_sample(*item.role, *mill, t, stream, text);
+}
+
 void SimDriver::Impl::add_alarm(const std::string& number, const std::string& text) {
     alarms.erase(
         std::remove_if(alarms.begin(), alarms.end(), [&](const Json& a) { return a.value("number", std::string()) == number; }),
@@ -273,26 +278,33 @@ bool SimDriver::read_samples(const std::vector<PointRef>& points, SampleValue* o
     std::lock_guard<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return true;  // the row stays null
     impl_->advance();
+    // A text per point, overwritten by the next read (the sampler copies
+    // the row first): its room is reused, so the mill's texts (status,
+    // program, ...) cost no allocation per row.
     auto& texts = impl_->lent_texts;
-    texts.clear();
-    texts.reserve(points.size());
+    if (texts.size() < points.size()) texts.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         const std::optional<std::size_t> row = row_of(impl_->index, impl_->items.size(), points[i]);
         if (!row) continue;  // null: not a simulated item
-        const Json value = impl_->value_of(impl_->items[*row]);
+        const Item& item = impl_->items[*row];
+        if (auto sample = impl_->sample_of(item, texts[i])) {
+            out[i] = *sample;
+            continue;
+        }
+        const Json value = impl_->value_of(item);
         switch (value.type()) {
             case Json::value_t::boolean: out[i] = SampleValue::boolean(value.get<bool>()); break;
             case Json::value_t::number_integer: out[i] = SampleValue::int64(value.get<std::int64_t>()); break;
             case Json::value_t::number_unsigned: out[i] = SampleValue::uint64(value.get<std::uint64_t>()); break;
             case Json::value_t::number_float: out[i] = SampleValue::float64(value.get<double>()); break;
             case Json::value_t::string:
-                texts.push_back(value.get<std::string>());
-                out[i] = SampleValue::text(texts.back());
+                texts[i] = value.get_ref<const std::string&>();
+                out[i] = SampleValue::text(texts[i]);
                 break;
             case Json::value_t::array:
             case Json::value_t::object:
-                texts.push_back(value.dump());
-                out[i] = SampleValue::json(texts.back());
+                texts[i] = value.dump();
+                out[i] = SampleValue::json(texts[i]);
                 break;
             default: break;  // null stays null
         }

@@ -77,11 +77,14 @@ struct SimDriver::Impl {
     mutable std::mutex mutex;
     /// Texts lent by read_samples(), valid until its next call (reserved per
     /// call, so no element moves while views into it are out).
-    std::vector<std::string> lent_texts;
+    std::vector<std::string> lent_texts;  // read_samples: a text per point, kept to reuse its room
 
     void build();
     void advance();
     Json value_of(const Item& item) const;
+    /// value_of() as a sample without a heap allocation (a text lands in
+    /// `text`), for the mill's measured items; nullopt: take value_of().
+    std::optional<SampleValue> sample_of(const Item& item, std::string& text) const;
     Json alarm_value(const Item& item) const;
     Result<void> commit(Item& item, Json value);
     Result<void> commit_mill(Item& item, sim::MillRole role, Json value);
