@@ -54,6 +54,11 @@ inline void count() noexcept {
 inline bool available() noexcept { return NCLINK_BENCH_COUNT_ALLOCS != 0; }
 inline void start() noexcept { g_counting.store(true, std::memory_order_release); }
 inline void stop() noexcept { g_counting.store(false, std::memory_order_release); }
+/// Every count back to 0 (between two measurements of one run).
+inline void reset() noexcept {
+    const int used = std::min(g_used.load(), kSlots);
+    for (int i = 0; i < used; ++i) g_slots[i].count.store(0, std::memory_order_relaxed);
+}
 
 /// Allocations since start(), summed by thread name (a thread that has
 /// exited since counts as "exited").

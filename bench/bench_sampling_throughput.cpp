@@ -456,7 +456,7 @@ void report_allocations(const RunResult& r) {
     for (const auto& [thread, n] : r.allocs) {
         total += n;
         if (thread == "nclink-sampler") sampler += n;
-        else if (thread == "nclink-upload") uploader += n;
+        else if (thread.rfind("nclink-work", 0) == 0) uploader += n;  // uploader and outbox: the background threads
         else if (n > 0) others += fmt::format("{}{} {}", others.empty() ? "" : ", ", thread, n);
     }
     const auto rows = static_cast<double>(r.window_rows), dtus = static_cast<double>(r.window_dtus);
@@ -464,7 +464,7 @@ void report_allocations(const RunResult& r) {
     // it shows here are the lines it logs for missed ticks.
     std::printf(
         "     heap allocations in steady state (%llu rows, %llu DTUs): sampler thread %llu (%.4f per row), "
-        "uploader %.1f per DTU, whole adapter %.1f per DTU = %.3f per row [%s]\n",
+        "background threads (uploader, outbox) %.1f per DTU, whole adapter %.1f per DTU = %.3f per row [%s]\n",
         static_cast<unsigned long long>(r.window_rows), static_cast<unsigned long long>(r.window_dtus),
         static_cast<unsigned long long>(sampler), static_cast<double>(sampler) / rows, static_cast<double>(uploader) / dtus,
         static_cast<double>(total) / dtus, static_cast<double>(total) / rows, others.c_str());
