@@ -53,8 +53,13 @@ struct NCLINK_API MqttOptions {
     bool clean_session = true;
     std::chrono::seconds keep_alive{20};
     std::chrono::milliseconds connect_timeout{5000};
-    std::chrono::milliseconds reconnect_min{250};    ///< first retry delay, doubled per failure
-    std::chrono::milliseconds reconnect_max{10000};  ///< retry delay cap
+    std::chrono::milliseconds reconnect_min{250};  ///< first retry delay, doubled per failure
+    /// Retry delay cap; also how long a connection must stay up (at most
+    /// 60 s) for its loss to start again from reconnect_min. A connection
+    /// the broker accepts and drops sooner counts as a failed attempt (the
+    /// delay doubles), so a broker that accepts and closes at once is not
+    /// hit every reconnect_min. Both transports.
+    std::chrono::milliseconds reconnect_max{10000};
     std::optional<Message> last_will;
     OutboxLimits outbox;
     /// Without TCP_NODELAY a QoS 1 round trip through mosquitto takes ~88 ms

@@ -321,7 +321,9 @@ class Client:
     ``timeout``: seconds a request waits by default; ``keepalive``: seconds
     between the liveness Queries that keep this application's event and
     dynamic-channel registrations past the adapter's lease (0 = off);
-    ``on_link_state(state)``: "connecting", "connected", "disconnected".
+    ``on_link_state(state)``: "connecting", "connected", "disconnected";
+    ``failover``: further brokers, in order ("host:port" with the scheme of
+    ``broker``, or URLs): a failed connect attempt moves on to the next one.
     Nothing happens on the network until ``connect()``.
     """
 
@@ -334,9 +336,13 @@ class Client:
                  stop_flush_timeout: Optional[float] = None, mqtt_version: Optional[int] = None,
                  mqtt_keepalive: Optional[float] = None, reconnect_min: Optional[float] = None,
                  outbox_max_bytes: Optional[int] = None, outbox_max_in_flight: Optional[int] = None,
-                 tcp_nodelay: Optional[bool] = None, last_will: Optional[Tuple[str, str, int, bool]] = None) -> None:
+                 tcp_nodelay: Optional[bool] = None, last_will: Optional[Tuple[str, str, int, bool]] = None,
+                 failover: Optional[Sequence[str]] = None) -> None:
         if client_id is None:
             client_id = f"nclink-py-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+        if isinstance(failover, str):
+            # A lone URL would be taken for a list of one-letter brokers.
+            raise ValueError("failover is a list of broker URLs, e.g. [\"tcp://broker-2:1883\"]")
         tls_dict = None if tls is None else {
             "ca_file": tls.ca_file, "cert_file": tls.cert_file, "key_file": tls.key_file,
             "key_password": tls.key_password, "verify_server": tls.verify_server}
@@ -345,7 +351,8 @@ class Client:
                  "stop_flush_timeout": stop_flush_timeout, "mqtt_version": mqtt_version,
                  "mqtt_keepalive": mqtt_keepalive, "reconnect_min": reconnect_min,
                  "outbox_max_bytes": outbox_max_bytes, "outbox_max_in_flight": outbox_max_in_flight,
-                 "tcp_nodelay": tcp_nodelay, "last_will": last_will}
+                 "tcp_nodelay": tcp_nodelay, "last_will": last_will,
+                 "failover": None if failover is None else list(failover)}
         advanced = {k: v for k, v in given.items() if v is not None}
         self.broker = broker
         self._timeout = timeout

@@ -116,6 +116,8 @@ py::dict stats_dict(const ClientStats& s) {
     transport["sessions_lost"] = s.transport.sessions_lost;
     transport["last_error"] = s.transport.last_error;
     transport["refused"] = s.transport.refused;
+    transport["failovers"] = s.transport.failovers;
+    transport["broker"] = s.transport.broker;
     py::dict out;
     out["requests"] = s.requests;
     out["responses"] = s.responses;
@@ -175,6 +177,14 @@ void apply_advanced(const py::dict& d, MqttOptions& mqtt, ClientOptions& options
             mqtt.outbox.max_in_flight = value.cast<std::size_t>();
         } else if (key == "tcp_nodelay") {
             mqtt.tcp_nodelay = value.cast<bool>();
+        } else if (key == "failover") {
+            // Checked with the broker URL by the transport (Client::create): a
+            // bad entry raises nclink.ValueTypeError (405) as a bad broker does.
+            try {
+                mqtt.failover_urls = value.cast<std::vector<std::string>>();
+            } catch (const py::cast_error&) {
+                throw py::value_error("failover: a list of broker URLs (strings)");
+            }
         } else if (key == "last_will") {
             auto will = value.cast<py::tuple>();
             if (will.size() != 4) throw py::value_error("last_will is (topic, payload, qos, retain)");

@@ -33,6 +33,21 @@ def test_broker_down_is_a_timeout_that_names_the_broker() -> None:
     assert isinstance(raised.value, TimeoutError)
 
 
+def test_failover_list_reaches_the_second_broker(sim: Sim, broker: Broker) -> None:
+    down = f"tcp://127.0.0.1:{free_port()}"  # nothing listens: the connect attempt is refused
+    with nclink.Client(down, "py-failover", failover=[broker.url], reconnect_min=0.05) as c:
+        assert c.connect(timeout=10, register=False) == "not_sent"
+        assert c.get(DEV, "status")  # the adapter answers through the second broker
+        transport = c.stats()["transport"]
+        assert transport["broker"] == broker.url
+        assert transport["failovers"] == 1
+        assert transport["connect_failures"] >= 1
+    with pytest.raises(ValueError):
+        nclink.Client(down, failover=broker.url)  # one URL, not a list of them
+    with pytest.raises(nclink.ValueTypeError):
+        nclink.Client(down, failover=["ssl://127.0.0.1:8883"])  # TLS only where the broker has it
+
+
 def test_user_and_password(workdir: str) -> None:
     passwords = os.path.join(workdir, "passwords")
     subprocess.run(["mosquitto_passwd", "-b", "-c", passwords, "mes", "secret"], check=True)

@@ -393,9 +393,10 @@ private:
     }
 
     // Thread: supervisor. Connects, and reconnects with exponential backoff
-    // whenever the link is lost (or found stalled), until stop().
+    // whenever the link is lost (or found stalled), until stop(). A link lost
+    // before it was stable counts as a failed attempt (backoff.hpp).
     void supervise() {
-        milliseconds delay = options_.reconnect_min;
+        transport_detail::ReconnectBackoff backoff(options_.reconnect_min, options_.reconnect_max);
         const auto check_period = ack_check_period();
         bool was_up = false;  // the link was up: it was lost (or dropped as stalled)
         std::unique_lock<std::mutex> lock(mutex_);
@@ -407,10 +408,17 @@ private:
                 // lockstep; and paho fails a connect issued while it is still
                 // closing the lost socket ("socket error"), which would move
                 // a failover list on from a broker that is still there.
-                if (std::exchange(was_up, false) &&
-                    wake_.wait_for(lock, transport_detail::jittered(delay, rng_), [this] { return stopping_; }))
-                    continue;
-                const milliseconds retry = transport_detail::jittered(delay, rng_);
+                if (std::exchange(was_up, false)) {
+                    const auto now = transport_detail::ReconnectBackoff::Clock::now();
+                    const bool stable = backoff.lost(now);
+                    const milliseconds wait = backoff.wait(rng_);
+                    if (!stable)
+                        logger_.info("mqtt: the connection to {} lasted {} ms (stable after {} ms): next attempt in {} ms",
+                                     current_broker().url, backoff.lasted(now).count(), backoff.stable_period().count(),
+                                     wait.count());
+                    if (wake_.wait_for(lock, wait, [this] { return stopping_; })) continue;
+                }
+                const milliseconds retry = backoff.wait(rng_);
                 lock.unlock();
                 const std::string url = current_broker().url;
                 const int protocol = protocol_;
@@ -452,10 +460,10 @@ private:
                         lock.lock();
                     }
                     wake_.wait_for(lock, retry, [this] { return stopping_; });
-                    delay = std::min(delay * 2, options_.reconnect_max);
+                    backoff.failed();
                     continue;
                 }
-                delay = options_.reconnect_min;
+                backoff.connected(transport_detail::ReconnectBackoff::Clock::now());
                 was_up = true;
             }
             const auto lost = [this] { return stopping_ || link_.state() == LinkState::disconnected; };

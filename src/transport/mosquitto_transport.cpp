@@ -201,7 +201,7 @@ private:
     // goes to the next broker of the failover list (the same one when the
     // list has one, or after a protocol fall-back), after the back-off.
     void connect_failed(const std::string& why, bool refused) {
-        const milliseconds retry = jittered(delay_, rng_);
+        const milliseconds retry = backoff_.wait(rng_);
         std::string next;
         if (!std::exchange(fell_back_, false)) {
             if (brokers_.advance()) {
@@ -213,7 +213,7 @@ private:
         }
         link_.attempt_failed(why, refused, retry, next);
         retry_at_ = Steady::now() + retry;
-        delay_ = std::min(delay_ * 2, options_.reconnect_max);
+        backoff_.failed();
     }
 
     // ---- loop thread ------------------------------------------------------
@@ -404,7 +404,14 @@ private:
         if (was_connected) {
             // Unacknowledged messages wait again, in order, for the next connection.
             outbox_.link_down();
-            retry_at_ = Steady::now() + jittered(delay_, rng_);
+            // Lost soon after its CONNACK: a failed attempt, the back-off grows (backoff.hpp).
+            const Steady::time_point now = Steady::now();
+            const bool stable = backoff_.lost(now);
+            const milliseconds retry = backoff_.wait(rng_);
+            if (!stable)
+                logger_.info("mqtt: the connection to {} lasted {} ms (stable after {} ms): next attempt in {} ms",
+                             brokers_.current().url, backoff_.lasted(now).count(), backoff_.stable_period().count(), retry.count());
+            retry_at_ = now + retry;
         }
         set_state(LinkState::disconnected, why);
     }
@@ -468,7 +475,7 @@ private:
         connected_ = true;
         watchdog_.connected(Steady::now());
         tls_verdict_.reset();
-        delay_ = options_.reconnect_min;
+        backoff_.connected(Steady::now());  // back to reconnect_min only once it proves stable
         link_.nodelay_sockets(options_.tcp_nodelay ? 1 : 0);
         for (auto& [qos, filters] : subscriptions_.by_qos()) subscribe_now(std::move(filters), qos);
         link_.connected();
@@ -558,7 +565,7 @@ private:
 
     // loop thread only
     std::mt19937 rng_{std::random_device{}()};
-    milliseconds delay_ = options_.reconnect_min;
+    ReconnectBackoff backoff_{options_.reconnect_min, options_.reconnect_max};
     Steady::time_point retry_at_{};
     Steady::time_point attempt_deadline_{};
     Steady::time_point next_misc_{};

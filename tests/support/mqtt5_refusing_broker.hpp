@@ -5,7 +5,9 @@
 //
 // Without an upstream it is a stand-in: it answers a 3.1.1 CONNECT with a
 // CONNACK itself and keeps the connection open, reading nothing more (enough
-// for a transport to be connected). With an upstream port it is a proxy in
+// for a transport to be connected), or, after close_after_connack(true),
+// closes it at once or a little after the CONNACK (a RabbitMQ node that
+// accepts and then drops every connection, docs/scaling.md). With an upstream port it is a proxy in
 // front of a real broker (a MosquittoBroker): a 3.1.1 connection is handed
 // on to it byte for byte, so programs work through it.
 //
@@ -20,6 +22,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -27,6 +30,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace nclink::test {
@@ -70,6 +74,29 @@ public:
     /// From now on MQTT 5 is accepted too (the control case: a broker that
     /// speaks 5); the stand-in answers it with an MQTT 5 CONNACK.
     void accept_mqtt5(bool accept) { accept_mqtt5_ = accept; }
+    /// From now on the stand-in closes each connection `after` its CONNACK
+    /// (0: at once): the client is connected for a moment, then loses the
+    /// link. Returns how many CONNECTs were read before the change (a later
+    /// one is answered the new way).
+    std::size_t close_after_connack(bool close, std::chrono::milliseconds after = std::chrono::milliseconds(0)) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        close_after_ms_ = after.count();
+        close_after_connack_ = close;
+        return levels_.size();
+    }
+    /// How many CONNECTs it has read (each a connection attempt).
+    std::size_t connects() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return levels_.size();
+    }
+    /// For each connection accepted after close_after_connack() closed one:
+    /// how long after that close it came (the client's wait before it
+    /// reconnected; measured here, so a client's own delays in sending its
+    /// CONNECT do not count).
+    std::vector<std::chrono::milliseconds> reconnect_waits() const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return reconnect_waits_;
+    }
     /// Closes every accepted connection (their clients must reconnect).
     void drop_clients() {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -81,7 +108,8 @@ private:
         int client = -1, upstream = -1;
         bool accepted = false;  // its CONNECT was 3.1.1
         bool closed = false;
-        std::string head;  // bytes of the CONNECT read so far
+        std::string head;                                               // bytes of the CONNECT read so far
+        std::optional<std::chrono::steady_clock::time_point> close_at;  // close_after_connack()
     };
 
     // The CONNECT's protocol level once enough of it is in: fixed header
@@ -116,7 +144,7 @@ private:
                     polled.push_back(c.get());
                 }
             }
-            const int ready = ::poll(fds.data(), fds.size(), 50);
+            const int ready = ::poll(fds.data(), fds.size(), close_pending_ ? 2 : 50);
             std::lock_guard<std::mutex> lock(mutex_);
             if (ready > 0) {
                 if (fds[0].revents & POLLIN) accept_one();
@@ -125,6 +153,14 @@ private:
                     if (fds[1 + 2 * i].revents && !c.closed) from_client(c);
                     if (fds[2 + 2 * i].revents && !c.closed) pump(c, c.upstream, c.client);
                 }
+            }
+            close_pending_ = false;
+            const auto now = std::chrono::steady_clock::now();
+            for (auto& c : connections_) {
+                if (c->close_at && now >= *c->close_at) {
+                    c->closed = true;
+                    last_close_ = now;
+                } else if (c->close_at) close_pending_ = true;
             }
             for (auto it = connections_.begin(); it != connections_.end();) {
                 if ((*it)->closed) {
@@ -141,6 +177,10 @@ private:
     void accept_one() {
         const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
         if (fd < 0) return;
+        if (last_close_) {
+            reconnect_waits_.push_back(std::chrono::duration_cast<std::chrono::milliseconds>(
+                std::chrono::steady_clock::now() - *std::exchange(last_close_, std::nullopt)));
+        }
         auto c = std::make_unique<Connection>();
         c->client = fd;
         connections_.push_back(std::move(c));
@@ -172,6 +212,13 @@ private:
             const unsigned char connack5[] = {0x20, 0x03, 0x00, 0x00, 0x00};
             if (*level == 5) send_all(c.client, reinterpret_cast<const char*>(connack5), sizeof connack5);
             else send_all(c.client, reinterpret_cast<const char*>(connack4), sizeof connack4);
+            // Closed after the CONNACK is written: the client reads it, then the end of the stream.
+            if (close_after_connack_) {
+                if (close_after_ms_ == 0) {
+                    c.closed = true;
+                    last_close_ = std::chrono::steady_clock::now();
+                } else c.close_at = std::chrono::steady_clock::now() + std::chrono::milliseconds(close_after_ms_.load());
+            }
             return;
         }
         c.upstream = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -216,10 +263,15 @@ private:
     int port_ = 0;
     std::atomic<bool> stopping_{false};
     std::atomic<bool> accept_mqtt5_{false};
+    std::atomic<bool> close_after_connack_{false};
+    std::atomic<std::int64_t> close_after_ms_{0};
+    bool close_pending_ = false;  // run() only: a connection has a close_at to wait for
     std::thread thread_;
-    mutable std::mutex mutex_;  // connections_, levels_
+    mutable std::mutex mutex_;  // connections_, levels_, last_close_, reconnect_waits_
     std::vector<std::unique_ptr<Connection>> connections_;
     std::vector<int> levels_;
+    std::optional<std::chrono::steady_clock::time_point> last_close_;  // by close_after_connack()
+    std::vector<std::chrono::milliseconds> reconnect_waits_;
 };
 
 }  // namespace nclink::test
