@@ -93,13 +93,14 @@ TEST_CASE("RabbitMQ cluster: node 1 killed under an adapter and a Client with th
     CHECK(client.stats().transport.failovers == 1);
     // ... where RabbitMQ 3.10 drops them again and again while node 1 is dead.
     // Each drop counts as a failed attempt (src/transport/backoff.hpp), so the
-    // adapter's waits grow from 1-2 s to its 10 s cap: 2 to 4 connections in
-    // 10 s (when every CONNACK started the back-off again: 38 and 42).
+    // adapter's waits grow from 1-2 s to its 10 s cap: 1 to 4 connections in
+    // 10 s, by how far the back-off had grown (when every CONNACK started the
+    // back-off again: 38 and 42).
     const std::uint64_t adapter_before = adapter.stats().transport.connects;
     std::this_thread::sleep_for(10s);
     const std::uint64_t dropped = adapter.stats().transport.connects - adapter_before;
-    CHECK(dropped >= 2);
-    CHECK(dropped <= 8);
+    CHECK(dropped >= 1);  // node 2 does drop it (the behaviour measured)
+    CHECK(dropped <= 8);  // but not in a storm
     CHECK_FALSE(query_answered(client, 5s));
 
     rabbit.start_node(0);
