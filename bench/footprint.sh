@@ -6,6 +6,7 @@
 #     sample channel running) through a native mosquitto after N seconds;
 #   - threads of that process and the names of the adapter's threads;
 #   - heap allocations per sample row (sampler thread) and per Sample DTU
+#     (whole process, and less libmosquitto's own, measured in the same run)
 #     (whole process) after a warm-up (bench/bench_footprint.cpp).
 #
 #   bench/footprint.sh [--seconds N] [x86_64] [aarch64] [armhf]
@@ -152,6 +153,10 @@ measure() {
   printf '| threads the adapter starts | %s (%s) | <= 6 |\n' "$adapter_threads" "$thread_names"
   printf '| heap allocations per sample row (sampler thread) | %s (%s rows) | 0 |\n' "$(kv allocs_per_row)" "$(kv rows)"
   printf '| heap allocations per Sample DTU (whole process) | %s (%s DTUs) | <= 5 |\n' "$(kv allocs_per_dtu)" "$(kv dtus)"
+  # The floor measured in the same run: a bare libmosquitto client.
+  printf '| of which libmosquitto per message, QoS 1 / QoS 0 (floor) | %s / %s | |\n' \
+    "$(kv mosquitto_allocs_per_message_qos1)" "$(kv mosquitto_allocs_per_message_qos0)"
+  printf '| nclink'"'"'s own per Sample DTU (whole process less the QoS 1 floor) | %s | |\n' "$(kv nclink_allocs_per_dtu)"
   printf '| allocations by thread in %s s | %s | |\n' "$(kv window_s)" \
     "$(sed -n 's/^allocs_of=//p' "$out" | awk '{printf "%s%s %s", sep, $1, $2; sep=", "}')"
   # The broker of this architecture's run.
