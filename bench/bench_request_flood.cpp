@@ -7,7 +7,7 @@
 // RSS. Each run is done twice: with the bounded intake (max_pending_requests
 // 256, the default) and with it effectively unbounded, in the same run.
 //
-//   bench_request_flood [--rt-priority N] [--runs N] [--plain-broker] [--trace] [--paho]
+//   bench_request_flood [--rt-priority N] [--runs N] [--request-threads N] [--plain-broker] [--trace] [--paho]
 //                       [requests=20000] [quiet_ms=2000]
 //
 // --paho runs the adapter on the paho transport of libnclink-plant (what it
@@ -16,6 +16,8 @@
 //
 // --rt-priority runs the sampling thread at SCHED_FIFO N (sampling.rt_priority;
 // needs CAP_SYS_NICE): whether the deadlines then hold during the flood.
+// --request-threads N sets the adapter's request workers (request_threads,
+// default 1).
 // --runs N repeats each intake N times (the adapter went deaf after
 // a burst in 2 of 5 runs) and prints, per intake, the share of runs in which
 // a clean Query from a fresh client was answered within 1 s of the burst,
@@ -116,6 +118,7 @@ struct Options {
     std::chrono::milliseconds quiet{2000};
     int rt_priority = 0;
     int runs = 1;
+    std::size_t request_threads = 0;  // 0: the adapter's default
     bool plain_broker = false;
     bool trace = false;
     bool paho = false;
@@ -186,6 +189,7 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     config.max_pending_requests = max_pending;
     config.register_timeout = 200ms;
     config.sampling.rt_priority = opt.rt_priority;  // 0: normal scheduling
+    if (opt.request_threads > 0) config.request_threads = opt.request_threads;
     const auto loaded = load_model_file(config.model_path);
     auto created = SimDriver::create(loaded.model, SimOptions{});
     std::shared_ptr<SimDriver> sim = std::move(created).value();
@@ -347,6 +351,8 @@ int main(int argc, char** argv) {
         const std::string a = argv[i];
         if (a == "--rt-priority" && i + 1 < argc) opt.rt_priority = std::atoi(argv[++i]);
         else if (a == "--runs" && i + 1 < argc) opt.runs = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--request-threads" && i + 1 < argc)
+            opt.request_threads = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
         else if (a == "--plain-broker") opt.plain_broker = true;
         else if (a == "--trace") opt.trace = true;
         else if (a == "--paho") opt.paho = true;

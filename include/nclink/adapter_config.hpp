@@ -55,9 +55,10 @@ struct NCLINK_API AdapterConfig {
     /// "request_threads": workers handling requests other than Query and
     /// Set (Probe, registrations, method calls, malformed DTUs' answers);
     /// Query and Set run on the driver's worker. One keeps a terminal at six
-    /// threads (docs/footprint.md); two let a long Probe/Set model change
-    /// overlap the others.
-    std::size_t request_threads = 1;
+    /// threads (docs/footprint.md) but, under the kernel's normal scheduler,
+    /// leaves a request flood about one point more null sample rows
+    /// (docs/configuration.md); two is the default.
+    std::size_t request_threads = 2;
     /// "max_pending_requests": requests waiting or being handled at most;
     /// beyond it requests are shed (dropped, counted as "shed") so a flood
     /// neither queues without bound nor starves sampling (docs/security.md).
