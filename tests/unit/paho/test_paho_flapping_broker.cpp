@@ -1,22 +1,11 @@
 // The paho transport (the agent's, the bridge's and the application
-// Client's) against a broker that accepts every connection (CONNACK) and
-// closes it soon after, as a RabbitMQ 3.10 node did while its peer was dead
-// (docs/scaling.md): the stand-in of support/mqtt5_refusing_broker.hpp on a
-// loopback port, counting the CONNECTs it reads. The back-off must grow as
-// for refused attempts (src/transport/backoff.hpp), not start again at each
-// CONNACK (before: about four reconnects a second, forever). The
-// libmosquitto transport's twin: tests/unit/transport/test_flapping_broker.cpp.
+// Client's) against a broker that closes each connection soon after its
+// CONNACK (support/flapping_broker_check.hpp). The libmosquitto transport's
+// twin: tests/unit/transport/test_flapping_broker.cpp.
 #include <nclink/paho_transport.hpp>
 
-#include "support/mqtt5_refusing_broker.hpp"
-#include "support/wait.hpp"
+#include "support/flapping_broker_check.hpp"
 
-#include <catch2/catch.hpp>
-
-#include <thread>
-
-using namespace nclink;
-using nclink::test::eventually;
 using namespace std::chrono_literals;
 
 TEST_CASE("a broker that closes each connection after its CONNACK is retried with a growing back-off") {
@@ -24,45 +13,10 @@ TEST_CASE("a broker that closes each connection after its CONNACK is retried wit
     // 50 ms after the CONNACK: paho reports the connection made before it
     // is lost (closed at once, the attempt would look failed to paho).
     broker.close_after_connack(true, 50ms);
-    MqttOptions o;
-    o.broker_url = broker.url();
-    o.client_id = "paho-flapping";
-    o.reconnect_min = 50ms;
-    o.reconnect_max = 800ms;
-    o.tcp_nodelay = false;
-    auto made = make_paho_transport(o);
-    REQUIRE(made);
-    auto& transport = **made;
-    REQUIRE(transport.start());
-    REQUIRE(eventually([&] { return broker.connects() >= 1; }, 10s));
-
-    // Counted over 4 s from the first CONNECT. Growing (waits drawn from
-    // [50,100], [100,200], [200,400], then [400,800] ms): 13 attempts at the
-    // very most, fewer on a loaded machine. (paho itself takes about a second
-    // between its TCP connection and its CONNECT here, so the count alone
-    // tells little; the waits below do.)
-    std::this_thread::sleep_for(4s);
-    const std::size_t attempts = broker.connects();
-    const std::uint64_t connects = transport.stats().connects;
-    INFO("CONNECTs read in 4 s: " << attempts << ", connections counted: " << connects);
-    CHECK(attempts <= 16);
-    CHECK(attempts >= 2);  // and it does keep trying (the waits below: at least five)
-    CHECK(connects <= 16);
-    // The waits between a close and the next connection, as the broker saw
-    // them (so a loaded machine can only make them longer): drawn from
-    // [50,100], [100,200], [200,400], then [400,800] ms. Starting again at
-    // each CONNACK kept every one at 25-50 ms.
-    REQUIRE(eventually([&] { return broker.reconnect_waits().size() >= 4; }, 20s));
-    const auto waits = broker.reconnect_waits();
-    INFO("waits: " << waits[0].count() << ", " << waits[1].count() << ", " << waits[2].count() << ", " << waits[3].count()
-                   << " ms");
-    CHECK(waits[3] >= 350ms);
-
-    // The broker heals: the next attempt, at most reconnect_max away, stays up
-    // (a connection whose CONNACK went out before is still closed).
-    const std::size_t before = broker.close_after_connack(false);
-    REQUIRE(eventually([&] { return broker.connects() > before && transport.state() == LinkState::connected; }, 10s));
-    std::this_thread::sleep_for(200ms);
-    CHECK(transport.state() == LinkState::connected);
-    transport.stop(0ms);
+    nclink::test::check_backoff_on_flapping_broker(
+        broker, [](nclink::MqttOptions o) { return nclink::make_paho_transport(std::move(o)); },
+        [](nclink::MqttOptions& o) {
+            o.client_id = "paho-flapping";
+            o.tcp_nodelay = false;
+        });
 }

@@ -3,39 +3,9 @@
 // batch, encoder buffer and checks reuse what they grew to. A DTU costs a
 // few allocations (its message), however many rows it carries.
 //
-// Counted by replacing the global operator new for this test binary (a
-// counter in front of malloc); ASan and TSan replace it themselves, so
-// there the test only says it did not count.
+// Counted by support/counting_new.hpp (a counter in front of malloc).
 #include "engine_fixture.hpp"
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NCLINK_TEST_COUNTS_ALLOCATIONS 0
-#else
-#define NCLINK_TEST_COUNTS_ALLOCATIONS 1
-#endif
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<std::uint64_t> g_allocations{0};
-}  // namespace
-
-#if NCLINK_TEST_COUNTS_ALLOCATIONS
-// The default operator delete frees with free(): these pair with it.
-void* operator new(std::size_t size) {
-    if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-    if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-#endif
+#include "support/counting_new.hpp"
 
 using namespace nclink;
 using namespace nclink::test;

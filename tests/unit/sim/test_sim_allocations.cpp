@@ -5,38 +5,9 @@
 // (status, program, ...) went through a JSON string: about 50 allocations a
 // second on the sampler thread of nclink-sim.
 //
-// Counted by replacing the global operator new for this test binary; ASan
-// and TSan replace it themselves, so there the test only says it did not count.
+// Counted by support/counting_new.hpp (a counter in front of malloc).
 #include "sim_test_util.hpp"
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NCLINK_TEST_COUNTS_ALLOCATIONS 0
-#else
-#define NCLINK_TEST_COUNTS_ALLOCATIONS 1
-#endif
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<std::uint64_t> g_allocations{0};
-}  // namespace
-
-#if NCLINK_TEST_COUNTS_ALLOCATIONS
-// The default operator delete frees with free(): these pair with it.
-void* operator new(std::size_t size) {
-    if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-    if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-    throw std::bad_alloc();
-}
-#endif
+#include "support/counting_new.hpp"
 
 TEST_CASE("the mill's sampled items, texts included, are read without an allocation per row") {
     sim_test::Rig rig("sim-mill.json", 7);
