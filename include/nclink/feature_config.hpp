@@ -34,6 +34,11 @@ struct NCLINK_API SamplingConfig {
     /// "ring_periods": ring capacity in upload periods (rounded up to a power of two rows).
     double ring_periods = 4;
     std::size_t ring_max_rows = 65536;  ///< "ring_max_rows": cap of one ring
+    /// "ring_min_ms": a ring holds at least this much time of rows at its
+    /// channel's sample interval (and at least 4 rows), so a fast channel has
+    /// room while the uploader is late and a slow one holds no more rows than
+    /// its upload periods need (docs/sampling.md).
+    double ring_min_ms = 250;
     /// "direct_reads": read the driver on the sampling thread (serialized with
     /// the driver's workers) instead of handing each read to a worker.
     bool direct_reads = true;

@@ -38,6 +38,10 @@ Result<void> read_sampling_config(const Json& section, SamplingConfig& out) {
         "ring_periods", out.ring_periods, [](const Json& j) { return j.is_number() && j.get<double>() > 0; },
         "a positive number"));
     NCLINK_TRY(r.count("ring_max_rows", out.ring_max_rows));
+    NCLINK_TRY(r.read(
+        "ring_min_ms", out.ring_min_ms,
+        [](const Json& j) { return j.is_number() && j.get<double>() >= 0 && j.get<double>() <= 3.6e6; },
+        "a number of milliseconds 0..3600000"));
     NCLINK_TRY(r.boolean("direct_reads", out.direct_reads));
     NCLINK_TRY(r.read(
         "rt_priority", out.rt_priority,
@@ -75,6 +79,7 @@ void sampling_config_changes(const SamplingConfig& s, const SamplingConfig& t, s
     key(s.full_policy == t.full_policy, "sampling.full_policy");
     key(s.ring_periods == t.ring_periods, "sampling.ring_periods");
     key(s.ring_max_rows == t.ring_max_rows, "sampling.ring_max_rows");
+    key(s.ring_min_ms == t.ring_min_ms, "sampling.ring_min_ms");
     key(s.direct_reads == t.direct_reads, "sampling.direct_reads");
     key(s.rt_priority == t.rt_priority, "sampling.rt_priority");
     key(s.timer_slack_ns == t.timer_slack_ns, "sampling.timer_slack_ns");

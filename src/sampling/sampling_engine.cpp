@@ -42,6 +42,10 @@ namespace nclink::sampling_detail {
 
 namespace {
 
+// The fewest rows a ring has: one being written, one being read and room for
+// a late upload period.
+constexpr double kMinRingRows = 4;
+
 // On shared timer threads the engine's wake-ups (a channel added or removed,
 // a removed channel's last rows sampled) make its two pollables due now.
 class HostWaker final : public Sleeper {
@@ -172,11 +176,17 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
     auto& shared = state_->shared;
     const auto& config = shared.deps.config;
     const double rows_per_upload = std::max(1.0, std::floor(spec.upload_interval_ms / spec.sample_interval_ms));
-    const double wanted = std::ceil(rows_per_upload * config.ring_periods);
+    // The ring needs `ring_periods` upload periods of rows, and a floor in
+    // time (`ring_min_ms`) for the uploader's lateness, which is counted in
+    // milliseconds whatever the channel's rate. A floor in rows would give a
+    // 300-point channel sampled once a second 64 rows (300 KB) where it needs
+    // 4 (docs/performance.md, memory per machine).
+    const double floor_rows = std::max(kMinRingRows, std::ceil(config.ring_min_ms / spec.sample_interval_ms));
+    const double wanted = std::max(std::ceil(rows_per_upload * config.ring_periods), floor_rows);
     // Capped at half of size_t, so the double converts back exactly.
-    const std::size_t max_rows =
-        std::min(std::max<std::size_t>(64, config.ring_max_rows), std::numeric_limits<std::size_t>::max() / 2);
-    const std::size_t capacity = static_cast<std::size_t>(std::clamp(wanted, 64.0, static_cast<double>(max_rows)));
+    const std::size_t max_rows = std::min(std::max(static_cast<std::size_t>(kMinRingRows), config.ring_max_rows),
+                                          std::numeric_limits<std::size_t>::max() / 2);
+    const std::size_t capacity = static_cast<std::size_t>(std::min(wanted, static_cast<double>(max_rows)));
     // The ring is allocated whole, now: one that cannot be addressed (more
     // than half the address space; a large ring_max_rows on a 32-bit
     // target) is refused instead of wrapping its size.

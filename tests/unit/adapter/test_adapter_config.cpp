@@ -156,6 +156,17 @@ TEST_CASE("sampling slice_us is read and checked, default 100") {
     CHECK(AdapterConfig{}.sampling.slice_us == 100);
 }
 
+TEST_CASE("sampling ring_min_ms is read and checked, default 250") {
+    auto read = adapter_config_from_json(Json{{"sampling", {{"ring_min_ms", 1000}}}});
+    REQUIRE(read.ok());
+    CHECK(read->sampling.ring_min_ms == 1000);
+    REQUIRE(adapter_config_from_json(Json{{"sampling", {{"ring_min_ms", 0}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"ring_min_ms", -1}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"ring_min_ms", 3600001}}}}).ok());
+    CHECK_FALSE(adapter_config_from_json(Json{{"sampling", {{"ring_min_ms", "long"}}}}).ok());
+    CHECK(AdapterConfig{}.sampling.ring_min_ms == 250);
+}
+
 TEST_CASE("events qos is read and checked, default 1") {
     auto read = adapter_config_from_json(Json{{"events", {{"qos", 0}}}});
     REQUIRE(read.ok());

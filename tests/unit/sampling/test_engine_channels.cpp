@@ -57,7 +57,8 @@ TEST_CASE("the uploader publishes each channel every uploadInterval") {
 
 TEST_CASE("drop_oldest: a full ring loses and counts the oldest rows and the DTU begins at the first kept row") {
     SamplingConfig config;
-    config.ring_periods = 1;  // capacity 64 (the minimum)
+    config.ring_periods = 1;
+    config.ring_min_ms = 64;  // capacity 64 rows of 1 ms
     EngineFixture f(config);
     REQUIRE(f.engine->add_channel(EngineFixture::spec("ch", {"a"}, 1, 10)).ok());
     f.engine->run_sampling_once();
@@ -76,6 +77,7 @@ TEST_CASE("drop_oldest: a full ring loses and counts the oldest rows and the DTU
 TEST_CASE("block: a full ring holds the sampler back and the ticks it missed become null rows") {
     SamplingConfig config;
     config.ring_periods = 1;
+    config.ring_min_ms = 64;  // 64 rows of 1 ms
     config.full_policy = "block";
     EngineFixture f(config);
     REQUIRE(f.engine->add_channel(EngineFixture::spec("ch", {"a"}, 1, 10)).ok());
@@ -299,4 +301,41 @@ TEST_CASE("ring sizes: rounding saturates at the top bit and a size past size_t 
     CHECK(ring_bytes(top + 1, 1) == 0);
     CHECK(ring_bytes(top / 16, 6) == 0);
     CHECK(ring_bytes(64, std::numeric_limits<std::size_t>::max() / 8) == 0);
+}
+
+TEST_CASE("a ring holds its upload periods and a floor in time, not a floor in rows") {
+    // One row per upload period, sampled once a second: ring_periods 4 asks
+    // for 4 rows; the time floor (250 ms) asks for less. Before, 64 rows.
+    {
+        EngineFixture f(SamplingConfig{});
+        std::vector<std::string> points;
+        for (int i = 0; i < 300; ++i) points.push_back("p" + std::to_string(i));
+        REQUIRE(f.engine->add_channel(EngineFixture::spec("slow", points, 1000, 1000)).ok());
+        CHECK(f.stats("slow").ring_capacity == 4);
+    }
+    // A 1 ms channel uploaded every 10 ms needs 40 rows for its periods; the
+    // 250 ms floor gives it 250, rounded up to 256 (before, 64: 64 ms).
+    {
+        EngineFixture f(SamplingConfig{});
+        REQUIRE(f.engine->add_channel(EngineFixture::spec("fast", {"a"}, 1, 10)).ok());
+        CHECK(f.stats("fast").ring_capacity == 256);
+    }
+    // Without a time floor the periods decide (40 -> 64), and never fewer
+    // than 4 rows; ring_max_rows caps the floor as it caps the periods.
+    {
+        SamplingConfig config;
+        config.ring_min_ms = 0;
+        EngineFixture f(config);
+        REQUIRE(f.engine->add_channel(EngineFixture::spec("fast", {"a"}, 1, 10)).ok());
+        REQUIRE(f.engine->add_channel(EngineFixture::spec("once", {"a"}, 1000, 1000)).ok());
+        CHECK(f.stats("fast").ring_capacity == 64);
+        CHECK(f.stats("once").ring_capacity == 4);
+    }
+    {
+        SamplingConfig config;
+        config.ring_max_rows = 16;
+        EngineFixture f(config);
+        REQUIRE(f.engine->add_channel(EngineFixture::spec("fast", {"a"}, 1, 10)).ok());
+        CHECK(f.stats("fast").ring_capacity == 16);
+    }
 }

@@ -65,7 +65,8 @@ TEST_CASE("push refuses a wrong column count and a removed channel and a stopped
 
 TEST_CASE("a full push ring drops the oldest rows and the DTU restarts after the gap") {
     SamplingConfig config;
-    config.ring_periods = 1;  // 64 rows
+    config.ring_periods = 1;
+    config.ring_min_ms = 64;  // 64 rows of 1 ms
     EngineFixture f(config);
     REQUIRE(f.engine->add_channel(push_spec("servo", {"x"}, 1, 10)).ok());
     PushChannel ch = f.engine->push_channel("servo").value();
