@@ -24,6 +24,7 @@
 #include <nclink/export.hpp>
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
+#include <nclink/model_cache.hpp>
 #include <nclink/sampling.hpp>
 #include <nclink/shared_threads.hpp>
 #include <nclink/traffic_stats.hpp>
@@ -93,6 +94,11 @@ public:
     /// start(); include/nclink/shared_threads.hpp says what stays per
     /// adapter). `threads` must outlive the adapter's stop().
     void use_shared_threads(std::shared_ptr<SharedThreads> threads);
+    /// Gateway mode: load the model file through `cache`, shared with the
+    /// other adapters of the process, so machines of one model file share
+    /// one parsed model and its value rules (nclink/model_cache.hpp; set
+    /// before start()).
+    void use_model_cache(std::shared_ptr<ModelCache> cache);
 
     /// Loads and validates the model (refusing fatal problems, and
     /// conformance problems when strict, listing every one), opens the

@@ -208,6 +208,7 @@ Adapter::~Adapter() { stop(std::chrono::milliseconds(500)); }
 void Adapter::use_transport(std::unique_ptr<Transport> transport) { impl_->transport = std::move(transport); }
 void Adapter::use_clock(std::shared_ptr<const Clock> clock) { impl_->clock = std::move(clock); }
 void Adapter::use_shared_threads(std::shared_ptr<SharedThreads> threads) { impl_->shared_threads = std::move(threads); }
+void Adapter::use_model_cache(std::shared_ptr<ModelCache> cache) { impl_->host.use_cache(std::move(cache)); }
 Result<void> Adapter::start() { return impl_->start(); }
 void Adapter::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
 std::string Adapter::dev_uuid() const { return impl_->dev; }

@@ -36,8 +36,8 @@ Result<LoadResult> load_adapter_model(const AdapterConfig& config, const ModelHo
     LoadResult loaded;
     bool adopt_shipped = false;
     if (!persisted.empty()) {
-        LoadResult kept = load_model_file(persisted);
-        LoadResult shipped = config.model_path.empty() ? LoadResult{} : load_model_file(config.model_path);
+        LoadResult kept = host.load_file(persisted);
+        LoadResult shipped = config.model_path.empty() ? LoadResult{} : host.load_file(config.model_path);
         const std::string kept_version = device_version_of(kept, config.device_id);
         const std::string shipped_version = device_version_of(shipped, config.device_id);
         const auto order = compare_model_versions(shipped_version, kept_version);
@@ -63,7 +63,7 @@ Result<LoadResult> load_adapter_model(const AdapterConfig& config, const ModelHo
         } else {
             std::fclose(f);
         }
-        loaded = load_model_file(path);
+        loaded = host.load_file(path);
         logger.info("using the model {} (version {})", path, device_version_of(loaded, config.device_id));
     }
     for (const auto& p : loaded.problems) {

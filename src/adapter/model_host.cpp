@@ -55,7 +55,7 @@ Result<std::shared_ptr<feature_detail::ModelState>> ModelHost::build(const LoadR
         state->probe_text =
             std::make_shared<const std::string>(model_to_json(*state->model).dump(-1, ' ', false, Json::error_handler_t::replace));
     }
-    state->rules = std::make_shared<const ValueRules>(*state->model);
+    state->rules = cache_ ? cache_->rules(state->model) : std::make_shared<const ValueRules>(*state->model);
     return state;
 }
 

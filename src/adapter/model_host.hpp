@@ -10,6 +10,7 @@
 #include <nclink/driver.hpp>
 #include <nclink/log.hpp>
 #include <nclink/model.hpp>
+#include <nclink/model_cache.hpp>
 #include <nclink/values.hpp>
 
 #include <memory>
@@ -37,6 +38,13 @@ public:
     std::shared_ptr<const feature_detail::ModelState> current() const override;
     void install(std::shared_ptr<const feature_detail::ModelState> state);
 
+    /// Gateway mode: model files parsed once for every machine that serves
+    /// them, and their value rules built once (model_cache.hpp). Before the
+    /// adapter starts.
+    void use_cache(std::shared_ptr<ModelCache> cache) { cache_ = std::move(cache); }
+    /// load_model_file(path), through the cache when there is one.
+    LoadResult load_file(const std::string& path) const { return cache_ ? cache_->load(path) : load_model_file(path); }
+
     /// The model file a previous Probe/Set persisted, if any ("" = none).
     std::string persisted_model_path() const;
     /// Writes the model atomically into the persistence directory.
@@ -47,6 +55,7 @@ public:
 private:
     const std::string dir_;
     const Logger logger_;
+    std::shared_ptr<ModelCache> cache_;
     mutable std::mutex mutex_;
     std::shared_ptr<const feature_detail::ModelState> current_;
 };

@@ -269,3 +269,36 @@ TEST_CASE("gateway: machines share the timer, request and driver threads, and ea
     gateway.stop();
     watcher->stop();
 }
+
+TEST_CASE("gateway: machines of one model file share one parsed model, each still its own terminal") {
+    MosquittoBroker broker;
+    ScratchDir dir("nclink-gw-models-");
+    std::filesystem::create_directories(dir.path);
+    const auto other_model = (dir.path / "other.json").string();
+    std::filesystem::copy_file(test_model_path(), other_model);
+    GatewayConfig config;
+    for (int i = 0; i < 4; ++i) config.machines.push_back(machine(broker, i));
+    config.machines[3].adapter.model_path = other_model;  // the same content, another file
+    Gateway gateway(config, fake_drivers());
+    REQUIRE(gateway.start().ok());
+    REQUIRE(eventually([&] { return all_normal(gateway); }, 60s));
+
+    const auto model_of = [&](int i) { return gateway.machine(fmt::format("gw-{:02d}", i))->model(); };
+    REQUIRE(model_of(0));
+    CHECK(model_of(1).get() == model_of(0).get());
+    CHECK(model_of(2).get() == model_of(0).get());
+    CHECK(model_of(3).get() != model_of(0).get());
+    CHECK(*model_of(3) == *model_of(0));
+
+    auto client = started_client(broker.url(), "gw-models-app", 10s);
+    for (int i = 0; i < 4; ++i) CHECK(answers(*client, fmt::format("gw-{:02d}", i)));
+    // A machine removed and added back finds the model still in use by the
+    // others, not a parse of its own.
+    REQUIRE(gateway.remove_machine("gw-01").ok());
+    REQUIRE(gateway.add_machine(machine(broker, 1)).ok());
+    REQUIRE(eventually([&] { return all_normal(gateway); }, 30s));
+    CHECK(model_of(1).get() == model_of(0).get());
+    CHECK(eventually([&] { return answers(*client, "gw-01"); }, 20s));
+    client->stop();
+    gateway.stop();
+}
