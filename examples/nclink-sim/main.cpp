@@ -20,6 +20,7 @@
 #include <nclink/adapter_metrics.hpp>
 #include <nclink/gateway.hpp>
 #include <nclink/model.hpp>
+#include <nclink/model_cache.hpp>
 #include "sim/sim_driver.hpp"
 
 #include <chrono>
@@ -122,9 +123,11 @@ Options parse(int argc, char** argv) {
 
 std::string default_model(const char* name = "sim-mill.json");
 
-// The linked simulator for a machine: its model file, its seed.
-nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(const nclink::MachineConfig& machine) {
-    const auto loaded = nclink::load_model_file(machine.adapter.model_path);
+// The linked simulator for a machine: its model file, its seed. The model
+// comes through `models`, so the simulators of one file share the parsed
+// model as the gateway's adapters do (nclink/model_cache.hpp).
+nclink::Result<std::shared_ptr<nclink::Driver>> sim_driver(nclink::ModelCache& models, const nclink::MachineConfig& machine) {
+    const auto loaded = models.load(machine.adapter.model_path);
     if (!loaded.model)
         return nclink::make_error(nclink::ErrorCode::syntax_error, machine.adapter.model_path + " cannot be simulated");
     nclink::SimOptions sim;
@@ -185,7 +188,9 @@ int run_gateway(const Options& o, const nclink::AdapterConfig& shared, const ncl
     auto machines = gateway_machines(o, shared);
     if (!machines) return nclink::program::fail(kProgram, machines.error().message, kExitUsage);
     const nclink::GatewayConfig gateway = std::move(machines).value();
-    nclink::Gateway gw(gateway, &sim_driver, logger);
+    nclink::ModelCache models;
+    nclink::Gateway gw(
+        gateway, [&models](const nclink::MachineConfig& m) { return sim_driver(models, m); }, logger);
     if (auto started = gw.start(); !started) logger.warn("nclink-sim: {}", started.error().message);
     logger.info("nclink-sim: {} machine(s) serving (Ctrl-C to stop)", gw.machines().size());
     // One exposition of the machines serving at the moment of the scrape
