@@ -231,6 +231,23 @@ TEST_CASE("two instances without $share: a request of the other share is still i
     CHECK(f.agents[1]->stats().pending == 0);  // not its request to watch
 }
 
+TEST_CASE("two instances without $share: an online terminal of unknown kind is asked once, by its instance") {
+    SplitPair f;
+    auto mill = f.side("mill-1");  // instance 1's
+    mill->send(topics::notify_state("mill-1"), Json{{"tid", "mill-1"}, {"state", "online"}}.dump(), true);
+    const std::string ask = topics::probe_query_request("mill-1", "nclink-agent");
+    f.app->wait(ask);
+    std::this_thread::sleep_for(100ms);  // room for a second question to show up
+    CHECK(f.app->on(ask).size() == 1);
+    // Its answer, watched by both, tells both that mill-1 is an adapter.
+    mill->send(
+        topics::probe_query_response("mill-1", "nclink-agent"),
+        Json{{"@id", Json::parse(f.app->on(ask)[0].payload)["@id"]}, {"guid", "mill-1"}, {"code", "OK"}, {"probe", Json::object()}}
+            .dump());
+    REQUIRE(
+        eventually([&] { return kind_of(*f.agents[0], "mill-1") == "adapter" && kind_of(*f.agents[1], "mill-1") == "adapter"; }));
+}
+
 TEST_CASE("two instances without $share: while one is down its share goes unanswered") {
     SplitPair f;
     f.agents[1]->stop(0ms);
