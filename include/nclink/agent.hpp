@@ -89,6 +89,13 @@ struct NCLINK_API AgentConfig {
     // --- identity and instances ---
     std::string agent_id = "nclink-agent";     ///< "agent_id": the agent's terminal id (ex of its own Probe/Query)
     std::string share_group = "nclink-agent";  ///< "share_group": $share group of answering subscriptions ("" = plain)
+    /// "instances": how many agent instances split the work where the broker
+    /// has no $share (share_group "", every instance subscribed plainly):
+    /// each answers only the requests of the terminals whose id hashes to it
+    /// (FNV-1a 32 mod instances; docs/agent.md "Several agents"). 1 = this
+    /// instance answers everything.
+    unsigned instances = 1;
+    unsigned instance = 0;  ///< "instance": this instance's number, 0 .. instances-1
 
     // --- behaviour ---
     std::string state_dir;                            ///< "state_dir": registrations and cached models ("" = not persisted)
@@ -114,7 +121,8 @@ struct NCLINK_API AgentConfig {
 };
 
 /// Reads a configuration object; unknown keys 413, wrong types 405, a bad
-/// id_pattern or right name 405.
+/// id_pattern or right name 405, an unusable instances/instance/share_group
+/// combination 101 (out of range).
 NCLINK_API Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig base = {});
 /// Reads a configuration file; a relative state_dir / TLS path is taken
 /// relative to the file's directory.
@@ -181,7 +189,8 @@ public:
     /// times, acl and log_level (the logger's level, shared with every copy of
     /// it) take effect at once, for the next DTU; registrations already
     /// accepted stay. Changed keys of the broker section, agent_id,
-    /// share_group, state_dir, observe_samples and tick_ms are listed in
+    /// share_group, instances, instance, state_dir, observe_samples and
+    /// tick_ms are listed in
     /// restart_needed and keep their running value. Refuses (405, nothing
     /// applied) a configuration whose id_pattern is not a regular expression.
     /// Before start() every key is applied.

@@ -42,6 +42,9 @@ Result<void> Agent::Impl::start() {
         if (started) return make_error(ErrorCode::unavailable, "agent already started");
         started = true;
     }
+    // A configuration built in code skips the file reader's checks.
+    if (const auto problem = split_problem(config))
+        return make_error(ErrorCode::out_of_range, std::string("configuration: ") + problem->key + " " + problem->text);
     auto rule = TerminalIdRule::make(config.registration);
     if (!rule) return std::move(rule).error();
     auto loaded = picture.with([&](State& p) -> Result<void> {
@@ -109,6 +112,9 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
             restart_only(false, key.c_str());
         restart_only(config.agent_id == next.agent_id, "agent_id");
         restart_only(config.share_group == next.share_group, "share_group");
+        // Every instance must change its share with all the others at once.
+        restart_only(config.instances == next.instances, "instances");
+        restart_only(config.instance == next.instance, "instance");
         restart_only(config.state_dir == next.state_dir, "state_dir");
         restart_only(config.observe_samples == next.observe_samples, "observe_samples");
         restart_only(config.tick == next.tick, "tick_ms");
@@ -151,7 +157,8 @@ MqttOptions Agent::Impl::mqtt_options() const {
 }
 
 // Requests the agent answers: with several agents, exactly one of them
-// gets each (MQTT shared subscription).
+// gets each (MQTT shared subscription), or all get each and one answers
+// (instances, without $share: agent_split.cpp).
 std::vector<std::string> Agent::Impl::answer_filters() const {
     std::vector<std::string> filters = {topics::register_request(), topics::discovery_request("+"), topics::probe_version("+")};
     for (TopicKind kind : adapter_request_kinds())

@@ -2,6 +2,7 @@
 #include <nclink/agent.hpp>
 
 #include "agent/access.hpp"
+#include "agent/instance_split.hpp"
 #include "agent/terminal_id.hpp"
 #include "core/config_common.hpp"
 #include "transport/broker_config.hpp"
@@ -87,6 +88,8 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
     if (const Json* broker = top.object("broker")) NCLINK_TRY(read_broker(*broker, c));
     NCLINK_TRY(top.str("agent_id", c.agent_id));
     NCLINK_TRY(top.str("share_group", c.share_group));
+    NCLINK_TRY(top.count("instances", c.instances));
+    NCLINK_TRY(top.count("instance", c.instance));
     NCLINK_TRY(top.str("state_dir", c.state_dir));
     NCLINK_TRY(top.duration("request_timeout_ms", c.request_timeout));
     NCLINK_TRY(top.duration("adapter_liveness_ms", c.adapter_liveness));
@@ -110,6 +113,8 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
         return top.fail(ErrorCode::value_type, "agent_id", "must be one topic level");
     if (c.share_group.find_first_of("/+#") != std::string::npos)
         return top.fail(ErrorCode::value_type, "share_group", "must not contain '/', '+' or '#'");
+    if (const auto problem = agent_detail::split_problem(c))
+        return top.fail(ErrorCode::out_of_range, problem->key, problem->text);
     return c;
 }
 

@@ -8,6 +8,8 @@
 //   agent_forwarding.cpp   requests to adapters: 301, DEV_UNREACHABLE (8.3.4),
 //                          the cached probe, 203 for a silent adapter
 //   agent_housekeeping.cpp timeouts, liveness and the state files
+//   agent_split.cpp        requests of another instance's share (instances
+//                          without $share; the rule is instance_split.hpp)
 //   agent_metrics.cpp      DTUs by kind and the Prometheus text of the stats
 //
 // and the objects it composes: Picture (agent_picture.hpp: what the agent
@@ -25,6 +27,7 @@
 
 #include "agent/access.hpp"
 #include "agent/agent_picture.hpp"
+#include "agent/instance_split.hpp"
 #include "agent/state_store.hpp"
 #include "agent/terminal_id.hpp"
 #include "core/periodic_thread.hpp"
@@ -103,7 +106,8 @@ struct NCLINK_LOCAL Agent::Impl {
     MqttOptions mqtt_options() const;
 
     // Requests the agent answers: with several agents, exactly one of them
-    // gets each (MQTT shared subscription).
+    // gets each (MQTT shared subscription), or all get each and one answers
+    // (instances, without $share).
     std::vector<std::string> answer_filters() const;
 
     // What every agent instance must see to keep its own picture complete.
@@ -117,6 +121,12 @@ struct NCLINK_LOCAL Agent::Impl {
     void publish(Out& out);
 
     void dispatch(State& p, const ParsedTopic& topic, const Message& m, Out& out);
+
+    // ---- instances without $share (agent_split.cpp) ----
+    // False for a request in another instance's share.
+    bool answers_here(const ParsedTopic& topic, const Message& m) const;
+    // Such a request: only the sign of life of its sender, as its owner takes it.
+    void watch_request(State& p, const ParsedTopic& topic, const Message& m, Out& out);
 
     void reply(Out& out, std::string topic, const Json& payload);
 

@@ -55,6 +55,7 @@ void Agent::Impl::publish(Out& out) {
 }
 
 void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m, Out& out) {
+    if (!answers_here(topic, m)) return watch_request(p, topic, m, out);
     switch (topic.kind) {
         case TopicKind::register_request: return on_register(p, m, out);
         case TopicKind::register_response: return on_register_response(p, topic, m);

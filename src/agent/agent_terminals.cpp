@@ -172,8 +172,11 @@ void Agent::Impl::on_notify(State& p, const ParsedTopic& topic, const Message& m
 // adapter or an application. A Probe/Query does: an adapter answers it
 // (and the answer fills the model cache, which the agent needs for an
 // offline adapter anyway); an application does not, and nothing else
-// happens. Asked once per online period.
+// happens. Asked once per online period; by the terminal's own instance
+// when instances split the work (instance_split.hpp): every instance watches
+// the answer, so one question is enough.
 void Agent::Impl::learn_kind(State& p, const std::string& tid, Out& out) {
+    if (config.instances > 1 && instance_of(tid, config.instances) != config.instance) return;
     if (!publishable_level(tid) || !p.kind_probes.insert(tid).second) return;
     if (const auto* cached = p.models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
     ProbeQueryRequest query;

@@ -18,6 +18,8 @@
 #include <nclink/log.hpp>
 #include <nclink/mqtt_transport.hpp>
 
+#include <fmt/format.h>
+
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -176,8 +178,10 @@ int main(int argc, char** argv) {
         agent.stop();
         return nclink::program::fail(kProgram, "cannot connect to " + config.broker_url + ": " + *why, kExitCannotRun);
     }
-    logger.info("nclink-agent: serving on {} (share group '{}'); SIGHUP reloads, SIGINT/SIGTERM stops", config.broker_url,
-                config.share_group);
+    const std::string sharing = config.instances > 1
+                                    ? fmt::format("instance {} of {}, plain subscriptions", config.instance, config.instances)
+                                    : fmt::format("share group '{}'", config.share_group);
+    logger.info("nclink-agent: serving on {} ({}); SIGHUP reloads, SIGINT/SIGTERM stops", config.broker_url, sharing);
     const int stop_signal = signals.serve([&] { reload(o, agent, logger); });
     logger.info("nclink-agent: {} received, stopping", nclink::program::Signals::name(stop_signal));
     if (metrics) metrics->stop();

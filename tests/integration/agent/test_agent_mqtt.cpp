@@ -1,5 +1,6 @@
 // The agent against a real mosquitto: a real adapter (fake driver) and the
-// client library around it; several agent instances on shared subscriptions;
+// client library around it; several agent instances on shared subscriptions
+// and split by terminal id without them;
 // the generated ACL file enforced by the broker.
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
@@ -224,6 +225,82 @@ TEST_CASE("two agents on shared subscriptions answer once") {
             }));
         }
     }
+}
+
+// Where the broker has no $share (RabbitMQ 3.10): every instance subscribes
+// plainly and answers only the requests of its share (instance_split.hpp).
+TEST_CASE("two agents without $share split the requests by terminal and answer once") {
+    MosquittoBroker broker;
+    AgentConfig configs[2] = {agent_config(broker, "agent-a"), agent_config(broker, "agent-b")};
+    for (unsigned k = 0; k < 2; ++k) {
+        configs[k].mqtt_version = 4;  // as on RabbitMQ
+        configs[k].share_group = "";
+        configs[k].instances = 2;
+        configs[k].instance = k;
+    }
+    std::unique_ptr<Agent> agents[2] = {start_agent(configs[0]), start_agent(configs[1])};
+    Peer app(broker, "app", {"Register/Response/+", "Discovery/Response/+", "Query/Response/+/+", "Probe/Version/Response/+"});
+    const int n = 8;
+    auto id = [](const char* prefix, int i) { return prefix + std::to_string(i); };
+    for (int i = 0; i < n; ++i) {
+        app.send("Register/Request", Json{{"@id", id("r", i)}, {"cli_uuid", id("t", i)}});
+        app.send("Discovery/Request/" + id("app", i), Json{{"@id", id("d", i)}, {"guid", id("app", i)}});
+        app.send("Query/Request/" + id("silent", i) + "/app", Json{{"@id", id("q", i)}, {"ids", {"pos"}}});
+        app.send("Probe/Version/" + id("dev", i), Json{{"@id", id("v", i)}, {"guid", id("dev", i)}, {"version", "1"}});
+    }
+    REQUIRE(eventually([&] {
+        for (int i = 0; i < n; ++i)
+            if (app.on("Query/Response/" + id("silent", i) + "/app").empty()) return false;
+        return true;
+    }));
+    std::this_thread::sleep_for(600ms);  // room for a second answer to show up
+    for (int i = 0; i < n; ++i) {
+        INFO(i);
+        CHECK(app.on("Register/Response/" + id("t", i)).size() == 1);
+        CHECK(app.on("Discovery/Response/" + id("app", i)).size() == 1);
+        CHECK(app.on("Query/Response/" + id("silent", i) + "/app").size() == 1);
+        CHECK(app.on("Probe/Version/Response/" + id("dev", i)).size() == 1);
+    }
+    const AgentStats s0 = agents[0]->stats(), s1 = agents[1]->stats();
+    CHECK(s0.registrations + s1.registrations == n);
+    CHECK(s0.discoveries + s1.discoveries == n);
+    CHECK(s0.timeouts + s1.timeouts == n);
+    CHECK(s0.versions + s1.versions == n);
+    // Both answered some of each kind: the ids t0..t7, app0..7, silent0..7
+    // and dev0..7 fall half to each (FNV-1a 32 mod 2).
+    for (const AgentStats& s : {s0, s1}) {
+        CHECK(s.registrations == n / 2);
+        CHECK(s.discoveries == n / 2);
+        CHECK(s.timeouts == n / 2);
+        CHECK(s.versions == n / 2);
+    }
+    // Each watched the other's Register/Response: both know every registration.
+    REQUIRE(eventually([&] {
+        std::size_t known = 0;
+        for (auto& agent : agents)
+            for (const auto& t : agent->terminals()) known += t.registered ? 1 : 0;
+        return known == 2 * n;
+    }));
+
+    // No takeover: with instance 1 gone, its share is not answered until it is back.
+    agents[1]->stop();
+    for (int i = 0; i < n; ++i) app.send("Register/Request", Json{{"@id", id("again", i)}, {"cli_uuid", id("t", i)}});
+    REQUIRE(eventually([&] {
+        std::size_t answered = 0;
+        for (int i = 0; i < n; ++i) answered += app.on("Register/Response/" + id("t", i)).size();
+        return answered >= n + n / 2;
+    }));
+    std::this_thread::sleep_for(600ms);
+    std::size_t answered = 0;
+    for (int i = 0; i < n; ++i) answered += app.on("Register/Response/" + id("t", i)).size();
+    CHECK(answered == n + n / 2);
+    agents[1] = start_agent(configs[1]);
+    for (int i = 0; i < n; ++i) app.send("Register/Request", Json{{"@id", id("back", i)}, {"cli_uuid", id("t", i)}});
+    REQUIRE(eventually([&] {
+        std::size_t all = 0;
+        for (int i = 0; i < n; ++i) all += app.on("Register/Response/" + id("t", i)).size();
+        return all == n + n / 2 + n;  // instance 1 answers again
+    }));
 }
 
 // RabbitMQ 3.10 closes an MQTT 5 CONNECT without a CONNACK (docs/scaling.md):

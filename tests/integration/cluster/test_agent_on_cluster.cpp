@@ -1,7 +1,7 @@
-// One agent on a RabbitMQ cluster, with the settings docs/scaling.md gives
-// for it there: MQTT 3.1.1 and plain subscriptions (share_group ""; RabbitMQ
-// takes $share/... for a topic name). Agent on node 3, adapter on node 1,
-// application on node 2: registration (8.2.1) and Discovery (8.2.3) cross
+// Agents on a RabbitMQ cluster, with the settings docs/scaling.md gives
+// for them there: MQTT 3.1.1 and plain subscriptions (share_group ""; RabbitMQ
+// takes $share/... for a topic name), one instance or several splitting the
+// requests by terminal id. Registration (8.2.1) and Discovery (8.2.3) cross
 // the cluster.
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
@@ -10,10 +10,13 @@
 #include "cluster_probe.hpp"
 #include "support/adapter_fixture.hpp"  // test_model_path(), scratch_dir(), FakeDriver
 
+#include <thread>
+
 using namespace nclink;
 using namespace nclink::test;
 using namespace std::chrono_literals;
 
+// Agent on node 3, adapter on node 1, application on node 2.
 TEST_CASE("RabbitMQ cluster: one agent with plain subscriptions registers an adapter and answers Discovery across nodes") {
     NCLINK_NEEDS_RABBITMQ();
     RabbitCluster rabbit;
@@ -69,4 +72,77 @@ TEST_CASE("RabbitMQ cluster: one agent with plain subscriptions registers an ada
     agent.stop();
     std::error_code ignored;
     std::filesystem::remove_all(config.persistence_dir, ignored);
+}
+
+// Several agents where the broker has no $share: "share_group" "" and
+// "instances" 2 (docs/agent.md, "Without $share"). Agents on nodes 2 and 3,
+// the application on node 1: every request is answered once, by the instance
+// its terminal id hashes to (FNV-1a 32 mod 2: t0..t7 and app0..app7 fall
+// half to each).
+TEST_CASE("RabbitMQ cluster: two agents without $share split the requests by terminal and answer each once") {
+    NCLINK_NEEDS_RABBITMQ();
+    RabbitCluster rabbit;
+
+    std::unique_ptr<Agent> agents[2];
+    for (unsigned k = 0; k < 2; ++k) {
+        AgentConfig c;
+        c.broker_url = rabbit.url(1 + static_cast<int>(k));
+        c.client_id = "cluster-agent-" + std::to_string(k);
+        c.mqtt_version = 4;
+        c.share_group = "";
+        c.instances = 2;
+        c.instance = k;
+        agents[k] = std::make_unique<Agent>(c, probe_logger());
+        REQUIRE(agents[k]->start());
+        REQUIRE(eventually([&] { return agents[k]->stats().transport.connects >= 1; }, 30s));
+    }
+    Probe app(rabbit.url(0), "cluster-split-app");
+    REQUIRE(app.connected());
+    REQUIRE(app.subscribe_ready("Register/Response/+", "Register/Response/marker"));
+    REQUIRE(app.subscribe_ready("Discovery/Response/+", "Discovery/Response/marker"));
+    auto send = [&](const std::string& topic, const Json& payload) {
+        REQUIRE(app.transport->publish(Message{topic, payload.dump(), 1, false}));
+    };
+    // The agents' SUBSCRIBEs may still be on their way: a registration of each
+    // share (mill-2: instance 0, mill-1: instance 1) is asked until answered.
+    REQUIRE(eventually(
+        [&] {
+            for (const char* tid : {"mill-1", "mill-2"})
+                if (app.received_on(std::string("Register/Response/") + tid) == 0)
+                    send("Register/Request", Json{{"@id", std::string("w-") + tid}, {"cli_uuid", tid}});
+            return eventually(
+                [&] { return app.received_on("Register/Response/mill-1") > 0 && app.received_on("Register/Response/mill-2") > 0; },
+                1s);
+        },
+        60s));
+    std::this_thread::sleep_for(500ms);  // a warm-up asked twice is answered before the count starts
+    const std::uint64_t warm[2] = {agents[0]->stats().registrations, agents[1]->stats().registrations};
+
+    const int n = 8;
+    for (int i = 0; i < n; ++i) {
+        const std::string t = "t" + std::to_string(i), a = "app" + std::to_string(i);
+        send("Register/Request", Json{{"@id", "r" + t}, {"cli_uuid", t}});
+        send("Discovery/Request/" + a, Json{{"@id", "d" + a}, {"guid", a}});
+    }
+    CHECK(eventually(
+        [&] {
+            for (int i = 0; i < n; ++i)
+                if (app.received_on("Register/Response/t" + std::to_string(i)) == 0 ||
+                    app.received_on("Discovery/Response/app" + std::to_string(i)) == 0)
+                    return false;
+            return true;
+        },
+        20s));
+    std::this_thread::sleep_for(1s);  // room for a second answer to show up
+    for (int i = 0; i < n; ++i) {
+        INFO(i);
+        CHECK(app.received_on("Register/Response/t" + std::to_string(i)) == 1);
+        CHECK(app.received_on("Discovery/Response/app" + std::to_string(i)) == 1);
+    }
+    for (unsigned k = 0; k < 2; ++k) {
+        INFO("instance " << k);
+        CHECK(agents[k]->stats().registrations - warm[k] == n / 2);
+        CHECK(agents[k]->stats().discoveries == n / 2);
+    }
+    for (auto& agent : agents) agent->stop();
 }

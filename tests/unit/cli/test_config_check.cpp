@@ -55,6 +55,25 @@ TEST_CASE("config check: a bad failover entry is located at the entry, and the p
     CHECK(check.problems[1].pointer == "/modle");
 }
 
+TEST_CASE("config check: an agent's unusable instances and instance are both located") {
+    // instances 2 with the default share group, and an instance number out of range.
+    const std::string text =
+        "{\n"
+        "  \"agent_id\": \"a\",\n"
+        "  \"instances\": 2,\n"
+        "  \"instance\": 2\n"
+        "}\n";
+    const ConfigCheck check = check_config_text(text, find_config_kind("agent"));
+    REQUIRE(check.problems.size() == 2);
+    CHECK(check.problems[0].pointer == "/instances");
+    CHECK(where(check.problems[0]) == "3:3");
+    CHECK(check.problems[0].code == ErrorCode::out_of_range);
+    CHECK_THAT(check.problems[0].message, Catch::StartsWith("instances must be 1 while share_group is set"));
+    CHECK(check.problems[1].pointer == "/instance");
+    CHECK(where(check.problems[1]) == "4:3");
+    CHECK_THAT(check.problems[1].message, Catch::StartsWith("instance must be below instances (2)"));
+}
+
 TEST_CASE("config check: malformed JSON is located at the offending character") {
     const ConfigCheck check = check_config_text("{\n  \"broker\": {\"url\": \"x\",},\n  \"model\": \"m\"\n}\n", nullptr);
     REQUIRE(check.problems.size() == 1);

@@ -132,12 +132,23 @@ ConfigReload adapter_reload(const Json& running, const Json& next) {
 }
 
 ConfigReload agent_reload(const Json& running, const Json& next) {
-    AgentConfig a = agent_config_from_json(running).value();
-    AgentConfig b = agent_config_from_json(next).value();
+    // instances and instance are read only in a usable combination (above 1
+    // with share_group "", instance below instances): when `next` changes
+    // one of them, both documents get the rest of such a combination, so the
+    // changed key is still the only difference.
+    Json r = running, n = next;
+    const unsigned instances = n.value("instances", 1u), instance = n.value("instance", 0u);
+    if (instances > 1 || instance > 0) {
+        r["share_group"] = n["share_group"] = "";
+        if (instance >= instances) r["instances"] = n["instances"] = instance + 1;
+    }
+    AgentConfig a = agent_config_from_json(r).value();
+    AgentConfig b = agent_config_from_json(n).value();
     // The loopback broker has no shared subscriptions: run without, and let
     // only a changed share_group count as one.
-    if (b.share_group == a.share_group) b.share_group.clear();
+    const bool share_group_changed = b.share_group != a.share_group;
     a.share_group.clear();
+    b.share_group = share_group_changed ? "changed" : "";
     LoopbackBroker broker;
     Agent agent(a);
     LoopbackOptions options;
