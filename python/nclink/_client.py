@@ -323,7 +323,8 @@ class Client:
     dynamic-channel registrations past the adapter's lease (0 = off);
     ``on_link_state(state)``: "connecting", "connected", "disconnected";
     ``failover``: further brokers, in order ("host:port" with the scheme of
-    ``broker``, or URLs): a failed connect attempt moves on to the next one.
+    ``broker``, or URLs): a failed connect attempt, or a connection lost before
+    it was stable, moves on to the next one.
     Nothing happens on the network until ``connect()``.
     """
 
@@ -333,7 +334,7 @@ class Client:
                  connect_timeout: float = 5.0, reconnect_max: float = 10.0, log_level: str = "error",
                  on_link_state: Optional[Callable[[str], None]] = None,
                  max_queued_requests: Optional[int] = None, duplicate_memory: Optional[int] = None,
-                 stop_flush_timeout: Optional[float] = None, mqtt_version: Optional[int] = None,
+                 stop_flush_timeout: Optional[float] = None, mqtt_version: Optional[Union[int, str]] = None,
                  mqtt_keepalive: Optional[float] = None, reconnect_min: Optional[float] = None,
                  outbox_max_bytes: Optional[int] = None, outbox_max_in_flight: Optional[int] = None,
                  tcp_nodelay: Optional[bool] = None, last_will: Optional[Tuple[str, str, int, bool]] = None,

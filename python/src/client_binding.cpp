@@ -164,9 +164,19 @@ void apply_advanced(const py::dict& d, MqttOptions& mqtt, ClientOptions& options
         } else if (key == "stop_flush_timeout") {
             options.stop_flush_timeout = to_ms(value.cast<double>());
         } else if (key == "mqtt_version") {
-            const int version = value.cast<int>();
-            if (version != 4 && version != 5) throw py::value_error("mqtt_version: 4 (MQTT 3.1.1) or 5");
-            mqtt.mqtt_version = version;
+            // "auto" is MqttOptions::mqtt_version 0: MQTT 5 first, 3.1.1 after
+            // a broker refused 5 (a RabbitMQ 3.10 node, docs/configuration.md),
+            // as the programs' "mqtt_version": "auto". Spelt as in their
+            // configuration, not as the C++ 0.
+            constexpr const char* expected = "mqtt_version: 4 (MQTT 3.1.1), 5 or \"auto\"";
+            if (py::isinstance<py::str>(value)) {
+                if (value.cast<std::string>() != "auto") throw py::value_error(expected);
+                mqtt.mqtt_version = 0;
+            } else {
+                const int version = value.cast<int>();
+                if (version != 4 && version != 5) throw py::value_error(expected);
+                mqtt.mqtt_version = version;
+            }
         } else if (key == "mqtt_keepalive") {
             mqtt.keep_alive = std::chrono::duration_cast<std::chrono::seconds>(to_ms(value.cast<double>()));
         } else if (key == "reconnect_min") {

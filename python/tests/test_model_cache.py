@@ -167,3 +167,15 @@ def test_less_used_client_options(sim: Sim, broker: Broker) -> None:
         nclink.Client(broker.url, mqtt_version=3)
     with pytest.raises(ValueError):
         nclink.Client(broker.url, stop_flush_timeout=-1.0)
+
+
+def test_mqtt_version_auto(sim: Sim, broker: Broker, capfd: pytest.CaptureFixture[str]) -> None:
+    # "auto", as the programs' "mqtt_version": MQTT 5 first, 3.1.1 after a
+    # broker refused 5 (docs/configuration.md). mosquitto speaks 5: the C++
+    # client says which level it settled on, and requests work over it.
+    with nclink.Client(broker.url, mqtt_version="auto", log_level="info") as c:
+        c.connect(register=False)
+        assert c.get(DEV, "status")
+    assert "speaks MQTT 5 (mqtt_version auto)" in capfd.readouterr().err
+    with pytest.raises(ValueError, match="auto"):
+        nclink.Client(broker.url, mqtt_version="sometimes")

@@ -6,6 +6,7 @@
 #include "transport/ack_watchdog.hpp"
 #include "transport/backoff.hpp"
 #include "transport/broker_list.hpp"
+#include "transport/connection_lost.hpp"
 #include "transport/link_record.hpp"
 #include "transport/subscription_set.hpp"
 #include "transport/tcp_nodelay.hpp"
@@ -339,13 +340,38 @@ private:
                 next = brokers_.current().url;
                 protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
             }
-            // A paho client that has connected at 3.1.1 refuses to connect at
-            // 5 from then on ("Client created for another version of MQTT",
-            // before any byte is sent): after a 3.1.1 connection, "auto"
-            // asks every broker for 3.1.1.
-            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = spoke_311_ ? 4 : 5;
+            if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = auto_protocol();
         }
         link_.attempt_failed(why, refused, delay, next);
+    }
+
+    // Thread: supervisor. The level "auto" asks a broker for first. A paho
+    // client that has connected at 3.1.1 refuses to connect at 5 from then
+    // on ("Client created for another version of MQTT", before any byte is
+    // sent): after a 3.1.1 connection, "auto" asks every broker for 3.1.1.
+    int auto_protocol() const { return spoke_311_ ? 4 : 5; }
+
+    // Thread: supervisor, under mutex_. The connection made at
+    // backoff.connected() was lost (or dropped as stalled) at `now`: the
+    // back-off and, for one lost before it was stable, the move to the next
+    // broker of the failover list (connection_lost.hpp; the libmosquitto
+    // transport follows the same rule). The wait before the next attempt.
+    milliseconds after_lost_connection(transport_detail::ReconnectBackoff& backoff,
+                                       transport_detail::ReconnectBackoff::Clock::time_point now) {
+        transport_detail::AfterLoss after;
+        std::string next;
+        {
+            std::lock_guard<std::mutex> lock(brokers_mutex_);
+            after = transport_detail::connection_lost(backoff, brokers_, now);
+            if (after.moved) next = brokers_.current().url;
+        }
+        if (after.moved) {
+            protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+            if (options_.mqtt_version == 0) protocol_ = auto_protocol();
+        }
+        const milliseconds wait = backoff.wait(rng_);
+        if (!after.stable) link_.lost_early(after.lasted, backoff.stable_period(), wait, next);
+        return wait;
     }
 
     transport_detail::BrokerAddress current_broker() const {
@@ -409,13 +435,7 @@ private:
                 // closing the lost socket ("socket error"), which would move
                 // a failover list on from a broker that is still there.
                 if (std::exchange(was_up, false)) {
-                    const auto now = transport_detail::ReconnectBackoff::Clock::now();
-                    const bool stable = backoff.lost(now);
-                    const milliseconds wait = backoff.wait(rng_);
-                    if (!stable)
-                        logger_.info("mqtt: the connection to {} lasted {} ms (stable after {} ms): next attempt in {} ms",
-                                     current_broker().url, backoff.lasted(now).count(), backoff.stable_period().count(),
-                                     wait.count());
+                    const milliseconds wait = after_lost_connection(backoff, transport_detail::ReconnectBackoff::Clock::now());
                     if (wake_.wait_for(lock, wait, [this] { return stopping_; })) continue;
                 }
                 const milliseconds retry = backoff.wait(rng_);
@@ -436,7 +456,11 @@ private:
                 } catch (const mqtt::exception& e) {
                     connect_failed(e, retry);
                 }
+                const bool answered = ok;            // a CONNACK accepted the attempt
                 ok = ok && client_->is_connected();  // paho call: before taking mutex_
+                // Already lost again: a connection that was never stable, so
+                // a failed attempt for the rotation too (connection_lost.hpp).
+                if (answered && !ok) connect_failed("the broker closed the connection right after its CONNACK", false, retry);
                 if (ok && options_.mqtt_version == 0 && !protocol_settled_)
                     logger_.info("mqtt: {} speaks MQTT {} (mqtt_version auto)", url, protocol >= 5 ? "5" : "3.1.1");
                 if (ok) protocol_settled_ = true;

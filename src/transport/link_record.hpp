@@ -47,6 +47,24 @@ public:
         judge(refused);
         if (!next.empty()) broker_ = next;
     }
+    /// The connection to broker() was lost after `lasted`, before it was
+    /// stable (`stable_after`, backoff.hpp): a failed attempt
+    /// (connection_lost.hpp). `next`: the broker of the failover list tried
+    /// next when the transport moves on (its URL; the move is logged as a
+    /// failed attempt's is, and counted as a failover once connected there),
+    /// else "".
+    void lost_early(std::chrono::milliseconds lasted, std::chrono::milliseconds stable_after, std::chrono::milliseconds retry,
+                    const std::string& next = {}) {
+        std::lock_guard<std::mutex> lock(failure_mutex_);
+        if (next.empty())
+            logger_.info("mqtt: the connection to {} lasted {} ms (stable after {} ms): next attempt in {} ms", broker_,
+                         lasted.count(), stable_after.count(), retry.count());
+        else {
+            logger_.warn("mqtt: the connection to {} lasted {} ms (stable after {} ms): failing over: {} in {} ms", broker_,
+                         lasted.count(), stable_after.count(), next, retry.count());
+            broker_ = next;
+        }
+    }
     /// A later finding about the last attempt (a TLS handshake of our own).
     void attempt_named(const std::string& why, bool refused) {
         std::lock_guard<std::mutex> lock(failure_mutex_);

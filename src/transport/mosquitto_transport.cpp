@@ -4,6 +4,7 @@
 #include "transport/backoff.hpp"
 #include "transport/in_flight_ids.hpp"
 #include "transport/broker_list.hpp"
+#include "transport/connection_lost.hpp"
 #include "transport/link_record.hpp"
 #include "transport/mqtt_loop.hpp"
 #include "transport/outbox.hpp"
@@ -206,14 +207,22 @@ private:
         if (!std::exchange(fell_back_, false)) {
             if (brokers_.advance()) {
                 next = brokers_.current().url;
-                protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
-                tls_verdict_.reset();       // that verdict was about the other broker
+                moved_on();
             }
             if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = 5;
         }
         link_.attempt_failed(why, refused, retry, next);
         retry_at_ = Steady::now() + retry;
         backoff_.failed();
+    }
+
+    // Loop thread: brokers_ moved on to another broker (a failed attempt, or
+    // a connection lost before it was stable): what was learnt about the
+    // last one does not hold for it.
+    void moved_on() {
+        protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+        tls_verdict_.reset();       // that verdict was about the other broker
+        if (options_.mqtt_version == 0) protocol_ = 5;
     }
 
     // ---- loop thread ------------------------------------------------------
@@ -404,13 +413,15 @@ private:
         if (was_connected) {
             // Unacknowledged messages wait again, in order, for the next connection.
             outbox_.link_down();
-            // Lost soon after its CONNACK: a failed attempt, the back-off grows (backoff.hpp).
+            // Lost soon after its CONNACK: a failed attempt, the back-off
+            // grows and the next attempt goes to the next broker of the list
+            // (connection_lost.hpp); a stable one is made again here first.
             const Steady::time_point now = Steady::now();
-            const bool stable = backoff_.lost(now);
+            const AfterLoss after = connection_lost(backoff_, brokers_, now);
             const milliseconds retry = backoff_.wait(rng_);
-            if (!stable)
-                logger_.info("mqtt: the connection to {} lasted {} ms (stable after {} ms): next attempt in {} ms",
-                             brokers_.current().url, backoff_.lasted(now).count(), backoff_.stable_period().count(), retry.count());
+            if (after.moved) moved_on();
+            if (!after.stable)
+                link_.lost_early(after.lasted, backoff_.stable_period(), retry, after.moved ? brokers_.current().url : "");
             retry_at_ = now + retry;
         }
         set_state(LinkState::disconnected, why);

@@ -1,11 +1,13 @@
 // The failover list of both MQTT transports (MqttOptions::failover_urls)
 // against real mosquittos on free loopback ports: a first broker that is not
-// running, and one killed under a connected transport.
+// running, one killed under a connected transport, and one that accepts each
+// connection and drops it right after its CONNACK.
 #include <nclink/mqtt_transport.hpp>
 #include <nclink/paho_transport.hpp>
 
 #include "support/inbox.hpp"
 #include "support/mosquitto_broker.hpp"
+#include "support/mqtt5_refusing_broker.hpp"
 #include "support/test_pki.hpp"
 #include "support/wait.hpp"
 #include "transport/mosquitto_transport.hpp"
@@ -18,6 +20,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace nclink;
@@ -173,12 +176,46 @@ TEST_CASE("failover: a lost connection is made again to the same broker first wh
     auto t = make_transport(client, options(first.url(), "failover-stay", {second.url()}));
     REQUIRE(t->start());
     REQUIRE(eventually([&] { return t->state() == LinkState::connected; }, 10s));
+    // Up for longer than reconnect_max (500 ms): a stable connection. One
+    // lost sooner moves on like a failed attempt (the test below).
+    std::this_thread::sleep_for(700ms);
     const auto sockets = transport_detail::sockets_connected_to("127.0.0.1", first.port());
     REQUIRE(sockets.size() == 1);
     ::shutdown(sockets.front().fd, SHUT_RDWR);  // the network "fails"; the broker stays
     REQUIRE(eventually([&] { return t->stats().connects == 2 && t->state() == LinkState::connected; }, 20s));
     CHECK(t->stats().broker == first.url());
     CHECK(t->stats().failovers == 0);
+    t->stop(0ms);
+}
+
+TEST_CASE("failover: a broker that drops each connection right after its CONNACK is left for the next one") {
+    const Client client = GENERATE(Client::own_loop, Client::shared_loop, Client::paho);
+    INFO(client_name(client));
+    // First in the list: a stand-in that accepts every CONNECT and closes
+    // the connection after its CONNACK, as a RabbitMQ 3.10 node did while its
+    // peer was dead (docs/scaling.md). paho must see the connection made
+    // before it is lost (closed at once, the attempt looks failed to paho,
+    // tests/unit/paho/test_paho_flapping_broker.cpp), so 50 ms after there.
+    test::Mqtt5RefusingBroker flapping;
+    flapping.close_after_connack(true, client == Client::paho ? 50ms : 0ms);
+    MosquittoBroker second;
+    auto t = make_transport(client, options(flapping.url(), "failover-flapping", {second.url()}));
+    Inbox own;
+    own.attach(*t);
+    REQUIRE(t->subscribe({"failover/flapping"}, 1));
+    REQUIRE(t->start());
+    // Before: made again to the flapping broker forever, never to the second.
+    REQUIRE(eventually([&] { return t->state() == LinkState::connected && t->stats().broker == second.url(); }, 30s));
+    CHECK(flapping.connects() >= 1);
+    CHECK(t->stats().failovers >= 1);
+    // It works there: a message to its own subscription comes back (asked
+    // again until it does: the SUBSCRIBE may still be on its way).
+    REQUIRE(eventually([&] {
+        (void)t->publish({"failover/flapping", "round trip", 1, false});
+        return eventually([&] { return count_of(own, "round trip") > 0; }, 300ms);
+    }));
+    CHECK(t->state() == LinkState::connected);
+    CHECK(t->stats().broker == second.url());
     t->stop(0ms);
 }
 
