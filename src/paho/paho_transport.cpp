@@ -338,11 +338,19 @@ private:
             std::lock_guard<std::mutex> lock(brokers_mutex_);
             if (brokers_.advance()) {
                 next = brokers_.current().url;
-                protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+                moved_on();
             }
             if (options_.mqtt_version == 0 && !protocol_settled_) protocol_ = auto_protocol();
         }
         link_.attempt_failed(why, refused, delay, next);
+    }
+
+    // Thread: supervisor. brokers_ moved on to another broker (a failed
+    // attempt, or a connection lost before it was stable): the level
+    // learnt about the last one does not hold for it.
+    void moved_on() {
+        protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
+        if (options_.mqtt_version == 0) protocol_ = auto_protocol();
     }
 
     // Thread: supervisor. The level "auto" asks a broker for first. A paho
@@ -365,10 +373,7 @@ private:
             after = transport_detail::connection_lost(backoff, brokers_, now);
             if (after.moved) next = brokers_.current().url;
         }
-        if (after.moved) {
-            protocol_settled_ = false;  // another broker: "auto" asks it for 5 first
-            if (options_.mqtt_version == 0) protocol_ = auto_protocol();
-        }
+        if (after.moved) moved_on();
         const milliseconds wait = backoff.wait(rng_);
         if (!after.stable) link_.lost_early(after.lasted, backoff.stable_period(), wait, next);
         return wait;
