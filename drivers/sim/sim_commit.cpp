@@ -101,6 +101,7 @@ Result<void> SimDriver::Impl::commit_mill(Item& item, MillRole role, Json value)
 
 Result<void> SimDriver::Impl::commit(Item& item, Json value) {
     if (item.use_stored) {
+        item.generated = false;
         item.stored = std::move(value);
         return ok_result();
     }

@@ -59,6 +59,17 @@ bool under_rotary_axis(const Model& model, const std::string& id) {
 
 }  // namespace
 
+sim::ItemTraits SimDriver::Impl::traits_of(const DataObject& object) const {
+    sim::ItemTraits traits;
+    traits.id = object.id;
+    traits.name = object.name;
+    traits.canonical = sim::canonical_type(object.type);
+    traits.parent_type = parent_type(*model, object.id);
+    traits.kind = object.kind;
+    traits.rotary = under_rotary_axis(*model, object.id);
+    return traits;
+}
+
 void SimDriver::Impl::build() {
     if (!options.clock) options.clock = std::make_shared<SystemClock>();
     if (!model) {
@@ -86,29 +97,37 @@ void SimDriver::Impl::build() {
         }
         mill = std::make_unique<sim::MillMachine>(std::move(program).value(), profile->config, options.autostart);
     }
+    // One Item per data object of the device, sized once: in a gateway of a
+    // thousand machines every byte of an Item counts a few hundred thousand
+    // times (docs/performance.md, "Memory per machine").
+    std::size_t count = 0;
+    for (const DataObject& object : model->data_objects()) count += object.device_id == device->id ? 1 : 0;
+    items.reserve(count);
+    index.reserve(count);
     for (const DataObject& object : model->data_objects()) {
         if (object.device_id != device->id) continue;
+        const sim::ItemTraits traits = traits_of(object);
         Item item;
         item.object = &object;
-        item.traits.id = object.id;
-        item.traits.name = object.name;
-        item.traits.canonical = sim::canonical_type(object.type);
-        item.traits.parent_type = parent_type(*model, object.id);
-        item.traits.kind = object.kind;
-        item.traits.rotary = under_rotary_axis(*model, object.id);
-        item.generator = sim::make_generator(item.traits, options.seed, options.list_size);
         if (profile) {
             auto role = profile->items.find(object.id);
             if (role != profile->items.end()) item.role = role->second;
         }
+        // An item whose value lives in `stored` never reads its generator
+        // (value_of(), commit()): it gets none. A generated list or dict
+        // (tool table, parameters) is not kept until a Set changes it: it is
+        // a function of the seed, built again for each read, as a driver
+        // reads a controller's table from the controller; a gateway machine
+        // kept about 100 KB of tables it was seldom asked for.
         if (object.value) {
             item.use_stored = true;
             item.stored = *object.value;
-        } else if (item.traits.canonical == "WARNING") {
-            item.alarm = true;
-        } else if (object.kind != DataKind::single && !item.role) {
+        } else if (object.kind != DataKind::single && !item.role && traits.canonical != "WARNING") {
             item.use_stored = true;
-            item.stored = sim::make_collection(item.traits, options.seed, options.list_size);
+            item.generated = true;
+        } else {
+            item.alarm = traits.canonical == "WARNING";
+            item.generator = sim::make_generator(traits, options.seed, options.list_size);
         }
         index.emplace(object.id, items.size());
         items.push_back(std::move(item));
@@ -145,6 +164,7 @@ Json SimDriver::Impl::alarm_value(const Item& item) const {
 
 Json SimDriver::Impl::value_of(const Item& item) const {
     if (item.pinned) return *item.pinned;
+    if (item.generated) return sim::make_collection(traits_of(*item.object), options.seed, options.list_size);
     if (item.use_stored) return item.stored;
     if (item.alarm) return alarm_value(item);
     if (item.role) {

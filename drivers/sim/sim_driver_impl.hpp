@@ -27,11 +27,14 @@ using sim::MillRole;
 
 struct Item {
     const DataObject* object = nullptr;
-    sim::ItemTraits traits;
+    /// Unused (default) when `use_stored`.
     sim::Generator generator;
     std::optional<MillRole> role;
     /// The value lives in `stored` (lists, dicts, fixed values): Sets change it.
     bool use_stored = false;
+    /// A generated list/dict not Set yet: its value is make_collection()'s,
+    /// built at each read rather than kept (build()).
+    bool generated = false;
     Json stored;
     /// A Set on a computed single value holds it here (mill: until reset).
     std::optional<Json> pinned;
@@ -80,6 +83,7 @@ struct SimDriver::Impl {
     std::vector<std::string> lent_texts;  // read_samples: a text per point, kept to reuse its room
 
     void build();
+    sim::ItemTraits traits_of(const DataObject& object) const;
     void advance();
     Json value_of(const Item& item) const;
     /// value_of() as a sample without a heap allocation (a text lands in

@@ -23,6 +23,27 @@ TEST_CASE("Set on list elements is visible on the next read") {
     CHECK(rig.value("tools").size() == 60);
 }
 
+TEST_CASE("A generated table reads the same every time until a Set changes it") {
+    // The simulator builds a list/dict it was not given again at each read
+    // (drivers/sim/sim_driver.cpp, build()): every read must still see the
+    // one table of this machine, and a Set must stick.
+    Rig rig("sim-mill.json", 7);
+    const Json first = rig.value("tools");
+    REQUIRE(first.size() == 64);
+    rig.advance_ms(120'000);
+    CHECK(rig.value("tools") == first);
+    CHECK(rig.value("parameters") == rig.value("parameters"));
+    Rig other("sim-mill.json", 8);
+    CHECK(other.value("tools") != first);
+
+    Json tool = first[0];
+    tool["length"] = 99.5;
+    REQUIRE(rig.set("tools", Json{{"index", 0}, {"value", tool}}).ok());
+    rig.advance_ms(60'000);
+    CHECK(rig.value("tools")[0]["length"] == 99.5);
+    CHECK(rig.value("tools")[1] == first[1]);
+}
+
 TEST_CASE("Set on dict keys is visible on the next read") {
     Rig rig("sim-mill.json");
     REQUIRE(rig.set("parameters", Json{{"keys", {"P0001", "P0002"}}, {"values", {42, 43.5}}}).ok());
