@@ -7,6 +7,12 @@
 
 namespace nclink::sampling_detail {
 
+namespace {
+// Distinct texts remembered per channel; beyond it a text is parsed every
+// time (a driver whose texts never repeat must not grow the map forever).
+constexpr std::size_t kMaxVerdicts = 65536;
+}  // namespace
+
 void Uploader::refresh(Clock::Steady now) {
     const auto version = shared_.version.load(std::memory_order_acquire);
     if (version == seen_version_) return;
@@ -118,7 +124,7 @@ bool Uploader::prepare_screen(Lane& lane) {
         lane.rules_version = version;
         lane.model = shared_.current_model();
         lane.rules.assign(width, nullptr);
-        lane.verdicts.assign(width, {});
+        lane.verdicts.clear();
         // A rule that is not a single-valued number range admits no float
         // inline: its values take the full check.
         constexpr double inf = std::numeric_limits<double>::infinity();
@@ -177,13 +183,13 @@ ValueFault Uploader::check(Lane& lane, std::size_t column, const SampleValue& va
     // Pre-serialized JSON (an object, a list): parsed once per distinct
     // interned text of a pull channel, every time for a push channel (its
     // text is the pusher's).
-    auto& verdicts = lane.verdicts[column];
-    const char* key = value.as_text().data();
+    auto& verdicts = lane.verdicts;
+    const Lane::VerdictKey key{column, value.as_text().data()};
     auto cached = stable_text ? verdicts.find(key) : verdicts.end();
     if (cached != verdicts.end()) return cached->second;
     const Json parsed = Json::parse(value.as_text(), nullptr, false);
     fault = parsed.is_discarded() ? ValueFault::type : rule.check(parsed);
-    if (stable_text && verdicts.size() < 4096) verdicts.emplace(key, fault);
+    if (stable_text && verdicts.size() < kMaxVerdicts) verdicts.emplace(key, fault);
     return fault;
 }
 
