@@ -9,6 +9,10 @@
 
 namespace nclink::adapter_detail {
 
+namespace {
+constexpr std::chrono::milliseconds kBurstWorkerLinger{2000};
+}  // namespace
+
 RequestIntake::RequestIntake(Parts parts)
     : parts_(std::move(parts)),
       gate_(std::make_shared<RequestGate>(parts_.config.max_pending_requests, parts_.config.max_request_bytes, parts_.logger)),
@@ -17,7 +21,10 @@ RequestIntake::RequestIntake(Parts parts)
         executor_ = std::make_unique<core_detail::TaskGroup>(parts_.shared->requests);
         watchdog_ = std::make_unique<core_detail::WatchdogScope>(parts_.shared->watchdog);
     } else {
-        own_executor_ = std::make_shared<core_detail::Executor>(parts_.config.request_threads);
+        // One worker always; the others (request_threads in all) start when
+        // requests queue up and end after kBurstWorkerLinger without one, so
+        // an idle terminal runs one request thread (docs/footprint.md).
+        own_executor_ = std::make_shared<core_detail::Executor>(parts_.config.request_threads, 1, kBurstWorkerLinger);
         executor_ = std::make_unique<core_detail::TaskGroup>(own_executor_);
         own_watchdog_ = std::make_unique<core_detail::DeadlineWatchdog>(parts_.background);
         watchdog_ = std::make_unique<core_detail::WatchdogScope>(*own_watchdog_);
