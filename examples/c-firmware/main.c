@@ -121,8 +121,10 @@ int main(int argc, char** argv) {
     nclink_json_string(&w, "ch_servo");
     nclink_json_end_array(&w);
     nclink_json_end_object(&w);
-    /* One request worker: Query and Set run on the driver's worker, so a
-     * firmware keeps the adapter at six threads (docs/footprint.md). */
+    /* One request worker, even in a burst of requests: Query and Set run on
+     * the driver's worker, so the adapter stays at six threads. (The default,
+     * 2, also runs six at rest and starts the second worker only while
+     * requests queue up; docs/footprint.md.) */
     nclink_json_key(&w, "request_threads");
     nclink_json_int(&w, 1);
     nclink_json_key(&w, "log_level");
