@@ -85,15 +85,28 @@ Children* ModelBuilder::children_of(const std::string& id) {
 
 // ---- lookups -------------------------------------------------------------
 
+namespace {
+// by_id_ is keyed by std::string and C++17 has no lookup by string_view:
+// the key is copied into a buffer of the calling thread, which keeps its
+// room, so an id longer than the small-string buffer (16 characters and
+// more, "spindle_override") costs no allocation per lookup once warm (the
+// sampling path and Query look items up by id).
+const std::string& lookup_key(std::string_view id) {
+    thread_local std::string key;
+    key.assign(id.data(), id.size());
+    return key;
+}
+}  // namespace
+
 const ObjectInfo* Model::find(std::string_view id) const {
-    const auto found = by_id_.find(std::string(id));
+    const auto found = by_id_.find(lookup_key(id));
     return found == by_id_.end() ? nullptr : &objects_[found->second.object];
 }
 
 // One lookup per typed vector; the kinds listed are those stored in it.
 #define NCLINK_MODEL_LOOKUP(Type, name, vector, ...)                 \
     const Type* Model::name(std::string_view id) const {             \
-        const auto found = by_id_.find(std::string(id));             \
+        const auto found = by_id_.find(lookup_key(id));              \
         if (found == by_id_.end()) return nullptr;                   \
         const ObjectKind kind = objects_[found->second.object].kind; \
         const ObjectKind kinds[] = {__VA_ARGS__};                    \
