@@ -103,7 +103,7 @@ void SimDriver::Impl::build() {
     std::size_t count = 0;
     for (const DataObject& object : model->data_objects()) count += object.device_id == device->id ? 1 : 0;
     items.reserve(count);
-    index.reserve(count);
+    row_by_object.assign(model->data_objects().size(), no_row);
     for (const DataObject& object : model->data_objects()) {
         if (object.device_id != device->id) continue;
         const sim::ItemTraits traits = traits_of(object);
@@ -129,9 +129,17 @@ void SimDriver::Impl::build() {
             item.alarm = traits.canonical == "WARNING";
             item.generator = sim::make_generator(traits, options.seed, options.list_size);
         }
-        index.emplace(object.id, items.size());
+        row_by_object[static_cast<std::size_t>(&object - model->data_objects().data())] = static_cast<std::uint32_t>(items.size());
         items.push_back(std::move(item));
     }
+}
+
+std::optional<std::size_t> SimDriver::Impl::row_of_id(std::string_view id) const {
+    const DataObject* object = model ? model->data_object(id) : nullptr;
+    if (!object || row_by_object.empty()) return std::nullopt;
+    const std::uint32_t row = row_by_object[static_cast<std::size_t>(object - model->data_objects().data())];
+    if (row == no_row) return std::nullopt;
+    return row;
 }
 
 void SimDriver::Impl::advance() {
@@ -245,7 +253,7 @@ Result<void> SimDriver::open(const DriverContext& context) {
 // Handles (driver.hpp, "Handles"): a data item's handle is its row in
 // impl_->items; a method's is method_handle_base plus its MillMethod. Ids
 // are looked up in bind() only; a point without a handle (a driver called
-// directly, before any bind) falls back to the id index.
+// directly, before any bind) falls back to its id (row_of_id()).
 namespace {
 constexpr PointHandle method_handle_base = PointHandle{1} << 32;
 }  // namespace
@@ -260,20 +268,16 @@ Result<void> SimDriver::bind(const std::vector<BindPoint>& points, std::vector<P
             continue;
         }
         // Not simulated: left by id, so the read answers 401 as before.
-        const auto it = impl_->index.find(points[i].id);
-        if (it != impl_->index.end()) handles[i] = it->second;
+        if (const auto row = impl_->row_of_id(points[i].id)) handles[i] = *row;
     }
     return ok_result();
 }
 
 // The row in impl_->items of `point`, if simulated. Call with the mutex held.
-static std::optional<std::size_t> row_of(const std::unordered_map<std::string, std::size_t>& index, std::size_t rows,
-                                         const PointRef& point) {
-    if (point.handle < rows) return static_cast<std::size_t>(point.handle);
+std::optional<std::size_t> SimDriver::Impl::row_of(const PointRef& point) const {
+    if (point.handle < items.size()) return static_cast<std::size_t>(point.handle);
     if (point.handle != no_handle) return std::nullopt;
-    const auto it = index.find(point.id);
-    if (it == index.end()) return std::nullopt;
-    return it->second;
+    return row_of_id(point.id);
 }
 
 void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) {
@@ -285,7 +289,7 @@ void SimDriver::read(const std::vector<PointRef>& points, std::vector<Result<Jso
     }
     impl_->advance();
     for (std::size_t i = 0; i < points.size(); ++i) {
-        const std::optional<std::size_t> row = row_of(impl_->index, impl_->items.size(), points[i]);
+        const std::optional<std::size_t> row = impl_->row_of(points[i]);
         if (!row) {
             results[i] = make_error(ErrorCode::node_not_exists, "no simulated data object '" + points[i].id + "'");
             continue;
@@ -304,7 +308,7 @@ bool SimDriver::read_samples(const std::vector<PointRef>& points, SampleValue* o
     auto& texts = impl_->lent_texts;
     if (texts.size() < points.size()) texts.resize(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
-        const std::optional<std::size_t> row = row_of(impl_->index, impl_->items.size(), points[i]);
+        const std::optional<std::size_t> row = impl_->row_of(points[i]);
         if (!row) continue;  // null: not a simulated item
         const Item& item = impl_->items[*row];
         if (auto sample = impl_->sample_of(item, texts[i])) {
@@ -336,8 +340,7 @@ Result<void> SimDriver::write(const WriteRequest& request) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     if (impl_->broken) return *impl_->broken;
     impl_->advance();
-    const std::optional<std::size_t> row =
-        row_of(impl_->index, impl_->items.size(), PointRef{request.id, request.kind, request.handle});
+    const std::optional<std::size_t> row = impl_->row_of(PointRef{request.id, request.kind, request.handle});
     if (!row) return make_error(ErrorCode::node_not_exists, "no simulated data object '" + request.id + "'");
     Item& item = impl_->items[*row];
     // A driver-level caller may give only the whole new value.
@@ -406,7 +409,7 @@ bool SimDriver::claims(std::string_view id) const {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     if (!impl_->model) return false;
     const DataObject* object = impl_->model->data_object(id);
-    return object && object->config && !object->value.has_value() && impl_->index.count(std::string(id)) != 0;
+    return object && object->config && !object->value.has_value() && impl_->row_of_id(id).has_value();
 }
 
 MachineLinkStatus SimDriver::link() const {

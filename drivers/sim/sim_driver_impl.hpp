@@ -63,7 +63,15 @@ struct SimDriver::Impl {
     std::optional<Error> broken;
     const Device* device = nullptr;
     std::vector<Item> items;
-    std::unordered_map<std::string, std::size_t> index;  // used by bind() and for points without a handle
+    /// The row in `items` of each of the model's data objects (no_row: not
+    /// this device's), by position in model->data_objects(): ids are found
+    /// through the shared model's index, not a map of each machine's own.
+    static constexpr std::uint32_t no_row = UINT32_MAX;
+    std::vector<std::uint32_t> row_by_object;
+    /// The row of data item `id` (bind(), and points without a handle).
+    std::optional<std::size_t> row_of_id(std::string_view id) const;
+    /// The row of `point`: its handle, else its id. Call with the mutex held.
+    std::optional<std::size_t> row_of(const PointRef& point) const;
     std::optional<sim::MillProfile> profile;
     std::unique_ptr<sim::MillMachine> mill;
     std::uint64_t stream = 0;

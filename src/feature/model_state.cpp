@@ -11,19 +11,22 @@ const DataObject* ModelState::item(const std::string& id) const {
 }
 
 ModelState::ItemEntry ModelState::entry(const std::string& id) const {
-    if (!index_.empty()) {
-        const auto found = index_.find(id);
-        return found == index_.end() ? ItemEntry{} : found->second;
+    if (!entries_.empty()) {
+        const DataObject* object = model->data_object(id);
+        return object ? entries_[static_cast<std::size_t>(object - model->data_objects().data())] : ItemEntry{};
     }
     return ItemEntry{item(id), bound(id), rules ? rules->find(id) : nullptr};
 }
 
 void ModelState::index_items() {
-    index_.clear();
+    entries_.clear();
     if (!model) return;
-    for (const auto& object : model->data_objects())
+    entries_.resize(model->data_objects().size());  // ItemEntry{}: not an item of this device
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        const DataObject& object = model->data_objects()[i];
         if (item(object.id) == &object)
-            index_.emplace(object.id, ItemEntry{&object, bound(object.id), rules ? rules->find(object.id) : nullptr});
+            entries_[i] = ItemEntry{&object, bound(object.id), rules ? rules->find(object.id) : nullptr};
+    }
 }
 
 PointRef ModelState::point(const std::string& id, DataKind kind) const {

@@ -9,6 +9,7 @@
 
 #include <nclink/sample_value.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -53,19 +54,22 @@ public:
     }
 
     /// The sampling service says which items its running channels read.
-    void set_sampled(std::set<std::string> ids) {
+    void set_sampled(const std::set<std::string>& ids) {
+        std::vector<std::string> sorted(ids.begin(), ids.end());
         std::lock_guard<std::mutex> lock(mutex_);
-        sampled_ = std::move(ids);
+        sampled_.swap(sorted);
     }
     bool sampled(const std::string& id) const {
         std::lock_guard<std::mutex> lock(mutex_);
-        return sampled_.count(id) != 0;
+        return std::binary_search(sampled_.begin(), sampled_.end(), id);
     }
 
 private:
     mutable std::mutex mutex_;
     std::map<std::uint64_t, std::shared_ptr<Observer>> observers_;
-    std::set<std::string> sampled_;
+    // Sorted; a vector, not a set: a tree node per sampled item was about
+    // 50 bytes more an item in every machine of a gateway.
+    std::vector<std::string> sampled_;
     std::uint64_t next_ = 0;
     std::atomic<bool> active_{false};
 };
