@@ -1,7 +1,8 @@
 // Generic simulation by data-object type: how any data object of any model
 // gets a plausible value. Single values are pure functions of (generator,
 // time), so a read at any cadence sees the same curve; list/dict items get a
-// table built once and changed only by Sets.
+// table that is a function of the seed (built at each read until a Set
+// changes it, sim_driver.cpp) and changed only by Sets.
 #pragma once
 
 #include <nclink/data_kind.hpp>
