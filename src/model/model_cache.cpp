@@ -31,6 +31,12 @@ std::optional<FileStamp> stamp_of(const std::string& path) {
     return s;
 }
 
+// One load's model and document under one owner (ModelCache::load()).
+struct Parsed {
+    std::shared_ptr<const Model> model;
+    std::shared_ptr<const std::string> document;
+};
+
 }  // namespace
 
 struct ModelCache::Impl {
@@ -70,6 +76,17 @@ LoadResult ModelCache::load(const std::string& path) {
     // rather than each making its own.
     LoadResult loaded = load_model_file(path);
     ++impl_->parses;
+    if (loaded.model && loaded.document) {
+        // The model and its document live as long as either is held. A
+        // loader that keeps only the model (a simulated machine's driver
+        // needs no document) would otherwise let the document go at once,
+        // the entry would no longer match, and every machine after it would
+        // parse the file again and hold a model of its own (0.1 MB a
+        // 300-point machine in a gateway, docs/performance.md).
+        const auto both = std::make_shared<const Parsed>(Parsed{std::move(loaded.model), std::move(loaded.document)});
+        loaded.model = std::shared_ptr<const Model>(both, both->model.get());
+        loaded.document = std::shared_ptr<const std::string>(both, both->document.get());
+    }
     if (stamp && loaded.model && loaded.document)
         impl_->files[path] = Impl::Entry{*stamp, loaded.model, loaded.document, loaded.problems};
     else impl_->files.erase(path);

@@ -56,6 +56,34 @@ TEST_CASE("model cache: one parse while the model is in use, the same objects fo
     CHECK(cache.parses() == 2);
 }
 
+TEST_CASE("model cache: a loader that keeps only the model still shares it with the next one") {
+    // A simulated machine's driver keeps the model and drops the document:
+    // the next machine of the same file must still get the one parse.
+    ModelCache cache;
+    const Scratch scratch;
+    const std::string path = scratch.copy_of("sim-mill.json");
+    std::shared_ptr<const Model> kept = cache.load(path).model;
+    REQUIRE(kept);
+    std::shared_ptr<const std::string> document;
+    {
+        const LoadResult next = cache.load(path);
+        REQUIRE(next.ok());
+        CHECK(cache.parses() == 1);
+        CHECK(next.model.get() == kept.get());
+        REQUIRE(next.document);
+        CHECK_FALSE(next.document->empty());
+        document = next.document;
+    }
+    // And the other way round: the document alone keeps the entry too.
+    const Model* const before = kept.get();
+    kept.reset();
+    const LoadResult again = cache.load(path);
+    REQUIRE(again.ok());
+    CHECK(cache.parses() == 1);
+    CHECK(again.model.get() == before);
+    CHECK(again.document.get() == document.get());
+}
+
 TEST_CASE("model cache: a changed file is parsed again, and so is one nobody holds") {
     ModelCache cache;
     const Scratch scratch;
