@@ -18,6 +18,7 @@
 
 #include <array>
 #include <atomic>
+#include <mutex>
 #include <string>
 #include <unordered_set>
 
@@ -30,12 +31,21 @@ public:
           ring_(ring_capacity, spec_.points.size(), policy),
           sample_interval_ns_(static_cast<std::int64_t>(spec_.sample_interval_ms * 1e6 + 0.5)),
           upload_interval_ns_(static_cast<std::int64_t>(spec_.upload_interval_ms * 1e6 + 0.5)),
-          text_budget_(text_budget_bytes) {
-        for (const auto& p : spec_.points) ids_.push_back(p.id);
-    }
+          text_budget_(text_budget_bytes) {}
 
     const ChannelSpec& spec() const noexcept { return spec_; }
-    const std::vector<std::string>& ids() const noexcept { return ids_; }
+    /// The item id of a column (the spec's points, in column order).
+    const std::string& id(std::size_t column) const { return spec_.points[column].id; }
+    /// The columns' ids as one vector, for the sample tap's observers. Built
+    /// on the first call (any thread): a gateway machine without watchers
+    /// does not keep a second copy of its ids (docs/performance.md).
+    const std::vector<std::string>& ids() const {
+        std::call_once(ids_made_, [this] {
+            ids_.reserve(spec_.points.size());
+            for (const auto& p : spec_.points) ids_.push_back(p.id);
+        });
+        return ids_;
+    }
     SpscRowRing& ring() noexcept { return ring_; }
     std::int64_t sample_interval_ns() const noexcept { return sample_interval_ns_; }
     std::int64_t upload_interval_ns() const noexcept { return upload_interval_ns_; }
@@ -116,7 +126,8 @@ public:
 
 private:
     const ChannelSpec spec_;
-    std::vector<std::string> ids_;
+    mutable std::once_flag ids_made_;
+    mutable std::vector<std::string> ids_;
     SpscRowRing ring_;
     const std::int64_t sample_interval_ns_;
     const std::int64_t upload_interval_ns_;

@@ -43,7 +43,8 @@ struct EngineShared {
     std::set<std::string> sampled_ids_locked() const {
         std::set<std::string> ids;
         for (const auto& c : channels)
-            if (!c->removed.load()) ids.insert(c->ids().begin(), c->ids().end());
+            if (!c->removed.load())
+                for (const auto& point : c->spec().points) ids.insert(point.id);
         return ids;
     }
     void publish_sampled_locked() const {

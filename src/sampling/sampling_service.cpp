@@ -114,6 +114,7 @@ void SamplingService::start_model_channels(const feature_detail::ModelState& sta
         if (channel.device_id != state.device->id) continue;
         ChannelSpec spec;
         spec.id = channel.id;
+        spec.points.reserve(channel.ids.size());
         for (const auto& item_id : channel.ids) {
             const DataObject* item = state.model->data_object(item_id);
             spec.points.push_back(PointRef{item_id, item ? item->kind : DataKind::single});

@@ -78,6 +78,10 @@ void Scheduler::plan(Lane& lane, const std::shared_ptr<const feature_detail::Mod
     // Ids are resolved to the driver's handles here, once per model.
     lane.generation = model ? model->generation() : driver_detail::unbound;
     const auto& points = lane.core->spec().points;
+    // Sized once (clear() keeps it): grown by doubling, a 300-point lane
+    // held room for 512 (docs/performance.md, "Memory per machine").
+    lane.driver_points.reserve(points.size());
+    lane.driver_columns.reserve(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (model && model->sdk_held(points[i].id)) {
             lane.store_ids.push_back(points[i].id);

@@ -132,8 +132,8 @@ bool Uploader::prepare_screen(Lane& lane) {
         lane.hi.assign(width, inf);
         lane.any_rule = false;
         if (lane.model && lane.model->rules) {
-            for (std::size_t p = 0; p < width && p < core.ids().size(); ++p) {
-                const ValueRule* rule = lane.model->rules->find(core.ids()[p]);
+            for (std::size_t p = 0; p < width && p < core.spec().points.size(); ++p) {
+                const ValueRule* rule = lane.model->rules->find(core.id(p));
                 lane.rules[p] = rule;
                 if (rule == nullptr) continue;
                 double min = 0, max = 0;
