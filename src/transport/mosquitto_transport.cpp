@@ -11,6 +11,7 @@
 #include "transport/subscription_set.hpp"
 #include "transport/tcp_nodelay.hpp"
 
+#include <fcntl.h>
 #include <mosquitto.h>
 #include <mqtt_protocol.h>
 #if NCLINK_WITH_TLS
@@ -336,12 +337,21 @@ private:
             return;
         }
         const int fd = mosquitto_socket(mosq_);
+        if (fd >= 0 && fd != cloexec_fd_) {
+            // libmosquitto opens its socket without close-on-exec: a child the
+            // program starts would inherit it, and keep the broker connection
+            // (and its epoll registration) alive after this side closed it.
+            (void)::fcntl(fd, F_SETFD, FD_CLOEXEC);
+            cloexec_fd_ = fd;
+        }
         // Until the TCP connection is up the CONNECT waits in the queue:
         // writable is when it has come up (or failed).
         loop_->watch(this, fd, fd >= 0 && mosquitto_want_write(mosq_));
     }
 
     void begin_connect() {
+        loop_->watch(this, -1, false);  // before its socket closes (MqttLoop::watch)
+        cloexec_fd_ = -1;
         destroy_client();
         init_library_once();
         const BrokerAddress& broker = brokers_.current();
@@ -404,8 +414,9 @@ private:
     void drop_connection(const std::string& why) {
         const bool was_connected = connected_;
         connected_ = false;
+        loop_->watch(this, -1, false);  // before its socket closes (MqttLoop::watch)
+        cloexec_fd_ = -1;
         destroy_client();
-        loop_->watch(this, -1, false);
         {
             std::lock_guard<std::mutex> lock(acks_mutex_);
             in_flight_.clear();
@@ -581,6 +592,7 @@ private:
     Steady::time_point attempt_deadline_{};
     Steady::time_point next_misc_{};
     bool lost_ = false;
+    int cloexec_fd_ = -1;  // the socket last made close-on-exec (loop thread)
     std::string lost_reason_;
     AckWatchdog watchdog_;
     bool session_established_ = false;

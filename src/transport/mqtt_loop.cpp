@@ -24,7 +24,7 @@ MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick) : logger_(std:
     }
     epoll_event e{};
     e.events = EPOLLIN;
-    e.data.ptr = nullptr;  // the wake-up descriptor
+    e.data.u64 = 0;  // the wake-up descriptor (members' tokens start at 1)
     ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, event_fd_, &e);
     thread_ = std::thread([this] {
         core_detail::name_this_thread("nclink-mqtt-io");
@@ -80,25 +80,39 @@ void MqttLoop::wake(LoopMember* member) {
     if (first) signal();
 }
 
+void MqttLoop::arm(Watch& w) {
+    // One-shot: an event disarms the registration until the member watches
+    // again (every call into it ends with watch()), so a registration left
+    // behind by a socket a child process still holds reports at most once
+    // instead of waking the loop without end.
+    epoll_event e{};
+    e.events = EPOLLIN | EPOLLONESHOT | (w.want_write ? EPOLLOUT : 0u);
+    e.data.u64 = w.token;
+    // MOD first: the usual case is re-arming the same socket; ENOENT means
+    // a new socket under a number the member had before.
+    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, w.fd, &e) != 0 && ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, w.fd, &e) != 0) {
+        logger_.warn("mqtt loop: cannot watch socket {}: {}", w.fd, std::strerror(errno));
+        w.armed = false;
+        return;
+    }
+    w.armed = true;
+}
+
 void MqttLoop::watch(LoopMember* member, int fd, bool want_write) {
     auto found = watches_.find(member);
     if (found == watches_.end()) return;  // not (or no longer) a member
     Watch& w = found->second;
-    if (w.fd == fd && w.want_write == want_write) return;
-    epoll_event e{};
-    e.events = EPOLLIN | (want_write ? EPOLLOUT : 0u);
-    e.data.ptr = member;
-    if (w.fd != fd) {
-        // The old socket may be closed already (the MQTT library closes it
-        // on an error): the kernel then dropped it from the set by itself.
-        if (w.fd >= 0) ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, w.fd, nullptr);
-        if (fd >= 0 && ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &e) != 0)
-            logger_.warn("mqtt loop: cannot watch socket {}: {}", fd, std::strerror(errno));
-    } else if (fd >= 0) {
-        ::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &e);
+    if (w.fd == fd && w.want_write == want_write && (w.armed || fd < 0)) return;
+    if (w.fd != fd && w.fd >= 0) {
+        // Before the member closes it (watch(): -1 first). Already closed by
+        // the MQTT library on an error, the kernel dropped it by itself.
+        ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, w.fd, nullptr);
+        w.armed = false;
     }
     w.fd = fd;
     w.want_write = want_write;
+    if (fd >= 0) arm(w);
+    else w.armed = false;
 }
 
 void MqttLoop::take_requests() {
@@ -116,11 +130,15 @@ void MqttLoop::take_requests() {
     woken_.erase(std::unique(woken_.begin(), woken_.end()), woken_.end());
     for (LoopMember* m : adds) {
         members_.push_back(m);
-        watches_.emplace(m, Watch{});
+        Watch w;
+        w.token = next_token_++;
+        by_token_.emplace(w.token, m);
+        watches_.emplace(m, w);
     }
     if (!removes.empty()) {
         for (LoopMember* m : removes) {
             watch(m, -1, false);
+            if (const auto gone = watches_.find(m); gone != watches_.end()) by_token_.erase(gone->second.token);
             watches_.erase(m);
             members_.erase(std::remove(members_.begin(), members_.end(), m), members_.end());
             woken_.erase(std::remove(woken_.begin(), woken_.end(), m), woken_.end());
@@ -159,16 +177,25 @@ void MqttLoop::run() {
         const int n = ::epoll_wait(epoll_fd_, events, kBatch, static_cast<int>(wait));
         ++iterations_;
         for (int i = 0; i < n; ++i) {
-            auto* member = static_cast<LoopMember*>(events[i].data.ptr);
-            if (member == nullptr) {
+            const std::uint64_t token = events[i].data.u64;
+            if (token == 0) {
                 std::uint64_t count = 0;
                 [[maybe_unused]] const auto r = ::read(event_fd_, &count, sizeof count);
                 continue;
             }
-            // Members only leave in take_requests(), between batches: a
-            // pointer in this batch is alive.
+            // Members only leave in take_requests(), between batches. A
+            // token of no member is a registration its member left behind
+            // (watch()): one-shot, it is not heard of again.
+            const auto found = by_token_.find(token);
+            if (found == by_token_.end()) continue;
+            LoopMember* member = found->second;
+            Watch& w = watches_.at(member);
+            w.armed = false;
             const bool error = (events[i].events & (EPOLLERR | EPOLLHUP)) != 0;
             member->on_io(error || (events[i].events & EPOLLIN) != 0, error || (events[i].events & EPOLLOUT) != 0);
+            // A member that did not watch again keeps its socket watched.
+            Watch& after = watches_.at(member);
+            if (!after.armed && after.fd >= 0) arm(after);
         }
     }
     // Whoever still waits in remove() is released (the loop is going away).

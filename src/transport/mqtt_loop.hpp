@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -51,7 +52,10 @@ public:
     void wake(LoopMember* member);
 
     /// Loop thread only: the socket to watch for `member` (-1: none) and
-    /// whether to report it writable. Cheap when nothing changed.
+    /// whether to report it writable. Cheap when nothing changed. Call it
+    /// with -1 BEFORE closing the socket: a socket a child process
+    /// inherited stays open after the close, and the kernel keeps its
+    /// registration (epoll(7)); the loop then ignores it (see run()).
     void watch(LoopMember* member, int fd, bool want_write);
 
     bool in_loop_thread() const { return std::this_thread::get_id() == thread_id_.load(); }
@@ -60,9 +64,13 @@ public:
 
 private:
     struct Watch {
+        std::uint64_t token = 0;  ///< what its epoll registration carries (never 0: the wake-up descriptor)
         int fd = -1;
         bool want_write = false;
+        bool armed = false;  ///< registered and not yet reported (one-shot)
     };
+    /// (Re)registers `w` for its fd, one-shot.
+    void arm(Watch& w);
     void run();
     void take_requests();
     void signal();
@@ -84,6 +92,11 @@ private:
     // loop thread only
     std::vector<LoopMember*> members_;
     std::unordered_map<LoopMember*, Watch> watches_;
+    // The members by their watch's token: an epoll event names a token, not
+    // a pointer, so a registration that outlived its member (a socket kept
+    // open by a child process after the member closed it) reaches nobody.
+    std::unordered_map<std::uint64_t, LoopMember*> by_token_;
+    std::uint64_t next_token_ = 1;
     std::vector<LoopMember*> woken_;
 
     std::atomic<std::thread::id> thread_id_{};

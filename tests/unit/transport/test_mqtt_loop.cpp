@@ -26,9 +26,10 @@ struct Recorder : transport_detail::LoopMember {
     transport_detail::MqttLoop& loop;
     std::atomic<int> wakes{0}, ticks{0}, reads{0}, writes{0};
     std::atomic<bool> off_thread{false};
-    int fd = -1;
+    std::atomic<int> fd{-1};              // set by the test thread, read on the loop
     std::atomic<bool> want_write{false};  // set by the test thread, read on the loop
     std::atomic<bool> after_remove{false};
+    std::atomic<bool> close_first{false};  // on_wake() closes fd before watching
 
     void note() {
         if (!loop.in_loop_thread()) off_thread = true;
@@ -50,6 +51,12 @@ struct Recorder : transport_detail::LoopMember {
     }
     void on_wake() override {
         note();
+        // As the MQTT library does on an error: the socket closed on the
+        // loop thread, unwatched only afterwards.
+        if (close_first.exchange(false)) {
+            ::close(fd);
+            fd = -1;
+        }
         ++wakes;
         loop.watch(this, fd, want_write);
     }
@@ -124,4 +131,37 @@ TEST_CASE("mqtt loop: an idle loop sleeps between ticks") {
     std::this_thread::sleep_for(500ms);
     // About one iteration per tick (50 ms): not a spin.
     CHECK(loop.iterations() - first <= 20);
+}
+
+TEST_CASE("mqtt loop: a socket kept open elsewhere after its member closed it reaches nobody and does not spin the loop") {
+    // A child process the program starts inherits its sockets (fork): the
+    // member's close then leaves the socket open in the child, and the
+    // kernel keeps its epoll registration, which no fd of this process can
+    // remove any more. Here a dup() stands for the child's copy.
+    transport_detail::MqttLoop loop(Logger(), 50ms);
+    int fds[2];
+    REQUIRE(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, fds) == 0);
+    Recorder member(loop);
+    member.fd = fds[0];
+    loop.add(&member);
+    loop.wake(&member);
+    REQUIRE(test::eventually([&] { return member.wakes >= 1; }, 2s));
+    const int child_copy = ::dup(fds[0]);
+    REQUIRE(child_copy >= 0);
+    // The MQTT library closes the socket on an error; the member unwatches
+    // only afterwards.
+    member.close_first = true;
+    loop.wake(&member);
+    REQUIRE(test::eventually([&] { return member.wakes >= 2; }, 2s));
+    loop.remove(&member);
+    member.removed = true;
+
+    // The left-behind registration turns readable and stays so.
+    REQUIRE(::write(fds[1], "x", 1) == 1);
+    const auto first = loop.iterations();
+    std::this_thread::sleep_for(500ms);
+    CHECK_FALSE(member.after_remove);        // before: called through a pointer to a member that had left
+    CHECK(loop.iterations() - first <= 40);  // about ten ticks; before: a spin
+    ::close(child_copy);
+    ::close(fds[1]);
 }
