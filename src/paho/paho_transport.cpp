@@ -1,4 +1,5 @@
 // The paho transport (paho_transport.hpp): the plant library's MQTT client.
+#include <fmt/format.h>
 #include <nclink/paho_transport.hpp>
 
 #include "transport/outbox.hpp"
@@ -75,6 +76,15 @@ public:
         client_->set_message_callback([this](mqtt::const_message_ptr msg) { deliver(msg); });
         client_->set_connected_handler([this](const std::string&) { on_connected(); });
         client_->set_connection_lost_handler([this](const std::string& cause) { on_lost(cause); });
+        // An MQTT 5 broker that ends the connection with a DISCONNECT of its
+        // own (MQTT 5.0 3.14: a shared subscription it does not serve, a
+        // session taken over, a shutdown) reaches this handler and not the
+        // one above: without it the transport stayed "connected" and deaf
+        // on an ejabberd cluster (docs/scaling.md).
+        client_->set_disconnected_handler([this](const mqtt::properties&, mqtt::ReasonCode reason) {
+            if (link_.state() != LinkState::connected) return;  // already known lost
+            on_lost(fmt::format("the broker sent DISCONNECT (reason 0x{:02x})", static_cast<int>(reason)));
+        });
         supervisor_ = std::thread([this] {
             core_detail::name_this_thread("nclink-mqtt");
             supervise();

@@ -679,3 +679,39 @@ TEST_CASE("over TLS: server verification with a password and mutual TLS connect 
     CHECK(wrong_ca->stats().connects == 0);
     wrong_ca->stop();
 }
+
+// An MQTT 5 broker may end a connection with a DISCONNECT of its own (a
+// session taken over, a server shutting down, a subscription it will not
+// serve): paho reports that to a disconnected handler, not to the
+// connection-lost one, and a transport listening only to the latter stayed
+// "connected" and deaf. mosquitto sends DISCONNECT 0x8E (session taken over,
+// MQTT 5.0 clause 3.14.2.1) when a second client connects with the same id.
+TEST_CASE("a DISCONNECT from the broker is a lost connection: the transport connects again and hears its subscription") {
+    GENERATE_CLIENT();
+    MosquittoBroker broker;
+    auto o = options_for(broker, "nclink-taken-over");
+    o.mqtt_version = 5;
+    auto taken = connect(o);
+    Inbox inbox;
+    inbox.attach(*taken);
+    REQUIRE(taken->start().ok());
+    REQUIRE(taken->subscribe({"taken/over"}, 1).ok());
+    REQUIRE(eventually([&] { return taken->state() == LinkState::connected; }));
+
+    // The same client id from elsewhere, connected and then gone.
+    auto second = make_mqtt_transport(options_for(broker, "nclink-taken-over"), o_logger);
+    REQUIRE(second.ok());
+    REQUIRE((*second)->start().ok());
+    REQUIRE(eventually([&] { return (*second)->state() == LinkState::connected; }));
+    (*second)->stop(std::chrono::milliseconds(0));
+
+    REQUIRE(eventually([&] { return taken->stats().connects >= 2 && taken->state() == LinkState::connected; }));
+    auto publisher = connect(options_for(broker, "nclink-taken-over-publisher"));
+    REQUIRE(publisher->start().ok());
+    REQUIRE(eventually([&] {
+        (void)publisher->publish({"taken/over", "heard", 1, false});
+        return eventually([&] { return inbox.count() >= 1; }, std::chrono::milliseconds(300));
+    }));
+    publisher->stop();
+    taken->stop();
+}
