@@ -49,11 +49,20 @@ packages=(build-essential cmake pkg-config git
 #     and the whole suite must stay within its time; without it they skip.
 #     The system RabbitMQ Debian may start (5672, epmd 4369) is left alone:
 #     the tests' nodes have their own ports, epmd and cookie.
+#   NCLINK_WITH_EJABBERD=1   ejabberd (23.01, its mod_mqtt; about 25 MB besides
+#     Erlang): the ejabberd cluster tests (tests/integration/cluster, label
+#     `cluster`, docs/scaling.md) start a 3-node ejabberd cluster on loopback
+#     (about 6 s on an idle 2-core box); without ejabberd they skip. Debian
+#     enables a system ejabberd (XMPP on 5222, MQTT on 1883), which a
+#     container's policy may keep from starting; the tests never use it (own
+#     ports, epmd, cookie and spool): `systemctl disable --now ejabberd` if it
+#     is not wanted.
 if [[ "${NCLINK_WITH_PACKAGING:-0}" == 1 ]]; then packages+=(lintian); fi
 if [[ "${NCLINK_WITH_PROMETHEUS:-0}" == 1 ]]; then packages+=(prometheus); fi
 if [[ "${NCLINK_WITH_PANDAS:-0}" == 1 ]]; then packages+=(python3-pandas); fi
 if [[ "${NCLINK_WITH_BROWSER:-0}" == 1 ]]; then packages+=(chromium chromium-driver python3-selenium); fi
 if [[ "${NCLINK_WITH_RABBITMQ:-0}" == 1 ]]; then packages+=(rabbitmq-server); fi
+if [[ "${NCLINK_WITH_EJABBERD:-0}" == 1 ]]; then packages+=(ejabberd); fi
 # clang is needed only for libFuzzer (tools/fuzz.sh).
 if [[ "${NCLINK_WITH_CLANG:-0}" == 1 ]]; then packages+=(clang libclang-rt-14-dev); fi
 # Node.js for nclink-opcua: the machine's own when it has one (any >= 18, e.g.

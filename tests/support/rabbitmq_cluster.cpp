@@ -1,15 +1,14 @@
 #include "support/rabbitmq_cluster.hpp"
 
 #include "support/mosquitto_broker.hpp"  // free_loopback_port(), port_accepts()
+#include "support/process_group.hpp"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -34,80 +33,6 @@ constexpr const char* server_script = "/usr/lib/rabbitmq/bin/rabbitmq-server";
 constexpr const char* ctl_script = "/usr/lib/rabbitmq/bin/rabbitmqctl";
 constexpr const char* epmd_binary = "/usr/bin/epmd";
 
-// Spawns argv in a process group of its own (so kill -9 of the group takes
-// the shell script, the Erlang VM and its helper processes together), stdin
-// from /dev/null, stdout and stderr appended to `output`.
-pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>& env, const std::string& output) {
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    std::vector<char*> envp;
-    for (const auto& e : env) envp.push_back(const_cast<char*>(e.c_str()));
-    envp.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, output.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    posix_spawnattr_t attributes;
-    posix_spawnattr_init(&attributes);
-    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-    posix_spawnattr_setpgroup(&attributes, 0);
-    pid_t pid = -1;
-    const int rc = ::posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-    if (rc != 0) throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(rc));
-    return pid;
-}
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-// Alive: not gone and not a zombie nobody reaped (state Z in /proc/PID/stat).
-bool owner_alive(pid_t pid) {
-    if (::kill(pid, 0) != 0 && errno != EPERM) return false;
-    const std::string stat = read_file("/proc/" + std::to_string(pid) + "/stat");
-    const auto paren = stat.rfind(')');
-    return paren == std::string::npos || paren + 2 >= stat.size() || stat[paren + 2] != 'Z';
-}
-
-// A test that died without running the destructor (a crash, the SIGKILL of
-// ctest's timeout) leaves its nodes running: each cluster writes its owner
-// and its process groups into its directory, and the next one ends those
-// whose owner is gone. A group whose leader still exists is killed only if
-// that leader is RabbitMQ's script or epmd (the number was not reused).
-void end_orphaned_clusters() {
-    std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator("/tmp", error)) {
-        const std::string dir = entry.path().string();
-        if (entry.path().filename().string().rfind("nclink-rabbitmq-", 0) != 0) continue;
-        const pid_t owner = std::atoi(read_file(dir + "/owner").c_str());
-        if (owner <= 0 || owner_alive(owner)) continue;
-        std::istringstream groups(read_file(dir + "/groups"));
-        for (pid_t group = 0; groups >> group;) {
-            if (group <= 0) continue;
-            const std::string leader = read_file("/proc/" + std::to_string(group) + "/cmdline");
-            if (!leader.empty() && leader.find("rabbitmq") == std::string::npos && leader.find("epmd") == std::string::npos)
-                continue;
-            ::kill(-group, SIGKILL);
-        }
-        std::filesystem::remove_all(dir, error);
-    }
-}
-
-void kill_group(pid_t& pid) {
-    if (pid <= 0) return;
-    ::kill(-pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    pid = -1;
-}
-
 }  // namespace
 
 std::string RabbitCluster::unavailable_reason() {
@@ -121,7 +46,7 @@ std::string RabbitCluster::unavailable_reason() {
 RabbitCluster::RabbitCluster(int nodes) {
     const std::string reason = unavailable_reason();
     if (!reason.empty()) throw std::runtime_error(reason);
-    end_orphaned_clusters();
+    end_orphaned_clusters("nclink-rabbitmq-", "rabbitmq");
     char pattern[] = "/tmp/nclink-rabbitmq-XXXXXX";
     if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
     dir_ = pattern;
@@ -140,8 +65,8 @@ RabbitCluster::RabbitCluster(int nodes) {
         // An epmd of its own, on loopback only: node names need be unique
         // only within this cluster, and nothing outside it sees them.
         epmd_port_ = free_loopback_port();
-        epmd_pid_ = spawn({epmd_binary, "-port", std::to_string(epmd_port_), "-address", "127.0.0.1"}, environment(nullptr),
-                          dir_ + "/epmd.out");
+        epmd_pid_ = spawn_in_group({epmd_binary, "-port", std::to_string(epmd_port_), "-address", "127.0.0.1"},
+                                   environment(nullptr), dir_ + "/epmd.out");
         std::ofstream(dir_ + "/groups", std::ios::app) << epmd_pid_ << "\n";
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
         while (!port_accepts(epmd_port_)) {
@@ -225,13 +150,8 @@ std::vector<std::string> RabbitCluster::environment(const Node* node) const {
 }
 
 void RabbitCluster::spawn_node(Node& node) {
-    node.pid = spawn({server_script}, environment(&node), dir_ + "/" + node.name + ".out");
+    node.pid = spawn_in_group({server_script}, environment(&node), dir_ + "/" + node.name + ".out");
     std::ofstream(dir_ + "/groups", std::ios::app) << node.pid << "\n";
-}
-
-std::string RabbitCluster::tail_of(const std::string& path) const {
-    const std::string all = read_file(path);
-    return all.size() > 2000 ? all.substr(all.size() - 2000) : all;
 }
 
 // A port found free can be taken before the node binds it (by another
@@ -258,39 +178,15 @@ void RabbitCluster::boot_node(Node& node) {
 
 void RabbitCluster::wait_node_up(const Node& node) const {
     // The MQTT listener opens last, once the plugin has started.
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(180);
-    while (!port_accepts(node.mqtt_port)) {
-        int status = 0;
-        if (node.pid > 0 && ::waitpid(node.pid, &status, WNOHANG) == node.pid)
-            throw std::runtime_error("RabbitMQ node " + node.name + " exited at start:\n" +
-                                     tail_of(dir_ + "/" + node.name + ".out"));
-        if (std::chrono::steady_clock::now() > deadline)
-            throw std::runtime_error("RabbitMQ node " + node.name + " did not open its MQTT port:\n" +
-                                     tail_of(dir_ + "/" + node.name + ".out"));
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    wait_until_up(
+        node.pid, [&] { return port_accepts(node.mqtt_port); }, "RabbitMQ node " + node.name, dir_ + "/" + node.name + ".out");
 }
 
 std::string RabbitCluster::ctl(int i, const std::vector<std::string>& args) const {
     const Node& node = nodes_.at(static_cast<std::size_t>(i));
     std::vector<std::string> argv{ctl_script, "-q", "-n", node.name};
     argv.insert(argv.end(), args.begin(), args.end());
-    const std::string output = dir_ + "/ctl.out";
-    std::remove(output.c_str());
-    pid_t pid = spawn(argv, environment(nullptr), output);
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (::waitpid(pid, &status, WNOHANG) != pid) {
-        if (std::chrono::steady_clock::now() > deadline) {
-            kill_group(pid);
-            throw std::runtime_error("rabbitmqctl " + args.at(0) + " on " + node.name + " did not finish");
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    const std::string said = tail_of(output);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw std::runtime_error("rabbitmqctl " + args.at(0) + " on " + node.name + " failed:\n" + said);
-    return said;
+    return run_in_group(argv, environment(nullptr), dir_ + "/ctl.out", "rabbitmqctl " + args.at(0) + " on " + node.name);
 }
 
 void RabbitCluster::kill_node(int i) {

@@ -61,7 +61,6 @@ private:
     void wait_node_up(const Node& node) const;
     void boot_node(Node& node);
     std::vector<std::string> environment(const Node* node) const;
-    std::string tail_of(const std::string& path) const;
 
     std::string dir_;
     int epmd_port_ = 0;

@@ -5,8 +5,10 @@
 // Only the test folder uses them.
 #pragma once
 
+#include <nclink/client.hpp>
 #include <nclink/mqtt_transport.hpp>
 
+#include "support/ejabberd_cluster.hpp"
 #include "support/inbox.hpp"
 #include "support/rabbitmq_cluster.hpp"
 #include "support/raw_peer.hpp"
@@ -33,15 +35,43 @@ namespace nclink::test {
         }                                                                                  \
     } while (false)
 
+/// Skips the test (a WARN naming why, then return) when ejabberd is missing.
+#define NCLINK_NEEDS_EJABBERD()                                                              \
+    do {                                                                                     \
+        const std::string why_skipped = nclink::test::EjabberdCluster::unavailable_reason(); \
+        if (!why_skipped.empty()) {                                                          \
+            WARN(why_skipped);                                                               \
+            return;                                                                          \
+        }                                                                                    \
+    } while (false)
+
 inline Logger probe_logger() { return std::getenv("NCLINK_TEST_LOG") ? Logger(stderr_sink(), LogLevel::debug) : Logger{}; }
+
+/// A Query of the test adapter's `pos` (FakeDriver: 12.5) answered within
+/// `patience`, asked again until it is: a SUBSCRIBE may still be on its way
+/// through the cluster.
+inline bool query_answered(Client& client, std::chrono::milliseconds patience) {
+    RequestOptions quick;
+    quick.timeout = std::chrono::seconds(2);
+    return eventually(
+        [&] {
+            auto answer = client.query("test-dev", {{"pos", std::nullopt}}, quick);
+            return answer.ok() && answer->size() == 1 && (*answer)[0].values && *(*answer)[0].values == Json::array({12.5});
+        },
+        patience);
+}
 
 /// One MQTT client on nclink's transport, with what it received.
 struct Probe {
     Inbox inbox;
     std::unique_ptr<Transport> transport;
 
-    Probe(const std::string& url, const std::string& id, bool clean_session = true, int mqtt_version = 4) {
+    /// `username`/`password`: the login where the broker wants one (ejabberd).
+    Probe(const std::string& url, const std::string& id, bool clean_session = true, int mqtt_version = 4,
+          const std::string& username = "", const std::string& password = "") {
         MqttOptions o;
+        o.username = username;
+        o.password = password;
         o.broker_url = url;
         o.client_id = id;
         o.clean_session = clean_session;
@@ -112,10 +142,13 @@ struct Will {
 };
 
 /// A CONNECT of protocol level 4 (3.1.1) or 5, clean start, keep-alive 30 s,
-/// optionally with a will.
-inline std::string mqtt_connect(int level, const std::string& client_id, const Will* will = nullptr) {
+/// optionally with a will and a user name and password.
+inline std::string mqtt_connect(int level, const std::string& client_id, const Will* will = nullptr,
+                                const std::string& username = "", const std::string& password = "") {
     unsigned char flags = 0x02;
     if (will) flags |= static_cast<unsigned char>(0x04 | (will->qos << 3));
+    if (!username.empty()) flags |= 0x80;
+    if (!password.empty()) flags |= 0x40;
     std::string body = mqtt_string("MQTT") + static_cast<char>(level) + static_cast<char>(flags) + '\0' + '\x1e';
     if (level == 5) body += '\0';  // no properties
     body += mqtt_string(client_id);
@@ -123,6 +156,8 @@ inline std::string mqtt_connect(int level, const std::string& client_id, const W
         if (level == 5) body += '\0';  // no will properties
         body += mqtt_string(will->topic) + mqtt_string(will->payload);
     }
+    if (!username.empty()) body += mqtt_string(username);
+    if (!password.empty()) body += mqtt_string(password);
     return mqtt_packet(0x10, body);
 }
 
@@ -133,10 +168,11 @@ struct ConnectAnswer {
     bool closed = false;   ///< the broker closed the connection
 };
 
-inline ConnectAnswer try_connect(int port, int level, const std::string& client_id) {
+inline ConnectAnswer try_connect(int port, int level, const std::string& client_id, const std::string& username = "",
+                                 const std::string& password = "") {
     RawPeer peer(port);
     ConnectAnswer answer;
-    if (!peer.connected() || !peer.send(mqtt_connect(level, client_id))) return answer;
+    if (!peer.connected() || !peer.send(mqtt_connect(level, client_id, nullptr, username, password))) return answer;
     const std::string got = peer.receive(std::chrono::seconds(3), 4);
     answer.connack = got.size() >= 4 && static_cast<unsigned char>(got[0]) == 0x20;
     if (answer.connack) answer.reason = static_cast<unsigned char>(got[3]);

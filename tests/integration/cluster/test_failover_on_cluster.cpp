@@ -22,23 +22,6 @@ using namespace nclink;
 using namespace nclink::test;
 using namespace std::chrono_literals;
 
-namespace {
-
-// A Query of the adapter answered within `patience` (asked again until it is:
-// a SUBSCRIBE may still be on its way through the cluster).
-bool query_answered(Client& client, std::chrono::milliseconds patience) {
-    RequestOptions quick;
-    quick.timeout = 2s;
-    return eventually(
-        [&] {
-            auto answer = client.query("test-dev", {{"pos", std::nullopt}}, quick);
-            return answer.ok() && answer->size() == 1 && (*answer)[0].values && *(*answer)[0].values == Json::array({12.5});
-        },
-        patience);
-}
-
-}  // namespace
-
 TEST_CASE("RabbitMQ cluster: node 1 killed under an adapter and a Client with the nodes as failover list") {
     NCLINK_NEEDS_RABBITMQ();
     RabbitCluster rabbit;
