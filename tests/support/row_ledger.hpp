@@ -69,6 +69,13 @@ public:
         }
         return n;
     }
+    /// The first and last row time received on a channel ({0, 0}: none).
+    std::pair<std::int64_t, std::int64_t> span(const std::string& channel) const {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = rows_.find(channel);
+        if (it == rows_.end() || it->second.empty()) return {0, 0};
+        return {*it->second.begin(), *it->second.rbegin()};
+    }
     /// The holes of one channel as [from, to] time ranges (for messages).
     std::vector<std::pair<std::int64_t, std::int64_t>> gaps(const std::string& channel) const {
         std::lock_guard<std::mutex> lock(mutex_);
