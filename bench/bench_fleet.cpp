@@ -16,7 +16,7 @@
 // floor shows what a round trip costs there without nclink's gateway in it.
 //
 //   build/bench/bench_fleet [--machines 100,300,1000] [--seconds 30] [--queries 1000] [--config FILE]
-//                           [--points 10] [--interval 100]
+//                           [--points 10] [--interval 100] [--gateways 1]
 //
 // --points N: points per machine in its one channel (the model's first 10,
 // then axes added to the model, four points each); --interval MS: how often
@@ -24,6 +24,20 @@
 // Other than 10 x 100 ms the machines run a model written to /tmp from
 // bench/fleet-machine.json. The threads and RSS columns are the gateway's
 // at the end of the measured window.
+//
+// --gateways K: the machines split over K gateway processes (GUID prefixes
+// fleet0-, fleet1-, ...); the gateway columns are then their sums. One
+// libmosquitto client takes three file descriptors (its socket and a socket
+// pair that wakes its loop), so a process whose hard limit is 20,000 serves at
+// most about 6,600 machines (docs/gateway.md).
+//
+// --cluster rabbitmq: a 3-node RabbitMQ cluster on loopback (Debian's
+// rabbitmq-server, tests/support/rabbitmq_cluster.hpp) instead of the one
+// mosquitto: one gateway process per node (at least), each with the other
+// nodes as failover list, the agent on node 3 (MQTT 3.1.1, plain
+// subscriptions: docs/scaling.md), the application on node 2, the floor's
+// echo on node 1. The broker columns are then the cluster's (every beam.smp
+// process); no broker restart.
 //
 // --config FILE: adapter settings every machine of the gateway shares
 // (nclink-sim --config), e.g. {"heap_keep_bytes": 0} to measure a setting.
@@ -38,6 +52,7 @@
 #include "bench_util.hpp"
 #include "paho_echo.hpp"
 #include "support/mosquitto_broker.hpp"
+#include "support/rabbitmq_cluster.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -127,6 +142,38 @@ Usage usage(pid_t pid) {
     return u;
 }
 
+// The summed usage of every process whose name is `comm` (a cluster's nodes).
+Usage usage_named(const std::string& comm) {
+    Usage sum;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
+        const std::string pid = entry.path().filename().string();
+        if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::ifstream name(entry.path() / "comm");
+        std::string got;
+        if (!std::getline(name, got) || got != comm) continue;
+        const Usage u = usage(static_cast<pid_t>(std::stol(pid)));
+        sum.cpu_s += u.cpu_s;
+        sum.rss_mb += u.rss_mb;
+        sum.threads += u.threads;
+    }
+    return sum;
+}
+
+// One mosquitto, or a 3-node RabbitMQ cluster (--cluster rabbitmq).
+struct Brokers {
+    std::optional<nclink::test::MosquittoBroker> mosquitto;
+    std::unique_ptr<nclink::test::RabbitCluster> rabbit;
+    explicit Brokers(bool cluster) {
+        if (cluster) rabbit = std::make_unique<nclink::test::RabbitCluster>(3);
+        else mosquitto.emplace();
+    }
+    int size() const { return rabbit ? rabbit->size() : 1; }
+    std::string url(int i) const { return rabbit ? rabbit->url(i % size()) : mosquitto->url(); }
+    int port(int i) const { return rabbit ? rabbit->mqtt_port(i % size()) : mosquitto->port(); }
+    Usage usage() const { return rabbit ? usage_named("beam.smp") : ::usage(mosquitto->pid()); }
+};
+
 // The application's view of every Sample and Notify/State on the broker.
 struct Watcher {
     std::atomic<std::uint64_t> points{0}, samples{0};
@@ -178,6 +225,7 @@ struct Row {
     double gw_cpu = 0, agent_cpu = 0;
     double all_online_s = 0, discovery_ms = 0, query_p50 = 0, query_p99 = 0, restart_s = 0;
     double floor_p50 = 0, floor_p99 = 0;
+    double broker_cpu = 0;
     std::size_t discovered = 0, query_failures = 0;
 };
 
@@ -220,29 +268,69 @@ std::string fleet_model(const std::string& src, std::size_t points, int interval
 }
 
 Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src,
-        const std::string& config, std::size_t points, int interval_ms) {
+        const std::string& config, std::size_t points, int interval_ms, std::size_t gateways, bool cluster) {
     Row row;
     row.machines = machines;
-    nclink::test::MosquittoBroker broker;
-    const std::string url = broker.url();
+    Brokers broker(cluster);
+    // Where each program goes: all on the one mosquitto, or the agent on
+    // node 3, the application on node 2, the echo on node 1.
+    const std::string url = broker.url(1);
     const std::string prefix = "fleet";
-    const pid_t agent = spawn({bin + "/bin/nclink-agent", "--broker", url, "--log-level", "warn"}, "/tmp/bench_fleet_agent.log");
+    std::vector<std::string> agent_args{bin + "/bin/nclink-agent", "--broker", broker.url(2), "--log-level", "warn"};
+    if (cluster) {
+        const std::string path = "/tmp/bench_fleet_agent.json";
+        std::ofstream(path) << Json{{"share_group", ""}, {"broker", {{"mqtt_version", 4}}}}.dump();
+        agent_args.insert(agent_args.end(), {"--config", path});
+    }
+    const pid_t agent = spawn(agent_args, "/tmp/bench_fleet_agent.log");
     Watcher watcher(url);
     std::this_thread::sleep_for(500ms);
     const auto t0 = Clock::now();
-    std::vector<std::string> gateway{bin + "/bin/nclink-sim",
-                                     "--machines",
-                                     std::to_string(machines),
-                                     "--model",
-                                     fleet_model(src, points, interval_ms),
-                                     "--guid",
-                                     prefix,
-                                     "--broker",
-                                     url,
-                                     "--log-level",
-                                     "warn"};
-    if (!config.empty()) gateway.insert(gateway.end(), {"--config", config});
-    const pid_t gw = spawn(gateway, "/tmp/bench_fleet_gateway.log");
+    // The machines of each gateway process and their GUIDs (nclink-sim
+    // --machines names them <prefix>-0000, -0001, ...).
+    std::vector<pid_t> gws;
+    std::vector<std::string> devs;
+    const std::string model = fleet_model(src, points, interval_ms);
+    for (std::size_t g = 0; g < gateways; ++g) {
+        const std::size_t count = machines / gateways + (g < machines % gateways ? 1 : 0);
+        const std::string guid = gateways == 1 ? prefix : fmt::format("{}{}", prefix, g);
+        for (std::size_t i = 0; i < count; ++i) devs.push_back(fmt::format("{}-{:04d}", guid, i));
+        const int node = static_cast<int>(g);
+        std::vector<std::string> gateway{bin + "/bin/nclink-sim",
+                                         "--machines",
+                                         std::to_string(count),
+                                         "--model",
+                                         model,
+                                         "--guid",
+                                         guid,
+                                         "--broker",
+                                         broker.url(node),
+                                         "--log-level",
+                                         "warn"};
+        if (cluster) {
+            // The user's settings, and the other nodes as failover list.
+            Json settings = Json::object();
+            if (!config.empty()) settings = Json::parse(std::ifstream(config));
+            settings["broker"]["failover"] = Json::array();
+            for (int k = 1; k < broker.size(); ++k) settings["broker"]["failover"].push_back(broker.url(node + k));
+            const std::string path = fmt::format("/tmp/bench_fleet_gateway{}.json", g);
+            std::ofstream(path) << settings.dump();
+            gateway.insert(gateway.end(), {"--config", path});
+        } else if (!config.empty()) {
+            gateway.insert(gateway.end(), {"--config", config});
+        }
+        gws.push_back(spawn(gateway, fmt::format("/tmp/bench_fleet_gateway{}.log", gateways == 1 ? "" : std::to_string(g))));
+    }
+    const auto gateway_usage = [&gws] {
+        Usage sum;
+        for (const pid_t gw : gws) {
+            const Usage u = usage(gw);
+            sum.cpu_s += u.cpu_s;
+            sum.rss_mb += u.rss_mb;
+            sum.threads += u.threads;
+        }
+        return sum;
+    };
     while (watcher.online_since(prefix, t0) < machines && seconds_since(t0) < 600) std::this_thread::sleep_for(50ms);
     row.all_online_s = seconds_since(t0);
 
@@ -264,11 +352,14 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
         auto list = app->discover();
         discovery.push_back(seconds_since(t) * 1000);
         if (list) row.discovered = list->size();
+        else
+            std::fprintf(stderr, "bench_fleet: Discovery %d of 5 failed after %.0f ms: %s\n", i + 1, discovery.back(),
+                         list.error().message.c_str());
     }
     row.discovery_ms = bench::median(discovery);
 
     // The floor's echo, answering as soon as it has subscribed.
-    const pid_t echo = spawn({"/proc/self/exe", "--echo-child", std::to_string(broker.port())}, "/tmp/bench_fleet_echo.log");
+    const pid_t echo = spawn({"/proc/self/exe", "--echo-child", std::to_string(broker.port(0))}, "/tmp/bench_fleet_echo.log");
     RequestOptions quick;
     quick.timeout = 1s;
     const auto ask_echo = [&app, &quick] {
@@ -279,14 +370,14 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
 
     // The measured window: points delivered, CPU, queries to random machines
     // and, after each, one to the floor's echo.
-    const Usage gw0 = usage(gw), agent0 = usage(agent);
+    const Usage gw0 = gateway_usage(), agent0 = usage(agent), broker0 = broker.usage();
     const std::uint64_t points0 = watcher.points;
     const auto w0 = Clock::now();
     std::mt19937 random(7);
     std::vector<double> query_ms, floor_ms;
     const auto pause = std::chrono::duration<double>(seconds / static_cast<double>(queries + 1));
     while (seconds_since(w0) < seconds) {
-        const std::string dev = fmt::format("{}-{:04d}", prefix, random() % machines);
+        const std::string& dev = devs[random() % devs.size()];
         const auto t = Clock::now();
         auto values = app->query(dev, {QueryItem{"spindle_speed", std::nullopt}});
         if (values && !values->empty() && (*values)[0].status.ok) query_ms.push_back(seconds_since(t) * 1000);
@@ -301,8 +392,9 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     }
     const double window = seconds_since(w0);
     const std::uint64_t points1 = watcher.points;
-    row.gw = usage(gw);
+    row.gw = gateway_usage();
     row.agent = usage(agent);
+    row.broker_cpu = (broker.usage().cpu_s - broker0.cpu_s) / window * 100;
     row.gw_cpu = (row.gw.cpu_s - gw0.cpu_s) / window * 100;
     row.agent_cpu = (row.agent.cpu_s - agent0.cpu_s) / window * 100;
     row.delivered = static_cast<double>(points1 - points0) / window;
@@ -313,14 +405,19 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     row.floor_p99 = bench::percentile(floor_ms, 99);
     finish(echo);
 
-    // Broker restart: until every machine has announced itself online again.
-    const auto r0 = Clock::now();
-    broker.restart();
-    while (watcher.online_since(prefix, r0) < machines && seconds_since(r0) < 600) std::this_thread::sleep_for(50ms);
-    row.restart_s = seconds_since(r0);
+    // Broker restart: until every machine has announced itself online again
+    // (a cluster's node loss is the cluster tests' business: docs/scaling.md).
+    if (broker.mosquitto) {
+        const auto r0 = Clock::now();
+        broker.mosquitto->restart();
+        while (watcher.online_since(prefix, r0) < machines && seconds_since(r0) < 600) std::this_thread::sleep_for(50ms);
+        row.restart_s = seconds_since(r0);
+    } else {
+        row.restart_s = -1;
+    }
 
     app->stop();
-    finish(gw);
+    for (const pid_t gw : gws) finish(gw);
     finish(agent);
     return row;
 }
@@ -363,6 +460,8 @@ int main(int argc, char** argv) {
     std::string config;
     std::size_t points = 10;
     int interval_ms = 100;
+    std::size_t gateways = 1;
+    bool cluster = false;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string arg = argv[i], value = argv[i + 1];
         if (arg == "--machines") {
@@ -379,22 +478,41 @@ int main(int argc, char** argv) {
             points = std::max<std::size_t>(1, std::stoul(value));
         } else if (arg == "--interval") {
             interval_ms = std::max(1, std::stoi(value));
+        } else if (arg == "--gateways") {
+            gateways = std::max<std::size_t>(1, std::stoul(value));
+        } else if (arg == "--cluster") {
+            if (value != "rabbitmq") {
+                std::fprintf(stderr, "bench_fleet: --cluster takes rabbitmq\n");
+                return 2;
+            }
+            const std::string why = nclink::test::RabbitCluster::unavailable_reason();
+            if (!why.empty()) {
+                std::fprintf(stderr, "bench_fleet: %s\n", why.c_str());
+                return 2;
+            }
+            cluster = true;
         }
     }
-    std::printf("%zu point(s) per machine every %d ms\n\n", points, interval_ms);
+    if (cluster) gateways = std::max<std::size_t>(gateways, 3);  // a gateway process on each node
+    std::printf("%zu point(s) per machine every %d ms", points, interval_ms);
+    if (cluster) std::printf("; a 3-node RabbitMQ cluster");
+    if (gateways > 1) std::printf("; the machines split over %zu gateway processes (their sums below)", gateways);
+    std::printf("\n\n");
     std::printf(
         "| machines | points/s produced | delivered | gateway CPU %% | gateway RSS MB (per machine) | threads "
         "| agent CPU %% | agent RSS MB | all online s | Discovery ms (listed) | Query p50 / p99 ms (failed) "
-        "| floor p50 / p99 ms | online again after broker restart s |\n");
-    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+        "| floor p50 / p99 ms | online again after broker restart s | broker CPU %% |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (std::size_t n : sizes) {
-        const Row r = run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config, points, interval_ms);
+        const Row r =
+            run(n, seconds, queries, NCLINK_BINARY_DIR, NCLINK_SOURCE_DIR, config, points, interval_ms, gateways, cluster);
         std::printf(
             "| %zu | %.0f | %.0f (%.1f%%) | %.0f | %.0f (%.2f) | %d | %.0f | %.0f | %.1f | %.1f (%zu) | %.2f / %.2f (%zu) | %.2f "
-            "/ %.2f | %.1f |\n",
+            "/ %.2f | %s | %.0f |\n",
             r.machines, r.produced, r.delivered, 100 * r.delivered / r.produced, r.gw_cpu, r.gw.rss_mb,
             r.gw.rss_mb / static_cast<double>(r.machines), r.gw.threads, r.agent_cpu, r.agent.rss_mb, r.all_online_s,
-            r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures, r.floor_p50, r.floor_p99, r.restart_s);
+            r.discovery_ms, r.discovered, r.query_p50, r.query_p99, r.query_failures, r.floor_p50, r.floor_p99,
+            r.restart_s < 0 ? "-" : fmt::format("{:.1f}", r.restart_s).c_str(), r.broker_cpu);
         std::fflush(stdout);
     }
     return 0;

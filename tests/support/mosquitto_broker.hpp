@@ -58,6 +58,8 @@ public:
     /// SIGCONT after freeze(); stop() resumes a frozen broker first.
     void thaw();
     bool running() const { return pid_ > 0; }
+    /// The broker's process (benchmarks read its CPU); -1 when stopped.
+    pid_t pid() const { return pid_; }
 
     int port() const { return port_; }
     std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
