@@ -31,6 +31,9 @@ struct NCLINK_API AdapterConfig {
     std::optional<MqttTlsOptions> tls;                ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
     int mqtt_version = 4;                             ///< "mqtt_version": 4 (3.1.1), 5, or "auto" (0; MqttOptions::mqtt_version)
     std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
+    std::chrono::milliseconds connect_timeout{5000};  ///< "connect_timeout_ms": a CONNECT without CONNACK for this long failed
+    std::chrono::milliseconds reconnect_min{250};     ///< "reconnect_min_ms": first retry delay, doubled per failure
+    std::chrono::milliseconds reconnect_max{10000};   ///< "reconnect_max_ms": retry delay cap (MqttOptions::reconnect_max)
     bool clean_session = true;                        ///< "clean_session"
 
     // --- model ---

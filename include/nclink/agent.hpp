@@ -85,6 +85,9 @@ struct NCLINK_API AgentConfig {
     std::optional<MqttTlsOptions> tls;                ///< "tls": {"ca_file","cert_file","key_file","key_password","verify"}
     int mqtt_version = 5;                             ///< "mqtt_version": 5, or 4 (3.1.1; mosquitto 2 still honours $share)
     std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
+    std::chrono::milliseconds connect_timeout{5000};  ///< "connect_timeout_ms": a CONNECT without CONNACK for this long failed
+    std::chrono::milliseconds reconnect_min{250};     ///< "reconnect_min_ms": first retry delay, doubled per failure
+    std::chrono::milliseconds reconnect_max{10000};   ///< "reconnect_max_ms": retry delay cap (MqttOptions::reconnect_max)
 
     // --- identity and instances ---
     std::string agent_id = "nclink-agent";     ///< "agent_id": the agent's terminal id (ex of its own Probe/Query)

@@ -32,6 +32,9 @@ struct BridgeConfig {
     std::string password;
     int mqtt_version = 4;
     std::chrono::seconds keep_alive{20};
+    std::chrono::milliseconds connect_timeout{5000};
+    std::chrono::milliseconds reconnect_min{250};
+    std::chrono::milliseconds reconnect_max{10000};
     std::optional<MqttTlsOptions> tls;
 
     std::string ex_cid = "nclink-bridge";  ///< the bridge's application terminal id

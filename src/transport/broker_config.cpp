@@ -75,6 +75,17 @@ Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_d
         s.mqtt_version = given;
     }
     NCLINK_TRY(broker.duration("keep_alive_s", s.keep_alive));
+    // A clustered broker under a connection storm answers CONNECT late (a
+    // RabbitMQ cluster took more than 5 s for 1,000 terminals,
+    // docs/scaling.md): a plant lengthens these rather than have every
+    // terminal give up, fail over and load the next node.
+    NCLINK_TRY(broker.duration("connect_timeout_ms", s.connect_timeout));
+    NCLINK_TRY(broker.duration("reconnect_min_ms", s.reconnect_min));
+    NCLINK_TRY(broker.duration("reconnect_max_ms", s.reconnect_max));
+    if (s.connect_timeout.count() == 0) return broker.fail(ErrorCode::value_type, "connect_timeout_ms", "must be at least 1");
+    if (s.reconnect_min.count() == 0) return broker.fail(ErrorCode::value_type, "reconnect_min_ms", "must be at least 1");
+    if (s.reconnect_max < s.reconnect_min)
+        return broker.fail(ErrorCode::value_type, "reconnect_max_ms", "must be at least reconnect_min_ms");
     NCLINK_TRY(read_tls(broker, s.tls));
     NCLINK_TRY(read_failover(broker, s));  // last: the "valid keys" list keeps its order
     return ok_result();

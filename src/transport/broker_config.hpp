@@ -21,7 +21,8 @@ void resolve_tls_paths(const std::string& config_path, std::optional<MqttTlsOpti
 Result<void> read_tls(core_detail::ConfigReader& broker, std::optional<MqttTlsOptions>& tls);
 
 /// The keys every broker section has (url, client_id, username, password,
-/// mqtt_version, keep_alive_s, tls, failover) into `settings`; the caller reads its own
+/// mqtt_version, keep_alive_s, connect_timeout_ms, reconnect_min_ms,
+/// reconnect_max_ms, tls, failover) into `settings`; the caller reads its own
 /// extra keys, then calls broker.no_unknown_keys().
 Result<void> read_broker_settings(core_detail::ConfigReader& broker, transport_detail::BrokerSettings& settings);
 

@@ -27,6 +27,9 @@ std::vector<std::string> broker_changes(const BrokerSettings& was, const BrokerS
     }
     key(was.mqtt_version == now.mqtt_version, "mqtt_version");
     key(was.keep_alive == now.keep_alive, "keep_alive_s");
+    key(was.connect_timeout == now.connect_timeout, "connect_timeout_ms");
+    key(was.reconnect_min == now.reconnect_min, "reconnect_min_ms");
+    key(was.reconnect_max == now.reconnect_max, "reconnect_max_ms");
     key(was.clean_session == now.clean_session, "clean_session");
     return out;
 }

@@ -25,6 +25,9 @@ struct BrokerSettings {
     std::optional<MqttTlsOptions> tls;                ///< "tls"
     int mqtt_version = 4;                             ///< "mqtt_version"
     std::chrono::seconds keep_alive{20};              ///< "keep_alive_s"
+    std::chrono::milliseconds connect_timeout{5000};  ///< "connect_timeout_ms": a CONNECT without CONNACK for this long failed
+    std::chrono::milliseconds reconnect_min{250};     ///< "reconnect_min_ms": first retry delay, doubled per failure
+    std::chrono::milliseconds reconnect_max{10000};   ///< "reconnect_max_ms": retry delay cap (MqttOptions::reconnect_max)
     bool clean_session = true;                        ///< "clean_session" (adapter only; others keep the default)
 
     /// The broker settings of a configuration (AdapterConfig, AgentConfig,
@@ -34,8 +37,8 @@ struct BrokerSettings {
     static BrokerSettings of(const Config& c);
 
     /// Sets the fields of the same names in `target` (MqttOptions, or a
-    /// configuration) to these settings and leaves the others (timeouts,
-    /// last will, outbox) as they are; clean_session only where it exists.
+    /// configuration) to these settings and leaves the others (last will,
+    /// outbox, acknowledgement timeout) as they are; clean_session only where it exists.
     template <class Target>
     void apply_to(Target& target) const;
 };
@@ -48,7 +51,8 @@ inline bool operator!=(const BrokerSettings& a, const BrokerSettings& b) { retur
 /// "url", "failover", "client_id", "username", "password", "tls" (TLS added or removed)
 /// or "tls.ca_file", "tls.cert_file", "tls.key_file", "tls.key_password",
 /// "tls.verify" (TLS kept, a file or check changed), "mqtt_version",
-/// "keep_alive_s", "clean_session". Empty when they are equal.
+/// "keep_alive_s", "connect_timeout_ms", "reconnect_min_ms", "reconnect_max_ms",
+/// "clean_session". Empty when they are equal.
 std::vector<std::string> broker_changes(const BrokerSettings& was, const BrokerSettings& now);
 
 /// The changes as one line for a person: "url, tls.ca_file"; "" when none.
@@ -77,6 +81,9 @@ BrokerSettings BrokerSettings::of(const Config& c) {
     s.tls = c.tls;
     s.mqtt_version = c.mqtt_version;
     s.keep_alive = c.keep_alive;
+    s.connect_timeout = c.connect_timeout;
+    s.reconnect_min = c.reconnect_min;
+    s.reconnect_max = c.reconnect_max;
     if constexpr (broker_settings_traits::has_clean_session<Config>::value) s.clean_session = c.clean_session;
     return s;
 }
@@ -91,6 +98,9 @@ void BrokerSettings::apply_to(Target& t) const {
     t.tls = tls;
     t.mqtt_version = mqtt_version;
     t.keep_alive = keep_alive;
+    t.connect_timeout = connect_timeout;
+    t.reconnect_min = reconnect_min;
+    t.reconnect_max = reconnect_max;
     if constexpr (broker_settings_traits::has_clean_session<Target>::value) t.clean_session = clean_session;
 }
 

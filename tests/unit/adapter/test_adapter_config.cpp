@@ -14,6 +14,7 @@ TEST_CASE("a configuration file sets every key and resolves paths relative to it
     std::ofstream(file) << R"({
       "broker": {"url": "ssl://broker.plant:8883", "client_id": "mill-7", "username": "u", "password": "p",
                  "mqtt_version": 5, "keep_alive_s": 30, "clean_session": false,
+                 "connect_timeout_ms": 30000, "reconnect_min_ms": 2000, "reconnect_max_ms": 40000,
                  "tls": {"ca_file": "ca.pem", "verify": false}},
       "model": "models/mill.json", "device": "dev-1", "dev_uuid": "line3-mill7", "strict": true,
       "persistence_dir": "state", "standard_typo_topics": false, "offline_buffer_bytes": 1000,
@@ -30,6 +31,9 @@ TEST_CASE("a configuration file sets every key and resolves paths relative to it
     CHECK(c.client_id == "mill-7");
     CHECK(c.mqtt_version == 5);
     CHECK(c.keep_alive == std::chrono::seconds(30));
+    CHECK(c.connect_timeout == std::chrono::seconds(30));
+    CHECK(c.reconnect_min == std::chrono::seconds(2));
+    CHECK(c.reconnect_max == std::chrono::seconds(40));
     CHECK_FALSE(c.clean_session);
     REQUIRE(c.tls.has_value());
     CHECK(c.tls->ca_file == (dir / "ca.pem").string());
@@ -69,6 +73,15 @@ TEST_CASE("configuration mistakes are reported, not ignored") {
     CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 3}}}}).ok());
     CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", 0}}}}).ok());  // "auto" is spelt out
     CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"mqtt_version", "automatic"}}}}).ok());
+    // A connection that could never be made, or a retry delay capped below its start.
+    auto never = adapter_config_from_json(Json{{"broker", {{"connect_timeout_ms", 0}}}});
+    REQUIRE_FALSE(never.ok());
+    CHECK(never.error().message == "configuration: broker.connect_timeout_ms must be at least 1");
+    CHECK_FALSE(adapter_config_from_json(Json{{"broker", {{"reconnect_min_ms", 0}}}}).ok());
+    auto capped = adapter_config_from_json(Json{{"broker", {{"reconnect_min_ms", 5000}, {"reconnect_max_ms", 1000}}}});
+    REQUIRE_FALSE(capped.ok());
+    CHECK(capped.error().message == "configuration: broker.reconnect_max_ms must be at least reconnect_min_ms");
+    CHECK(adapter_config_from_json(Json{{"broker", {{"reconnect_min_ms", 5000}, {"reconnect_max_ms", 5000}}}}).ok());
     // "auto": MQTT 5, or 3.1.1 where the broker refuses 5 (MqttOptions::mqtt_version 0).
     auto automatic = adapter_config_from_json(Json{{"broker", {{"mqtt_version", "auto"}}}});
     REQUIRE(automatic.ok());

@@ -48,6 +48,9 @@ TEST_CASE("broker settings: every field counts for equality and is named by its 
         {"tls", [](BrokerSettings& s) { s.tls.reset(); }},
         {"mqtt_version", [](BrokerSettings& s) { s.mqtt_version = 5; }},
         {"keep_alive_s", [](BrokerSettings& s) { s.keep_alive = 60s; }},
+        {"connect_timeout_ms", [](BrokerSettings& s) { s.connect_timeout = 30s; }},
+        {"reconnect_min_ms", [](BrokerSettings& s) { s.reconnect_min = 2s; }},
+        {"reconnect_max_ms", [](BrokerSettings& s) { s.reconnect_max = 60s; }},
         {"clean_session", [](BrokerSettings& s) { s.clean_session = false; }},
     };
     for (const Case& c : cases) {
@@ -109,11 +112,21 @@ TEST_CASE("broker settings: read from a configuration and applied to the transpo
     CHECK(s.clean_session == false);
 
     MqttOptions options;
-    options.connect_timeout = 1234ms;
+    options.ack_timeout = 1234ms;
     s.apply_to(options);
     CHECK(BrokerSettings::of(options) == s);
     CHECK(options.failover_urls == s.failover_urls);
-    CHECK(options.connect_timeout == 1234ms);  // not a broker setting: left alone
+    CHECK(options.ack_timeout == 1234ms);  // not a broker setting: left alone
+
+    // The connection's timers reach the transport (a slow cluster, docs/scaling.md).
+    adapter.connect_timeout = 30s;
+    adapter.reconnect_min = 2s;
+    adapter.reconnect_max = 40s;
+    MqttOptions slow;
+    BrokerSettings::of(adapter).apply_to(slow);
+    CHECK(slow.connect_timeout == 30s);
+    CHECK(slow.reconnect_min == 2s);
+    CHECK(slow.reconnect_max == 40s);
 
     // A configuration without clean_session (the agent's) keeps the default.
     AgentConfig agent;
