@@ -1,5 +1,6 @@
-// A gateway of 100 machines on a 3-node RabbitMQ cluster through the loss of
-// two nodes (docs/scaling.md, "A gateway through the loss of two nodes"):
+// A gateway of 100 machines on a 3-node cluster (RabbitMQ 3.10, ejabberd
+// 23.01) through the loss of two nodes (docs/scaling.md, "A gateway through
+// the loss of two nodes"):
 // the machines spread over the three nodes, each with the other two as its
 // failover list; the agent and an application (persistent session, QoS 1)
 // on node 3. Node 1 is killed -9, then node 2; then both are started again.
@@ -9,7 +10,9 @@
 // (holes are rows lost), the rows handed on twice, and nclink's own counted
 // drops. What is asserted is what nclink owes while the application's node
 // lives: every machine back, Discovery right, every published row handed on
-// once, and no drop in nclink's own counters.
+// once (or, where the broker threw the application's session away, the gap
+// counted by the client and no longer than one reconnection), and no drop in
+// nclink's own counters.
 #include <nclink/agent.hpp>
 #include <nclink/client.hpp>
 #include <nclink/gateway.hpp>
@@ -58,24 +61,31 @@ std::string slow_channel_model(const std::string& dir) {
 using Steady = std::chrono::steady_clock;
 double seconds_since(Steady::time_point t) { return std::chrono::duration<double>(Steady::now() - t).count(); }
 
-}  // namespace
+// How every program logs in to a cluster: RabbitMQ takes anonymous 3.1.1
+// ("auto" falls back from 5), ejabberd wants a user and password and takes 5.
+struct Login {
+    std::string username;
+    std::string password;
+};
 
-TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two nodes, rows counted at both ends") {
-    NCLINK_NEEDS_RABBITMQ();
-    RabbitCluster rabbit;
+// The run, on a started cluster of three nodes (RabbitCluster, EjabberdCluster).
+template <class Cluster>
+void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const char* broker) {
     const std::string dir = scratch_dir("cluster-gateway");
     const auto urls_from = [&](int first) {
         std::vector<std::string> urls;
-        for (int k = 0; k < rabbit.size(); ++k) urls.push_back(rabbit.url((first + k) % rabbit.size()));
+        for (int k = 0; k < cluster.size(); ++k) urls.push_back(cluster.url((first + k) % cluster.size()));
         return urls;
     };
 
     AgentConfig agent_config;
-    agent_config.broker_url = rabbit.url(2);
-    agent_config.failover_urls = {rabbit.url(0), rabbit.url(1)};
+    agent_config.broker_url = cluster.url(2);
+    agent_config.failover_urls = {cluster.url(0), cluster.url(1)};
     agent_config.client_id = "cluster-gw-agent";
+    agent_config.username = login.username;
+    agent_config.password = login.password;
     agent_config.mqtt_version = 0;  // RabbitMQ 3.10 closes an MQTT 5 CONNECT: 3.1.1 follows
-    agent_config.share_group = "";  // $share is a literal topic there
+    agent_config.share_group = "";  // $share: a literal topic on RabbitMQ, the connection closed on ejabberd
     Agent agent(agent_config, probe_logger());
     REQUIRE(agent.start());
 
@@ -84,11 +94,13 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
     std::map<std::string, std::unique_ptr<RowLedger>> ledgers;
     for (int i = 0; i < kMachines; ++i)
         ledgers.emplace(machine_id(i), std::make_unique<RowLedger>(std::map<std::string, std::int64_t>{{kChannel, kSampleMs}}));
-    auto app = started_client(rabbit.url(2), "cluster-gw-app", 10s, [&](MqttOptions& m, ClientOptions& o) {
+    auto app = started_client(cluster.url(2), "cluster-gw-app", 10s, [&](MqttOptions& m, ClientOptions& o) {
         m.client_id = "cluster-gw-app";
         m.clean_session = false;
         m.mqtt_version = 0;
-        m.failover_urls = {rabbit.url(0), rabbit.url(1)};
+        m.username = login.username;
+        m.password = login.password;
+        m.failover_urls = {cluster.url(0), cluster.url(1)};
         o.logger = probe_logger();
     });
     // Each machine's Sample/{dev}/+. A RabbitMQ cluster takes tens of
@@ -107,7 +119,7 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
         }));
     }
     {
-        Probe marking(rabbit.url(0), "cluster-gw-marker");
+        Probe marking(cluster.url(0), "cluster-gw-marker", true, 4, login.username, login.password);
         REQUIRE(marking.connected(30s));
         const bool all_marked = eventually(
             [&] {
@@ -133,10 +145,12 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
     const std::string model = slow_channel_model(dir);
     for (int i = 0; i < kMachines; ++i) {
         MachineConfig m;
-        const auto urls = urls_from(i % rabbit.size());
+        const auto urls = urls_from(i % cluster.size());
         m.adapter.broker_url = urls[0];
         m.adapter.failover_urls = {urls[1], urls[2]};
         m.adapter.mqtt_version = 0;
+        m.adapter.username = login.username;
+        m.adapter.password = login.password;
         m.adapter.model_path = model;
         m.adapter.dev_uuid = machine_id(i);
         m.adapter.persistence_dir = dir + "/" + machine_id(i);
@@ -176,14 +190,16 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
     // cluster's client-id registry has no majority. Both are measured, not
     // assumed: the machines spool meanwhile.
     const auto killed = Steady::now();
-    rabbit.kill_node(0);
+    const auto killed_ms =
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+    cluster.kill_node(0);
     std::this_thread::sleep_for(10s);
-    rabbit.kill_node(1);
+    cluster.kill_node(1);
     std::this_thread::sleep_for(10s);
     std::size_t normal_while_down = 0;
     for (const auto& m : gateway.machines()) normal_while_down += m.state == AdapterState::normal ? 1 : 0;
-    rabbit.start_node(0);
-    rabbit.start_node(1);
+    cluster.start_node(0);
+    cluster.start_node(1);
     const auto back = Steady::now();
     const bool all_back = eventually(all_normal, 180s);
     const double online_s = seconds_since(back);
@@ -249,6 +265,11 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
         holes += ledger.holes();
         duplicates += ledger.duplicates();
         machines_with_holes += ledger.holes() > 0 ? 1 : 0;
+        // Where the holes are, against the first kill (the first machines only).
+        if (ledger.holes() > 0 && machines_with_holes <= 5)
+            for (const auto& [from, to] : ledger.gaps(kChannel))
+                std::fprintf(stderr, "hole: %s rows %+.1f s to %+.1f s after the first kill\n", machine_id(i).c_str(),
+                             static_cast<double>(from - killed_ms) / 1000, static_cast<double>(to - killed_ms) / 1000);
         if (ledger.rows() < sent) {
             ++machines_short;
             short_rows += sent - ledger.rows();
@@ -261,24 +282,39 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
     held.clear();
     const ClientStats app_stats = app->stats();
     std::printf(
-        "gateway on the cluster: %d machines; node 1 killed, node 2 killed 10 s later; %zu machine(s) normal while both were "
+        "gateway on the %s cluster: %d machines; node 1 killed, node 2 killed 10 s later; %zu machine(s) normal while both were "
         "down; both started %.1f s after the first kill; every machine normal again %.1f s after that, Discovery listing all "
         "%.1f s, spools replayed (%llu of %llu DTUs) and buffers empty %.1f s; rows published by the machines %llu, handed to "
         "the application %llu, fewer than published in %zu machines "
         "(%llu rows), lost between the first and last row of each machine %llu (in %zu machines), handed on twice %llu, "
-        "repeats held back by the client %llu; nclink's counted drops: spool/ring %llu, offline buffer %llu; failovers %llu\n",
-        kMachines, normal_while_down, std::chrono::duration<double>(back - killed).count(), online_s, discovery_s,
+        "repeats held back by the client %llu; nclink's counted drops: spool/ring %llu, offline buffer %llu; failovers %llu; "
+        "the application connected %llu time(s), failed over %llu, lost its session %llu\n",
+        broker, kMachines, normal_while_down, std::chrono::duration<double>(back - killed).count(), online_s, discovery_s,
         static_cast<unsigned long long>(replayed), static_cast<unsigned long long>(spooled), drained_s,
         static_cast<unsigned long long>(published), static_cast<unsigned long long>(rows), machines_short,
         static_cast<unsigned long long>(short_rows), static_cast<unsigned long long>(holes), machines_with_holes,
         static_cast<unsigned long long>(duplicates), static_cast<unsigned long long>(app_stats.duplicates),
         static_cast<unsigned long long>(spooled_drops), static_cast<unsigned long long>(buffer_drops),
-        static_cast<unsigned long long>(failovers));
+        static_cast<unsigned long long>(failovers), static_cast<unsigned long long>(app_stats.transport.connects),
+        static_cast<unsigned long long>(app_stats.transport.failovers),
+        static_cast<unsigned long long>(app_stats.transport.sessions_lost));
     // The application's session lives on node 3, which stays up: every row
     // a machine published reaches it, once, whichever node the machine was on
-    // (the spool and the unacknowledged window replayed after the outage).
-    CHECK(rows == published);
-    CHECK(holes == 0);
+    // (the spool and the unacknowledged window replayed after the outage) --
+    // unless the broker threw that session away. ejabberd 23.01 does, when a
+    // killed node comes back (docs/scaling.md): the client is disconnected,
+    // finds no session at its reconnection, and what the broker had
+    // acknowledged to the machines meanwhile is gone. nclink names that gap
+    // (TransportStats::sessions_lost, a warning in the log), and it must stay
+    // the gap of one reconnection: at most 5 s of rows a machine.
+    if (app_stats.transport.sessions_lost == 0) {
+        CHECK(rows == published);
+        CHECK(holes == 0);
+    } else {
+        WARN(fmt::format("{}: the application's session was thrown away {} time(s) by the broker: {} rows lost", broker,
+                         app_stats.transport.sessions_lost, published - rows));
+        CHECK(published - rows <= static_cast<std::uint64_t>(kMachines) * 5000 / kSampleMs);
+    }
     // The client hands a repeated row on never (QoS 1 repeats are held back).
     CHECK(duplicates == 0);
     // nclink's own drops stay at 0: spools and buffers held the outage.
@@ -289,4 +325,18 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
     agent.stop();
     std::error_code ignored;
     std::filesystem::remove_all(dir, ignored);
+}
+
+}  // namespace
+
+TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two nodes, rows counted at both ends") {
+    NCLINK_NEEDS_RABBITMQ();
+    RabbitCluster rabbit;
+    gateway_through_two_node_losses(rabbit, Login{}, "RabbitMQ");
+}
+
+TEST_CASE("ejabberd cluster: a gateway of 100 machines through the loss of two nodes, rows counted at both ends") {
+    NCLINK_NEEDS_EJABBERD();
+    EjabberdCluster ejabberd;
+    gateway_through_two_node_losses(ejabberd, Login{EjabberdCluster::username(), EjabberdCluster::password()}, "ejabberd");
 }
