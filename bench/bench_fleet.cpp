@@ -31,13 +31,15 @@
 // pair that wakes its loop), so a process whose hard limit is 20,000 serves at
 // most about 6,600 machines (docs/gateway.md).
 //
-// --cluster rabbitmq: a 3-node RabbitMQ cluster on loopback (Debian's
-// rabbitmq-server, tests/support/rabbitmq_cluster.hpp) instead of the one
-// mosquitto: one gateway process per node (at least), each with the other
-// nodes as failover list, the agent on node 3 (MQTT 3.1.1, plain
-// subscriptions: docs/scaling.md), the application on node 2, the floor's
-// echo on node 1. The broker columns are then the cluster's (every beam.smp
-// process); no broker restart.
+// --cluster rabbitmq|ejabberd: a 3-node RabbitMQ cluster on loopback
+// (Debian's rabbitmq-server, tests/support/rabbitmq_cluster.hpp) or a
+// 3-node ejabberd one (Debian's ejabberd and its mod_mqtt,
+// tests/support/ejabberd_cluster.hpp; every program logs in, as ejabberd
+// wants) instead of the one mosquitto: one gateway process per node (at
+// least), each with the other nodes as failover list, the agent on node 3
+// (MQTT 3.1.1, plain subscriptions: docs/scaling.md), the application on
+// node 2, the floor's echo on node 1. The broker columns are then the
+// cluster's (every beam.smp process); no broker restart.
 //
 // --config FILE: adapter settings every machine of the gateway shares
 // (nclink-sim --config), e.g. {"heap_keep_bytes": 0} to measure a setting.
@@ -52,6 +54,7 @@
 #include "bench_util.hpp"
 #include "paho_echo.hpp"
 #include "support/mosquitto_broker.hpp"
+#include "support/ejabberd_cluster.hpp"
 #include "support/rabbitmq_cluster.hpp"
 
 #include <fcntl.h>
@@ -160,18 +163,32 @@ Usage usage_named(const std::string& comm) {
     return sum;
 }
 
-// One mosquitto, or a 3-node RabbitMQ cluster (--cluster rabbitmq).
+// One mosquitto, or a 3-node cluster (--cluster rabbitmq|ejabberd).
 struct Brokers {
     std::optional<nclink::test::MosquittoBroker> mosquitto;
     std::unique_ptr<nclink::test::RabbitCluster> rabbit;
-    explicit Brokers(bool cluster) {
-        if (cluster) rabbit = std::make_unique<nclink::test::RabbitCluster>(3);
+    std::unique_ptr<nclink::test::EjabberdCluster> ejabberd;
+    explicit Brokers(const std::string& cluster) {
+        if (cluster == "rabbitmq") rabbit = std::make_unique<nclink::test::RabbitCluster>(3);
+        else if (cluster == "ejabberd") ejabberd = std::make_unique<nclink::test::EjabberdCluster>(3);
         else mosquitto.emplace();
     }
-    int size() const { return rabbit ? rabbit->size() : 1; }
-    std::string url(int i) const { return rabbit ? rabbit->url(i % size()) : mosquitto->url(); }
-    int port(int i) const { return rabbit ? rabbit->mqtt_port(i % size()) : mosquitto->port(); }
-    Usage usage() const { return rabbit ? usage_named("beam.smp") : ::usage(mosquitto->pid()); }
+    int size() const { return rabbit ? rabbit->size() : ejabberd ? ejabberd->size() : 1; }
+    int port(int i) const {
+        return rabbit ? rabbit->mqtt_port(i % size()) : ejabberd ? ejabberd->mqtt_port(i % size()) : mosquitto->port();
+    }
+    std::string url(int i) const { return "tcp://127.0.0.1:" + std::to_string(port(i)); }
+    Usage usage() const { return mosquitto ? ::usage(mosquitto->pid()) : usage_named("beam.smp"); }
+    // The login every program uses: ejabberd's mod_mqtt refuses a CONNECT
+    // without a password; the others take anonymous ones.
+    std::string username() const { return ejabberd ? nclink::test::EjabberdCluster::username() : ""; }
+    std::string password() const { return ejabberd ? nclink::test::EjabberdCluster::password() : ""; }
+    // The broker section of a program's configuration: the login.
+    Json login() const {
+        Json section = Json::object();
+        if (!username().empty()) section = Json{{"username", username()}, {"password", password()}};
+        return section;
+    }
 };
 
 // The application's view of every Sample and Notify/State on the broker.
@@ -181,10 +198,12 @@ struct Watcher {
     std::map<std::string, std::pair<std::string, Clock::time_point>> state;  // tid -> last state, when
     std::unique_ptr<Transport> transport;
 
-    explicit Watcher(const std::string& url) {
+    explicit Watcher(const std::string& url, const std::string& username, const std::string& password) {
         MqttOptions o;
         o.broker_url = url;
         o.client_id = "bench-fleet-watcher";
+        o.username = username;
+        o.password = password;
         transport = make_mqtt_transport(o).value();
         transport->set_message_handler([this](const Message& m) {
             const auto topic = parse_topic(m.topic);
@@ -268,10 +287,11 @@ std::string fleet_model(const std::string& src, std::size_t points, int interval
 }
 
 Row run(std::size_t machines, double seconds, std::size_t queries, const std::string& bin, const std::string& src,
-        const std::string& config, std::size_t points, int interval_ms, std::size_t gateways, bool cluster) {
+        const std::string& config, std::size_t points, int interval_ms, std::size_t gateways, const std::string& cluster_kind) {
     Row row;
     row.machines = machines;
-    Brokers broker(cluster);
+    Brokers broker(cluster_kind);
+    const bool cluster = !broker.mosquitto;
     // Where each program goes: all on the one mosquitto, or the agent on
     // node 3, the application on node 2, the echo on node 1.
     const std::string url = broker.url(1);
@@ -279,11 +299,13 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     std::vector<std::string> agent_args{bin + "/bin/nclink-agent", "--broker", broker.url(2), "--log-level", "warn"};
     if (cluster) {
         const std::string path = "/tmp/bench_fleet_agent.json";
-        std::ofstream(path) << Json{{"share_group", ""}, {"broker", {{"mqtt_version", 4}}}}.dump();
+        Json broker_section = broker.login();
+        broker_section["mqtt_version"] = 4;
+        std::ofstream(path) << Json{{"share_group", ""}, {"broker", broker_section}}.dump();
         agent_args.insert(agent_args.end(), {"--config", path});
     }
     const pid_t agent = spawn(agent_args, "/tmp/bench_fleet_agent.log");
-    Watcher watcher(url);
+    Watcher watcher(url, broker.username(), broker.password());
     std::this_thread::sleep_for(500ms);
     const auto t0 = Clock::now();
     // The machines of each gateway process and their GUIDs (nclink-sim
@@ -311,6 +333,7 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
             // The user's settings, and the other nodes as failover list.
             Json settings = Json::object();
             if (!config.empty()) settings = Json::parse(std::ifstream(config));
+            settings["broker"].update(broker.login());
             settings["broker"]["failover"] = Json::array();
             for (int k = 1; k < broker.size(); ++k) settings["broker"]["failover"].push_back(broker.url(node + k));
             const std::string path = fmt::format("/tmp/bench_fleet_gateway{}.json", g);
@@ -340,6 +363,8 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     MqttOptions mo;
     mo.broker_url = url;
     mo.client_id = "bench-fleet-app";
+    mo.username = broker.username();
+    mo.password = broker.password();
     auto app = Client::create(mo, co).value();
     (void)app->start();
     (void)app->wait_connected(10s);
@@ -359,7 +384,9 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
     row.discovery_ms = bench::median(discovery);
 
     // The floor's echo, answering as soon as it has subscribed.
-    const pid_t echo = spawn({"/proc/self/exe", "--echo-child", std::to_string(broker.port(0))}, "/tmp/bench_fleet_echo.log");
+    const pid_t echo =
+        spawn({"/proc/self/exe", "--echo-child", std::to_string(broker.port(0)), broker.username(), broker.password()},
+              "/tmp/bench_fleet_echo.log");
     RequestOptions quick;
     quick.timeout = 1s;
     const auto ask_echo = [&app, &quick] {
@@ -427,33 +454,34 @@ Row run(std::size_t machines, double seconds, std::size_t queries, const std::st
 // The floor: answers Query/Request/fleet-echo/{ex} with the answer a
 // machine gives to the bench's query (same shape and size), the request's
 // @id mirrored. Runs until killed.
-int echo_child(int port) {
+int echo_child(int port, const std::string& username, const std::string& password) {
     const std::string request_topic = topics::query_request(kEchoDev, "+");
     const std::string request_prefix = request_topic.substr(0, request_topic.size() - 1);
     const std::string response_prefix = topics::query_response(kEchoDev) + "/";
-    bench::PahoEcho echo("tcp://127.0.0.1:" + std::to_string(port), "bench-fleet-echo", request_topic, port,
-                         [&](const mqtt::message& request, mqtt::async_client& client) {
-                             static const std::string key = "\"@id\":\"";
-                             const std::string& payload = request.get_payload();
-                             const auto at = payload.find(key);
-                             if (at == std::string::npos) return;
-                             const auto from = at + key.size();
-                             const auto to = payload.find('"', from);
-                             if (to == std::string::npos) return;
-                             std::string reply = "{\"@id\":\"";
-                             reply.append(payload, from, to - from)
-                                 .append(
-                                     "\",\"guid\":\"fleet-echo\",\"values\":[{\"code\":\"OK\",\"id\":"
-                                     "\"spindle_speed\",\"values\":[2133]}]}");
-                             const std::string& topic = request.get_topic();
-                             client.publish(response_prefix + topic.substr(request_prefix.size()), reply.data(), reply.size(), 1,
-                                            false);
-                         });
+    bench::PahoEcho echo(
+        "tcp://127.0.0.1:" + std::to_string(port), "bench-fleet-echo", request_topic, port,
+        [&](const mqtt::message& request, mqtt::async_client& client) {
+            static const std::string key = "\"@id\":\"";
+            const std::string& payload = request.get_payload();
+            const auto at = payload.find(key);
+            if (at == std::string::npos) return;
+            const auto from = at + key.size();
+            const auto to = payload.find('"', from);
+            if (to == std::string::npos) return;
+            std::string reply = "{\"@id\":\"";
+            reply.append(payload, from, to - from)
+                .append(
+                    "\",\"guid\":\"fleet-echo\",\"values\":[{\"code\":\"OK\",\"id\":"
+                    "\"spindle_speed\",\"values\":[2133]}]}");
+            const std::string& topic = request.get_topic();
+            client.publish(response_prefix + topic.substr(request_prefix.size()), reply.data(), reply.size(), 1, false);
+        },
+        username, password);
     for (;;) ::pause();
 }
 
 int main(int argc, char** argv) {
-    if (argc >= 3 && std::string(argv[1]) == "--echo-child") return echo_child(std::atoi(argv[2]));
+    if (argc >= 5 && std::string(argv[1]) == "--echo-child") return echo_child(std::atoi(argv[2]), argv[3], argv[4]);
     std::vector<std::size_t> sizes = {100, 300, 1000};
     double seconds = 30;
     std::size_t queries = 1000;  // the p99 of 200 would be their second slowest
@@ -461,7 +489,7 @@ int main(int argc, char** argv) {
     std::size_t points = 10;
     int interval_ms = 100;
     std::size_t gateways = 1;
-    bool cluster = false;
+    std::string cluster;  // "": one mosquitto
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string arg = argv[i], value = argv[i + 1];
         if (arg == "--machines") {
@@ -481,21 +509,22 @@ int main(int argc, char** argv) {
         } else if (arg == "--gateways") {
             gateways = std::max<std::size_t>(1, std::stoul(value));
         } else if (arg == "--cluster") {
-            if (value != "rabbitmq") {
-                std::fprintf(stderr, "bench_fleet: --cluster takes rabbitmq\n");
+            if (value != "rabbitmq" && value != "ejabberd") {
+                std::fprintf(stderr, "bench_fleet: --cluster takes rabbitmq or ejabberd\n");
                 return 2;
             }
-            const std::string why = nclink::test::RabbitCluster::unavailable_reason();
+            const std::string why = value == "rabbitmq" ? nclink::test::RabbitCluster::unavailable_reason()
+                                                        : nclink::test::EjabberdCluster::unavailable_reason();
             if (!why.empty()) {
                 std::fprintf(stderr, "bench_fleet: %s\n", why.c_str());
                 return 2;
             }
-            cluster = true;
+            cluster = value;
         }
     }
-    if (cluster) gateways = std::max<std::size_t>(gateways, 3);  // a gateway process on each node
+    if (!cluster.empty()) gateways = std::max<std::size_t>(gateways, 3);  // a gateway process on each node
     std::printf("%zu point(s) per machine every %d ms", points, interval_ms);
-    if (cluster) std::printf("; a 3-node RabbitMQ cluster");
+    if (!cluster.empty()) std::printf("; a 3-node %s cluster", cluster == "rabbitmq" ? "RabbitMQ" : "ejabberd");
     if (gateways > 1) std::printf("; the machines split over %zu gateway processes (their sums below)", gateways);
     std::printf("\n\n");
     std::printf(
