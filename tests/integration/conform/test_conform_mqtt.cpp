@@ -93,6 +93,27 @@ void pass_or_not_supported(const TestRecord& r, std::initializer_list<const char
     }
 }
 
+// Until the adapter's retained online state is on the broker: a fresh
+// subscriber gets it flagged retained. Before, the tester could subscribe
+// first and get the state live, without the flag (MQTT 3.1.1 3.3.1.3), and
+// fail the "state" item on a loaded box.
+void wait_retained_state(const MosquittoBroker& broker) {
+    int attempt = 0;
+    REQUIRE(eventually(
+        [&] {
+            auto watcher = mqtt(broker, "conform-itest-state-" + std::to_string(++attempt));
+            std::atomic<bool> retained{false};
+            watcher->set_message_handler([&retained](const Message& m) {
+                if (m.retained) retained = true;
+            });
+            if (!watcher->subscribe({topics::notify_state(kDev)}, 1).ok() || !watcher->start().ok()) return false;
+            const bool seen = eventually([&] { return retained.load(); }, std::chrono::milliseconds(500));
+            watcher->stop(std::chrono::milliseconds(0));
+            return seen;
+        },
+        std::chrono::seconds(10)));
+}
+
 struct SimAdapter {
     explicit SimAdapter(const MosquittoBroker& broker) {
         AdapterConfig c;
@@ -100,6 +121,7 @@ struct SimAdapter {
         c.broker_url = broker.url();
         c.register_timeout = std::chrono::milliseconds(500);
         adapter = started_adapter(c, sim_for(sim_mill_path()));
+        wait_retained_state(broker);
     }
     ~SimAdapter() { adapter->stop(); }
     std::unique_ptr<Adapter> adapter;
