@@ -50,18 +50,8 @@ EjabberdCluster::EjabberdCluster(int nodes) {
     const std::string reason = unavailable_reason();
     if (!reason.empty()) throw std::runtime_error(reason);
     end_orphaned_clusters("nclink-ejabberd-", "ejabberd");
-    char pattern[] = "/tmp/nclink-ejabberd-XXXXXX";
-    if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
-    dir_ = pattern;
-    std::ofstream(dir_ + "/owner") << ::getpid() << "\n";
+    dir_ = make_cluster_dir("nclink-ejabberd-", "NCLINKEJ", free_loopback_port());
     try {
-        // The cookie every node and ejabberdctl read from $HOME: this
-        // cluster's own, so no other Erlang node on the machine can join it.
-        {
-            std::ofstream cookie(dir_ + "/.erlang.cookie");
-            cookie << "NCLINKEJ" << ::getpid() << "X" << free_loopback_port();
-        }
-        ::chmod((dir_ + "/.erlang.cookie").c_str(), 0400);
         // ejabberdctl's own directory for the commands: no distribution
         // port (a command's VM listens on a port of its own), no node
         // configuration; the host table every VM reads (not /etc/ejabberd's).

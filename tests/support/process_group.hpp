@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -142,6 +143,20 @@ inline void end_orphaned_clusters(const std::string& prefix, const std::string& 
         }
         std::filesystem::remove_all(dir, error);
     }
+}
+
+/// A scratch directory /tmp/<prefix>XXXXXX for a new cluster, with the file
+/// `owner` (this process) that end_orphaned_clusters() reads, and the Erlang
+/// cookie every node and ctl command read from $HOME in it: this cluster's
+/// own (`tag`, this pid, `salt`), so no other Erlang node on the machine can
+/// join it. Throws when the directory cannot be made.
+inline std::string make_cluster_dir(const std::string& prefix, const std::string& tag, int salt) {
+    std::string pattern = "/tmp/" + prefix + "XXXXXX";
+    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+    std::ofstream(pattern + "/owner") << ::getpid() << "\n";
+    std::ofstream(pattern + "/.erlang.cookie") << tag << ::getpid() << "X" << salt;
+    ::chmod((pattern + "/.erlang.cookie").c_str(), 0400);
+    return pattern;
 }
 
 }  // namespace nclink::test

@@ -47,18 +47,8 @@ RabbitCluster::RabbitCluster(int nodes) {
     const std::string reason = unavailable_reason();
     if (!reason.empty()) throw std::runtime_error(reason);
     end_orphaned_clusters("nclink-rabbitmq-", "rabbitmq");
-    char pattern[] = "/tmp/nclink-rabbitmq-XXXXXX";
-    if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
-    dir_ = pattern;
-    std::ofstream(dir_ + "/owner") << ::getpid() << "\n";
+    dir_ = make_cluster_dir("nclink-rabbitmq-", "NCLINKTEST", free_loopback_port());
     try {
-        // The cookie every node and rabbitmqctl read from $HOME: this
-        // cluster's own, so no other Erlang node on the machine can join it.
-        {
-            std::ofstream cookie(dir_ + "/.erlang.cookie");
-            cookie << "NCLINKTEST" << ::getpid() << "X" << free_loopback_port();
-        }
-        ::chmod((dir_ + "/.erlang.cookie").c_str(), 0400);
         std::ofstream(dir_ + "/enabled_plugins") << "[rabbitmq_mqtt].\n";
         std::ofstream(dir_ + "/rabbitmq-env.conf") << "";  // not /etc/rabbitmq's
 
