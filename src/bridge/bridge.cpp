@@ -61,6 +61,7 @@ Result<void> Bridge::start() {
     follow.discovery_interval = c.discovery_interval;
     follow.request_timeout = c.request_timeout;
     follow.use_events = c.use_events;
+    follow.liveness = c.adapter_liveness;
     follow.logger = b.logger;
     b.follower = std::make_unique<Follower>(*b.client, b.store, follow);
     b.gbt = std::make_unique<GbtApi>(b.store, b.mtconnect, *b.follower);
@@ -156,6 +157,7 @@ ConfigReload Bridge::reload(const BridgeConfig& next) {
     restart(c.sender == next.sender, "sender");
     restart(c.poll_interval == next.poll_interval, "poll_interval_ms");
     restart(c.discovery_interval == next.discovery_interval, "discovery_interval_ms");
+    restart(c.adapter_liveness == next.adapter_liveness, "adapter_liveness_ms");
     restart(c.request_timeout == next.request_timeout, "request_timeout_ms");
     restart(c.use_events == next.use_events, "use_events");
     restart(c.heartbeat == next.heartbeat, "heartbeat_ms");

@@ -63,6 +63,9 @@ struct BridgeConfig {
     std::chrono::milliseconds poll_interval{1000};
     std::chrono::milliseconds discovery_interval{30000};
     std::chrono::milliseconds request_timeout{3000};
+    /// Silence after which an adapter is asked a Query of one item; no answer
+    /// within request_timeout = UNAVAILABLE (follower.hpp). 0 = never.
+    std::chrono::milliseconds adapter_liveness{10000};
     bool use_events = true;
     std::chrono::milliseconds heartbeat{10000};  ///< SSE ": ping" and SHDR PONG period
     LogLevel log_level = LogLevel::info;

@@ -74,6 +74,7 @@ Result<BridgeConfig> bridge_config_from_json(const Json& json, BridgeConfig c) {
     NCLINK_TRY(top.str("sender", c.sender));
     NCLINK_TRY(top.duration("poll_interval_ms", c.poll_interval));
     NCLINK_TRY(top.duration("discovery_interval_ms", c.discovery_interval));
+    NCLINK_TRY(top.duration("adapter_liveness_ms", c.adapter_liveness));
     NCLINK_TRY(top.duration("request_timeout_ms", c.request_timeout));
     NCLINK_TRY(top.boolean("use_events", c.use_events));
     NCLINK_TRY(top.duration("heartbeat_ms", c.heartbeat));

@@ -61,7 +61,9 @@ void Follower::follow(const std::string& dev) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (followed_.count(dev)) return;
-        followed_[dev].poll_interval = options_.poll_interval;
+        Followed& f = followed_[dev];
+        f.poll_interval = options_.poll_interval;
+        f.last_heard = std::chrono::steady_clock::now();
     }
     options_.logger.info("bridge: following {}", dev);
     store_.add_device(dev);
@@ -101,6 +103,14 @@ void Follower::on_state(const NotifyState& state) {
         if (!followed_.count(state.tid)) return;
     }
     if (state.state != "online" && state.state != "offline") return;
+    {
+        // Its own word replaces what the liveness check concluded.
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(state.tid);
+        if (it == followed_.end()) return;
+        it->second.silent = false;
+        it->second.last_heard = std::chrono::steady_clock::now();
+    }
     store_.set_state(state.tid, state.state);
     if (state.state == "online") refresh(state.tid);
 }
@@ -143,7 +153,17 @@ void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<J
         finish();
         return;
     }
-    // An adapter that answers is online even before its retained state arrived.
+    // An adapter that answers is online even before its retained state
+    // arrived, and again after a liveness check had found it silent.
+    bool was_silent = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (auto it = followed_.find(dev); it != followed_.end()) {
+            was_silent = it->second.silent;
+            it->second.silent = false;
+            it->second.last_heard = std::chrono::steady_clock::now();
+        }
+    }
     std::string state;
     std::shared_ptr<const Model> loaded;
     store_.read([&](const BridgeState& st) {
@@ -153,7 +173,7 @@ void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<J
         }
         return 0;
     });
-    if (state == "unknown") store_.set_state(dev, "online");
+    if (state == "unknown" || was_silent) store_.set_state(dev, "online");
     if (!loaded) {
         finish();
         return;
@@ -183,6 +203,7 @@ void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<J
             f.polled.clear();
             f.poll_interval = std::max(options_.poll_interval, std::chrono::milliseconds(static_cast<long long>(shortest)));
             f.next_poll = std::chrono::steady_clock::now() + f.poll_interval;
+            f.check_item = all.empty() ? std::string() : all.front();
             for (const auto& id : unchanneled) {
                 const DataObject* o = loaded->data_object(id);
                 if (!options_.use_events || (o && o->kind != DataKind::single)) f.polled.push_back(id);
@@ -213,7 +234,10 @@ void Follower::register_events(const std::string& dev, std::uint64_t epoch) {
         const std::string item = o.id;
         client_.register_event_async(
             dev, registration,
-            [this, dev](const EventData& e) { store_.update(dev, e.event.id, e.event.value, e.time > 0 ? e.time : now_ms()); },
+            [this, dev](const EventData& e) {
+                heard(dev);
+                store_.update(dev, e.event.id, e.event.value, e.time > 0 ? e.time : now_ms());
+            },
             [this, dev, item, epoch](Result<std::string> id) {
                 std::lock_guard<std::mutex> lock(mutex_);
                 auto it = followed_.find(dev);
@@ -242,29 +266,118 @@ void Follower::query_items(const std::string& dev, const std::vector<std::string
         dev, std::move(items),
         [this, dev](Result<std::vector<QueryResult>> results) {
             if (!results) return;
-            const std::int64_t now = now_ms();
-            std::vector<BridgeStore::Value> values;
-            for (const auto& r : *results) {
-                if (!r.status.ok) continue;
-                // A whole-item Query answers values = [value] (8.2.12).
-                Json value;
-                if (r.values && r.values->is_array() && r.values->size() == 1) value = (*r.values)[0];
-                else if (r.values) value = *r.values;
-                values.push_back(BridgeStore::Value{r.id, std::move(value), now});
-            }
-            store_.update_many(dev, values);
+            heard(dev);
+            store_answers(dev, *results);
         },
         request_options_);
 }
 
+void Follower::store_answers(const std::string& dev, const std::vector<QueryResult>& results) {
+    const std::int64_t now = now_ms();
+    std::vector<BridgeStore::Value> values;
+    for (const auto& r : results) {
+        if (!r.status.ok) continue;
+        // A whole-item Query answers values = [value] (8.2.12).
+        Json value;
+        if (r.values && r.values->is_array() && r.values->size() == 1) value = (*r.values)[0];
+        else if (r.values) value = *r.values;
+        values.push_back(BridgeStore::Value{r.id, std::move(value), now});
+    }
+    store_.update_many(dev, values);
+}
+
+// Anything the adapter published or answered: it is there. One that a
+// liveness check had found silent is followed anew (online, Probe, Query,
+// events: it may have restarted meanwhile and lost its registrations).
+void Follower::heard(const std::string& dev) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it == followed_.end()) return;
+        it->second.last_heard = std::chrono::steady_clock::now();
+        if (!it->second.silent) return;
+        it->second.silent = false;
+    }
+    options_.logger.info("bridge: {} is heard again", dev);
+    store_.set_state(dev, "online");
+    refresh(dev);
+}
+
+// A followed adapter that has published nothing and answered nothing for
+// `liveness`: its state may be stale (a last will that died with its broker
+// node, a link that hangs). A Query of one item asks; a Probe/Query where the
+// model has no item to query.
+void Follower::check_silent(std::chrono::steady_clock::time_point now) {
+    std::vector<std::pair<std::string, std::string>> candidates;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& [dev, f] : followed_)
+            if (!f.checking && !f.refreshing && now - f.last_heard >= options_.liveness)
+                candidates.emplace_back(dev, f.check_item);
+    }
+    for (auto& [dev, item] : candidates) {
+        // Online by its state, or silent and asked again until it answers;
+        // one offline by its own Notify/State waits for its online.
+        std::string state;
+        store_.read([&](const BridgeState& st) {
+            if (const DeviceEntry* d = st.find_device(dev)) state = d->state;
+            return 0;
+        });
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            auto it = followed_.find(dev);
+            if (it == followed_.end() || it->second.checking) continue;
+            if (state != "online" && !it->second.silent) continue;
+            it->second.checking = true;
+            it->second.last_heard = now;  // the next check one liveness after this one
+        }
+        auto answered = [](const Error& e) { return e.code != ErrorCode::timeout; };
+        if (item.empty()) {
+            client_.probe_async(
+                dev, [this, dev, answered](Result<Json> r) { checked(dev, r || answered(r.error())); }, request_options_);
+        } else {
+            client_.query_async(
+                dev, {QueryItem{item, std::nullopt}},
+                [this, dev, answered](Result<std::vector<QueryResult>> r) {
+                    if (r) store_answers(dev, *r);
+                    checked(dev, r || answered(r.error()));
+                },
+                request_options_);
+        }
+    }
+}
+
+// Any answer, an NG one too (an item the model lost, 401), shows the
+// adapter there; only a request that timed out (203) counts as silence.
+void Follower::checked(const std::string& dev, bool answered) {
+    bool turned_silent = false;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto it = followed_.find(dev);
+        if (it == followed_.end()) return;
+        it->second.checking = false;
+        if (!answered && !it->second.silent) turned_silent = it->second.silent = true;
+    }
+    if (answered) return heard(dev);
+    if (!turned_silent) return;
+    options_.logger.warn(
+        "bridge: {} published nothing for {} ms and did not answer a Query within {} ms: UNAVAILABLE until it is heard again",
+        dev, options_.liveness.count(), options_.request_timeout.count());
+    store_.set_state(dev, "offline");
+}
+
 void Follower::on_sample(const SampleDtu& dtu) {
     std::shared_ptr<const Model> model;
+    bool revive = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = followed_.find(dtu.guid);
         if (it == followed_.end()) return;
         model = it->second.model;
+        it->second.last_heard = std::chrono::steady_clock::now();
+        revive = it->second.silent;
     }
+    if (revive) heard(dtu.guid);
     if (!model) return;
     const SampleChannel* channel = model->channel(dtu.id);
     if (!channel) return;
@@ -313,6 +426,7 @@ void Follower::on_method_run(const MethodRun& run) {
         if (run.result->return_value) outcome["return"] = *run.result->return_value;
         update.outcome = std::move(outcome);
     }
+    heard(run.dev);
     if (update.call.empty()) return;  // without the call's @id a DTU belongs to no run (8.2.23)
     store_.record_method_run(run.dev, std::move(update), now_ms());
 }
@@ -320,6 +434,7 @@ void Follower::on_method_run(const MethodRun& run) {
 void Follower::on_event(const WatchedEvent& event) {
     // The bridge's own registrations are its change events: their values
     // are already in the model tree (register_events).
+    heard(event.dev);
     if (event.ex == client_.ex_cid()) return;
     EventLogEntry entry;
     entry.ex = event.ex;
@@ -362,6 +477,7 @@ void Follower::housekeeping() {
             });
             if (online) query_items(dev, ids);
         }
+        if (options_.liveness.count() > 0) check_silent(now);
         std::unique_lock<std::mutex> lock(wake_mutex_);
         wake_.wait_for(lock, std::chrono::milliseconds(50), [this] { return !running_; });
     }

@@ -22,6 +22,12 @@
 //  - Notify/State offline turns its items UNAVAILABLE; online brings a new
 //    Probe/Query, Query and event registration (the adapter lost its events
 //    when it restarted);
+//  - an adapter heard nothing from for `liveness` (no Sample, event or
+//    answer) is asked a Query of one item; no answer within the request
+//    timeout turns its items UNAVAILABLE as an offline state would, until it
+//    answers a later check, publishes a DTU or says online. Its last will
+//    does not cover this: a broker node that dies takes the will with it
+//    (docs/scaling.md), and a link that hangs keeps it for 1.5 keep-alives;
 //  - Probe/Version (8.2.5) with a new version brings a new Probe/Query;
 //  - Method/Status and Method/Result (8.2.23, 8.2.24) of every caller and
 //    the Event DTUs (8.2.31) of every other application's registrations go
@@ -59,6 +65,9 @@ struct FollowerOptions {
     std::chrono::milliseconds discovery_interval{30000};
     std::chrono::milliseconds request_timeout{3000};
     bool use_events = true;  ///< false: every item in no channel is polled
+    /// Silence after which an adapter is asked whether it is there; 0 = never
+    /// (its Notify/State alone tells).
+    std::chrono::milliseconds liveness{10000};
     Logger logger;
 };
 
@@ -90,7 +99,11 @@ private:
         std::chrono::steady_clock::time_point next_poll{};
         bool refreshing = false;
         bool refresh_again = false;
-        std::uint64_t epoch = 0;  ///< grows with every refresh; late answers of older ones are dropped
+        std::uint64_t epoch = 0;                             ///< grows with every refresh; late answers of older ones are dropped
+        std::chrono::steady_clock::time_point last_heard{};  ///< its last DTU or answer
+        std::string check_item;                              ///< what a liveness check queries ("": Probe/Query)
+        bool checking = false;                               ///< a liveness check waits for its answer
+        bool silent = false;                                 ///< UNAVAILABLE because a check went unanswered, not by its state
     };
 
     void follow(const std::string& dev);
@@ -103,6 +116,10 @@ private:
     void after_probe(const std::string& dev, std::uint64_t epoch, Result<Json> model);
     void register_events(const std::string& dev, std::uint64_t epoch);
     void query_items(const std::string& dev, const std::vector<std::string>& ids);
+    void store_answers(const std::string& dev, const std::vector<QueryResult>& results);
+    void heard(const std::string& dev);
+    void check_silent(std::chrono::steady_clock::time_point now);
+    void checked(const std::string& dev, bool answered);
     void housekeeping();
 
     Client& client_;

@@ -6,6 +6,11 @@
 // in) but never drains its in-flight window: the stall of docs/performance.md "Request bursts".
 // Connections made later pass everything.
 //
+// hold_now() makes the connections open now pass nothing either way while
+// they stay open (their bytes wait in the kernel's buffers), until
+// release(): a client that hangs, or whose broker node died, as the broker
+// and the peers on other nodes see it (no close, no last will).
+//
 // Threading: one thread of its own pumps every connection; the public
 // methods are thread-safe.
 #pragma once
@@ -61,6 +66,15 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         for (auto& p : pairs_) p->drop_acks = true;
     }
+    /// From now on the connections open now pass nothing, until release().
+    void hold_now() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& p : pairs_) p->held = true;
+    }
+    void release() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& p : pairs_) p->held = false;
+    }
     std::uint64_t acks_dropped() const { return acks_dropped_; }
     std::uint64_t connections() const { return connections_; }
 
@@ -68,6 +82,7 @@ private:
     struct Pair {
         int client = -1, broker = -1;
         bool drop_acks = false;
+        bool held = false;
         std::string from_broker;  // bytes of a packet not yet whole
         bool closed = false;
     };
@@ -79,6 +94,7 @@ private:
             {
                 std::lock_guard<std::mutex> lock(mutex_);
                 for (auto& p : pairs_) {
+                    if (p->held) continue;
                     fds.push_back({p->client, POLLIN, 0});
                     fds.push_back({p->broker, POLLIN, 0});
                     polled.push_back(p.get());

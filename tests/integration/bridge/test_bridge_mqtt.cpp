@@ -5,6 +5,7 @@
 #include "bridge/bridge.hpp"
 
 #include "integration/bridge/bridge_itest.hpp"
+#include "support/ack_dropping_proxy.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/rig.hpp"
 #include "support/shdr_agent.hpp"
@@ -277,6 +278,79 @@ TEST_CASE("bridge turns a stopped adapter UNAVAILABLE and brings its values back
                    r->body.find("<Position") != std::string::npos && r->body.find(">UNAVAILABLE</Position>") == std::string::npos;
         },
         20s));
+}
+
+// A link that hangs (a dead broker node of a cluster, a pulled cable) gives
+// no last will for 1.5 keep-alives, or never: the bridge's liveness check
+// must notice the silence itself (docs/bridge.md "A machine that falls
+// silent"). The proxy holds the adapter's connection open and passes
+// nothing; its keep-alive of 60 s keeps the broker from ending it (and
+// publishing the will) while the test runs.
+TEST_CASE("an adapter whose link hangs turns UNAVAILABLE by the liveness check and AVAILABLE once it answers") {
+    nclink::test::SimMillRig rig;
+    nclink::test::AckDroppingProxy proxy(rig.broker.port());
+    rig.config.broker_url = proxy.url();
+    rig.config.keep_alive = 60s;
+    rig.start();
+
+    // What the broker says of the adapter: its state stays online throughout.
+    auto watcher = rig.make_client("state-watcher");
+    std::mutex states_mutex;
+    std::vector<std::string> states;
+    REQUIRE(watcher->subscribe_state(kDev, [&](const NotifyState& s) {
+        std::lock_guard<std::mutex> lock(states_mutex);
+        states.push_back(s.state);
+    }));
+
+    bridge::BridgeConfig c;
+    c.broker_url = rig.broker.url();
+    c.http_port = 0;
+    c.shdr_port = 0;
+    c.ex_cid = "bridge-liveness";
+    c.adapter_liveness = 1000ms;
+    c.request_timeout = 500ms;
+    bridge::Bridge the_bridge(c, Logger{});
+    REQUIRE(the_bridge.start().ok());
+    httplib::Client http("127.0.0.1", the_bridge.http_port());
+    http.set_read_timeout(10, 0);
+    const auto get = [&](const std::string& path) {
+        auto r = http.Get(path.c_str());
+        return r && r->status == 200 ? r->body : std::string();
+    };
+    const std::string position_path = "/current?path=" + encoded("//DataItem[@id=\"" + kDev + ".x_position\"]");
+    // The device AVAILABLE and the mill's x position with a value.
+    const auto available = [&] {
+        const std::string position = get(position_path);
+        return get("/current").find(">AVAILABLE</Availability>") != std::string::npos &&
+               position.find("<Position") != std::string::npos && position.find(">UNAVAILABLE</Position>") == std::string::npos;
+    };
+    REQUIRE(eventually(available, 20s));
+
+    proxy.hold_now();
+    std::string body;
+    REQUIRE(eventually(
+        [&] {
+            body = get("/current");
+            return body.find(">UNAVAILABLE</Availability>") != std::string::npos;
+        },
+        20s));
+    INFO(body);
+    CHECK(validates(body, "Streams"));
+    CHECK(get(position_path).find(">UNAVAILABLE</Position>") != std::string::npos);
+    // The bridge concluded it alone: the adapter never lost its connection
+    // and the broker published no offline state.
+    CHECK(rig.adapter->stats().transport.connects == 1);
+    CHECK(proxy.connections() == 1);
+    {
+        std::lock_guard<std::mutex> lock(states_mutex);
+        CHECK(std::count(states.begin(), states.end(), "offline") == 0);
+    }
+
+    // The link passes again: the adapter's DTUs and answers bring it back.
+    proxy.release();
+    CHECK(eventually(available, 20s));
+    the_bridge.stop();
+    watcher->stop();
 }
 
 namespace {

@@ -5,10 +5,10 @@
 // cluster hands retained online states across nodes, so the bridge must not
 // depend on them), serves it as MTConnect (/probe, /current) with the value
 // the adapter's driver reads, keeps serving while the adapter's node is
-// killed, and serves the machine again once its node is back. What the
-// bridge shows of the machine meanwhile is measured and printed, not
-// asserted: the adapter's last will died with its node, so nothing tells the
-// bridge the machine is gone (docs/scaling.md).
+// killed, and serves the machine again once its node is back. While the
+// node is dead the machine must show UNAVAILABLE: its last will died with
+// the node, so only the bridge's own liveness check (a Query of one item
+// after adapter_liveness_ms of silence; docs/bridge.md) can tell.
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
 
@@ -77,6 +77,8 @@ void bridge_across_nodes(Cluster& cluster, const Login& login, const char* broke
     c.poll_interval = 200ms;
     c.discovery_interval = 1s;
     c.heartbeat = 500ms;
+    c.adapter_liveness = 2000ms;
+    c.request_timeout = 1000ms;
     c.ex_cid = "cl-bridge";
     bridge::Bridge the_bridge(c, probe_logger());
     REQUIRE(the_bridge.start().ok());
@@ -110,16 +112,22 @@ void bridge_across_nodes(Cluster& cluster, const Login& login, const char* broke
     // answering; the adapter comes back with its node and the bridge
     // follows it again (a Probe and a Query after its online state).
     cluster.kill_node(0);
+    const auto killed = std::chrono::steady_clock::now();
     bool answered = true, unavailable = false;
-    for (int i = 0; i < 20; ++i) {
+    double unavailable_after_s = 0;
+    for (int i = 0; i < 40 && !unavailable; ++i) {
         const std::string during = current();
         answered = answered && !during.empty();
-        unavailable = unavailable || during.find(">UNAVAILABLE</Availability>") != std::string::npos;
-        std::this_thread::sleep_for(500ms);
+        unavailable = during.find(">UNAVAILABLE</Availability>") != std::string::npos;
+        if (unavailable) unavailable_after_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - killed).count();
+        else std::this_thread::sleep_for(500ms);
     }
     CHECK(answered);
-    std::printf("bridge on the %s cluster: the machine's node dead for 10 s; the bridge showed it %s\n", broker,
-                unavailable ? "UNAVAILABLE" : "AVAILABLE all along (its last will died with the node)");
+    CHECK(unavailable);
+    std::printf(
+        "bridge on the %s cluster: the machine's node killed; the bridge showed it UNAVAILABLE after %.1f s "
+        "(liveness 2 s + request timeout 1 s)\n",
+        broker, unavailable_after_s);
     cluster.start_node(0);
     REQUIRE(eventually(
         [&] {
