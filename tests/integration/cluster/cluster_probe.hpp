@@ -45,6 +45,16 @@ namespace nclink::test {
         }                                                                                    \
     } while (false)
 
+/// How a program logs in to a cluster: RabbitMQ takes anonymous clients
+/// (Login{}), ejabberd's mod_mqtt refuses a CONNECT without a password
+/// (ejabberd_login()). One test body serves both clusters with it.
+struct Login {
+    std::string username;
+    std::string password;
+};
+
+inline Login ejabberd_login() { return {EjabberdCluster::username(), EjabberdCluster::password()}; }
+
 inline Logger probe_logger() { return std::getenv("NCLINK_TEST_LOG") ? Logger(stderr_sink(), LogLevel::debug) : Logger{}; }
 
 /// A Query of the test adapter's `pos` (FakeDriver: 12.5) answered within
@@ -117,6 +127,14 @@ struct Probe {
         }));
     }
 };
+
+/// A Probe logged in to the ejabberd cluster (mod_mqtt refuses a CONNECT
+/// without a password).
+inline std::unique_ptr<Probe> ejabberd_probe(const std::string& url, const std::string& id, bool clean_session = true,
+                                             int mqtt_version = 4) {
+    const Login login = ejabberd_login();
+    return std::make_unique<Probe>(url, id, clean_session, mqtt_version, login.username, login.password);
+}
 
 // Raw MQTT (MQTT 3.1.1 clause 3.1, MQTT 5.0 clause 3.1: CONNECT).
 inline std::string mqtt_string(const std::string& s) {

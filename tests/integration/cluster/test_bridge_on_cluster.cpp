@@ -28,11 +28,6 @@ using namespace std::chrono_literals;
 
 namespace {
 
-struct Login {
-    std::string username;
-    std::string password;
-};
-
 // The text of `dataItemId` in a /current document ("" when absent).
 std::string shown(const std::string& body, const std::string& data_item) {
     std::smatch m;
@@ -164,5 +159,5 @@ TEST_CASE("RabbitMQ cluster: the bridge on node 2 serves an adapter of node 1 th
 TEST_CASE("ejabberd cluster: the bridge on node 2 serves an adapter of node 1 through an agent on node 3") {
     NCLINK_NEEDS_EJABBERD();
     EjabberdCluster ejabberd;
-    bridge_across_nodes(ejabberd, Login{EjabberdCluster::username(), EjabberdCluster::password()}, "ejabberd");
+    bridge_across_nodes(ejabberd, ejabberd_login(), "ejabberd");
 }

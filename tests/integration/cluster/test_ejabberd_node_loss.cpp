@@ -15,24 +15,17 @@ using namespace std::chrono_literals;
 
 namespace {
 
-const std::string user = EjabberdCluster::username();
-const std::string pass = EjabberdCluster::password();
-
-std::unique_ptr<Probe> probe(const std::string& url, const std::string& id, bool clean_session = true) {
-    return std::make_unique<Probe>(url, id, clean_session, 4, user, pass);
-}
-
 // A persistent session subscribed to `topic` through `url`, then left (clean
 // DISCONNECT: the session stays on the broker).
 void leave_persistent_session(const std::string& url, const std::string& id, const std::string& topic) {
-    auto session = probe(url, id, false);
+    auto session = ejabberd_probe(url, id, false);
     REQUIRE(session->connected());
     REQUIRE(session->subscribe_ready(topic, topic));
 }
 
 // `count` QoS 1 messages to `topic` through `url`; how many the broker acknowledged.
 std::size_t publish_acknowledged(const std::string& url, const std::string& id, const std::string& topic, int count) {
-    auto pub = probe(url, id);
+    auto pub = ejabberd_probe(url, id);
     REQUIRE(pub->connected());
     for (int i = 0; i < count; ++i) REQUIRE(pub->transport->publish({topic, "m" + std::to_string(i), 1, false}));
     pub->transport->flush(20s);
@@ -54,7 +47,7 @@ TEST_CASE("ejabberd cluster: persistent sessions across nodes and the loss of a 
     REQUIRE(publish_acknowledged(ejabberd.url(1), "pub-a", topic_a, 10) == 10);
     std::size_t resumed_got = 0;
     {
-        auto resumed = probe(ejabberd.url(2), "session-a", false);
+        auto resumed = ejabberd_probe(ejabberd.url(2), "session-a", false);
         REQUIRE(resumed->connected());
         CHECK(eventually([&] { return resumed->received_on(topic_a) >= 10; }, 10s));
         resumed_got = resumed->received_on(topic_a);
@@ -70,7 +63,7 @@ TEST_CASE("ejabberd cluster: persistent sessions across nodes and the loss of a 
     std::size_t live_got = 0;
     {
         const std::string live = "nclink-test/live";
-        auto sub = probe(ejabberd.url(2), "live-sub");
+        auto sub = ejabberd_probe(ejabberd.url(2), "live-sub");
         REQUIRE(sub->connected());
         REQUIRE(sub->subscribe_ready(live, live));
         REQUIRE(publish_acknowledged(ejabberd.url(0), "live-pub", live, 10) == 10);
@@ -90,7 +83,7 @@ TEST_CASE("ejabberd cluster: persistent sessions across nodes and the loss of a 
     std::size_t while_down = 0;
     std::uint64_t connects_while_down = 0;
     {
-        auto elsewhere = probe(ejabberd.url(2), "session-b", false);
+        auto elsewhere = ejabberd_probe(ejabberd.url(2), "session-b", false);
         elsewhere->connected(5s);
         std::this_thread::sleep_for(2s);
         while_down = elsewhere->received_on(topic_b);
@@ -107,7 +100,7 @@ TEST_CASE("ejabberd cluster: persistent sessions across nodes and the loss of a 
         std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - restart_began);
     std::size_t after_return = 0;
     {
-        auto home = probe(ejabberd.url(1), "session-b", false);
+        auto home = ejabberd_probe(ejabberd.url(1), "session-b", false);
         REQUIRE(home->connected(30s));
         eventually([&] { return home->received_on(topic_b) >= static_cast<std::size_t>(sent); }, 5s);
         after_return = home->received_on(topic_b);
@@ -118,7 +111,7 @@ TEST_CASE("ejabberd cluster: persistent sessions across nodes and the loss of a 
     std::size_t rejoined_got = 0;
     {
         const std::string again = "nclink-test/again";
-        auto sub = probe(ejabberd.url(1), "again-sub");
+        auto sub = ejabberd_probe(ejabberd.url(1), "again-sub");
         REQUIRE(sub->connected());
         REQUIRE(sub->subscribe_ready(again, again));
         REQUIRE(publish_acknowledged(ejabberd.url(2), "again-pub", again, 10) == 10);

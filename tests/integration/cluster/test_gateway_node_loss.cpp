@@ -61,13 +61,6 @@ std::string slow_channel_model(const std::string& dir) {
 using Steady = std::chrono::steady_clock;
 double seconds_since(Steady::time_point t) { return std::chrono::duration<double>(Steady::now() - t).count(); }
 
-// How every program logs in to a cluster: RabbitMQ takes anonymous 3.1.1
-// ("auto" falls back from 5), ejabberd wants a user and password and takes 5.
-struct Login {
-    std::string username;
-    std::string password;
-};
-
 // The run, on a started cluster of three nodes (RabbitCluster, EjabberdCluster).
 template <class Cluster>
 void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const char* broker) {
@@ -338,5 +331,5 @@ TEST_CASE("RabbitMQ cluster: a gateway of 100 machines through the loss of two n
 TEST_CASE("ejabberd cluster: a gateway of 100 machines through the loss of two nodes, rows counted at both ends") {
     NCLINK_NEEDS_EJABBERD();
     EjabberdCluster ejabberd;
-    gateway_through_two_node_losses(ejabberd, Login{EjabberdCluster::username(), EjabberdCluster::password()}, "ejabberd");
+    gateway_through_two_node_losses(ejabberd, ejabberd_login(), "ejabberd");
 }
