@@ -1,10 +1,10 @@
-// nclink on an ejabberd cluster (Debian's 23.01, mod_mqtt), with the
-// settings docs/scaling.md gives for it: every program logs in (the broker
-// section's "username"/"password"; mod_mqtt refuses a CONNECT without a
-// password), MQTT 5 or "auto" (ejabberd takes 5), and an agent with plain
-// subscriptions (share_group ""): mod_mqtt closes the connection at a
-// SUBSCRIBE to $share/..., which the last test here shows. The agents with
-// plain subscriptions run on both clusters in test_agent_on_cluster.cpp.
+// An agent with its default share group ("nclink-agent") on an ejabberd
+// cluster (Debian's 23.01, mod_mqtt): what happens when a broker without
+// shared subscriptions is given one. mod_mqtt closes the connection at a
+// SUBSCRIBE to $share/..., which is why docs/scaling.md gives agents there
+// plain subscriptions (share_group ""), as test_agent_on_cluster.cpp runs
+// them on both clusters. Every program logs in (the broker section's
+// "username"/"password"; mod_mqtt refuses a CONNECT without a password).
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
 #include <nclink/client.hpp>
@@ -12,7 +12,6 @@
 #include "cluster_configs.hpp"
 #include "cluster_probe.hpp"
 #include "support/adapter_fixture.hpp"  // test_model_path(), scratch_dir(), FakeDriver
-#include "support/patient_query.hpp"
 
 #include <thread>
 
@@ -25,65 +24,6 @@ namespace {
 const Login login = ejabberd_login();
 
 }  // namespace
-
-TEST_CASE("ejabberd cluster: an adapter on node 1 answers a Query from a client on node 2, logged in, on MQTT 5") {
-    NCLINK_NEEDS_EJABBERD();
-    EjabberdCluster ejabberd;
-
-    AdapterConfig config = adapter_config(ejabberd, 0, "ej-adapter", login);
-    auto driver = std::make_shared<FakeDriver>();
-    Adapter adapter(config, driver, probe_logger());
-    REQUIRE(adapter.start());
-    REQUIRE(eventually([&] { return adapter.state() == AdapterState::normal; }, 60s));
-    // "auto" got in with MQTT 5 at the first attempt.
-    CHECK(adapter.stats().transport.connect_failures == 0);
-    CHECK(adapter.stats().transport.connects == 1);
-
-    // Without a login an adapter never gets in (CONNACK "not authorized").
-    {
-        AdapterConfig anonymous = config;
-        anonymous.client_id = "ej-adapter-anonymous";
-        anonymous.device_id.clear();
-        anonymous.username.clear();
-        anonymous.password.clear();
-        anonymous.persistence_dir = scratch_dir("ej-adapter-anonymous");
-        Adapter refused(anonymous, std::make_shared<FakeDriver>(), probe_logger());
-        REQUIRE(refused.start());
-        CHECK(eventually([&] { return refused.stats().transport.connect_failures >= 3; }, 30s));
-        CHECK(refused.stats().transport.connects == 0);
-        refused.stop();
-        std::error_code ignored;
-        std::filesystem::remove_all(anonymous.persistence_dir, ignored);
-    }
-
-    ClientOptions o;
-    o.ex_cid = "ej-app";
-    o.default_timeout = 300ms;  // the registration nobody answers (no agent here)
-    auto made = Client::create(client_mqtt(ejabberd, 1, login, 5), o);
-    REQUIRE(made);
-    auto& client = **made;
-    auto outcome = client.connect(30s);
-    REQUIRE(outcome);
-    CHECK(outcome->kind == RegisterOutcome::Kind::no_answer);
-
-    // The adapter's SUBSCRIBE is done by the time it is normal; asked again
-    // all the same until answered, as on RabbitMQ.
-    const auto asked = std::chrono::steady_clock::now();
-    const auto answer = patient_query(client);
-    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - asked);
-    REQUIRE(answer.size() == 2);
-    REQUIRE(answer[0].values);
-    CHECK(*answer[0].values == Json::array({12.5}));
-    REQUIRE(answer[1].values);
-    CHECK(*answer[1].values == Json::array({"running"}));
-    std::printf("ejabberd: a Query from node 2 answered by the adapter on node 1 in %lld ms\n",
-                static_cast<long long>(took.count()));
-
-    client.stop();
-    adapter.stop();
-    std::error_code ignored;
-    std::filesystem::remove_all(config.persistence_dir, ignored);
-}
 
 // The agent's default, shared subscriptions, on ejabberd: mod_mqtt answers
 // the SUBSCRIBE to $share/... by ending the connection (MQTT 5: DISCONNECT
