@@ -25,25 +25,18 @@
 
 namespace nclink::test {
 
-/// Skips the test (a WARN naming why, then return) when RabbitMQ is missing.
-#define NCLINK_NEEDS_RABBITMQ()                                                            \
-    do {                                                                                   \
-        const std::string why_skipped = nclink::test::RabbitCluster::unavailable_reason(); \
-        if (!why_skipped.empty()) {                                                        \
-            WARN(why_skipped);                                                             \
-            return;                                                                        \
-        }                                                                                  \
+/// Skips the test (a WARN naming why, then return) when the broker of
+/// `Cluster` (RabbitCluster, EjabberdCluster) is not installed.
+#define NCLINK_NEEDS_CLUSTER(Cluster)                                  \
+    do {                                                               \
+        const std::string why_skipped = Cluster::unavailable_reason(); \
+        if (!why_skipped.empty()) {                                    \
+            WARN(why_skipped);                                         \
+            return;                                                    \
+        }                                                              \
     } while (false)
-
-/// Skips the test (a WARN naming why, then return) when ejabberd is missing.
-#define NCLINK_NEEDS_EJABBERD()                                                              \
-    do {                                                                                     \
-        const std::string why_skipped = nclink::test::EjabberdCluster::unavailable_reason(); \
-        if (!why_skipped.empty()) {                                                          \
-            WARN(why_skipped);                                                               \
-            return;                                                                          \
-        }                                                                                    \
-    } while (false)
+#define NCLINK_NEEDS_RABBITMQ() NCLINK_NEEDS_CLUSTER(nclink::test::RabbitCluster)
+#define NCLINK_NEEDS_EJABBERD() NCLINK_NEEDS_CLUSTER(nclink::test::EjabberdCluster)
 
 /// How a program logs in to a cluster: RabbitMQ takes anonymous clients
 /// (Login{}), ejabberd's mod_mqtt refuses a CONNECT without a password
@@ -127,14 +120,6 @@ struct Probe {
         }));
     }
 };
-
-/// A Probe logged in to the ejabberd cluster (mod_mqtt refuses a CONNECT
-/// without a password).
-inline std::unique_ptr<Probe> ejabberd_probe(const std::string& url, const std::string& id, bool clean_session = true,
-                                             int mqtt_version = 4) {
-    const Login login = ejabberd_login();
-    return std::make_unique<Probe>(url, id, clean_session, mqtt_version, login.username, login.password);
-}
 
 // Raw MQTT (MQTT 3.1.1 clause 3.1, MQTT 5.0 clause 3.1: CONNECT).
 inline std::string mqtt_string(const std::string& s) {

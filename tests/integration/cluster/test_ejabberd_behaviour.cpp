@@ -16,7 +16,12 @@ using namespace std::chrono_literals;
 
 namespace {
 
-const Login login = ejabberd_login();
+const std::string user = EjabberdCluster::username();
+const std::string pass = EjabberdCluster::password();
+
+std::unique_ptr<Probe> probe(const std::string& url, const std::string& id, bool clean_session = true, int mqtt_version = 4) {
+    return std::make_unique<Probe>(url, id, clean_session, mqtt_version, user, pass);
+}
 
 // A retained message published through `pub_url` to `topic`; a new
 // subscriber through `sub_url` to `filter`: did the retained message reach it?
@@ -24,12 +29,12 @@ bool retained_reaches(const std::string& pub_url, const std::string& sub_url, co
                       const std::string& tag) {
     const std::string payload = "retained-" + tag;
     {
-        auto pub = ejabberd_probe(pub_url, tag + "-pub");
+        auto pub = probe(pub_url, tag + "-pub");
         REQUIRE(pub->connected());
         REQUIRE(pub->transport->publish({topic, payload, 1, true}));
         REQUIRE(pub->transport->flush(5s));
     }
-    auto sub = ejabberd_probe(sub_url, tag + "-sub");
+    auto sub = probe(sub_url, tag + "-sub");
     REQUIRE(sub->connected());
     REQUIRE(sub->subscribe_ready(filter, topic));
     // A retained message is sent right after the SUBACK, before the marker
@@ -42,13 +47,13 @@ bool retained_reaches(const std::string& pub_url, const std::string& sub_url, co
 // connection without DISCONNECT; does a subscriber on `sub_url` get the will?
 bool will_reaches(int will_port, const std::string& sub_url, const std::string& tag) {
     const std::string topic = "nclink-test/" + tag + "/will";
-    auto sub = ejabberd_probe(sub_url, tag + "-will-sub");
+    auto sub = probe(sub_url, tag + "-will-sub");
     REQUIRE(sub->connected());
     REQUIRE(sub->subscribe_ready(topic, topic));
     {
         RawPeer peer(will_port);
         Will will{topic, "gone-" + tag, 1};
-        REQUIRE(peer.send(mqtt_connect(4, tag + "-will-client", &will, login.username, login.password)));
+        REQUIRE(peer.send(mqtt_connect(4, tag + "-will-client", &will, user, pass)));
         const std::string connack = peer.receive(3s, 4);
         REQUIRE(connack.size() == 4);
         REQUIRE(connack[3] == 0);
@@ -67,7 +72,7 @@ struct SubscribeAnswer {
 };
 SubscribeAnswer try_subscribe(int port, int level, const std::string& client_id, const std::string& filter) {
     RawPeer peer(port);
-    REQUIRE(peer.send(mqtt_connect(level, client_id, nullptr, login.username, login.password)));
+    REQUIRE(peer.send(mqtt_connect(level, client_id, nullptr, user, pass)));
     const std::string connack = peer.receive(3s, level == 5 ? 5 : 4);
     REQUIRE(connack.size() >= 4);
     REQUIRE(static_cast<unsigned char>(connack[0]) == 0x20);
@@ -102,13 +107,13 @@ struct SharedDelivery {
 };
 SharedDelivery shared_delivery(const std::string& url_a, const std::string& url_b, const std::string& tag) {
     const std::string topic = "nclink-test/" + tag + "/work";
-    auto a = ejabberd_probe(url_a, tag + "-share-a");
-    auto b = ejabberd_probe(url_b, tag + "-share-b");
+    auto a = probe(url_a, tag + "-share-a");
+    auto b = probe(url_b, tag + "-share-b");
     REQUIRE(a->connected());
     REQUIRE(b->connected());
     for (auto* p : {a.get(), b.get()}) REQUIRE(p->transport->subscribe({"$share/g/" + topic}, 1));
     std::this_thread::sleep_for(1s);
-    auto pub = ejabberd_probe(url_a, tag + "-share-pub");
+    auto pub = probe(url_a, tag + "-share-pub");
     REQUIRE(pub->connected());
     for (int i = 0; i < 20; ++i) REQUIRE(pub->transport->publish({topic, "job-" + std::to_string(i), 1, false}));
     REQUIRE(pub->transport->flush(5s));
@@ -132,11 +137,11 @@ TEST_CASE("ejabberd cluster: logins, MQTT 5, retained messages, last wills and $
     CHECK(anonymous.connack);
     CHECK(anonymous.reason == 5);
     CHECK(anonymous.closed);
-    const ConnectAnswer e4 = try_connect(ejabberd.mqtt_port(0), 4, "e-v4", login.username, login.password);
+    const ConnectAnswer e4 = try_connect(ejabberd.mqtt_port(0), 4, "e-v4", user, pass);
     CHECK(e4.connack);
     CHECK(e4.reason == 0);
     CHECK_FALSE(e4.closed);
-    const ConnectAnswer e5 = try_connect(ejabberd.mqtt_port(1), 5, "e-v5", login.username, login.password);
+    const ConnectAnswer e5 = try_connect(ejabberd.mqtt_port(1), 5, "e-v5", user, pass);
     CHECK(e5.connack);
     CHECK(e5.reason == 0);
     CHECK_FALSE(e5.closed);
@@ -183,8 +188,8 @@ TEST_CASE("ejabberd cluster: logins, MQTT 5, retained messages, last wills and $
     MqttOptions o;
     o.broker_url = ejabberd.url(0);
     o.client_id = "rtt";
-    o.username = login.username;
-    o.password = login.password;
+    o.username = user;
+    o.password = pass;
     auto measured = measure_broker_round_trip(o, 20, 10s);
     REQUIRE(measured);
     auto relayed = measured->relayed;

@@ -40,6 +40,20 @@ std::size_t publish_acknowledged(const std::string& url, const Login& login, con
     return stats.published - stats.in_flight - stats.buffered;
 }
 
+// A clean session subscribed through `sub_url` to nclink-test/`tag`, and 10
+// QoS 1 messages published to it through `pub_url`: all 10 reach it
+// (checked); how many did.
+std::size_t clean_session_delivery(const std::string& sub_url, const std::string& pub_url, const Login& login,
+                                   const std::string& tag) {
+    const std::string topic = "nclink-test/" + tag;
+    Probe sub(sub_url, tag + "-sub", true, 4, login.username, login.password);
+    REQUIRE(sub.connected());
+    REQUIRE(sub.subscribe_ready(topic, topic));
+    REQUIRE(publish_acknowledged(pub_url, login, tag + "-pub", topic, 10) == 10);
+    CHECK(eventually([&] { return sub.received_on(topic) == 10; }, 10s));
+    return sub.received_on(topic);
+}
+
 template <class Cluster>
 void persistent_sessions_through_node_loss(Cluster& cluster, const Login& login) {
     constexpr bool rabbitmq = std::is_same_v<Cluster, RabbitCluster>;
@@ -68,16 +82,7 @@ void persistent_sessions_through_node_loss(Cluster& cluster, const Login& login)
     cluster.kill_node(1);
 
     // The other two keep serving clean sessions across nodes.
-    std::size_t live_got = 0;
-    {
-        const std::string live = "nclink-test/live";
-        auto sub = probe(cluster.url(2), "live-sub");
-        REQUIRE(sub->connected());
-        REQUIRE(sub->subscribe_ready(live, live));
-        REQUIRE(publish_acknowledged(cluster.url(0), login, "live-pub", live, 10) == 10);
-        CHECK(eventually([&] { return sub->received_on(live) == 10; }, 10s));
-        live_got = sub->received_on(live);
-    }
+    const std::size_t live_got = clean_session_delivery(cluster.url(2), cluster.url(0), login, "live");
 
     // Messages for the session while its node is down: every one acknowledged
     // to the publisher...
@@ -127,16 +132,7 @@ void persistent_sessions_through_node_loss(Cluster& cluster, const Login& login)
     }
 
     // The node that came back serves clean sessions with the others again.
-    std::size_t rejoined_got = 0;
-    {
-        const std::string again = "nclink-test/again";
-        auto sub = probe(cluster.url(1), "again-sub");
-        REQUIRE(sub->connected());
-        REQUIRE(sub->subscribe_ready(again, again));
-        REQUIRE(publish_acknowledged(cluster.url(2), login, "again-pub", again, 10) == 10);
-        CHECK(eventually([&] { return sub->received_on(again) == 10; }, 10s));
-        rejoined_got = sub->received_on(again);
-    }
+    const std::size_t rejoined_got = clean_session_delivery(cluster.url(1), cluster.url(2), login, "again");
 
     if constexpr (rabbitmq) {
         std::printf(
