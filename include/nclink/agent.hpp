@@ -200,6 +200,12 @@ public:
     Result<ConfigReload> reload(const AgentConfig& next);
 
     AgentStats stats() const;
+    /// The $share group the agent answers through: share_group, or "" when
+    /// start() found that the broker delivers nothing through shared
+    /// subscriptions (RabbitMQ 3.10, ejabberd 23.01; docs/agent.md "Brokers
+    /// without shared subscriptions") and it answers through plain ones.
+    /// Stable after start(); thread-safe.
+    std::string share_group_in_use() const;
     /// DTUs received and sent by topic kind (docs/metrics.md; rendered for
     /// Prometheus by agent_metrics.hpp). request_seconds stays empty.
     TrafficStats traffic_stats() const;

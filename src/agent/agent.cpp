@@ -3,6 +3,7 @@
 // (agent_impl.hpp lists them).
 #include "agent/agent_impl.hpp"
 
+#include "agent/shared_subscription_check.hpp"
 #include "transport/broker_settings.hpp"
 
 #include <nclink/paho_transport.hpp>
@@ -62,7 +63,9 @@ Result<void> Agent::Impl::start() {
         return ok_result();
     });
     if (!loaded) return loaded;
+    share_group = config.share_group;
     if (!transport) {
+        share_group = usable_share_group();
         auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
@@ -156,6 +159,39 @@ MqttOptions Agent::Impl::mqtt_options() const {
     return o;
 }
 
+// A broker without shared subscriptions hears nothing of an agent that
+// answers through them (RabbitMQ 3.10) or drops it at the SUBSCRIBE
+// (ejabberd 23.01), and says so nowhere (shared_subscription_check.hpp).
+// One agent then answers as well through plain subscriptions; several
+// would each answer every request, which is why the log says what to set.
+// A broker that cannot be reached now keeps the configured group.
+std::string Agent::Impl::usable_share_group() {
+    if (config.share_group.empty()) return "";
+    MqttOptions o = mqtt_options();
+    o.client_id += "-share-check";
+    o.clean_session = true;
+    auto probe = make_paho_transport(o, Logger{});
+    if (!probe) return config.share_group;
+    const std::string topic = "nclink/share-check/" + o.client_id;
+    const auto check =
+        check_shared_subscriptions(**probe, config.share_group, topic, o.connect_timeout, std::chrono::milliseconds(3000));
+    switch (check.result) {
+        case SharedSubscriptions::available:
+            log.debug("agent {}: the broker delivers through $share ({})", config.agent_id, check.detail);
+            return config.share_group;
+        case SharedSubscriptions::unknown:
+            log.warn("agent {}: could not check the broker for shared subscriptions ({}); answering through share group '{}'",
+                     config.agent_id, check.detail, config.share_group);
+            return config.share_group;
+        case SharedSubscriptions::unavailable: break;
+    }
+    log.warn(
+        "agent {}: the broker has no shared subscriptions ({}): answering through plain subscriptions. Run one "
+        "agent, or several with \"share_group\": \"\" and \"instances\" (docs/agent.md)",
+        config.agent_id, check.detail);
+    return "";
+}
+
 // Requests the agent answers: with several agents, exactly one of them
 // gets each (MQTT shared subscription), or all get each and one answers
 // (instances, without $share: agent_split.cpp).
@@ -167,8 +203,8 @@ std::vector<std::string> Agent::Impl::answer_filters() const {
             filters.push_back(build_topic(ParsedTopic{kind, "+", std::nullopt, std::nullopt, s}));
             filters.push_back(build_topic(ParsedTopic{kind, "+", "+", std::nullopt, s}));
         }
-    if (!config.share_group.empty())
-        for (auto& f : filters) f = "$share/" + config.share_group + "/" + f;
+    if (!share_group.empty())
+        for (auto& f : filters) f = "$share/" + share_group + "/" + f;
     return filters;
 }
 
@@ -206,6 +242,8 @@ Result<void> Agent::start() { return impl_->start(); }
 Result<ConfigReload> Agent::reload(const AgentConfig& next) { return impl_->reload(next); }
 
 void Agent::stop(std::chrono::milliseconds flush_timeout) { impl_->stop(flush_timeout); }
+
+std::string Agent::share_group_in_use() const { return impl_->share_group; }
 
 AgentStats Agent::stats() const {
     const auto& c = impl_->counters;

@@ -74,6 +74,10 @@ struct NCLINK_LOCAL Agent::Impl {
     Logger log;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
     std::unique_ptr<Transport> transport;
+    // The $share group of answer_filters(): config.share_group, or "" after
+    // start() found the broker without shared subscriptions. Written before
+    // the transport starts, read-only after.
+    std::string share_group;
     StateStore store;
     Counters counters;
     std::shared_ptr<transport_detail::DtuCounter> dtus = std::make_shared<transport_detail::DtuCounter>();  // docs/metrics.md
@@ -104,6 +108,9 @@ struct NCLINK_LOCAL Agent::Impl {
     Result<ConfigReload> reload(const AgentConfig& next);
 
     MqttOptions mqtt_options() const;
+
+    // The share group to answer through (start(), before the transport).
+    std::string usable_share_group();
 
     // Requests the agent answers: with several agents, exactly one of them
     // gets each (MQTT shared subscription), or all get each and one answers

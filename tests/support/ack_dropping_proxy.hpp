@@ -11,6 +11,12 @@
 // release(): a client that hangs, or whose broker node died, as the broker
 // and the peers on other nodes see it (no close, no last will).
 //
+// refuse_shared_subscriptions() takes a SUBSCRIBE (packet type 8, 3.8) with
+// a `$share/` filter away before the broker sees it, and closes its
+// connection (ejabberd 23.01 at MQTT 3.1.1) or passes nothing more of it
+// (RabbitMQ 3.10, which takes the filter for a topic nobody publishes):
+// brokers without shared subscriptions (docs/scaling.md).
+//
 // Threading: one thread of its own pumps every connection; the public
 // methods are thread-safe.
 #pragma once
@@ -27,6 +33,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -75,6 +82,14 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         for (auto& p : pairs_) p->held = false;
     }
+    /// From now on a SUBSCRIBE naming `$share/...` is taken away and ends its
+    /// connection (`close`), or is only taken away.
+    void refuse_shared_subscriptions(bool close) {
+        close_on_share_ = close;
+        refuse_share_ = true;
+    }
+    /// SUBSCRIBEs naming `$share/` taken away.
+    std::uint64_t shares_refused() const { return shares_refused_; }
     std::uint64_t acks_dropped() const { return acks_dropped_; }
     std::uint64_t connections() const { return connections_; }
 
@@ -84,6 +99,7 @@ private:
         bool drop_acks = false;
         bool held = false;
         std::string from_broker;  // bytes of a packet not yet whole
+        std::string from_client;  // the same, client to broker (refuse_share_ only)
         bool closed = false;
     };
 
@@ -148,29 +164,39 @@ private:
             p.closed = true;
             return;
         }
-        if (!from_broker) return send_all(to, buf, static_cast<std::size_t>(n));
-        p.from_broker.append(buf, static_cast<std::size_t>(n));
-        // Whole packets only: fixed header byte, Remaining Length (2.2.3), body.
-        for (;;) {
-            const std::string& s = p.from_broker;
-            std::size_t length = 0, pos = 1;
-            int shift = 0;
-            bool whole_length = false;
-            while (pos < s.size() && pos <= 4) {
-                const auto byte = static_cast<unsigned char>(s[pos++]);
-                length |= static_cast<std::size_t>(byte & 0x7f) << shift;
-                shift += 7;
-                if ((byte & 0x80) == 0) {
-                    whole_length = true;
-                    break;
+        if (!from_broker && !refuse_share_) return send_all(to, buf, static_cast<std::size_t>(n));
+        std::string& pending = from_broker ? p.from_broker : p.from_client;
+        pending.append(buf, static_cast<std::size_t>(n));
+        while (const std::size_t size = whole_packet(pending)) {
+            const auto type = static_cast<unsigned char>(pending[0]) >> 4;
+            if (from_broker && type == 4 && p.drop_acks) {
+                ++acks_dropped_;
+            } else if (!from_broker && type == 8 &&
+                       std::string_view(pending.data(), size).find("$share/") != std::string_view::npos) {
+                ++shares_refused_;
+                if (close_on_share_) {
+                    p.closed = true;
+                    return;
                 }
+            } else {
+                send_all(to, pending.data(), size);
             }
-            if (!whole_length || s.size() < pos + length) return;
-            const bool puback = (static_cast<unsigned char>(s[0]) >> 4) == 4;
-            if (puback && p.drop_acks) ++acks_dropped_;
-            else send_all(to, s.data(), pos + length);
-            p.from_broker.erase(0, pos + length);
+            pending.erase(0, size);
         }
+    }
+
+    // The size of the whole packet at the front of `s` (fixed header byte,
+    // Remaining Length (2.2.3), body); 0 while it is not all in.
+    static std::size_t whole_packet(const std::string& s) {
+        std::size_t length = 0, pos = 1;
+        int shift = 0;
+        while (pos < s.size() && pos <= 4) {
+            const auto byte = static_cast<unsigned char>(s[pos++]);
+            length |= static_cast<std::size_t>(byte & 0x7f) << shift;
+            shift += 7;
+            if ((byte & 0x80) == 0) return s.size() < pos + length ? 0 : pos + length;
+        }
+        return 0;
     }
 
     static void send_all(int fd, const char* data, std::size_t size) {
@@ -187,6 +213,9 @@ private:
     int port_ = 0;
     std::atomic<bool> stopping_{false};
     std::atomic<std::uint64_t> acks_dropped_{0};
+    std::atomic<std::uint64_t> shares_refused_{0};
+    std::atomic<bool> refuse_share_{false};
+    std::atomic<bool> close_on_share_{false};
     std::atomic<std::uint64_t> connections_{0};
     std::mutex mutex_;
     std::vector<std::unique_ptr<Pair>> pairs_;

@@ -178,9 +178,10 @@ int main(int argc, char** argv) {
         agent.stop();
         return nclink::program::fail(kProgram, "cannot connect to " + config.broker_url + ": " + *why, kExitCannotRun);
     }
-    const std::string sharing = config.instances > 1
-                                    ? fmt::format("instance {} of {}, plain subscriptions", config.instance, config.instances)
-                                    : fmt::format("share group '{}'", config.share_group);
+    const std::string sharing =
+        config.instances > 1 ? fmt::format("instance {} of {}, plain subscriptions", config.instance, config.instances)
+        : agent.share_group_in_use().empty() ? std::string("plain subscriptions: the broker has no $share")
+                                             : fmt::format("share group '{}'", agent.share_group_in_use());
     logger.info("nclink-agent: serving on {} ({}); SIGHUP reloads, SIGINT/SIGTERM stops", config.broker_url, sharing);
     const int stop_signal = signals.serve([&] { reload(o, agent, logger); });
     logger.info("nclink-agent: {} received, stopping", nclink::program::Signals::name(stop_signal));

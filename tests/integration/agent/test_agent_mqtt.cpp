@@ -7,6 +7,7 @@
 #include <nclink/client.hpp>
 #include <nclink/mqtt_transport.hpp>
 
+#include "support/ack_dropping_proxy.hpp"
 #include "support/inbox.hpp"
 #include "support/mosquitto_broker.hpp"
 #include "support/mqtt5_refusing_broker.hpp"
@@ -344,12 +345,64 @@ TEST_CASE("an agent with mqtt_version auto speaks MQTT 5 to a broker that takes 
     c.broker_url = recording.url();
     c.mqtt_version = 0;
     auto agent = start_agent(c);
-    CHECK(recording.levels() == std::vector<int>{5});
+    // The shared-subscription check's connection, then the agent's own.
+    CHECK(recording.levels() == std::vector<int>{5, 5});
+    CHECK(agent->share_group_in_use() == "nclink-agent");
     auto client = start_client(broker, "mes-auto-5");
     auto registered = client->register_terminal();
     REQUIRE(registered.ok());
     CHECK(registered->kind == RegisterOutcome::Kind::accepted);
     client->stop();
+    agent->stop();
+}
+
+// A broker without shared subscriptions (docs/scaling.md): ejabberd 23.01
+// ends the connection at a SUBSCRIBE to $share/..., RabbitMQ 3.10 delivers
+// nothing to it. An agent with the default share group used to register
+// nobody on either; it now checks at start, on a connection of its own,
+// and answers through plain subscriptions.
+TEST_CASE("an agent with the default share group on a broker without $share answers through plain subscriptions") {
+    for (const bool close : {true, false}) {
+        DYNAMIC_SECTION((close ? "the broker ends the connection at the SUBSCRIBE" : "the broker delivers nothing")) {
+            MosquittoBroker broker;
+            AckDroppingProxy proxy(broker.port());
+            proxy.refuse_shared_subscriptions(close);
+            AgentConfig c = agent_config(broker, "agent-no-share");
+            c.broker_url = proxy.url();
+            REQUIRE(c.share_group == "nclink-agent");  // the default
+            auto agent = start_agent(c);
+            CHECK(agent->share_group_in_use().empty());
+            CHECK(proxy.shares_refused() == 1);  // the check's SUBSCRIBE only
+
+            auto adapter = start_adapter(broker, std::make_shared<FakeDriver>());
+            REQUIRE(eventually([&] { return adapter->stats().registered; }));
+            auto client = start_client(broker, "mes-no-share");
+            auto registered = client->register_terminal();
+            REQUIRE(registered.ok());
+            CHECK(registered->kind == RegisterOutcome::Kind::accepted);
+            auto list = client->discover();
+            REQUIRE(list.ok());
+            REQUIRE(list->size() == 1);
+            CHECK((*list)[0].guid == "test-dev");
+            // Its own connection was never dropped for a $share filter.
+            CHECK(agent->stats().transport.connects == 1);
+            CHECK(proxy.shares_refused() == 1);
+            client->stop();
+            adapter->stop();
+            agent->stop();
+        }
+    }
+}
+
+TEST_CASE("an agent whose broker has shared subscriptions keeps its share group") {
+    MosquittoBroker broker;
+    AckDroppingProxy proxy(broker.port());  // passes everything
+    AgentConfig c = agent_config(broker, "agent-share");
+    c.broker_url = proxy.url();
+    auto agent = start_agent(c);
+    CHECK(agent->share_group_in_use() == "nclink-agent");
+    // The check's connection and the agent's.
+    CHECK(proxy.connections() == 2);
     agent->stop();
 }
 
