@@ -1,13 +1,16 @@
-// An agent with its default share group ("nclink-agent") on an ejabberd
-// cluster (Debian's 23.01, mod_mqtt): what happens when a broker without
-// shared subscriptions is given one. mod_mqtt closes the connection at a
-// SUBSCRIBE to $share/..., which is why docs/scaling.md gives agents there
-// plain subscriptions (share_group ""), as test_agent_on_cluster.cpp runs
-// them on both clusters. Every program logs in (the broker section's
+// An agent answering through $share on an ejabberd cluster (Debian's 23.01,
+// mod_mqtt): what happens when a broker without shared subscriptions is
+// given one. mod_mqtt closes the connection at a SUBSCRIBE to $share/....
+// An agent that makes its own transport checks for that at start and
+// answers through plain subscriptions (test_agent_on_cluster.cpp); this
+// test hands the agent a transport of its own making, which skips the
+// check, to hold the transport's side: a broker's DISCONNECT is a lost
+// connection, connected again. Every program logs in (the broker section's
 // "username"/"password"; mod_mqtt refuses a CONNECT without a password).
 #include <nclink/adapter.hpp>
 #include <nclink/agent.hpp>
 #include <nclink/client.hpp>
+#include <nclink/paho_transport.hpp>
 
 #include "cluster_configs.hpp"
 #include "cluster_probe.hpp"
@@ -33,7 +36,8 @@ const Login login = ejabberd_login();
 // broker's DISCONNECT for the end of the connection without calling the
 // connection-lost callback, the only one the transport listens to: the link
 // stays "connected", deaf, with no reconnection.
-TEST_CASE("ejabberd cluster: an agent with the default share_group is dropped at its SUBSCRIBE and registers nobody") {
+TEST_CASE(
+    "ejabberd cluster: an agent on a transport of its own subscribing $share is dropped at its SUBSCRIBE and registers nobody") {
     NCLINK_NEEDS_EJABBERD();
     EjabberdCluster ejabberd;
 
@@ -48,7 +52,13 @@ TEST_CASE("ejabberd cluster: an agent with the default share_group is dropped at
         AgentConfig agent_settings = agent_config(ejabberd, 2, "ej-shared-agent-" + std::to_string(level), login, level);
         REQUIRE(agent_settings.share_group == "nclink-agent");
         Agent agent(agent_settings, probe_logger());
+        MqttOptions mqtt = client_mqtt(ejabberd, 2, login, level);
+        mqtt.client_id = agent_settings.client_id;
+        auto transport = make_paho_transport(mqtt, probe_logger());
+        REQUIRE(transport);
+        agent.use_transport(std::move(transport).value());
         REQUIRE(agent.start());
+        CHECK(agent.share_group_in_use() == "nclink-agent");
         REQUIRE(eventually([&] { return agent.stats().transport.connects >= 1; }, 30s));
         // Until it has connected again: at 3.1.1 ejabberd closes the
         // connection, at MQTT 5 it sends DISCONNECT 0x9E first, which the
