@@ -50,6 +50,7 @@ Result<void> Agent::Impl::start() {
     if (!rule) return std::move(rule).error();
     auto loaded = picture.with([&](State& p) -> Result<void> {
         p.registrar = std::make_unique<agent_detail::Registrar>(std::move(rule).value(), config.registration);
+        p.presence.set_answer_window(config.request_timeout);
         if (auto read = store.load(*p.registrar, p.presence, p.models, log); !read) return read;
         p.saves.loaded();
         for (const auto& [tid, entry] : config.registration.terminals) p.presence.set_kind(tid, kind_from_string(entry.kind));
@@ -146,6 +147,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
         config.adapter_liveness = next.adapter_liveness;
         config.application_liveness = next.application_liveness;
         p.presence.set_liveness(next.adapter_liveness, next.application_liveness);
+        p.presence.set_answer_window(next.request_timeout);
         config.acl_agent_user = next.acl_agent_user;
         config.log_level = next.log_level;
         return report;

@@ -26,6 +26,7 @@ void Agent::Impl::tick(State& p, Out& out) {
                                            make_error(ErrorCode::timeout, "no answer from the adapter")))
             for (auto& t : response_topics(request.topic, true)) reply(out, std::move(t), marked(*answer));
     }
+    for (const auto& tid : p.presence.questions(now)) ask_alive(p, tid, out);
     for (const auto& tid : p.presence.expire(now)) {
         log.info("agent: {} {} is offline (no DTU for its liveness time)", to_string(p.presence.kind(tid)), tid);
         announce_state(p, tid, Status::offline, out);

@@ -161,6 +161,8 @@ struct NCLINK_LOCAL Agent::Impl {
 
     void fetch_model(State& p, const std::string& dev, Out& out);
     void learn_kind(State& p, const std::string& tid, Out& out);
+    // An adapter silent for its liveness time: asked before it is offline.
+    void ask_alive(State& p, const std::string& tid, Out& out);
 
     void on_version_response(State& p, const ParsedTopic& topic, const Message& m, Out&);
 

@@ -189,6 +189,28 @@ void Agent::Impl::learn_kind(State& p, const std::string& tid, Out& out) {
     out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
 }
 
+// An adapter that published nothing for adapter_liveness_ms may still be
+// there: its last will can die with its broker node (a cluster), and the
+// agent may simply not see its traffic (samples, unless observe_samples).
+// So it is asked for its model (Probe/Query, 8.2.7: every adapter answers
+// it, and the agent reads no model to pick an item) and stays online while
+// the answer may come (request_timeout_ms); the answer is a DTU from it like
+// any other, and it refreshes the model cache. Only the terminal's own
+// instance asks when instances split the work; every instance watches the
+// answer.
+void Agent::Impl::ask_alive(State& p, const std::string& tid, Out& out) {
+    if (config.instances > 1 && instance_of(tid, config.instances) != config.instance) return;
+    if (!publishable_level(tid)) return;
+    if (const auto* cached = p.models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
+    ProbeQueryRequest query;
+    const std::string id = p.next_id(config.agent_id, "alive");
+    query.msg_id = Json(id);
+    query.guid = tid;
+    p.models.fetching(tid, id, clock->now() + config.request_timeout);
+    log.debug("agent: adapter {} silent for {} ms: asking it for its model", tid, config.adapter_liveness.count());
+    out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
+}
+
 // 8.3.5: the adapter went away while requests to it were waiting.
 void Agent::Impl::unreachable_for(State& p, const std::string& dev, Out& out) {
     for (auto& request : p.pending.take_for(dev))

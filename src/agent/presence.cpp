@@ -30,6 +30,7 @@ bool Presence::saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t w
     Entry& e = entries_[tid];
     e.last_dtu = now;
     e.last_alive_s = wall_s;
+    e.asked.reset();
     if (e.status == Status::online) return false;
     e.status = Status::online;
     ++e.online_periods;
@@ -38,6 +39,7 @@ bool Presence::saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t w
 
 bool Presence::set_state(const std::string& tid, Status status, Clock::Steady now, std::int64_t wall_s) {
     Entry& e = entries_[tid];
+    e.asked.reset();
     if (status == Status::online) {
         // Coming online is a sign of life; the liveness clock starts here.
         e.last_dtu = now;
@@ -60,12 +62,27 @@ std::vector<std::string> Presence::expire(Clock::Steady now) {
     for (auto& [tid, e] : entries_) {
         const auto limit = liveness_of(e);
         if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu) continue;
-        if (now - *e.last_dtu >= limit) {
-            e.status = Status::offline;
-            gone.push_back(tid);
-        }
+        if (now - *e.last_dtu < limit) continue;
+        if (asks(e) && (!e.asked || now - *e.asked < answer_window_)) continue;  // questions() asks first
+        e.status = Status::offline;
+        e.asked.reset();
+        gone.push_back(tid);
     }
     return gone;
+}
+
+bool Presence::asks(const Entry& e) const { return answer_window_.count() > 0 && e.kind == Kind::adapter; }
+
+std::vector<std::string> Presence::questions(Clock::Steady now) {
+    std::vector<std::string> ask;
+    for (auto& [tid, e] : entries_) {
+        const auto limit = liveness_of(e);
+        if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu || e.asked || !asks(e)) continue;
+        if (now - *e.last_dtu < limit) continue;
+        e.asked = now;
+        ask.push_back(tid);
+    }
+    return ask;
 }
 
 void Presence::set_kind(const std::string& tid, Kind kind) {

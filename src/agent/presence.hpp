@@ -33,8 +33,17 @@ public:
     bool saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t wall_s);
     /// A Notify/State for `tid`. Returns true when the status changed.
     bool set_state(const std::string& tid, Status status, Clock::Steady now, std::int64_t wall_s);
-    /// Terminals whose liveness ran out at `now`; they are offline from now on.
+    /// Terminals whose liveness ran out at `now`; they are offline from now
+    /// on. An adapter asked by questions() goes only once its answer window
+    /// passed without a DTU from it.
     std::vector<std::string> expire(Clock::Steady now);
+    /// Adapters whose liveness ran out at `now`, asked for the first time:
+    /// the caller sends each a request; any DTU from it within
+    /// `answer_window` keeps it online (its last will may have died with its
+    /// broker node, or its link hangs, while it is there). Empty while
+    /// questions are off (an answer window of 0, the default).
+    std::vector<std::string> questions(Clock::Steady now);
+    void set_answer_window(std::chrono::milliseconds window) { answer_window_ = window; }
 
     /// New liveness times (a configuration reload); they count from each
     /// terminal's last DTU as before.
@@ -62,13 +71,16 @@ private:
         Kind kind = Kind::unknown;
         Status status = Status::unknown;
         std::optional<Clock::Steady> last_dtu;  ///< liveness runs from here
+        std::optional<Clock::Steady> asked;     ///< questions(): when its liveness ran out
         std::int64_t last_alive_s = 0;
         std::uint64_t online_periods = 0;
     };
     std::chrono::milliseconds liveness_of(const Entry& e) const;
+    bool asks(const Entry& e) const;  ///< an adapter, questions on
 
     std::chrono::milliseconds adapter_liveness_;
     std::chrono::milliseconds application_liveness_;
+    std::chrono::milliseconds answer_window_{0};
     std::map<std::string, Entry> entries_;
 };
 

@@ -406,6 +406,63 @@ TEST_CASE("an agent whose broker has shared subscriptions keeps its share group"
     agent->stop();
 }
 
+// adapter_liveness_ms on a broker whose wills may not come (a cluster node
+// that dies, a link that hangs): the agent asks a silent adapter for its
+// model before it says offline, so a quiet adapter stays online and one
+// behind a hung link goes offline without its will (docs/agent.md).
+TEST_CASE("an agent asks a silent adapter before it says offline, and says so for one behind a hung link") {
+    MosquittoBroker broker;
+    AckDroppingProxy proxy(broker.port());
+    AgentConfig c = agent_config(broker, "agent-liveness");
+    c.adapter_liveness = 1000ms;
+    c.request_timeout = 400ms;
+    c.observe_samples = false;  // the adapter's samples would keep it heard
+    auto agent = start_agent(c);
+
+    AdapterConfig a;
+    a.model_path = test_model_path();
+    a.broker_url = proxy.url();
+    a.keep_alive = 60s;  // the broker keeps the hung link, and the will, for 90 s
+    a.register_timeout = 300ms;
+    auto adapter = started_adapter(a, std::make_shared<FakeDriver>());
+    REQUIRE(eventually([&] { return adapter->stats().registered; }));
+    const auto status = [&] {
+        for (const auto& t : agent->terminals())
+            if (t.id == "test-dev") return t.status;
+        return std::string();
+    };
+    REQUIRE(eventually([&] { return status() == "online"; }));
+
+    // Quiet but there (the agent does not watch its samples): asked, answers,
+    // stays online through three liveness periods.
+    const std::uint64_t requests_before = adapter->stats().requests;
+    bool always_online = true;
+    for (int i = 0; i < 30; ++i) {
+        always_online = always_online && status() == "online";
+        std::this_thread::sleep_for(100ms);
+    }
+    CHECK(always_online);
+    CHECK(adapter->stats().requests >= requests_before + 2);
+
+    // Behind a hung link: asked, no answer within the request timeout: offline,
+    // while the broker still has it connected (no will published).
+    proxy.hold_now();
+    CHECK(eventually([&] { return status() == "offline"; }, 10s));
+    auto client = start_client(broker, "mes-liveness");
+    auto list = client->discover();
+    REQUIRE(list.ok());
+    REQUIRE(list->size() == 1);
+    CHECK((*list)[0].status == "offline");
+    CHECK(adapter->stats().transport.connects == 1);
+
+    // The link passes again: its answer brings it back.
+    proxy.release();
+    CHECK(eventually([&] { return status() == "online"; }, 10s));
+    client->stop();
+    adapter->stop();
+    agent->stop();
+}
+
 TEST_CASE("broker ACL from the agent's configuration keeps denied requests from the adapter") {
     AgentConfig c;
     c.access.applications["viewer"]["*"] = access_read;

@@ -139,7 +139,13 @@ TEST_CASE("notify: no DTU for the liveness time is offline and announced retaine
     f.advance(4000ms);
     std::this_thread::sleep_for(100ms);
     CHECK(terminal(*f.agent, "mill-1")->status == "online");
+    // Its liveness runs out: asked first (a Probe/Query), still online while
+    // the answer may come (request_timeout), then offline.
+    const auto asked = f.app->on(topics::probe_query_request("mill-1", "nclink-agent")).size();
     f.advance(1001ms);
+    REQUIRE(eventually([&] { return f.app->on(topics::probe_query_request("mill-1", "nclink-agent")).size() == asked + 1; }));
+    CHECK(status_of(*f.agent, "mill-1") == "online");
+    f.advance(c.request_timeout);
     REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "offline"; }));
     REQUIRE(eventually([&] {
         const auto seen = f.app->on(topics::notify_state("mill-1"));

@@ -79,6 +79,42 @@ TEST_CASE("presence: liveness runs out after the configured time and a DTU bring
     CHECK(presence.online_periods("dev") == 2);
 }
 
+TEST_CASE("presence: with an answer window an adapter is asked before it is offline, applications are not") {
+    Presence presence(1000ms, 1000ms);
+    presence.set_answer_window(300ms);
+    ManualClock clock;
+    presence.set_kind("dev", Kind::adapter);
+    presence.set_kind("app", Kind::application);
+    presence.saw_dtu("dev", clock.now(), 1);
+    presence.saw_dtu("app", clock.now(), 1);
+    clock.advance(999ms);
+    CHECK(presence.questions(clock.now()).empty());
+    clock.advance(1ms);
+    CHECK(presence.questions(clock.now()) == std::vector<std::string>{"dev"});
+    CHECK(presence.questions(clock.now()).empty());  // asked once
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"app"});
+    CHECK(presence.status("dev") == Status::online);
+    // An answer (any DTU) within the window: online, liveness from the answer.
+    clock.advance(200ms);
+    CHECK_FALSE(presence.saw_dtu("dev", clock.now(), 2));
+    clock.advance(200ms);
+    CHECK(presence.expire(clock.now()).empty());
+    CHECK(presence.status("dev") == Status::online);
+    // Silent again: asked again, and no answer within the window: offline.
+    clock.advance(800ms);
+    CHECK(presence.questions(clock.now()) == std::vector<std::string>{"dev"});
+    clock.advance(299ms);
+    CHECK(presence.expire(clock.now()).empty());
+    clock.advance(1ms);
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"dev"});
+    CHECK(presence.status("dev") == Status::offline);
+    CHECK(presence.questions(clock.now()).empty());
+    // Back: a DTU, and the next silence is asked about again.
+    CHECK(presence.saw_dtu("dev", clock.now(), 3));
+    clock.advance(1000ms);
+    CHECK(presence.questions(clock.now()) == std::vector<std::string>{"dev"});
+}
+
 TEST_CASE("presence: 0 switches liveness off and applications use their own time") {
     Presence presence(0ms, 500ms);
     ManualClock clock;
