@@ -8,7 +8,9 @@
 // Discovery lists them all, and, per machine, the Sample rows the
 // application was handed against the rows between its first and last one
 // (holes are rows lost), the rows handed on twice, and nclink's own counted
-// drops. What is asserted is what nclink owes while the application's node
+// drops; and the Event DTUs (8.2.31) of a change event the application
+// registered at every machine, handed to it against those the machines
+// fired (the value of the item changes every second throughout). What is asserted is what nclink owes while the application's node
 // lives: every machine back, Discovery right, every published row handed on
 // once (or, where the broker threw the application's session away, the gap
 // counted by the client and no longer than one reconnection), and no drop in
@@ -29,6 +31,8 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <thread>
 
 using namespace nclink;
 using namespace nclink::test;
@@ -151,8 +155,13 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         m.id = m.adapter.dev_uuid;
         config.machines.push_back(std::move(m));
     }
-    Gateway gateway(config, [](const MachineConfig&) -> Result<std::shared_ptr<Driver>> {
-        return std::shared_ptr<Driver>(std::make_shared<FakeDriver>());
+    std::mutex drivers_mutex;
+    std::vector<std::shared_ptr<FakeDriver>> drivers;
+    Gateway gateway(config, [&](const MachineConfig&) -> Result<std::shared_ptr<Driver>> {
+        auto driver = std::make_shared<FakeDriver>();
+        std::lock_guard<std::mutex> lock(drivers_mutex);
+        drivers.push_back(driver);
+        return std::shared_ptr<Driver>(driver);
     });
     REQUIRE(gateway.start().ok());
     const auto all_normal = [&] {
@@ -175,6 +184,32 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         return online == static_cast<std::size_t>(kMachines);
     };
     CHECK(eventually(discovery_right, 30s));
+
+    // A change event on "pos" at every machine (the default change filter,
+    // trigger always: an Event DTU for each new value); the value changes
+    // every second.
+    std::map<std::string, std::atomic<std::uint64_t>> events_in;
+    for (int i = 0; i < kMachines; ++i) events_in[machine_id(i)] = 0;
+    for (int i = 0; i < kMachines; ++i) {
+        Client::EventRegistration registration;
+        registration.id = "pos";
+        registration.trigger = "always";
+        std::atomic<std::uint64_t>* count = &events_in.at(machine_id(i));
+        REQUIRE(app->register_event(machine_id(i), registration, [count](const EventData&) { ++*count; }));
+    }
+    std::atomic<bool> changing{true};
+    std::thread changer([&] {
+        for (int k = 1; changing; ++k) {
+            {
+                std::lock_guard<std::mutex> lock(drivers_mutex);
+                for (auto& driver : drivers) {
+                    std::lock_guard<std::mutex> values(driver->mutex);
+                    driver->values["pos"] = 100.0 + k;
+                }
+            }
+            std::this_thread::sleep_for(1s);
+        }
+    });
     std::this_thread::sleep_for(3s);
 
     // Node 1 killed, then node 2: machines homed there move along their
@@ -200,6 +235,10 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
     const bool listed = eventually(discovery_right, 60s);
     const double discovery_s = seconds_since(back);
     CHECK(listed);
+    // The values stop changing; the machines' last polls fire what is left.
+    changing = false;
+    changer.join();
+    std::this_thread::sleep_for(3s);
 
     // Until every machine has replayed what it spooled and its connection
     // holds nothing unacknowledged; then stop producing and let the last
@@ -222,7 +261,7 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
     const bool drained = eventually([&] { return waiting() == 0; }, 180s);
     const double drained_s = seconds_since(back);
     CHECK(drained);
-    std::uint64_t spooled_drops = 0, buffer_drops = 0, failovers = 0;
+    std::uint64_t spooled_drops = 0, buffer_drops = 0, failovers = 0, events_fired = 0, events_refused = 0;
     std::vector<std::shared_ptr<Adapter>> held;  // their counters, read again after the stop
     for (int i = 0; i < kMachines; ++i) {
         const auto adapter = gateway.machine(machine_id(i));
@@ -230,6 +269,9 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         held.push_back(adapter);
         const AdapterStats stats = adapter->stats();
         failovers += stats.transport.failovers;
+        const Json events = stats.features.value("events", Json::object());
+        events_fired += events.value("fired", std::uint64_t{0});
+        events_refused += events.value("publish_errors", std::uint64_t{0});
         buffer_drops += stats.transport.dropped;
         const Json drops = to_json(stats).value("drops", Json::object());
         spooled_drops += drops.value("sample_spool_full", std::uint64_t{0}) + drops.value("sample_ring_full", std::uint64_t{0}) +
@@ -273,6 +315,8 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         }
     }
     held.clear();
+    std::uint64_t events_handed = 0;
+    for (const auto& entry : events_in) events_handed += entry.second;
     const ClientStats app_stats = app->stats();
     std::printf(
         "gateway on the %s cluster: %d machines; node 1 killed, node 2 killed 10 s later; %zu machine(s) normal while both were "
@@ -281,7 +325,8 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         "the application %llu, fewer than published in %zu machines "
         "(%llu rows), lost between the first and last row of each machine %llu (in %zu machines), handed on twice %llu, "
         "repeats held back by the client %llu; nclink's counted drops: spool/ring %llu, offline buffer %llu; failovers %llu; "
-        "the application connected %llu time(s), failed over %llu, lost its session %llu\n",
+        "the application connected %llu time(s), failed over %llu, lost its session %llu; change events fired by the machines "
+        "%llu, handed to the application %llu, refused by the connections %llu\n",
         broker, kMachines, normal_while_down, std::chrono::duration<double>(back - killed).count(), online_s, discovery_s,
         static_cast<unsigned long long>(replayed), static_cast<unsigned long long>(spooled), drained_s,
         static_cast<unsigned long long>(published), static_cast<unsigned long long>(rows), machines_short,
@@ -290,7 +335,11 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
         static_cast<unsigned long long>(spooled_drops), static_cast<unsigned long long>(buffer_drops),
         static_cast<unsigned long long>(failovers), static_cast<unsigned long long>(app_stats.transport.connects),
         static_cast<unsigned long long>(app_stats.transport.failovers),
-        static_cast<unsigned long long>(app_stats.transport.sessions_lost));
+        static_cast<unsigned long long>(app_stats.transport.sessions_lost), static_cast<unsigned long long>(events_fired),
+        static_cast<unsigned long long>(events_handed), static_cast<unsigned long long>(events_refused));
+    CHECK(events_fired > 0);
+    CHECK(events_refused == 0);
+    CHECK(events_handed <= events_fired);  // an Event handed on twice would show here
     // The application's session lives on node 3, which stays up: every row
     // a machine published reaches it, once, whichever node the machine was on
     // (the spool and the unacknowledged window replayed after the outage) --
@@ -303,7 +352,10 @@ void gateway_through_two_node_losses(Cluster& cluster, const Login& login, const
     if (app_stats.transport.sessions_lost == 0) {
         CHECK(rows == published);
         CHECK(holes == 0);
+        CHECK(events_handed == events_fired);
     } else {
+        // Events change once a second: at most 5 a machine in the gap.
+        CHECK(events_fired - events_handed <= static_cast<std::uint64_t>(kMachines) * 5);
         WARN(fmt::format("{}: the application's session was thrown away {} time(s) by the broker: {} rows lost", broker,
                          app_stats.transport.sessions_lost, published - rows));
         CHECK(published - rows <= static_cast<std::uint64_t>(kMachines) * 5000 / kSampleMs);
