@@ -163,6 +163,9 @@ struct NCLINK_LOCAL Agent::Impl {
     void learn_kind(State& p, const std::string& tid, Out& out);
     // An adapter silent for its liveness time: asked before it is offline.
     void ask_alive(State& p, const std::string& tid, Out& out);
+    void ask_model(State& p, const std::string& dev, std::string_view what, Out& out);
+    bool asks(const std::string& tid) const;
+    bool model_fetch_waits(const State& p, const std::string& tid) const;
 
     void on_version_response(State& p, const ParsedTopic& topic, const Message& m, Out&);
 

@@ -124,13 +124,31 @@ void Agent::Impl::on_version(State& p, const ParsedTopic& topic, const Message& 
 }
 
 void Agent::Impl::fetch_model(State& p, const std::string& dev, Out& out) {
+    log.info("agent: fetching the model of {} (version {})", dev, p.models.find(dev)->version);
+    ask_model(p, dev, "fetch", out);
+}
+
+// A Probe/Query of the agent's own (8.2.7), `what` naming it in its @id.
+// Its answer is the model fetch (model_cache.hpp): a Probe/Version arriving
+// meanwhile waits for it, and it fills the cache.
+void Agent::Impl::ask_model(State& p, const std::string& dev, std::string_view what, Out& out) {
     ProbeQueryRequest query;
-    const std::string id = p.next_id(config.agent_id, "fetch");
+    const std::string id = p.next_id(config.agent_id, what);
     query.msg_id = Json(id);
     query.guid = dev;
     p.models.fetching(dev, id, clock->now() + config.request_timeout);
-    log.info("agent: fetching the model of {} (version {})", dev, p.models.find(dev)->version);
     out.push_back(Message{topics::probe_query_request(dev, config.agent_id), encode(query), 1, false});
+}
+
+// This instance asks `tid` (its share when instances split the work: every
+// instance watches the answer, so one question is enough) and can.
+bool Agent::Impl::asks(const std::string& tid) const {
+    return (config.instances <= 1 || instance_of(tid, config.instances) == config.instance) && publishable_level(tid);
+}
+
+bool Agent::Impl::model_fetch_waits(const State& p, const std::string& tid) const {
+    const auto* cached = p.models.find(tid);
+    return cached && !cached->fetch_id.empty();
 }
 
 void Agent::Impl::on_version_response(State& p, const ParsedTopic& topic, const Message& m, Out&) {
@@ -172,21 +190,13 @@ void Agent::Impl::on_notify(State& p, const ParsedTopic& topic, const Message& m
 // adapter or an application. A Probe/Query does: an adapter answers it
 // (and the answer fills the model cache, which the agent needs for an
 // offline adapter anyway); an application does not, and nothing else
-// happens. Asked once per online period; by the terminal's own instance
-// when instances split the work (instance_split.hpp): every instance watches
-// the answer, so one question is enough.
+// happens. Asked once per online period, by the terminal's own instance
+// (asks()).
 void Agent::Impl::learn_kind(State& p, const std::string& tid, Out& out) {
-    if (config.instances > 1 && instance_of(tid, config.instances) != config.instance) return;
-    if (!publishable_level(tid) || !p.kind_probes.insert(tid).second) return;
-    if (const auto* cached = p.models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
-    ProbeQueryRequest query;
-    const std::string id = p.next_id(config.agent_id, "kind");
-    query.msg_id = Json(id);
-    query.guid = tid;
-    // Also the model fetch: a Probe/Version arriving meanwhile waits for this answer.
-    p.models.fetching(tid, id, clock->now() + config.request_timeout);
+    if (!asks(tid) || !p.kind_probes.insert(tid).second) return;
+    if (model_fetch_waits(p, tid)) return;  // it asks already
     log.debug("agent: {} is online but of unknown kind: asking it for its model", tid);
-    out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
+    ask_model(p, tid, "kind", out);
 }
 
 // An adapter that published nothing for adapter_liveness_ms may still be
@@ -195,20 +205,12 @@ void Agent::Impl::learn_kind(State& p, const std::string& tid, Out& out) {
 // So it is asked for its model (Probe/Query, 8.2.7: every adapter answers
 // it, and the agent reads no model to pick an item) and stays online while
 // the answer may come (request_timeout_ms); the answer is a DTU from it like
-// any other, and it refreshes the model cache. Only the terminal's own
-// instance asks when instances split the work; every instance watches the
-// answer.
+// any other, and it refreshes the model cache. Asked by the terminal's own
+// instance (asks()).
 void Agent::Impl::ask_alive(State& p, const std::string& tid, Out& out) {
-    if (config.instances > 1 && instance_of(tid, config.instances) != config.instance) return;
-    if (!publishable_level(tid)) return;
-    if (const auto* cached = p.models.find(tid); cached && !cached->fetch_id.empty()) return;  // a model fetch asks already
-    ProbeQueryRequest query;
-    const std::string id = p.next_id(config.agent_id, "alive");
-    query.msg_id = Json(id);
-    query.guid = tid;
-    p.models.fetching(tid, id, clock->now() + config.request_timeout);
+    if (!asks(tid) || model_fetch_waits(p, tid)) return;
     log.debug("agent: adapter {} silent for {} ms: asking it for its model", tid, config.adapter_liveness.count());
-    out.push_back(Message{topics::probe_query_request(tid, config.agent_id), encode(query), 1, false});
+    ask_model(p, tid, "alive", out);
 }
 
 // 8.3.5: the adapter went away while requests to it were waiting.

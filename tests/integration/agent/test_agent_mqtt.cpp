@@ -91,6 +91,22 @@ std::unique_ptr<Client> start_client(const MosquittoBroker& broker, const std::s
     return c;
 }
 
+/// The agent serves: the test adapter registers, an application `ex`
+/// registers too and Discovery lists the adapter. The client is returned
+/// for more checks.
+std::unique_ptr<Client> expect_served(const MosquittoBroker& broker, const Adapter& adapter, const std::string& ex) {
+    REQUIRE(eventually([&] { return adapter.stats().registered; }));
+    auto client = start_client(broker, ex);
+    auto registered = client->register_terminal();
+    REQUIRE(registered.ok());
+    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
+    auto list = client->discover();
+    REQUIRE(list.ok());
+    REQUIRE(list->size() == 1);
+    CHECK((*list)[0].guid == "test-dev");
+    return client;
+}
+
 /// A raw MQTT peer collecting what arrives on its subscriptions.
 struct Peer {
     Peer(const MosquittoBroker& broker, const std::string& id, std::vector<std::string> filters, const std::string& username = "",
@@ -130,17 +146,11 @@ TEST_CASE("agent with adapter and client: register and discover and cached probe
     auto agent = start_agent(c);
     auto driver = std::make_shared<FakeDriver>();
     auto adapter = start_adapter(broker, driver);
-    REQUIRE(eventually([&] { return adapter->stats().registered; }));
+    auto client = expect_served(broker, *adapter, "mes-1");
     REQUIRE(eventually([&] { return agent->cached_model("test-dev").has_value(); }));
-
-    auto client = start_client(broker, "mes-1");
-    auto registered = client->register_terminal();
-    REQUIRE(registered.ok());
-    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
     auto list = client->discover();
     REQUIRE(list.ok());
     REQUIRE(list->size() == 1);
-    CHECK((*list)[0].guid == "test-dev");
     CHECK((*list)[0].status == "online");
 
     // live: the adapter answers, the agent only watches
@@ -316,17 +326,8 @@ TEST_CASE("an agent with mqtt_version auto behind a broker that refuses MQTT 5 f
     auto agent = start_agent(c);
     CHECK(refusing.levels() == std::vector<int>{5, 4});
 
-    auto driver = std::make_shared<FakeDriver>();
-    auto adapter = start_adapter(broker, driver);
-    REQUIRE(eventually([&] { return adapter->stats().registered; }));
-    auto client = start_client(broker, "mes-auto");
-    auto registered = client->register_terminal();
-    REQUIRE(registered.ok());
-    CHECK(registered->kind == RegisterOutcome::Kind::accepted);
-    auto list = client->discover();
-    REQUIRE(list.ok());
-    REQUIRE(list->size() == 1);
-    CHECK((*list)[0].guid == "test-dev");
+    auto adapter = start_adapter(broker, std::make_shared<FakeDriver>());
+    auto client = expect_served(broker, *adapter, "mes-auto");
 
     // A reconnection keeps 3.1.1 at once.
     refusing.drop_clients();
@@ -375,15 +376,7 @@ TEST_CASE("an agent with the default share group on a broker without $share answ
             CHECK(proxy.shares_refused() == 1);  // the check's SUBSCRIBE only
 
             auto adapter = start_adapter(broker, std::make_shared<FakeDriver>());
-            REQUIRE(eventually([&] { return adapter->stats().registered; }));
-            auto client = start_client(broker, "mes-no-share");
-            auto registered = client->register_terminal();
-            REQUIRE(registered.ok());
-            CHECK(registered->kind == RegisterOutcome::Kind::accepted);
-            auto list = client->discover();
-            REQUIRE(list.ok());
-            REQUIRE(list->size() == 1);
-            CHECK((*list)[0].guid == "test-dev");
+            auto client = expect_served(broker, *adapter, "mes-no-share");
             // Its own connection was never dropped for a $share filter.
             CHECK(agent->stats().transport.connects == 1);
             CHECK(proxy.shares_refused() == 1);
