@@ -331,7 +331,9 @@ void Follower::check_silent(std::chrono::steady_clock::time_point now) {
             it->second.checking = true;
             it->second.last_heard = now;  // the next check one liveness after this one
         }
-        auto answered = [](const Error& e) { return e.code != ErrorCode::timeout; };
+        // An agent answers for an adapter it has as offline (DEV_UNREACHABLE,
+        // 8.3.5): that says nothing of the adapter.
+        auto answered = [](const Error& e) { return e.code != ErrorCode::timeout && e.code != ErrorCode::unavailable; };
         if (item.empty()) {
             client_.probe_async(
                 dev, [this, dev, answered](Result<Json> r) { checked(dev, r || answered(r.error())); }, request_options_);
@@ -347,8 +349,9 @@ void Follower::check_silent(std::chrono::steady_clock::time_point now) {
     }
 }
 
-// Any answer, an NG one too (an item the model lost, 401), shows the
-// adapter there; only a request that timed out (203) counts as silence.
+// Any answer of the adapter, an NG one too (an item the model lost, 401),
+// shows it there; a request that timed out (203) or that an agent answered
+// DEV_UNREACHABLE counts as silence.
 void Follower::checked(const std::string& dev, bool answered) {
     bool turned_silent = false;
     {

@@ -12,6 +12,9 @@
 #include "support/sim_mill_rig.hpp"
 #include "support/wait.hpp"
 
+#include <nclink/mqtt_transport.hpp>
+#include <nclink/topics.hpp>
+
 #include <catch2/catch.hpp>
 #include <httplib.h>
 
@@ -285,8 +288,39 @@ TEST_CASE("bridge turns a stopped adapter UNAVAILABLE and brings its values back
 // must notice the silence itself (docs/bridge.md "A machine that falls
 // silent"). The proxy holds the adapter's connection open and passes
 // nothing; its keep-alive of 60 s keeps the broker from ending it (and
-// publishing the will) while the test runs.
+// publishing the will) while the test runs. With an agent in the plant, the
+// bridge's question may be answered by the agent in the adapter's place
+// (DEV_UNREACHABLE, 8.3.5): no sign of the adapter either. A raw MQTT peer
+// answers so in the second section.
+namespace {
+// Answers every Query the bridge `ex` sends `dev` as an agent does for an
+// adapter it has as offline.
+struct UnreachableAnswers {
+    UnreachableAnswers(const std::string& broker_url, const std::string& dev, const std::string& ex) {
+        MqttOptions m;
+        m.broker_url = broker_url;
+        m.client_id = "unreachable-answers";
+        transport = make_mqtt_transport(m).value();
+        transport->set_message_handler([this, dev, ex](const Message& request) {
+            const Json query = Json::parse(request.payload, nullptr, false);
+            if (!query.is_object()) return;
+            const Json answer = {{"@id", query.value("@id", Json())}, {"code", "NG"},    {"error", 202},
+                                 {"reason", "DEV_UNREACHABLE"},       {"dev_uuid", dev}, {"privateInfo", {{"agent", "fake"}}}};
+            if (transport->publish(Message{topics::query_response(dev, ex), answer.dump(), 1, false})) ++answered;
+        });
+        REQUIRE(transport->subscribe({topics::query_request(dev, ex)}, 1));
+        REQUIRE(transport->start());
+        REQUIRE(eventually([&] { return transport->state() == LinkState::connected; }));
+    }
+    ~UnreachableAnswers() { transport->stop(std::chrono::milliseconds(0)); }
+    std::unique_ptr<Transport> transport;
+    std::atomic<int> answered{0};
+};
+}  // namespace
+
 TEST_CASE("an adapter whose link hangs turns UNAVAILABLE by the liveness check and AVAILABLE once it answers") {
+    const bool agent_answers = GENERATE(false, true);
+    INFO((agent_answers ? "an agent answers DEV_UNREACHABLE in the adapter's place" : "nobody answers"));
     nclink::test::SimMillRig rig;
     nclink::test::AckDroppingProxy proxy(rig.broker.port());
     rig.config.broker_url = proxy.url();
@@ -327,6 +361,8 @@ TEST_CASE("an adapter whose link hangs turns UNAVAILABLE by the liveness check a
     REQUIRE(eventually(available, 20s));
 
     proxy.hold_now();
+    std::unique_ptr<UnreachableAnswers> agent;
+    if (agent_answers) agent = std::make_unique<UnreachableAnswers>(rig.broker.url(), kDev, c.ex_cid);
     std::string body;
     REQUIRE(eventually(
         [&] {
@@ -345,6 +381,9 @@ TEST_CASE("an adapter whose link hangs turns UNAVAILABLE by the liveness check a
         std::lock_guard<std::mutex> lock(states_mutex);
         CHECK(std::count(states.begin(), states.end(), "offline") == 0);
     }
+
+    if (agent) CHECK(agent->answered > 0);
+    agent.reset();
 
     // The link passes again: the adapter's DTUs and answers bring it back.
     proxy.release();
