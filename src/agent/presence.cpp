@@ -57,12 +57,15 @@ std::chrono::milliseconds Presence::liveness_of(const Entry& e) const {
     return e.kind == Kind::adapter ? adapter_liveness_ : application_liveness_;
 }
 
+bool Presence::ran_out(const Entry& e, Clock::Steady now) const {
+    const auto limit = liveness_of(e);
+    return e.status == Status::online && limit.count() > 0 && e.last_dtu && now - *e.last_dtu >= limit;
+}
+
 std::vector<std::string> Presence::expire(Clock::Steady now) {
     std::vector<std::string> gone;
     for (auto& [tid, e] : entries_) {
-        const auto limit = liveness_of(e);
-        if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu) continue;
-        if (now - *e.last_dtu < limit) continue;
+        if (!ran_out(e, now)) continue;
         if (asks(e) && (!e.asked || now - *e.asked < answer_window_)) continue;  // questions() asks first
         e.status = Status::offline;
         e.asked.reset();
@@ -76,9 +79,7 @@ bool Presence::asks(const Entry& e) const { return answer_window_.count() > 0 &&
 std::vector<std::string> Presence::questions(Clock::Steady now) {
     std::vector<std::string> ask;
     for (auto& [tid, e] : entries_) {
-        const auto limit = liveness_of(e);
-        if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu || e.asked || !asks(e)) continue;
-        if (now - *e.last_dtu < limit) continue;
+        if (e.asked || !asks(e) || !ran_out(e, now)) continue;
         e.asked = now;
         ask.push_back(tid);
     }

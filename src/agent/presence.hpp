@@ -77,6 +77,8 @@ private:
     };
     std::chrono::milliseconds liveness_of(const Entry& e) const;
     bool asks(const Entry& e) const;  ///< an adapter, questions on
+    /// Online with a liveness time that has passed since its last DTU.
+    bool ran_out(const Entry& e, Clock::Steady now) const;
 
     std::chrono::milliseconds adapter_liveness_;
     std::chrono::milliseconds application_liveness_;

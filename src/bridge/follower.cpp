@@ -97,19 +97,13 @@ void Follower::follow(const std::string& dev) {
 }
 
 void Follower::on_state(const NotifyState& state) {
-    if (state.tid.empty()) return;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!followed_.count(state.tid)) return;
-    }
-    if (state.state != "online" && state.state != "offline") return;
+    if (state.tid.empty() || (state.state != "online" && state.state != "offline")) return;
     {
         // Its own word replaces what the liveness check concluded.
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = followed_.find(state.tid);
         if (it == followed_.end()) return;
-        it->second.silent = false;
-        it->second.last_heard = std::chrono::steady_clock::now();
+        (void)it->second.heard_now();
     }
     store_.set_state(state.tid, state.state);
     if (state.state == "online") refresh(state.tid);
@@ -158,11 +152,7 @@ void Follower::after_probe(const std::string& dev, std::uint64_t epoch, Result<J
     bool was_silent = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (auto it = followed_.find(dev); it != followed_.end()) {
-            was_silent = it->second.silent;
-            it->second.silent = false;
-            it->second.last_heard = std::chrono::steady_clock::now();
-        }
+        if (auto it = followed_.find(dev); it != followed_.end()) was_silent = it->second.heard_now();
     }
     std::string state;
     std::shared_ptr<const Model> loaded;
@@ -293,11 +283,12 @@ void Follower::heard(const std::string& dev) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = followed_.find(dev);
-        if (it == followed_.end()) return;
-        it->second.last_heard = std::chrono::steady_clock::now();
-        if (!it->second.silent) return;
-        it->second.silent = false;
+        if (it == followed_.end() || !it->second.heard_now()) return;
     }
+    follow_again(dev);
+}
+
+void Follower::follow_again(const std::string& dev) {
     options_.logger.info("bridge: {} is heard again", dev);
     store_.set_state(dev, "online");
     refresh(dev);
@@ -377,10 +368,9 @@ void Follower::on_sample(const SampleDtu& dtu) {
         auto it = followed_.find(dtu.guid);
         if (it == followed_.end()) return;
         model = it->second.model;
-        it->second.last_heard = std::chrono::steady_clock::now();
-        revive = it->second.silent;
+        revive = it->second.heard_now();
     }
-    if (revive) heard(dtu.guid);
+    if (revive) follow_again(dtu.guid);
     if (!model) return;
     const SampleChannel* channel = model->channel(dtu.id);
     if (!channel) return;

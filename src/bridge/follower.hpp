@@ -55,6 +55,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace nclink::bridge {
@@ -104,6 +105,12 @@ private:
         std::string check_item;                              ///< what a liveness check queries ("": Probe/Query)
         bool checking = false;                               ///< a liveness check waits for its answer
         bool silent = false;                                 ///< UNAVAILABLE because a check went unanswered, not by its state
+        /// A sign of the adapter now (under the follower's mutex); true when
+        /// it had been found silent.
+        bool heard_now() {
+            last_heard = std::chrono::steady_clock::now();
+            return std::exchange(silent, false);
+        }
     };
 
     void follow(const std::string& dev);
@@ -118,6 +125,7 @@ private:
     void query_items(const std::string& dev, const std::vector<std::string>& ids);
     void store_answers(const std::string& dev, const std::vector<QueryResult>& results);
     void heard(const std::string& dev);
+    void follow_again(const std::string& dev);
     void check_silent(std::chrono::steady_clock::time_point now);
     void checked(const std::string& dev, bool answered);
     void housekeeping();
