@@ -44,7 +44,10 @@
 //   the SDK; sample channels read on the sampling thread (read_samples(), or
 //   read() for a driver without it), still serialized with the workers. By
 //   default they are serialized (one worker): the driver needs no locking of
-//   its own for them. A driver whose info().concurrent is true gets
+//   its own for them. While a channel of at most 4 ms finds the driver held
+//   by a request, the sampling thread also runs the requests' read() calls
+//   (docs/sampling.md, "The sampling thread reads for the requests"): still
+//   one call at a time. A driver whose info().concurrent is true gets
 //   two workers and may be called from both at once.
 // - bind() runs on the thread installing the model (the start() thread, or
 //   the request worker accepting a Probe/Set), exclusively: no read(),

@@ -351,12 +351,26 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
         results.reserve(points.size());
         std::vector<PointRef> chunk;
         Results chunk_results;
-        for (std::size_t at = 0; at < points.size(); at += kReadChunk) {
+        std::size_t at = 0;
+        const ReadHandoff::Step step = [&] {  // one chunk, under the lock its runner holds
             const std::size_t end = std::min(points.size(), at + kReadChunk);
             chunk.assign(points.begin() + static_cast<std::ptrdiff_t>(at), points.begin() + static_cast<std::ptrdiff_t>(end));
-            call_in_place(*queue, [&] { read_locked(*driver, *queue, chunk, generation, chunk_results); });
+            read_locked(*driver, *queue, chunk, generation, chunk_results);
             std::move(chunk_results.begin(), chunk_results.end(), std::back_inserter(results));
-            if (!per_chunk_lock && end < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
+            at = end;
+            return at >= points.size();
+        };
+        if (per_chunk_lock) {
+            // With a fast channel the sampling thread runs the read between
+            // its ticks (read_handoff.hpp); what it did not start in time is
+            // read here, a chunk per lock.
+            if (points.empty() || queue->handoff.run(step)) return results;
+            while (at < points.size()) call_in_place(*queue, step);
+            return results;
+        }
+        while (at < points.size()) {
+            step();
+            if (at < points.size() && queue->priority_waiters.load(std::memory_order_acquire) > 0) {
                 hold->unlock();
                 yield_to_priority(*queue);
                 hold->lock();
@@ -382,14 +396,41 @@ std::vector<Result<Json>> DriverRunner::read(const std::vector<PointRef>& points
     return std::move(pending->value);
 }
 
+void DriverRunner::start_serving_reads(std::chrono::nanoseconds patience) {
+    if (!queue_->concurrent) queue_->handoff.open(patience);
+}
+
+void DriverRunner::stop_serving_reads() { queue_->handoff.close(); }
+
+void DriverRunner::serve_reads(std::chrono::steady_clock::time_point until) {
+    ReadHandoff& handoff = queue_->handoff;
+    while (handoff.has_work() || handoff.wait_for_work(until)) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= until) return;
+        std::unique_lock<CallLock> hold(queue_->calls, std::defer_lock);
+        if (!lock_within(hold, until - now)) return;  // a write or bind holds it: the workers' patience covers this
+        handoff.serve(until);
+    }
+}
+
+std::uint64_t DriverRunner::reads_served() const { return queue_->handoff.steps_served(); }
+
+std::uint64_t DriverRunner::sampling_waits() const { return queue_->sampling_waits.load(std::memory_order_relaxed); }
+
 namespace {
 
 // Runs `call` under `Lock` (shared for a concurrent driver, exclusive for a
-// serialized one) if the lock is had within `wait`.
+// serialized one) if the lock is had within `wait`. A wait of a quarter of
+// `wait` or more, or in vain, is counted in `waited`.
 template <typename Lock, typename Call>
-bool call_locked(CallLock& calls, std::chrono::nanoseconds wait, Call& call) {
+bool call_locked(CallLock& calls, std::chrono::nanoseconds wait, Call& call, std::atomic<std::uint64_t>& waited) {
     Lock lock(calls, std::defer_lock);
-    if (!lock_within(lock, wait)) return false;
+    if (!lock.try_lock()) {
+        const auto start = std::chrono::steady_clock::now();
+        const bool had = lock_within(lock, wait);
+        if (!had || std::chrono::steady_clock::now() - start >= wait / 4) waited.fetch_add(1, std::memory_order_relaxed);
+        if (!had) return false;
+    }
     call();
     return true;
 }
@@ -403,8 +444,9 @@ bool DriverRunner::call_direct(std::chrono::nanoseconds wait, Call&& call) {
         std::atomic<int>& waiters;
         ~Done() { waiters.fetch_sub(1, std::memory_order_acq_rel); }
     } done{queue_->priority_waiters};
-    const bool called = queue_->concurrent ? call_locked<std::shared_lock<CallLock>>(queue_->calls, wait, call)
-                                           : call_locked<std::unique_lock<CallLock>>(queue_->calls, wait, call);
+    const bool called = queue_->concurrent
+                            ? call_locked<std::shared_lock<CallLock>>(queue_->calls, wait, call, queue_->sampling_waits)
+                            : call_locked<std::unique_lock<CallLock>>(queue_->calls, wait, call, queue_->sampling_waits);
     if (!called) count_timeout();
     return called;
 }

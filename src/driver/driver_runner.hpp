@@ -20,6 +20,7 @@
 #include "core/worker_pool.hpp"
 #include "driver/call_lock.hpp"
 #include "driver/point_table.hpp"
+#include "driver/read_handoff.hpp"
 
 #include <nclink/driver.hpp>
 
@@ -109,6 +110,24 @@ public:
     /// Thread-safe. False after stop().
     bool post_unlocked(std::function<void()> task);
 
+    /// Serving the requests' reads on the sampling thread (read_handoff.hpp),
+    /// for a serialized driver (no effect on a concurrent one, whose reads do
+    /// not exclude each other). From start_serving_reads() on, a request's
+    /// read waits (at most `patience` before it reads itself) for the caller
+    /// of serve_reads() to run it. Call the three from the sampling thread.
+    void start_serving_reads(std::chrono::nanoseconds patience);
+    void stop_serving_reads();
+    /// Runs handed-over reads until `until`, holding the driver for them,
+    /// and waits for more meanwhile (without holding it): the gap between
+    /// two sampling ticks.
+    void serve_reads(std::chrono::steady_clock::time_point until);
+    /// Chunks of requests' reads run by serve_reads() so far. Thread-safe.
+    std::uint64_t reads_served() const;
+    /// Sampling reads (read_direct(), read_samples_direct()) that waited a
+    /// quarter of their wait or more for the driver, or in vain: the sign
+    /// that serving the requests' reads would help. Thread-safe.
+    std::uint64_t sampling_waits() const;
+
     /// Stops taking calls, waits up to `grace` for running calls, closes the
     /// driver. A worker stuck in the driver past `grace` is abandoned (and
     /// logged), tasks not yet started are dropped, and the driver is not
@@ -156,6 +175,10 @@ private:
         // in before its next task, and between the chunks of an in-place
         // read (a flood of requests must not starve sampling).
         std::atomic<int> priority_waiters{0};
+        // Requests' reads handed to the sampling thread (serialized driver
+        // with a fast channel).
+        ReadHandoff handoff;
+        std::atomic<std::uint64_t> sampling_waits{0};
         std::uint64_t timeouts = 0;
         // The current binding: written under `calls` held exclusively (and
         // table_mutex), read by driver calls under `calls` (and by

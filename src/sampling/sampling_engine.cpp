@@ -3,6 +3,7 @@
 
 #include "sampling/channel_core.hpp"
 #include "sampling/engine_shared.hpp"
+#include "sampling/read_serving.hpp"
 #include "sampling/realtime.hpp"
 #include "sampling/scheduler.hpp"
 #include "sampling/uploader.hpp"
@@ -132,10 +133,12 @@ struct SamplingEngine::State {
         }
         Sleeper& sleeper = *shared.deps.sleeper;
         const Clock& clock = *shared.deps.clock;
+        ReadServing serving{shared.deps.driver};
         while (!stop_sampler.load(std::memory_order_acquire)) {
             const auto seen = sleeper.wakes();
             const auto next = scheduler.poll();
             if (stop_sampler.load(std::memory_order_acquire)) break;
+            serving.between_ticks(scheduler.fastest_driver_interval_ns(), next - clock.now());
             sleeper.sleep_until(std::min(next, clock.now() + sleeper.max_wait()), seen);
         }
     }

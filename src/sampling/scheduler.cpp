@@ -23,6 +23,16 @@ void Scheduler::reset() {
     seen_version_ = 0;
 }
 
+std::int64_t Scheduler::fastest_driver_interval_ns() const {
+    std::int64_t fastest = 0;
+    for (const auto& lane : lanes_) {
+        if (lane.driver_points.empty()) continue;
+        const std::int64_t interval = lane.core->sample_interval_ns();
+        if (fastest == 0 || interval < fastest) fastest = interval;
+    }
+    return fastest;
+}
+
 void Scheduler::refresh(Clock::Steady now) {
     const auto version = shared_.version.load(std::memory_order_acquire);
     if (version == seen_version_) return;

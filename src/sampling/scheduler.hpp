@@ -39,6 +39,9 @@ public:
     Clock::Steady poll();
     /// Drops every channel (stop): the next poll() re-anchors them.
     void reset();
+    /// The shortest sample interval of the channels that read the driver, 0
+    /// when none does. Sampling thread only.
+    std::int64_t fastest_driver_interval_ns() const;
 
 private:
     struct Lane {

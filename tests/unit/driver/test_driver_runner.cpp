@@ -6,6 +6,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <future>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -356,4 +357,96 @@ TEST_CASE("a post_unlocked task holds the driver only while it reads, so a direc
         REQUIRE(in_task.size() == 1);
         CHECK(in_task[0].ok());  // its own read went through, in place
     }
+}
+
+namespace {
+
+// Notes the thread of every read, per point id.
+class ThreadNotingDriver : public Driver {
+public:
+    DriverInfo info() const override { return {"noting", "1", false}; }
+    void read(const std::vector<PointRef>& points, std::vector<Result<Json>>& results) override {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            by[points[i].id] = std::this_thread::get_id();
+            results[i] = Json(points[i].id);
+        }
+    }
+    std::thread::id reader_of(const std::string& id) {
+        std::lock_guard<std::mutex> lock(mutex);
+        return by[id];
+    }
+    std::mutex mutex;
+    std::map<std::string, std::thread::id> by;
+};
+
+}  // namespace
+
+TEST_CASE("while the sampling thread serves reads, a request's read runs there, all of its chunks, in order") {
+    auto driver = std::make_shared<ThreadNotingDriver>();
+    DriverRunner runner(driver, {}, Logger());
+    runner.start_serving_reads(std::chrono::minutes(10));  // this thread plays the sampling thread
+    std::vector<PointRef> many;
+    for (int i = 0; i < 200; ++i) many.push_back({"p" + std::to_string(i), DataKind::single});  // several chunks
+    std::promise<std::vector<Result<Json>>> got;
+    std::promise<std::thread::id> worker;
+    REQUIRE(runner.post_unlocked([&] {
+        worker.set_value(std::this_thread::get_id());
+        got.set_value(runner.read(many));
+    }));
+    auto answer = got.get_future();
+    while (answer.wait_for(std::chrono::milliseconds(0)) != std::future_status::ready)
+        runner.serve_reads(std::chrono::steady_clock::now() + std::chrono::milliseconds(5));
+    const auto results = answer.get();
+    REQUIRE(results.size() == many.size());
+    for (std::size_t i = 0; i < many.size(); ++i) CHECK(results[i].value() == many[i].id);
+    CHECK(driver->reader_of("p0") == std::this_thread::get_id());
+    CHECK(driver->reader_of("p199") == std::this_thread::get_id());
+    CHECK(runner.reads_served() >= 2);
+    const auto worker_id = worker.get_future().get();
+
+    // Serving stopped: the worker reads in place again.
+    runner.stop_serving_reads();
+    std::promise<void> done;
+    REQUIRE(runner.post_unlocked([&] {
+        (void)runner.read(points({"after"}));
+        done.set_value();
+    }));
+    done.get_future().wait();
+    CHECK(driver->reader_of("after") == worker_id);
+}
+
+TEST_CASE("a concurrent driver's reads are not handed over: they do not exclude the sampler's") {
+    auto driver = std::make_shared<GatedDriver>(true, true);
+    DriverRunner runner(driver, {}, Logger());
+    runner.start_serving_reads(std::chrono::minutes(10));
+    std::promise<std::vector<Result<Json>>> got;
+    REQUIRE(runner.post_unlocked([&] { got.set_value(runner.read(points({"a"}))); }));
+    auto answer = got.get_future();
+    REQUIRE(answer.wait_for(std::chrono::seconds(60)) == std::future_status::ready);  // nobody served it
+    CHECK(answer.get()[0].value() == "a");
+    CHECK(runner.reads_served() == 0);
+}
+
+TEST_CASE("a sampling read that waits for the driver held by a request is counted as a sampling wait") {
+    auto driver = std::make_shared<GatedDriver>(false);
+    DriverRunner runner(driver, {}, Logger());
+    std::vector<Result<Json>> direct;
+    driver->release();
+    runner.read_direct(points({"a"}), direct, std::chrono::milliseconds(20));
+    CHECK(direct[0].ok());
+    CHECK(runner.sampling_waits() == 0);  // a free driver: no wait
+
+    auto held = std::make_shared<GatedDriver>(false);
+    DriverRunner busy(held, {}, Logger());
+    std::atomic<bool> inside{false};
+    REQUIRE(busy.post([&](Driver& d) {
+        inside = true;
+        (void)d.write(WriteRequest{});  // blocks until released
+    }));
+    while (!inside.load()) std::this_thread::yield();
+    busy.read_direct(points({"b"}), direct, std::chrono::milliseconds(20));
+    REQUIRE_FALSE(direct[0].ok());
+    CHECK(busy.sampling_waits() == 1);
+    held->release();
 }
