@@ -91,7 +91,7 @@ EjabberdCluster::EjabberdCluster(int nodes) {
         for (auto& node : nodes_) spawn_node(node);
         for (auto& node : nodes_) boot_node(node);
         for (int i = 1; i < nodes; ++i) {
-            ctl(i, {"join_cluster", nodes_[0].name});
+            ctl_reaching_node(i, {"join_cluster", nodes_[0].name});
             wait_node_up(nodes_[static_cast<std::size_t>(i)]);
         }
         if (nodes > 1) {
@@ -199,6 +199,21 @@ std::string EjabberdCluster::ctl(int i, const std::vector<std::string>& args) co
     std::vector<std::string> argv{ctl_script, "--config-dir", dir_ + "/ctl", "--node", node.name};
     argv.insert(argv.end(), args.begin(), args.end());
     return run_in_group(argv, environment(), dir_ + "/ctl.out", "ejabberdctl " + args.at(0) + " on " + node.name);
+}
+
+std::string EjabberdCluster::ctl_reaching_node(int i, const std::vector<std::string>& args) const {
+    // A node whose MQTT listener is open may not yet answer ejabberdctl's
+    // RPC on a busy machine ("Failed RPC connection to the node ...:
+    // nodedown"): nothing was done then, so the command is given again.
+    for (int attempt = 1;; ++attempt) {
+        try {
+            return ctl(i, args);
+        } catch (const std::runtime_error& e) {
+            const std::string why = e.what();
+            if (attempt == 5 || why.find("nodedown") == std::string::npos) throw;
+        }
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
 }
 
 void EjabberdCluster::kill_node(int i) {

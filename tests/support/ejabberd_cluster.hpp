@@ -61,6 +61,9 @@ public:
     /// Runs `ejabberdctl --node <node i> args...` and returns what it
     /// printed; throws when it fails.
     std::string ctl(int i, const std::vector<std::string>& args) const;
+    /// ctl(), given again (at most five times, a second apart) while the
+    /// node does not answer the RPC yet ("nodedown").
+    std::string ctl_reaching_node(int i, const std::vector<std::string>& args) const;
 
     /// Resident memory of node i's Erlang VM in KiB (VmRSS), 0 if not found.
     long resident_kib(int i) const;
