@@ -15,6 +15,8 @@
 #include <ctime>
 #include <thread>
 
+#include <unistd.h>
+
 namespace nclink {
 
 // ---- PushChannel (public, include/nclink/sampling.hpp)
@@ -194,7 +196,15 @@ Result<void> SamplingEngine::add_channel(ChannelSpec spec) {
     // than half the address space; a large ring_max_rows on a 32-bit
     // target) is refused instead of wrapping its size.
     const std::size_t bytes = ring_bytes(capacity, spec.points.size());
-    if (bytes == 0 || bytes > std::numeric_limits<std::size_t>::max() / 2)
+    // More than the machine's memory is refused before it is asked for: with
+    // the kernel's overcommit such a ring may even be granted and the process
+    // killed when the ring fills (and under a sanitizer a failed allocation
+    // ends the process instead of throwing).
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long page_size = sysconf(_SC_PAGESIZE);
+    const double physical = pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0;
+    if (bytes == 0 || bytes > std::numeric_limits<std::size_t>::max() / 2 ||
+        (physical > 0 && static_cast<double>(bytes) > physical))
         return make_error(ErrorCode::out_of_range,
                           fmt::format("sample channel {}: a ring of {} rows of {} values does not fit in memory "
                                       "(sampling.ring_max_rows {}, ring_periods {})",
