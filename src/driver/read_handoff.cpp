@@ -51,6 +51,7 @@ void ReadHandoff::close() {
         serving_ = false;
     }
     changed_.notify_all();  // their workers withdraw them
+    arrived_.notify_all();  // a wait_for_work() ends
 }
 
 bool ReadHandoff::serving() const {
