@@ -37,10 +37,12 @@ public:
     void between_ticks(std::int64_t fastest, Clock::Steady::duration until_next) {
         if (driver_ == nullptr) return;
         const bool fast = fastest > 0 && fastest <= kServeReadsUpTo;
-        const auto now = std::chrono::steady_clock::now();
         const auto waits = driver_->sampling_waits();
-        if (fast && waits != waits_seen_) serve_until_ = now + kServeReadsFor;
+        const bool waited = waits != waits_seen_;
         waits_seen_ = waits;
+        if (!fast && period_ == 0) return;  // no channel to protect: no clock read per tick
+        const auto now = std::chrono::steady_clock::now();
+        if (fast && waited) serve_until_ = now + kServeReadsFor;
         const std::int64_t wanted = fast && now < serve_until_ ? fastest : 0;
         if (wanted != period_) {
             if (period_ > 0) driver_->stop_serving_reads();
