@@ -421,9 +421,12 @@ private:
             std::lock_guard<std::mutex> lock(acks_mutex_);
             in_flight_.clear();
         }
+        // Unacknowledged messages wait again, in order, for the next connection.
+        if (was_connected) outbox_.link_down();
+        // The state first: until it reads disconnected, the statistics name
+        // the broker of the link (the paho transport keeps the same order).
+        set_state(LinkState::disconnected, why);
         if (was_connected) {
-            // Unacknowledged messages wait again, in order, for the next connection.
-            outbox_.link_down();
             // Lost soon after its CONNACK: a failed attempt, the back-off
             // grows and the next attempt goes to the next broker of the list
             // (connection_lost.hpp); a stable one is made again here first.
@@ -435,7 +438,6 @@ private:
                 link_.lost_early(after.lasted, backoff_.stable_period(), retry, after.moved ? brokers_.current().url : "");
             retry_at_ = now + retry;
         }
-        set_state(LinkState::disconnected, why);
     }
 
     void destroy_client() {

@@ -12,6 +12,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <mutex>
+#include <string>
+#include <string_view>
 #include <vector>
 
 using namespace nclink;
@@ -79,6 +82,38 @@ TEST_CASE("mqtt_version auto with a failover list: the broker failed over to is 
     REQUIRE(eventually([&] { return transport.state() == LinkState::connected && transport.stats().broker == second.url(); }, 10s));
     CHECK(second.levels() == std::vector<int>{5, 4});
     CHECK(transport.stats().failovers == 1);
+    transport.stop(0ms);
+}
+
+// The failover above read "connected to the second broker" once, under
+// qemu, before the second broker had seen a CONNECT: the link still read
+// connected while the statistics already named the broker tried next.
+TEST_CASE("a lost link reads disconnected before its statistics name the broker of the failover list tried next") {
+    nclink::test::Mqtt5RefusingBroker first;
+    nclink::test::Mqtt5RefusingBroker second;
+    MqttOptions o = options_for(first.url(), 4);
+    o.failover_urls = {second.url()};
+    auto made = make_mqtt_transport(o);
+    REQUIRE(made);
+    auto& transport = **made;
+    std::mutex mutex;
+    std::vector<std::string> disconnected_on;  // stats().broker as each disconnected state is announced
+    transport.set_state_handler([&](LinkState state, std::string_view) {
+        if (state != LinkState::disconnected) return;
+        const std::string broker = transport.stats().broker;
+        std::lock_guard<std::mutex> lock(mutex);
+        disconnected_on.push_back(broker);
+    });
+    REQUIRE(transport.start());
+    REQUIRE(eventually([&] { return transport.state() == LinkState::connected; }, 10s));
+    first.drop_clients();  // lost before it was stable: the next attempt goes to the second broker
+    REQUIRE(eventually([&] { return transport.state() == LinkState::connected && transport.stats().broker == second.url(); }, 10s));
+    CHECK(second.levels() == std::vector<int>{4});
+    CHECK(transport.stats().failovers == 1);
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        CHECK(disconnected_on == std::vector<std::string>{first.url()});
+    }
     transport.stop(0ms);
 }
 
