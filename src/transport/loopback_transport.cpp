@@ -234,8 +234,8 @@ public:
           options_(std::move(options)),
           logger_(std::move(logger)),
           outbox_(
-              options_.outbox,
-              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_) {}
+              options_.outbox, [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); },
+              logger_, nullptr, true) {}
 
     ~LoopbackTransport() override { stop(std::chrono::milliseconds(0)); }
 

@@ -63,7 +63,8 @@ public:
           brokers_(std::move(brokers)),
           outbox_(
               options_.outbox,
-              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work),
+              [this](const std::shared_ptr<const Message>& m, std::uint64_t attempt) { return send(*m, attempt); }, logger_, work,
+              true),  // libmosquitto copies the payload in mosquitto_publish()
           watchdog_(ack_limit(options_)) {
         link_.brokers(brokers_.size());
     }

@@ -4,8 +4,9 @@
 
 namespace nclink::transport_detail {
 
-Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger, core_detail::PollHost* work)
-    : limits_(limits), send_(std::move(send)), logger_(std::move(logger)), window_(limits.max_in_flight) {
+Outbox::Outbox(OutboxLimits limits, SendFn send, Logger logger, core_detail::PollHost* work, bool link_copies)
+    : limits_(limits), send_(std::move(send)), link_copies_(link_copies), logger_(std::move(logger)), window_(limits.max_in_flight) {
+    spares_.reserve(kSpares);
     sender_.start(work, "nclink-outbox", [this](core_detail::PollHost::Time) { return send_waiting(); });
 }
 
@@ -30,7 +31,15 @@ Result<void> Outbox::push(Message message) {
             return make_error(ErrorCode::memory_configured,
                               fmt::format("message of {} bytes exceeds the {}-byte buffer", size, limits_.max_bytes));
         while (bytes_ + size > limits_.max_bytes && entries_.size() > in_flight_) drop_oldest_waiting_locked();
-        entries_.push_back(Entry{std::make_shared<const Message>(std::move(message)), 0});
+        std::shared_ptr<Message> kept;
+        if (!spares_.empty()) {
+            kept = std::move(spares_.back());
+            spares_.pop_back();
+            *kept = std::move(message);
+        } else {
+            kept = std::make_shared<Message>(std::move(message));
+        }
+        entries_.push_back(Entry{std::move(kept), 0});
         bytes_ += size;
         send_now = can_send_locked() && entries_.size() - in_flight_ == 1;
     }
@@ -62,13 +71,14 @@ bool Outbox::send_first_waiting() {
     const std::uint64_t attempt = next_attempt_++;
     next->attempt = attempt;
     ++in_flight_;
-    const std::shared_ptr<const Message> message = next->message;  // the entry may be erased while we send
+    std::shared_ptr<Message> message = next->message;  // the entry may be erased while we send
     lock.unlock();
     const bool accepted = send_(message, attempt);
-    if (!accepted) {
-        lock.lock();
-        put_back_locked(attempt);
-    }
+    lock.lock();
+    // Let go under the lock, so recycle_locked() sees every holder; the last
+    // one when the link delivered it during the send (a QoS 0 publish).
+    recycle_locked(std::move(message));
+    if (!accepted) put_back_locked(attempt);
     return true;
 }
 
@@ -82,7 +92,17 @@ void Outbox::drop_oldest_waiting_locked() {
     if (drop_burst_++ == 0)
         logger_.warn("offline buffer full ({} bytes): dropping oldest messages, first on {}", limits_.max_bytes,
                      it->message->topic);
+    recycle_locked(std::move(it->message));
     entries_.erase(it);
+}
+
+void Outbox::recycle_locked(std::shared_ptr<Message> message) {
+    // The only other holders, an entry and a send in progress, let go
+    // under mutex_, so use_count() 1 read here means this is the last one.
+    if (!link_copies_ || message.use_count() != 1 || spares_.size() >= kSpares) return;
+    // Its text goes now: a kept spare must not hold a DTU of megabytes.
+    *message = Message{};
+    spares_.push_back(std::move(message));
 }
 
 void Outbox::link_up() {
@@ -119,6 +139,7 @@ void Outbox::delivered(std::uint64_t attempt) {
         bytes_ -= cost(*it->message);
         --in_flight_;
         ++published_;
+        recycle_locked(std::move(it->message));
         entries_.erase(it);
         if (entries_.empty()) drained_.notify_all();
         // Wake the sender only when the window held something back: an
