@@ -78,6 +78,13 @@ Result<void> Agent::Impl::start() {
     });
     if (auto r = transport->subscribe(answer_filters(), 1); !r) return r;
     if (auto r = transport->subscribe(observe_filters(), 1); !r) return r;
+    // Sample DTUs only tell the agent that their terminal lives (3.22): at
+    // QoS 0, so the broker neither keeps them for the agent nor holds the
+    // agent's requests (a Discovery) queued behind them. At 10,000 machines
+    // a second's samples at QoS 1 filled the broker's queue for the agent,
+    // and what came after them waited or was dropped.
+    if (config.observe_samples)
+        if (auto r = transport->subscribe({"Sample/#"}, 0); !r) return r;
     last_save = clock->now();
     housekeeping.start(
         config.tick, [this] { housekeep(); }, "nclink-agent-hk");
@@ -225,7 +232,6 @@ std::vector<std::string> Agent::Impl::observe_filters() const {
                 filters.push_back(build_topic(ParsedTopic{answer, "+", "+", std::nullopt, s}));
             }
     }
-    if (config.observe_samples) filters.push_back("Sample/#");
     return filters;
 }
 

@@ -1,5 +1,5 @@
-// A Transport that goes nowhere: it keeps what is published, and the test sets
-// its link state and its reported backlog. For unit tests of the pieces that
+// A Transport that goes nowhere: it keeps what is published and subscribed
+// to, and the test sets its link state and its reported backlog. For unit tests of the pieces that
 // publish (spool, events service) without a broker or a loopback hub.
 #pragma once
 
@@ -9,6 +9,7 @@
 #include <atomic>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nclink::test {
@@ -24,7 +25,11 @@ public:
         sent_.push_back(std::move(message));
         return ok_result();
     }
-    Result<void> subscribe(std::vector<std::string>, int) override { return ok_result(); }
+    Result<void> subscribe(std::vector<std::string> filters, int qos) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& f : filters) subscribed_.emplace_back(std::move(f), qos);
+        return ok_result();
+    }
     Result<void> unsubscribe(std::vector<std::string>) override { return ok_result(); }
     LinkState state() const override { return link; }
     TransportStats stats() const override {
@@ -37,6 +42,11 @@ public:
     std::vector<Message> messages() {
         std::lock_guard<std::mutex> lock(mutex_);
         return sent_;
+    }
+    /// Every filter subscribed to, with its QoS, in order.
+    std::vector<std::pair<std::string, int>> subscriptions() {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return subscribed_;
     }
     std::size_t count() {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -57,6 +67,7 @@ public:
 private:
     std::mutex mutex_;
     std::vector<Message> sent_;
+    std::vector<std::pair<std::string, int>> subscribed_;
 };
 
 }  // namespace nclink::test
