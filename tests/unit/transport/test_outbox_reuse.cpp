@@ -43,6 +43,22 @@ struct AckingLink {
     }
 };
 
+// An outbox on an AckingLink, its link up.
+struct Rig {
+    Rig(bool keep, bool link_copies)
+        : outbox(
+              OutboxLimits{}, [this](const std::shared_ptr<const Message>& m, std::uint64_t a) { return link.send(m, a); },
+              Logger(), nullptr, link_copies) {
+        link.keep = keep;
+        link.outbox = &outbox;
+        link.payloads.reserve(3 * kMessages);
+        outbox.link_up();
+    }
+    ~Rig() { outbox.stop(); }
+    AckingLink link;
+    transport_detail::Outbox outbox;
+};
+
 std::uint64_t allocations_pushing(std::vector<Message>& batch, transport_detail::Outbox& outbox) {
     g_allocations.store(0);
     g_counting.store(true);
@@ -54,13 +70,8 @@ std::uint64_t allocations_pushing(std::vector<Message>& batch, transport_detail:
 }  // namespace
 
 TEST_CASE("a link that copies: pushing a message allocates nothing of the outbox's once warm, and loses nothing") {
-    AckingLink link;
-    link.payloads.reserve(3 * kMessages);
-    transport_detail::Outbox outbox(
-        OutboxLimits{}, [&](const std::shared_ptr<const Message>& m, std::uint64_t a) { return link.send(m, a); }, Logger(),
-        nullptr, true);
-    link.outbox = &outbox;
-    outbox.link_up();
+    Rig rig(false, true);
+    auto& [link, outbox] = rig;
     auto warm = messages("{\"warm\":1}");
     auto batch = messages("{\"v\":[1.5,2.5]}");
     (void)allocations_pushing(warm, outbox);
@@ -72,18 +83,11 @@ TEST_CASE("a link that copies: pushing a message allocates nothing of the outbox
     REQUIRE(link.payloads.size() == 2 * static_cast<std::size_t>(kMessages));
     CHECK(link.payloads.back() == "{\"v\":[1.5,2.5]}");  // a reused message carries the new text
     CHECK(outbox.wait_drained(std::chrono::milliseconds(100)));
-    outbox.stop();
 }
 
 TEST_CASE("a link that keeps a reference: the message it holds is never reused under it") {
-    AckingLink link;
-    link.keep = true;
-    link.payloads.reserve(3 * kMessages);
-    transport_detail::Outbox outbox(
-        OutboxLimits{}, [&](const std::shared_ptr<const Message>& m, std::uint64_t a) { return link.send(m, a); }, Logger(),
-        nullptr, true);
-    link.outbox = &outbox;
-    outbox.link_up();
+    Rig rig(true, true);
+    auto& [link, outbox] = rig;
     REQUIRE(outbox.push(Message{"t", "first", 1, false}).ok());
     REQUIRE(link.kept);
     const Message* first = link.kept.get();
@@ -92,16 +96,11 @@ TEST_CASE("a link that keeps a reference: the message it holds is never reused u
     // was done with it before, while the link still held it.
     CHECK(link.kept.get() != first);
     CHECK(link.kept->payload == "second");
-    outbox.stop();
 }
 
 TEST_CASE("a link that may keep references (paho): every message gets shared state of its own") {
-    AckingLink link;
-    link.payloads.reserve(3 * kMessages);
-    transport_detail::Outbox outbox(
-        OutboxLimits{}, [&](const std::shared_ptr<const Message>& m, std::uint64_t a) { return link.send(m, a); }, Logger());
-    link.outbox = &outbox;
-    outbox.link_up();
+    Rig rig(false, false);
+    auto& [link, outbox] = rig;
     auto warm = messages("w");
     auto batch = messages("b");
     (void)allocations_pushing(warm, outbox);
@@ -109,5 +108,4 @@ TEST_CASE("a link that may keep references (paho): every message gets shared sta
     if (NCLINK_TEST_COUNTS_ALLOCATIONS) CHECK(allocations >= kMessages);
     else WARN("allocations not counted under a sanitizer");
     CHECK(link.payloads.size() == 2 * static_cast<std::size_t>(kMessages));
-    outbox.stop();
 }
