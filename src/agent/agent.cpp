@@ -79,10 +79,10 @@ Result<void> Agent::Impl::start() {
     if (auto r = transport->subscribe(answer_filters(), 1); !r) return r;
     if (auto r = transport->subscribe(observe_filters(), 1); !r) return r;
     // Sample DTUs only tell the agent that their terminal lives (3.22): at
-    // QoS 0, so the broker neither keeps them for the agent nor holds the
-    // agent's requests (a Discovery) queued behind them. At 10,000 machines
-    // a second's samples at QoS 1 filled the broker's queue for the agent,
-    // and what came after them waited or was dropped.
+    // QoS 0, so they do not take the broker's window of unacknowledged
+    // messages to the agent. At 10,000 machines, at QoS 1, they shared it
+    // with every machine's registration and model, and an application's
+    // Discovery waited seconds behind them (docs/performance.md).
     if (config.observe_samples)
         if (auto r = transport->subscribe({"Sample/#"}, 0); !r) return r;
     last_save = clock->now();
