@@ -6,6 +6,7 @@
 #include "transport/outbox.hpp"
 
 #include "support/counting_new.hpp"
+#include "support/wait.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -52,7 +53,12 @@ struct Rig {
         link.keep = keep;
         link.outbox = &outbox;
         link.payloads.reserve(3 * kMessages);
+        const auto before = outbox.sender_wakeups();
         outbox.link_up();
+        // link_up() wakes the sender thread: after that turn every push below
+        // is handed over on this thread (nothing waits ahead of it), so the
+        // link is only ever called from here.
+        REQUIRE(test::eventually([&] { return outbox.sender_wakeups() > before; }));
     }
     ~Rig() { outbox.stop(); }
     AckingLink link;
