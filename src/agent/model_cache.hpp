@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 
 namespace nclink::agent_detail {
 
@@ -40,11 +42,17 @@ public:
     bool is_fetch(const std::string& dev, const std::string& fetch_id) const;
 
     const CachedModel* find(const std::string& dev) const;
-    void restore(const std::string& dev, CachedModel entry) { entries_[dev] = std::move(entry); }
+    /// A model read back from the state files (no fetch under way).
+    void restore(const std::string& dev, CachedModel entry);
     const std::map<std::string, CachedModel>& all() const { return entries_; }
 
 private:
+    void forget_fetch(const std::string& dev, CachedModel& e);
+
     std::map<std::string, CachedModel> entries_;
+    // The fetches under way by deadline: the housekeeping tick looks at the
+    // overdue ones only, not at every cached model (presence.hpp).
+    std::set<std::pair<Clock::Steady, std::string>> fetches_;
 };
 
 }  // namespace nclink::agent_detail

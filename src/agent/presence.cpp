@@ -1,5 +1,7 @@
 #include "agent/presence.hpp"
 
+#include <utility>
+
 namespace nclink::agent_detail {
 
 const char* to_wire(Status status) noexcept {
@@ -31,10 +33,13 @@ bool Presence::saw_dtu(const std::string& tid, Clock::Steady now, std::int64_t w
     e.last_dtu = now;
     e.last_alive_s = wall_s;
     e.asked.reset();
-    if (e.status == Status::online) return false;
-    e.status = Status::online;
-    ++e.online_periods;
-    return true;
+    const bool came = e.status != Status::online;
+    if (came) {
+        e.status = Status::online;
+        ++e.online_periods;
+    }
+    schedule(tid, e);
+    return came;
 }
 
 bool Presence::set_state(const std::string& tid, Status status, Clock::Steady now, std::int64_t wall_s) {
@@ -47,7 +52,10 @@ bool Presence::set_state(const std::string& tid, Status status, Clock::Steady no
     }
     if (e.status == status) return false;
     e.status = status;
-    if (status == Status::online) ++e.online_periods;
+    if (status == Status::online) {
+        ++e.online_periods;
+        schedule(tid, e);
+    }
     return true;
 }
 
@@ -62,28 +70,68 @@ bool Presence::ran_out(const Entry& e, Clock::Steady now) const {
     return e.status == Status::online && limit.count() > 0 && e.last_dtu && now - *e.last_dtu >= limit;
 }
 
-std::vector<std::string> Presence::expire(Clock::Steady now) {
-    std::vector<std::string> gone;
+void Presence::schedule(const std::string& tid, Entry& e) {
+    const auto limit = liveness_of(e);
+    if (e.status != Status::online || limit.count() <= 0 || !e.last_dtu) return;
+    queue(tid, e, *e.last_dtu + limit);
+}
+
+void Presence::queue(const std::string& tid, Entry& e, Clock::Steady at) {
+    if (e.due && *e.due <= at) return;  // checked then; a later end of liveness is seen there
+    e.due = at;
+    due_.push(Due{at, tid});
+}
+
+void Presence::reschedule_all() {
+    due_ = {};
     for (auto& [tid, e] : entries_) {
-        if (!ran_out(e, now)) continue;
-        if (asks(e) && (!e.asked || now - *e.asked < answer_window_)) continue;  // questions() asks first
+        e.due.reset();
+        if (e.asked && asks(e)) queue(tid, e, *e.asked + answer_window_);
+        else schedule(tid, e);
+    }
+}
+
+void Presence::advance(Clock::Steady now) {
+    while (!due_.empty() && due_.top().at <= now) {
+        const Due next = due_.top();
+        due_.pop();
+        const auto it = entries_.find(next.tid);
+        if (it == entries_.end()) continue;
+        Entry& e = it->second;
+        if (!e.due || *e.due != next.at) continue;  // queued again for an earlier time since
+        e.due.reset();
+        if (!ran_out(e, now)) {
+            schedule(next.tid, e);  // a DTU came in time: its new end of liveness
+            continue;
+        }
+        if (asks(e)) {
+            if (!e.asked) {
+                e.asked = now;
+                asking_.push_back(next.tid);
+                queue(next.tid, e, now + answer_window_);
+                continue;
+            }
+            if (now - *e.asked < answer_window_) {
+                queue(next.tid, e, *e.asked + answer_window_);
+                continue;
+            }
+        }
         e.status = Status::offline;
         e.asked.reset();
-        gone.push_back(tid);
+        gone_.push_back(next.tid);
     }
-    return gone;
+}
+
+std::vector<std::string> Presence::expire(Clock::Steady now) {
+    advance(now);
+    return std::exchange(gone_, {});
 }
 
 bool Presence::asks(const Entry& e) const { return answer_window_.count() > 0 && e.kind == Kind::adapter; }
 
 std::vector<std::string> Presence::questions(Clock::Steady now) {
-    std::vector<std::string> ask;
-    for (auto& [tid, e] : entries_) {
-        if (e.asked || !asks(e) || !ran_out(e, now)) continue;
-        e.asked = now;
-        ask.push_back(tid);
-    }
-    return ask;
+    advance(now);
+    return std::exchange(asking_, {});
 }
 
 void Presence::set_kind(const std::string& tid, Kind kind) {
@@ -91,6 +139,7 @@ void Presence::set_kind(const std::string& tid, Kind kind) {
     Entry& e = entries_[tid];
     if (e.kind == Kind::adapter) return;  // a terminal that answered requests is an adapter, whatever else it does
     e.kind = kind;
+    schedule(tid, e);  // its liveness time may be shorter now
 }
 
 void Presence::remember(const std::string& tid, Kind kind, std::int64_t last_alive_s) {

@@ -127,6 +127,47 @@ TEST_CASE("presence: 0 switches liveness off and applications use their own time
     CHECK(presence.status("dev") == Status::online);
 }
 
+TEST_CASE("presence: a reload's shorter liveness counts at once from each terminal's last DTU") {
+    Presence presence(10s, 10s);
+    ManualClock clock;
+    presence.set_kind("dev", Kind::adapter);
+    presence.saw_dtu("dev", clock.now(), 1);
+    presence.saw_dtu("app", clock.now(), 1);
+    clock.advance(2s);
+    CHECK(presence.expire(clock.now()).empty());
+    presence.set_liveness(1s, 10s);
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"dev"});
+    // A kind with a shorter time: an application that turns out an adapter.
+    presence.saw_dtu("dev", clock.now(), 2);
+    presence.set_kind("app", Kind::adapter);
+    CHECK(presence.expire(clock.now()) == std::vector<std::string>{"app"});
+    // Questions switched on while a terminal is silent: it is asked first.
+    presence.set_liveness(1s, 1s);
+    clock.advance(1s);
+    presence.set_answer_window(500ms);
+    CHECK(presence.questions(clock.now()) == std::vector<std::string>{"dev"});
+    CHECK(presence.expire(clock.now()).empty());
+}
+
+TEST_CASE("presence: a terminal waits in the tick's queue once, however many DTUs it sends") {
+    // The tick looks at the terminals that fell due, not at every one: a DTU
+    // moves the end of liveness later without queueing anything.
+    Presence presence(1s, 1s);
+    ManualClock clock;
+    for (int i = 0; i < 1000; ++i) {
+        presence.saw_dtu("a", clock.now(), i);
+        presence.saw_dtu("b", clock.now(), i);
+        clock.advance(10ms);
+    }
+    CHECK(presence.queued() == 2);
+    CHECK(presence.expire(clock.now()).empty());  // their first ends passed: queued again from the last DTU
+    CHECK(presence.queued() == 2);
+    clock.advance(1s);
+    const auto gone = presence.expire(clock.now());
+    CHECK(gone.size() == 2);
+    CHECK(presence.queued() == 0);
+}
+
 TEST_CASE("presence: an adapter stays an adapter") {
     Presence presence(0ms, 0ms);
     presence.set_kind("x", Kind::adapter);
@@ -208,6 +249,15 @@ TEST_CASE("model cache: a new version needs a fetch and one fetch at a time") {
     clock.advance(2s);
     cache.expire_fetches(clock.now());
     CHECK(cache.announce("d", "1.1", clock.now()));  // the overdue fetch is forgotten
+    // A new fetch replaces the one under way: the old deadline ends nothing.
+    cache.fetching("d", "f3", clock.now() + 1s);
+    cache.fetching("d", "f4", clock.now() + 5s);
+    clock.advance(2s);
+    cache.expire_fetches(clock.now());
+    CHECK(cache.is_fetch("d", "f4"));
+    clock.advance(3s);
+    cache.expire_fetches(clock.now());
+    CHECK_FALSE(cache.is_fetch("d", "f4"));
 }
 
 TEST_CASE("pending forwards: answered by @id and kind or overdue or failed per adapter") {
