@@ -109,7 +109,11 @@ struct NCLINK_API AgentConfig {
     /// "application_liveness_ms": the same for applications (which have no last
     /// will); 0 = never.
     std::chrono::milliseconds application_liveness{300000};
-    bool observe_samples = true;         ///< "observe_samples": count Sample DTUs as signs of life
+    bool observe_samples = true;  ///< "observe_samples": count Sample DTUs as signs of life
+    /// "max_in_flight": the agent's messages handed to the broker and not yet
+    /// acknowledged; later ones wait in order. It answers for the whole plant,
+    /// so the window is wider than an adapter's 64 (docs/agent.md).
+    std::size_t max_in_flight = 1000;
     std::chrono::milliseconds tick{20};  ///< "tick_ms": housekeeping period (timeouts, liveness)
 
     RegistrationPolicy registration;              ///< "registration": {...}

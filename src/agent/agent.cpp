@@ -3,6 +3,7 @@
 // (agent_impl.hpp lists them).
 #include "agent/agent_impl.hpp"
 
+#include "agent/agent_mqtt_options.hpp"
 #include "agent/shared_subscription_check.hpp"
 #include "transport/broker_settings.hpp"
 
@@ -128,6 +129,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
         restart_only(config.instance == next.instance, "instance");
         restart_only(config.state_dir == next.state_dir, "state_dir");
         restart_only(config.observe_samples == next.observe_samples, "observe_samples");
+        restart_only(config.max_in_flight == next.max_in_flight, "max_in_flight");
         restart_only(config.tick == next.tick, "tick_ms");
         restart_only(config.metrics == next.metrics, "metrics");  // the program's /metrics server, bound once
         const bool registration_changed = !same_registration(config.registration, next.registration);
@@ -161,12 +163,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
     });
 }
 
-MqttOptions Agent::Impl::mqtt_options() const {
-    MqttOptions o;
-    transport_detail::BrokerSettings::of(config).apply_to(o);
-    if (o.client_id.empty()) o.client_id = config.agent_id + "-" + random_suffix();
-    return o;
-}
+MqttOptions Agent::Impl::mqtt_options() const { return agent_mqtt_options(config, random_suffix()); }
 
 // A broker without shared subscriptions hears nothing of an agent that
 // answers through them (RabbitMQ 3.10) or drops it at the SUBSCRIBE

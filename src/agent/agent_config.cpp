@@ -95,6 +95,7 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
     NCLINK_TRY(top.duration("adapter_liveness_ms", c.adapter_liveness));
     NCLINK_TRY(top.duration("application_liveness_ms", c.application_liveness));
     NCLINK_TRY(top.boolean("observe_samples", c.observe_samples));
+    NCLINK_TRY(top.count("max_in_flight", c.max_in_flight));
     NCLINK_TRY(top.duration("tick_ms", c.tick));
     if (const Json* section = top.object("registration")) NCLINK_TRY(read_registration(*section, c.registration));
     if (const Json* section = top.object("access")) NCLINK_TRY(read_access(*section, c.access));
@@ -109,6 +110,7 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
     NCLINK_TRY(top.no_unknown_keys());
     if (c.request_timeout.count() <= 0) return top.fail(ErrorCode::out_of_range, "request_timeout_ms", "must be positive");
     if (c.tick.count() <= 0) c.tick = std::chrono::milliseconds(1);
+    if (c.max_in_flight == 0) c.max_in_flight = 1;
     if (c.agent_id.empty() || c.agent_id.find_first_of("/+#") != std::string::npos)
         return top.fail(ErrorCode::value_type, "agent_id", "must be one topic level");
     if (c.share_group.find_first_of("/+#") != std::string::npos)

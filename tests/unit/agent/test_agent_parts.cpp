@@ -3,6 +3,7 @@
 #include <nclink/agent.hpp>
 
 #include "agent/access.hpp"
+#include "agent/agent_mqtt_options.hpp"
 #include "agent/model_cache.hpp"
 #include "agent/pending_forwards.hpp"
 #include "agent/presence.hpp"
@@ -296,7 +297,7 @@ TEST_CASE("agent configuration: keys are read and typos refused") {
       "registration": {"open": false, "max_id_length": 64, "id_pattern": "[a-z0-9-]+",
                        "terminals": {"mill-1": {"kind": "adapter"}, "mes": {"kind": "application", "password": "pw"}}},
       "access": {"default": ["read"], "applications": {"mes": {"*": "all"}, "viewer": {"mill-1": ["read"]}}},
-      "acl": {"agent_user": "agents"}, "log_level": "debug"
+      "acl": {"agent_user": "agents"}, "log_level": "debug", "max_in_flight": 250
     })");
     auto c = agent_config_from_json(json);
     INFO((c.ok() ? std::string() : c.error().describe()));
@@ -312,12 +313,27 @@ TEST_CASE("agent configuration: keys are read and typos refused") {
     CHECK(c->access.applications.at("mes").at("*") == access_all);
     CHECK(c->acl_agent_user == "agents");
     CHECK(c->log_level == LogLevel::debug);
+    CHECK(c->max_in_flight == 250);
+    CHECK(agent_config_from_json(Json{{"max_in_flight", 0}})->max_in_flight == 1);
+    CHECK(agent_config_from_json(Json::object())->max_in_flight == 1000);
 
     CHECK(agent_config_from_json(Json{{"request_timout_ms", 1}}).error().code == ErrorCode::keys_of_arguments);
     CHECK(agent_config_from_json(Json{{"access", {{"default", {"write"}}}}}).error().code == ErrorCode::value_type);
     CHECK(agent_config_from_json(Json{{"registration", {{"id_pattern", "(["}}}}).error().code == ErrorCode::value_type);
     CHECK(agent_config_from_json(Json{{"share_group", "a/b"}}).error().code == ErrorCode::value_type);
     CHECK_FALSE(load_agent_config("/nonexistent/agent.json").ok());
+}
+
+TEST_CASE("agent MQTT options: the broker section, a unique client id and the agent's in-flight window") {
+    AgentConfig c;
+    c.broker_url = "tcp://broker:1883";
+    c.max_in_flight = 777;
+    MqttOptions o = agent_mqtt_options(c, "1a2b");
+    CHECK(o.broker_url == "tcp://broker:1883");
+    CHECK(o.client_id == "nclink-agent-1a2b");
+    CHECK(o.outbox.max_in_flight == 777);  // not the transport's default of 64
+    c.client_id = "fixed";
+    CHECK(agent_mqtt_options(c, "1a2b").client_id == "fixed");
 }
 
 TEST_CASE("mosquitto ACL: agents get everything and adapters only the requests they may receive") {
