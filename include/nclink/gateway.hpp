@@ -78,6 +78,10 @@ struct NCLINK_API GatewayConfig {
     /// adapter's. libnclink has no WebSocket client: ws:// and wss://
     /// brokers are refused (docs/building.md).
     std::string mqtt_client = "mosquitto";
+    /// "mqtt_connect_max": with mqtt_client "mosquitto", machines that may
+    /// wait for the broker's CONNACK at once; the others wait their turn
+    /// (their connect timeout not yet running). 0 = no limit.
+    std::size_t mqtt_connect_max = 64;
     LogLevel log_level = LogLevel::info;  ///< "log_level"
 };
 

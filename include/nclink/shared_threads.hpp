@@ -53,6 +53,11 @@ struct NCLINK_API SharedThreadsOptions {
     /// instead of one I/O thread per connection (a single adapter's
     /// transport). A gateway turns it on ("mqtt_client", docs/gateway.md).
     bool shared_mqtt_io = false;
+    /// With shared_mqtt_io: connections that may wait for the broker's
+    /// CONNACK at once; the others wait their turn, in order, without their
+    /// connect timeout running. Thousands of CONNECTs at once were answered
+    /// after the timeout and sent again (docs/gateway.md). 0 = no limit.
+    std::size_t mqtt_connect_max = 64;
 };
 
 class NCLINK_API SharedThreads {

@@ -18,7 +18,8 @@ SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
       requests(std::make_shared<core_detail::Executor>(sized_to_box(options.request_threads))),
       drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
       request_threads(sized_to_box(options.request_threads)),
-      multiplexed_mqtt(options.shared_mqtt_io) {}
+      multiplexed_mqtt(options.shared_mqtt_io),
+      mqtt_connect_max(options.mqtt_connect_max) {}
 
 SharedThreads::SharedThreads(SharedThreadsOptions options) : impl_(std::make_unique<Impl>(options)) {}
 

@@ -34,6 +34,7 @@ struct NCLINK_LOCAL SharedThreads::Impl {
     /// SharedThreadsOptions::shared_mqtt_io. The first adapter that connects
     /// makes the loop (transport/mqtt_loop.hpp).
     bool multiplexed_mqtt = false;
+    std::size_t mqtt_connect_max = 0;  ///< SharedThreadsOptions::mqtt_connect_max
     std::mutex mqtt_loop_mutex;
     std::shared_ptr<transport_detail::MqttLoop> mqtt_loop;
 

@@ -47,6 +47,7 @@ SharedThreadsOptions shared_options(const GatewayConfig& config) {
     o.driver_threads = config.driver_threads;
     o.work_threads = config.work_threads;
     o.shared_mqtt_io = config.mqtt_client != "paho";
+    o.mqtt_connect_max = config.mqtt_connect_max;
     return o;
 }
 }  // namespace

@@ -75,6 +75,7 @@ Result<GatewayConfig> gateway_config_from_json(const Json& json, const std::stri
     NCLINK_TRY(top.count("driver_threads", c.driver_threads));
     NCLINK_TRY(top.count("work_threads", c.work_threads));
     NCLINK_TRY(top.str("mqtt_client", c.mqtt_client));
+    NCLINK_TRY(top.count("mqtt_connect_max", c.mqtt_connect_max));
     if (c.mqtt_client != "mosquitto" && c.mqtt_client != "paho")
         return make_error(ErrorCode::out_of_range,
                           fmt::format("configuration: mqtt_client must be \"mosquitto\" or \"paho\", not \"{}\"", c.mqtt_client));

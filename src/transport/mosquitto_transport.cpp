@@ -204,6 +204,7 @@ private:
     // goes to the next broker of the failover list (the same one when the
     // list has one, or after a protocol fall-back), after the back-off.
     void connect_failed(const std::string& why, bool refused) {
+        loop_->connect_done(this);
         const milliseconds retry = backoff_.wait(rng_);
         std::string next;
         if (!std::exchange(fell_back_, false)) {
@@ -351,6 +352,9 @@ private:
     }
 
     void begin_connect() {
+        // A gateway's machines connect a few dozen at a time (connect_turns.hpp);
+        // the loop wakes this one when its turn comes.
+        if (!loop_->connect_turn(this)) return;
         loop_->watch(this, -1, false);  // before its socket closes (MqttLoop::watch)
         cloexec_fd_ = -1;
         destroy_client();
@@ -415,6 +419,7 @@ private:
     void drop_connection(const std::string& why) {
         const bool was_connected = connected_;
         connected_ = false;
+        loop_->connect_done(this);
         loop_->watch(this, -1, false);  // before its socket closes (MqttLoop::watch)
         cloexec_fd_ = -1;
         destroy_client();
@@ -457,6 +462,7 @@ private:
             mosquitto_loop_write(mosq_, 1);  // best effort: a few bytes on an idle socket
         }
         connected_ = false;
+        loop_->connect_done(this);
         loop_->watch(this, -1, false);
         destroy_client();
         std::lock_guard<std::mutex> lock(mutex_);
@@ -498,6 +504,7 @@ private:
             session_established_ = true;
         }
         connected_ = true;
+        loop_->connect_done(this);
         watchdog_.connected(Steady::now());
         tls_verdict_.reset();
         backoff_.connected(Steady::now());  // back to reconnect_min only once it proves stable

@@ -14,7 +14,8 @@
 
 namespace nclink::transport_detail {
 
-MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick) : logger_(std::move(logger)), tick_(tick) {
+MqttLoop::MqttLoop(Logger logger, std::chrono::milliseconds tick, std::size_t connect_max)
+    : logger_(std::move(logger)), tick_(tick), turns_(connect_max) {
     epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
     event_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (epoll_fd_ < 0 || event_fd_ < 0) {
@@ -115,6 +116,10 @@ void MqttLoop::watch(LoopMember* member, int fd, bool want_write) {
     else w.armed = false;
 }
 
+void MqttLoop::connect_done(LoopMember* member) {
+    if (LoopMember* next = turns_.release(member)) wake(next);
+}
+
 void MqttLoop::take_requests() {
     std::vector<LoopMember*> adds, removes;
     {
@@ -138,6 +143,7 @@ void MqttLoop::take_requests() {
     if (!removes.empty()) {
         for (LoopMember* m : removes) {
             watch(m, -1, false);
+            connect_done(m);  // a turn it held or waited for passes on
             if (const auto gone = watches_.find(m); gone != watches_.end()) by_token_.erase(gone->second.token);
             watches_.erase(m);
             members_.erase(std::remove(members_.begin(), members_.end(), m), members_.end());
@@ -204,7 +210,8 @@ void MqttLoop::run() {
 
 std::shared_ptr<MqttLoop> shared_mqtt_loop(SharedThreads::Impl& threads, const Logger& logger) {
     std::lock_guard<std::mutex> lock(threads.mqtt_loop_mutex);
-    if (!threads.mqtt_loop) threads.mqtt_loop = std::make_shared<MqttLoop>(logger);
+    if (!threads.mqtt_loop)
+        threads.mqtt_loop = std::make_shared<MqttLoop>(logger, std::chrono::milliseconds(100), threads.mqtt_connect_max);
     return threads.mqtt_loop;
 }
 

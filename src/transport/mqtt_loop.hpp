@@ -7,6 +7,8 @@
 // protocol (mosquitto_transport.cpp) and tell it which socket to watch.
 #pragma once
 
+#include "transport/connect_turns.hpp"
+
 #include <nclink/log.hpp>
 #include <nclink/shared_threads.hpp>
 
@@ -37,7 +39,9 @@ public:
 
 class MqttLoop {
 public:
-    explicit MqttLoop(Logger logger, std::chrono::milliseconds tick = std::chrono::milliseconds(100));
+    /// `connect_max`: members that may wait for their CONNACK at once (0 = no
+    /// limit; connect_turns.hpp).
+    explicit MqttLoop(Logger logger, std::chrono::milliseconds tick = std::chrono::milliseconds(100), std::size_t connect_max = 0);
     ~MqttLoop();
     MqttLoop(const MqttLoop&) = delete;
     MqttLoop& operator=(const MqttLoop&) = delete;
@@ -57,6 +61,15 @@ public:
     /// inherited stays open after the close, and the kernel keeps its
     /// registration (epoll(7)); the loop then ignores it (see run()).
     void watch(LoopMember* member, int fd, bool want_write);
+
+    /// Loop thread only: true when `member` may send its CONNECT now. False:
+    /// it waits its turn and gets on_wake() when the turn comes.
+    bool connect_turn(LoopMember* member) { return turns_.take(member); }
+    /// Loop thread only: `member`'s attempt ended (CONNACK, failure, closed).
+    void connect_done(LoopMember* member);
+    /// Members waiting for their turn to connect (tests: read it when no
+    /// member is left, after the last remove()).
+    std::size_t connect_waiting() const { return turns_.waiting(); }
 
     bool in_loop_thread() const { return std::this_thread::get_id() == thread_id_.load(); }
     /// Loop iterations so far (tests: the loop sleeps when idle).
@@ -98,6 +111,7 @@ private:
     std::unordered_map<std::uint64_t, LoopMember*> by_token_;
     std::uint64_t next_token_ = 1;
     std::vector<LoopMember*> woken_;
+    ConnectTurns turns_;
 
     std::atomic<std::thread::id> thread_id_{};
     std::atomic<std::uint64_t> iterations_{0};

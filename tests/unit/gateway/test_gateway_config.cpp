@@ -17,7 +17,8 @@ TEST_CASE("gateway config: each machine is the defaults with its own keys over t
         "timer_threads": 3,
         "request_threads": 5,
         "driver_threads": 6,
-        "work_threads": 7
+        "work_threads": 7,
+        "mqtt_connect_max": 16
     })");
     auto config = gateway_config_from_json(json, "/etc/nclink");
     REQUIRE(config.ok());
@@ -38,12 +39,14 @@ TEST_CASE("gateway config: each machine is the defaults with its own keys over t
     CHECK(config->request_threads == 5);
     CHECK(config->driver_threads == 6);
     CHECK(config->work_threads == 7);
+    CHECK(config->mqtt_connect_max == 16);
     // unset: sized to the box at start
     auto plain = gateway_config_from_json(Json::parse(R"({"machines": []})"));
     REQUIRE(plain.ok());
     CHECK(plain->timer_threads == 0);
     CHECK(plain->driver_threads == 0);
     CHECK(plain->work_threads == 0);
+    CHECK(plain->mqtt_connect_max == 64);
     auto negative = gateway_config_from_json(Json::parse(R"({"machines": [], "driver_threads": -1})"));
     REQUIRE_FALSE(negative.ok());
     CHECK(negative.error().message.find("driver_threads") != std::string::npos);
