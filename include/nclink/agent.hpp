@@ -143,17 +143,20 @@ NCLINK_API std::string mosquitto_acl(const AgentConfig& config);
 struct NCLINK_API AgentStats {
     std::uint64_t registrations = 0;          ///< Register/Request accepted
     std::uint64_t registrations_refused = 0;  ///< answered NG (414, 301, malformed)
-    std::uint64_t discoveries = 0;            ///< Discovery/Request answered
-    std::uint64_t versions = 0;               ///< Probe/Version answered
-    std::uint64_t models_fetched = 0;         ///< models stored after a version change
-    std::uint64_t cached_probes = 0;          ///< Probe/Query answered from the cache (adapter offline)
-    std::uint64_t unreachable = 0;            ///< requests answered DEV_UNREACHABLE
-    std::uint64_t timeouts = 0;               ///< requests answered 203
-    std::uint64_t denied = 0;                 ///< requests answered 301 (access control)
-    std::uint64_t state_notifications = 0;    ///< Notify/State published by the agent
-    std::uint64_t malformed = 0;              ///< undecodable DTUs (answered NG where there is a topic to answer on)
-    std::uint64_t ignored_retained = 0;       ///< requests ignored for their retain flag
-    std::size_t pending = 0;                  ///< requests waiting for the adapter's answer now
+    /// resends of a request answered OK moments before, not answered again
+    /// (docs/agent.md: the first answer is still on its way)
+    std::uint64_t registrations_repeated = 0;
+    std::uint64_t discoveries = 0;          ///< Discovery/Request answered
+    std::uint64_t versions = 0;             ///< Probe/Version answered
+    std::uint64_t models_fetched = 0;       ///< models stored after a version change
+    std::uint64_t cached_probes = 0;        ///< Probe/Query answered from the cache (adapter offline)
+    std::uint64_t unreachable = 0;          ///< requests answered DEV_UNREACHABLE
+    std::uint64_t timeouts = 0;             ///< requests answered 203
+    std::uint64_t denied = 0;               ///< requests answered 301 (access control)
+    std::uint64_t state_notifications = 0;  ///< Notify/State published by the agent
+    std::uint64_t malformed = 0;            ///< undecodable DTUs (answered NG where there is a topic to answer on)
+    std::uint64_t ignored_retained = 0;     ///< requests ignored for their retain flag
+    std::size_t pending = 0;                ///< requests waiting for the adapter's answer now
     std::uint64_t held_responses =
         0;  ///< responses for an offline application (its session keeps them; the state-machine text 42, 58)
     std::string state =

@@ -255,6 +255,7 @@ AgentStats Agent::stats() const {
     AgentStats s;
     s.registrations = c.registrations;
     s.registrations_refused = c.refused;
+    s.registrations_repeated = c.repeated;
     s.discoveries = c.discoveries;
     s.versions = c.versions;
     s.models_fetched = c.fetched;

@@ -65,7 +65,7 @@ struct NCLINK_LOCAL Agent::Impl {
     using StateStore = agent_detail::StateStore;
     using Status = agent_detail::Status;
     struct Counters {
-        std::atomic<std::uint64_t> registrations{0}, refused{0}, discoveries{0}, versions{0}, fetched{0}, cached{0},
+        std::atomic<std::uint64_t> registrations{0}, refused{0}, repeated{0}, discoveries{0}, versions{0}, fetched{0}, cached{0},
             unreachable{0}, timeouts{0}, denied{0}, notifications{0}, malformed{0}, retained{0}, held{0};
     };
     using Out = std::vector<Message>;

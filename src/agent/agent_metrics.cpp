@@ -23,9 +23,10 @@ void add_agent_metrics(core_detail::PrometheusText& out, const AgentStats& s, co
                        const TrafficStats& traffic) {
     using core_detail::MetricLabels;
     const MetricLabels none;
-    const char* reg_help = "Register/Request answered, by outcome (8.2.2)";
+    const char* reg_help = "Register/Request handled, by outcome (8.2.2); repeated: a resend not answered again";
     out.counter("nclink_agent_registrations_total", reg_help, {{"outcome", "accepted"}}, s.registrations);
     out.counter("nclink_agent_registrations_total", reg_help, {{"outcome", "refused"}}, s.registrations_refused);
+    out.counter("nclink_agent_registrations_total", reg_help, {{"outcome", "repeated"}}, s.registrations_repeated);
     out.counter("nclink_agent_discovery_answers_total", "Discovery/Request answered (8.2.3)", none, s.discoveries);
     out.counter("nclink_agent_version_checks_total", "Probe/Version answered (8.2.5)", none, s.versions);
     out.counter("nclink_agent_models_fetched_total", "Models fetched after a version change (8.2.7)", none, s.models_fetched);

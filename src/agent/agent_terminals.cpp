@@ -32,6 +32,16 @@ void Agent::Impl::on_register(State& p, const Message& m, Out& out) {
         p.presence.set_kind(cli, p.registrar->listed_kind(cli));
         alive(p, cli, Kind::unknown, out);  // before deciding: the registration belongs to this online period
     }
+    // A terminal that heard no answer within its register timeout sends the
+    // same request again. While the agent's answers queue (10,000 terminals
+    // starting together), answering every resend tripled the queue it was
+    // waiting behind; the first answer reaches it on the same connection.
+    constexpr std::chrono::seconds kResendQuiet{30};
+    if (p.registrar->resent_while_answered(cli, id_text(request->msg_id), p.presence.online_periods(cli), clock->now(),
+                                           kResendQuiet)) {
+        ++counters.repeated;
+        return;
+    }
     const auto decision = p.registrar->decide(*request, p.presence, wall_s());
     RegisterResponse response;
     response.msg_id = request->msg_id;
@@ -48,6 +58,7 @@ void Agent::Impl::on_register(State& p, const Message& m, Out& out) {
     }
     if (!publishable_level(cli)) return;  // no topic to answer on (the id has a wildcard or is empty)
     reply(out, topics::register_response(cli), to_json(response));
+    if (decision.status.ok) p.registrar->answered(cli, clock->now());
 }
 
 void Agent::Impl::on_register_response(State& p, const ParsedTopic& topic, const Message& m) {

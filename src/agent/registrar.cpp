@@ -53,6 +53,18 @@ Registrar::Decision Registrar::decide(const RegisterRequest& request, const Pres
     return {ResponseStatus::success(), {}};
 }
 
+void Registrar::answered(const std::string& tid, Clock::Steady now) {
+    if (const auto it = registrations_.find(tid); it != registrations_.end()) it->second.answered_at = now;
+}
+
+bool Registrar::resent_while_answered(const std::string& tid, const std::string& msg_id, std::uint64_t period, Clock::Steady now,
+                                      std::chrono::milliseconds quiet) const {
+    const auto it = registrations_.find(tid);
+    if (it == registrations_.end() || msg_id.empty()) return false;
+    const Registration& r = it->second;
+    return r.msg_id == msg_id && r.period != 0 && r.period == period && r.answered_at && now - *r.answered_at < quiet;
+}
+
 void Registrar::record(const std::string& tid, Kind kind, std::int64_t wall_s, std::uint64_t period) {
     Registration& r = registrations_[tid];
     if (r.kind == Kind::unknown) r.kind = kind;

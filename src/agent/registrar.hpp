@@ -7,8 +7,10 @@
 
 #include <nclink/dtu.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace nclink::agent_detail {
@@ -16,8 +18,9 @@ namespace nclink::agent_detail {
 struct Registration {
     Kind kind = Kind::unknown;
     std::int64_t registered_at_s = 0;
-    std::string msg_id;        ///< "@id" of the accepted request (a resend with it is answered OK again)
-    std::uint64_t period = 0;  ///< Presence::online_periods() when accepted (0 = from the state file)
+    std::string msg_id;                        ///< "@id" of the accepted request (a resend with it is answered OK again)
+    std::uint64_t period = 0;                  ///< Presence::online_periods() when accepted (0 = from the state file)
+    std::optional<Clock::Steady> answered_at;  ///< when this agent last answered it OK (not persisted)
 };
 
 class Registrar {
@@ -39,6 +42,15 @@ public:
     ///  registration replaces the old one.
     Decision decide(const RegisterRequest& request, const Presence& presence, std::int64_t wall_s);
 
+    /// This agent answered `tid`'s accepted registration at `now`.
+    void answered(const std::string& tid, Clock::Steady now);
+    /// A resend of a request this agent answered OK less than `quiet` ago:
+    /// the same "@id" in the same online period. The answer is still on its
+    /// way (QoS 1, to the connection that asked), only queued behind others
+    /// while the agent is busy; answering each resend again only lengthened
+    /// that queue (docs/agent.md).
+    bool resent_while_answered(const std::string& tid, const std::string& msg_id, std::uint64_t period, Clock::Steady now,
+                               std::chrono::milliseconds quiet) const;
     /// A registration another agent accepted (seen as Register/Response OK).
     void record(const std::string& tid, Kind kind, std::int64_t wall_s, std::uint64_t period);
     void restore(const std::string& tid, Registration registration) { registrations_[tid] = std::move(registration); }

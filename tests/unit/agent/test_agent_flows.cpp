@@ -34,6 +34,24 @@ TEST_CASE("register: a valid terminal is accepted on Register/Response/cli_uuid"
     CHECK(terminal(*f.agent, "mill-1")->registered);
 }
 
+TEST_CASE("register: a resend answered moments ago waits for its first answer, one 30 s later is answered again") {
+    AgentFixture f;
+    CHECK(f.register_as(*f.app, "mill-1", "r1")["code"] == "OK");
+    // The same request again: its sender heard nothing within its timeout
+    // while the answer was queued. The first answer is on its way.
+    f.app->send(topics::register_request(), Json{{"@id", "r1"}, {"cli_uuid", "mill-1"}}.dump());
+    REQUIRE(eventually([&] { return f.agent->stats().registrations_repeated == 1; }));
+    CHECK(f.app->on(topics::register_response("mill-1")).size() == 1);
+    CHECK(f.agent->stats().registrations == 1);
+    // Half a minute on, a resend may mean the answer was lost: answered again.
+    f.advance(std::chrono::seconds(30));
+    CHECK(f.register_as(*f.app, "mill-1", "r1")["code"] == "OK");
+    CHECK(f.agent->stats().registrations == 2);
+    // A new request (another @id) is answered at once.
+    CHECK(f.register_as(*f.app, "mill-1", "r2")["code"] == "OK");
+    CHECK(f.agent->stats().registrations_repeated == 1);
+}
+
 TEST_CASE("register: an unsupported terminal identifier gets 414") {
     AgentFixture f;
     const Json answer = f.register_as(*f.app, "bad id", "r1");

@@ -193,6 +193,26 @@ TEST_CASE("registrar: a second registration of a live adapter is refused 301 and
     CHECK(registrar.decide(reg("dev", "r3"), presence, 3).status.ok);
 }
 
+TEST_CASE("registrar: a resend of a request answered moments ago in the same online period is told apart") {
+    Presence presence(0ms, 0ms);
+    ManualClock clock;
+    Registrar registrar(rule(), {});
+    presence.set_kind("dev", Kind::adapter);
+    presence.set_state("dev", Status::online, clock.now(), 1);
+    const auto period = presence.online_periods("dev");
+    REQUIRE(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);
+    CHECK_FALSE(registrar.resent_while_answered("dev", "r1", period, clock.now(), 30s));  // not answered yet
+    registrar.answered("dev", clock.now());
+    clock.advance(29s);
+    CHECK(registrar.resent_while_answered("dev", "r1", period, clock.now(), 30s));
+    CHECK_FALSE(registrar.resent_while_answered("dev", "r2", period, clock.now(), 30s));      // another request
+    CHECK_FALSE(registrar.resent_while_answered("dev", "r1", period + 1, clock.now(), 30s));  // a new connection
+    CHECK_FALSE(registrar.resent_while_answered("other", "r1", period, clock.now(), 30s));
+    CHECK_FALSE(registrar.resent_while_answered("dev", "", period, clock.now(), 30s));  // no @id: never a resend
+    clock.advance(1s);
+    CHECK_FALSE(registrar.resent_while_answered("dev", "r1", period, clock.now(), 30s));  // answered long ago
+}
+
 TEST_CASE("registrar: an application registering again replaces its registration") {
     Presence presence(0ms, 0ms);
     ManualClock clock;
