@@ -21,6 +21,8 @@
 // methods are thread-safe.
 #pragma once
 
+#include "support/loopback_listener.hpp"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -41,18 +43,7 @@ namespace nclink::test {
 
 class AckDroppingProxy {
 public:
-    explicit AckDroppingProxy(int broker_port) : broker_port_(broker_port) {
-        listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        const int one = 1;
-        ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-        sockaddr_in a{};
-        a.sin_family = AF_INET;
-        ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-        if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || ::listen(listen_fd_, 16) != 0)
-            throw std::runtime_error("proxy: cannot listen");
-        socklen_t len = sizeof a;
-        ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&a), &len);
-        port_ = ntohs(a.sin_port);
+    explicit AckDroppingProxy(int broker_port) : broker_port_(broker_port), listener_(0, 16, "proxy") {
         thread_ = std::thread([this] { run(); });
     }
     ~AckDroppingProxy() {
@@ -62,12 +53,11 @@ public:
             ::close(p->client);
             ::close(p->broker);
         }
-        ::close(listen_fd_);
     }
     AckDroppingProxy(const AckDroppingProxy&) = delete;
     AckDroppingProxy& operator=(const AckDroppingProxy&) = delete;
 
-    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(listener_.port()); }
     /// From now on the connections open now lose every PUBACK from the broker.
     void drop_acks_now() {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -105,7 +95,7 @@ private:
 
     void run() {
         while (!stopping_) {
-            std::vector<pollfd> fds{{listen_fd_, POLLIN, 0}};
+            std::vector<pollfd> fds{{listener_.fd(), POLLIN, 0}};
             std::vector<Pair*> polled;  // pairs are erased on this thread only
             {
                 std::lock_guard<std::mutex> lock(mutex_);
@@ -137,7 +127,7 @@ private:
     }
 
     void accept_one() {
-        const int c = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+        const int c = ::accept4(listener_.fd(), nullptr, nullptr, SOCK_CLOEXEC);
         if (c < 0) return;
         const int b = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
         sockaddr_in a{};
@@ -209,8 +199,7 @@ private:
     }
 
     const int broker_port_;
-    int listen_fd_ = -1;
-    int port_ = 0;
+    LoopbackListener listener_;
     std::atomic<bool> stopping_{false};
     std::atomic<std::uint64_t> acks_dropped_{0};
     std::atomic<std::uint64_t> shares_refused_{0};

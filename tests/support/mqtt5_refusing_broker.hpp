@@ -15,6 +15,8 @@
 // methods are thread-safe.
 #pragma once
 
+#include "support/loopback_listener.hpp"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -40,32 +42,20 @@ public:
     /// `upstream_port` 0: the stand-in; else the port of the broker on
     /// 127.0.0.1 that accepted 3.1.1 connections are handed on to. `port`:
     /// where it listens (0: a free port).
-    explicit Mqtt5RefusingBroker(int upstream_port = 0, int port = 0) : upstream_port_(upstream_port) {
-        listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        const int one = 1;
-        ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-        sockaddr_in a{};
-        a.sin_family = AF_INET;
-        a.sin_port = htons(static_cast<std::uint16_t>(port));
-        ::inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-        if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || ::listen(listen_fd_, 16) != 0)
-            throw std::runtime_error("MQTT 5 refusing broker: cannot listen");
-        socklen_t len = sizeof a;
-        ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&a), &len);
-        port_ = ntohs(a.sin_port);
+    explicit Mqtt5RefusingBroker(int upstream_port = 0, int port = 0)
+        : upstream_port_(upstream_port), listener_(port, 16, "MQTT 5 refusing broker") {
         thread_ = std::thread([this] { run(); });
     }
     ~Mqtt5RefusingBroker() {
         stopping_ = true;
         thread_.join();
         for (auto& c : connections_) close_both(*c);
-        ::close(listen_fd_);
     }
     Mqtt5RefusingBroker(const Mqtt5RefusingBroker&) = delete;
     Mqtt5RefusingBroker& operator=(const Mqtt5RefusingBroker&) = delete;
 
-    int port() const { return port_; }
-    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+    int port() const { return listener_.port(); }
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(listener_.port()); }
     /// The protocol level of every CONNECT read, in order (4 = 3.1.1, 5 = MQTT 5).
     std::vector<int> levels() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -133,7 +123,7 @@ private:
 
     void run() {
         while (!stopping_) {
-            std::vector<pollfd> fds{{listen_fd_, POLLIN, 0}};
+            std::vector<pollfd> fds{{listener_.fd(), POLLIN, 0}};
             std::vector<Connection*> polled;  // connections are erased on this thread only
             {
                 std::lock_guard<std::mutex> lock(mutex_);
@@ -175,7 +165,7 @@ private:
 
     // Under mutex_.
     void accept_one() {
-        const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+        const int fd = ::accept4(listener_.fd(), nullptr, nullptr, SOCK_CLOEXEC);
         if (fd < 0) return;
         if (last_close_) {
             reconnect_waits_.push_back(std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -259,8 +249,7 @@ private:
     }
 
     const int upstream_port_;
-    int listen_fd_ = -1;
-    int port_ = 0;
+    LoopbackListener listener_;
     std::atomic<bool> stopping_{false};
     std::atomic<bool> accept_mqtt5_{false};
     std::atomic<bool> close_after_connack_{false};

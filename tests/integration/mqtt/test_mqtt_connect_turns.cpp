@@ -3,13 +3,13 @@
 // limit are open at once, and each failed attempt passes the turn on.
 #include <nclink/mqtt_transport.hpp>
 
+#include "support/loopback_listener.hpp"
 #include "support/wait.hpp"
 #include "transport/mosquitto_transport.hpp"
 #include "transport/mqtt_loop.hpp"
 
 #include <catch2/catch.hpp>
 
-#include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -30,25 +30,14 @@ namespace {
 // answers nothing: a broker that never sends CONNACK.
 class SilentListener {
 public:
-    SilentListener() {
-        fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_in a{};
-        a.sin_family = AF_INET;
-        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        a.sin_port = 0;
-        REQUIRE(::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
-        REQUIRE(::listen(fd_, 64) == 0);
-        socklen_t len = sizeof a;
-        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);
-        port_ = ntohs(a.sin_port);
+    SilentListener() : listener_(0, 64, "silent listener") {
         thread_ = std::thread([this] { run(); });
     }
     ~SilentListener() {
         stop_ = true;
         thread_.join();
-        ::close(fd_);
     }
-    int port() const { return port_; }
+    int port() const { return listener_.port(); }
     int accepted() const { return accepted_; }
     int most_open() const { return most_open_; }
 
@@ -56,11 +45,11 @@ private:
     void run() {
         std::vector<int> open;
         while (!stop_) {
-            std::vector<pollfd> p{{fd_, POLLIN, 0}};
+            std::vector<pollfd> p{{listener_.fd(), POLLIN, 0}};
             for (int c : open) p.push_back({c, POLLIN, 0});
             if (::poll(p.data(), p.size(), 20) <= 0) continue;
             if (p[0].revents & POLLIN) {
-                const int c = ::accept4(fd_, nullptr, nullptr, SOCK_CLOEXEC);
+                const int c = ::accept4(listener_.fd(), nullptr, nullptr, SOCK_CLOEXEC);
                 if (c >= 0) {
                     open.push_back(c);
                     ++accepted_;
@@ -79,8 +68,7 @@ private:
         for (int c : open) ::close(c);
     }
 
-    int fd_ = -1;
-    int port_ = 0;
+    nclink::test::LoopbackListener listener_;
     std::atomic<bool> stop_{false};
     std::atomic<int> accepted_{0}, most_open_{0};
     std::thread thread_;
