@@ -176,12 +176,21 @@ TEST_CASE("presence: an adapter stays an adapter") {
     CHECK(presence.kind("x") == Kind::adapter);
 }
 
-TEST_CASE("registrar: a second registration of a live adapter is refused 301 and a resend is not") {
-    Presence presence(0ms, 0ms);
+// An adapter "dev" online, its first online period, and a registrar with the
+// default rule and policy.
+struct LiveAdapter {
+    Presence presence{0ms, 0ms};
     ManualClock clock;
-    Registrar registrar(rule(), {});
-    presence.set_kind("dev", Kind::adapter);
-    presence.set_state("dev", Status::online, clock.now(), 1);
+    Registrar registrar{rule(), {}};
+    LiveAdapter() {
+        presence.set_kind("dev", Kind::adapter);
+        presence.set_state("dev", Status::online, clock.now(), 1);
+    }
+};
+
+TEST_CASE("registrar: a second registration of a live adapter is refused 301 and a resend is not") {
+    LiveAdapter live;
+    auto& [presence, clock, registrar] = live;
     CHECK(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);
     CHECK(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);  // the same request again
     const auto second = registrar.decide(reg("dev", "r2"), presence, 2);
@@ -194,11 +203,8 @@ TEST_CASE("registrar: a second registration of a live adapter is refused 301 and
 }
 
 TEST_CASE("registrar: a resend of a request answered moments ago in the same online period is told apart") {
-    Presence presence(0ms, 0ms);
-    ManualClock clock;
-    Registrar registrar(rule(), {});
-    presence.set_kind("dev", Kind::adapter);
-    presence.set_state("dev", Status::online, clock.now(), 1);
+    LiveAdapter live;
+    auto& [presence, clock, registrar] = live;
     const auto period = presence.online_periods("dev");
     REQUIRE(registrar.decide(reg("dev", "r1"), presence, 1).status.ok);
     CHECK_FALSE(registrar.resent_while_answered("dev", "r1", period, clock.now(), 30s));  // not answered yet
