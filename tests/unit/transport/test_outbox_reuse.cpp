@@ -53,11 +53,18 @@ struct Rig {
         link.keep = keep;
         link.outbox = &outbox;
         link.payloads.reserve(3 * kMessages);
+        // The sender's first turn comes unasked, when it is added to its
+        // thread. Counted before link_up(), that turn could be taken for the
+        // one link_up() asks for, which would then still be pending and race
+        // the first push below for the link (seen under qemu on armhf).
+        REQUIRE(test::eventually([&] { return outbox.sender_wakeups() >= 1; }));
         const auto before = outbox.sender_wakeups();
         outbox.link_up();
         // link_up() wakes the sender thread: after that turn every push below
         // is handed over on this thread (nothing waits ahead of it), so the
-        // link is only ever called from here.
+        // link is only ever called from here. The count is read under the
+        // lock the sender holds for its whole turn when nothing waits, so
+        // seeing it means that turn is over.
         REQUIRE(test::eventually([&] { return outbox.sender_wakeups() > before; }));
     }
     ~Rig() { outbox.stop(); }
