@@ -114,6 +114,12 @@ struct NCLINK_API AgentConfig {
     /// acknowledged; later ones wait in order. It answers for the whole plant,
     /// so the window is wider than an adapter's 64 (docs/agent.md).
     std::size_t max_in_flight = 1000;
+    /// "discovery_link": Discovery (8.2.3/8.2.4) on a connection of its own
+    /// (client id: the agent's, then "-discovery"), so an application's
+    /// Discovery never waits behind the terminals' traffic on the main one
+    /// (docs/agent.md). Used when the agent makes its own links (not with
+    /// use_transport() alone).
+    bool discovery_link = true;
     std::chrono::milliseconds tick{20};  ///< "tick_ms": housekeeping period (timeouts, liveness)
 
     RegistrationPolicy registration;              ///< "registration": {...}
@@ -184,6 +190,10 @@ public:
     /// For tests and special links: use this transport instead of MQTT (set
     /// before start()). The agent owns it from then on.
     void use_transport(std::unique_ptr<Transport> transport);
+    /// For tests and special links: the Discovery link (discovery_link) on
+    /// this transport (set before start()). Without it an agent given
+    /// use_transport() hears Discovery on that one transport.
+    void use_discovery_transport(std::unique_ptr<Transport> transport);
     /// For tests: the clock of timeouts, liveness and timestamps.
     void use_clock(std::shared_ptr<const Clock> clock);
 
@@ -199,8 +209,8 @@ public:
     /// times, acl and log_level (the logger's level, shared with every copy of
     /// it) take effect at once, for the next DTU; registrations already
     /// accepted stay. Changed keys of the broker section, agent_id,
-    /// share_group, instances, instance, state_dir, observe_samples and
-    /// tick_ms are listed in
+    /// share_group, instances, instance, state_dir, observe_samples,
+    /// max_in_flight, discovery_link and tick_ms are listed in
     /// restart_needed and keep their running value. Refuses (405, nothing
     /// applied) a configuration whose id_pattern is not a regular expression.
     /// Before start() every key is applied.

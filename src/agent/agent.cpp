@@ -66,11 +66,19 @@ Result<void> Agent::Impl::start() {
     });
     if (!loaded) return loaded;
     share_group = config.share_group;
-    if (!transport) {
+    const bool own_links = !transport;
+    if (own_links) {
         share_group = usable_share_group();
         auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
+        if (config.discovery_link) {
+            MqttOptions o = mqtt_options();
+            o.client_id += "-discovery";
+            auto link = make_paho_transport(o, log);
+            if (!link) return std::move(link).error();
+            discovery_transport = std::move(link).value();
+        }
     }
     transport = transport_detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
     transport->set_message_handler([this](const Message& m) { on_message(m); });
@@ -89,7 +97,29 @@ Result<void> Agent::Impl::start() {
     last_save = clock->now();
     housekeeping.start(
         config.tick, [this] { housekeep(); }, "nclink-agent-hk");
-    return transport->start();
+    if (auto r = transport->start(); !r) return r;
+    return start_discovery_link();
+}
+
+// Every terminal's registration, version, model and state come to the agent
+// over its main link when a plant powers up: at 10,000 machines about four
+// QoS 1 messages each, answered by as many, which mosquitto 2.0 reads from
+// that one connection a packet per pass of its event loop (about 1,000 a
+// second under that load, docs/performance.md). An application's Discovery
+// queued behind them for 30-50 s, both ways. On a connection of its own it
+// waits for nothing: the answer is the picture as far as the agent has read
+// it. Only Discovery moves: its answer depends on nothing in flight, while
+// a request the agent answers in an adapter's place must be seen in order
+// with that adapter's answer, on the one link.
+Result<void> Agent::Impl::start_discovery_link() {
+    if (!discovery_transport) return ok_result();
+    discovery_transport = transport_detail::count_dtus(std::move(discovery_transport), dtus);
+    discovery_transport->set_message_handler([this](const Message& m) { on_message(m); });
+    discovery_transport->set_state_handler([this](LinkState s, std::string_view detail) {
+        log.info("agent {}: Discovery link {} ({})", config.agent_id, to_string(s), detail);
+    });
+    if (auto r = discovery_transport->subscribe(discovery_filters(), 1); !r) return r;
+    return discovery_transport->start();
 }
 
 void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
@@ -100,6 +130,7 @@ void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
     }
     housekeeping.stop();
     if (transport) transport->stop(flush_timeout);  // no handler calls after this
+    if (discovery_transport) discovery_transport->stop(flush_timeout);
     persist(true);
     log.info("agent {} stopped", config.agent_id);
 }
@@ -130,6 +161,7 @@ Result<ConfigReload> Agent::Impl::reload(const AgentConfig& next) {
         restart_only(config.state_dir == next.state_dir, "state_dir");
         restart_only(config.observe_samples == next.observe_samples, "observe_samples");
         restart_only(config.max_in_flight == next.max_in_flight, "max_in_flight");
+        restart_only(config.discovery_link == next.discovery_link, "discovery_link");
         restart_only(config.tick == next.tick, "tick_ms");
         restart_only(config.metrics == next.metrics, "metrics");  // the program's /metrics server, bound once
         const bool registration_changed = !same_registration(config.registration, next.registration);
@@ -202,7 +234,8 @@ std::string Agent::Impl::usable_share_group() {
 // gets each (MQTT shared subscription), or all get each and one answers
 // (instances, without $share: agent_split.cpp).
 std::vector<std::string> Agent::Impl::answer_filters() const {
-    std::vector<std::string> filters = {topics::register_request(), topics::discovery_request("+"), topics::probe_version("+")};
+    std::vector<std::string> filters = {topics::register_request(), topics::probe_version("+")};
+    if (!discovery_transport) filters.push_back(topics::discovery_request("+"));
     for (TopicKind kind : adapter_request_kinds())
         for (Spelling s : {Spelling::standard, Spelling::typo}) {
             if (s == Spelling::typo && !has_typo_spelling(kind)) continue;
@@ -212,6 +245,12 @@ std::vector<std::string> Agent::Impl::answer_filters() const {
     if (!share_group.empty())
         for (auto& f : filters) f = "$share/" + share_group + "/" + f;
     return filters;
+}
+
+std::vector<std::string> Agent::Impl::discovery_filters() const {
+    std::string filter = topics::discovery_request("+");
+    if (!share_group.empty()) filter = "$share/" + share_group + "/" + filter;
+    return {filter};
 }
 
 // What every agent instance must see to keep its own picture complete.
@@ -237,6 +276,8 @@ Agent::Agent(AgentConfig config, Logger logger) : impl_(std::make_unique<Impl>(s
 Agent::~Agent() { impl_->stop(std::chrono::milliseconds(0)); }
 
 void Agent::use_transport(std::unique_ptr<Transport> transport) { impl_->transport = std::move(transport); }
+
+void Agent::use_discovery_transport(std::unique_ptr<Transport> transport) { impl_->discovery_transport = std::move(transport); }
 
 void Agent::use_clock(std::shared_ptr<const Clock> clock) {
     if (clock) impl_->clock = std::move(clock);

@@ -96,6 +96,7 @@ Result<AgentConfig> agent_config_from_json(const Json& json, AgentConfig c) {
     NCLINK_TRY(top.duration("application_liveness_ms", c.application_liveness));
     NCLINK_TRY(top.boolean("observe_samples", c.observe_samples));
     NCLINK_TRY(top.count("max_in_flight", c.max_in_flight));
+    NCLINK_TRY(top.boolean("discovery_link", c.discovery_link));
     NCLINK_TRY(top.duration("tick_ms", c.tick));
     if (const Json* section = top.object("registration")) NCLINK_TRY(read_registration(*section, c.registration));
     if (const Json* section = top.object("access")) NCLINK_TRY(read_access(*section, c.access));

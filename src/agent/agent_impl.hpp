@@ -74,6 +74,9 @@ struct NCLINK_LOCAL Agent::Impl {
     Logger log;
     std::shared_ptr<const Clock> clock = std::make_shared<SystemClock>();
     std::unique_ptr<Transport> transport;
+    // Discovery's own link (config.discovery_link), or null: Discovery then
+    // comes and goes on `transport`. Set before start(), read-only after.
+    std::unique_ptr<Transport> discovery_transport;
     // The $share group of answer_filters(): config.share_group, or "" after
     // start() found the broker without shared subscriptions. Written before
     // the transport starts, read-only after.
@@ -116,6 +119,10 @@ struct NCLINK_LOCAL Agent::Impl {
     // gets each (MQTT shared subscription), or all get each and one answers
     // (instances, without $share).
     std::vector<std::string> answer_filters() const;
+    // Discovery/Request, on the Discovery link when there is one.
+    std::vector<std::string> discovery_filters() const;
+    // Connects the Discovery link (start(), after the main one).
+    Result<void> start_discovery_link();
 
     // What every agent instance must see to keep its own picture complete.
     std::vector<std::string> observe_filters() const;

@@ -50,8 +50,12 @@ void Agent::Impl::on_message(const Message& m) {
 }
 
 void Agent::Impl::publish(Out& out) {
-    for (auto& message : out)
-        if (auto r = transport->publish(std::move(message)); !r) log.warn("agent: publish failed: {}", r.error().describe());
+    for (auto& message : out) {
+        // A Discovery answer leaves on the link its request came by (start_discovery_link()).
+        const bool discovery = discovery_transport && topic_kind(message.topic) == TopicKind::discovery_response;
+        Transport& link = discovery ? *discovery_transport : *transport;
+        if (auto r = link.publish(std::move(message)); !r) log.warn("agent: publish failed: {}", r.error().describe());
+    }
 }
 
 void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m, Out& out) {

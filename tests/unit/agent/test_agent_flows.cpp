@@ -137,6 +137,47 @@ TEST_CASE("discovery: nothing accessible is deviceList null") {
     CHECK(none["deviceList"].is_null());
 }
 
+TEST_CASE("discovery: on a link of its own it is asked and answered there, and the main link leaves it alone") {
+    // Two loopback brokers stand for the agent's two connections, so what
+    // travels on which is seen apart.
+    AgentFixture f({}, false);
+    LoopbackBroker second;
+    f.agent = std::make_unique<Agent>(f.config);
+    LoopbackOptions main_link, discovery_link;
+    main_link.client_id = "agent-main";
+    discovery_link.client_id = "agent-main-discovery";
+    f.agent->use_transport(make_loopback_transport(f.broker, main_link));
+    f.agent->use_discovery_transport(make_loopback_transport(second, discovery_link));
+    f.agent->use_clock(f.clock);
+    REQUIRE(f.agent->start().ok());
+    LoopbackOptions o;
+    o.client_id = "mes";
+    AppSide mes(make_loopback_transport(second, o));
+    mes.subscribe("#");
+
+    QuietAdapter a(f, "mill-1");
+    f.register_as(*a.side, "mill-1", "r1");
+    // Asked on the Discovery link: answered there, from what the main link brought.
+    const Json listed =
+        mes.request(topics::discovery_request("mes"), topics::discovery_response("mes"), Json{{"@id", "d1"}, {"guid", "mes"}});
+    CHECK(listed["@id"] == "d1");
+    REQUIRE(listed["deviceList"].size() == 1);
+    CHECK(listed["deviceList"][0]["guid"] == "mill-1");
+    CHECK(f.app->on(topics::discovery_response("mes")).empty());  // not on the main link
+    // A malformed request gets its answer on the same link.
+    mes.send(topics::discovery_request("mes"), Json{{"@id", "d-bad"}, {"guid", 7}}.dump());
+    CHECK(mes.wait(topics::discovery_response("mes"), 2)["code"] == "NG");
+    // The main link no longer hears Discovery: asked there, nothing answers,
+    // while the next request on it still is (so the first was read and passed over).
+    f.app->send(topics::discovery_request("other"), Json{{"@id", "d2"}, {"guid", "other"}}.dump());
+    CHECK(f.register_as(*f.app, "mill-2", "r2")["code"] == "OK");
+    CHECK(f.app->on(topics::discovery_response("other")).empty());
+    CHECK(f.agent->stats().discoveries == 1);
+    // The Discovery link carries Discovery only: the announcements and
+    // registration answers stay on the main link.
+    for (const auto& m : mes.inbox) CHECK(m.topic.rfind("Discovery/", 0) == 0);
+}
+
 TEST_CASE("notify: the adapter's retained state and last will set its status") {
     AgentFixture f;
     QuietAdapter a(f, "mill-1");

@@ -323,7 +323,7 @@ TEST_CASE("agent configuration: keys are read and typos refused") {
       "registration": {"open": false, "max_id_length": 64, "id_pattern": "[a-z0-9-]+",
                        "terminals": {"mill-1": {"kind": "adapter"}, "mes": {"kind": "application", "password": "pw"}}},
       "access": {"default": ["read"], "applications": {"mes": {"*": "all"}, "viewer": {"mill-1": ["read"]}}},
-      "acl": {"agent_user": "agents"}, "log_level": "debug", "max_in_flight": 250
+      "acl": {"agent_user": "agents"}, "log_level": "debug", "max_in_flight": 250, "discovery_link": false
     })");
     auto c = agent_config_from_json(json);
     INFO((c.ok() ? std::string() : c.error().describe()));
@@ -342,6 +342,8 @@ TEST_CASE("agent configuration: keys are read and typos refused") {
     CHECK(c->max_in_flight == 250);
     CHECK(agent_config_from_json(Json{{"max_in_flight", 0}})->max_in_flight == 1);
     CHECK(agent_config_from_json(Json::object())->max_in_flight == 1000);
+    CHECK_FALSE(c->discovery_link);
+    CHECK(agent_config_from_json(Json::object())->discovery_link);
 
     CHECK(agent_config_from_json(Json{{"request_timout_ms", 1}}).error().code == ErrorCode::keys_of_arguments);
     CHECK(agent_config_from_json(Json{{"access", {{"default", {"write"}}}}}).error().code == ErrorCode::value_type);

@@ -82,10 +82,12 @@ TEST_CASE("reload: broker identity and state keys wait for a restart and are lis
     next.state_dir = "/nonexistent/state";
     next.tick = 5ms;
     next.max_in_flight = 10;
+    next.discovery_link = false;
     next.log_level = LogLevel::debug;
     auto report = f.agent->reload(next);
     REQUIRE(report.ok());
-    CHECK(report->restart_needed == std::vector<std::string>{"broker.url", "agent_id", "state_dir", "max_in_flight", "tick_ms"});
+    CHECK(report->restart_needed ==
+          std::vector<std::string>{"broker.url", "agent_id", "state_dir", "max_in_flight", "discovery_link", "tick_ms"});
     CHECK(report->applied == std::vector<std::string>{"log_level"});
     // The running agent still answers as itself.
     f.app->send(topics::probe_version("mill-9"), Json{{"@id", "v"}, {"guid", "mill-9"}, {"version", "2"}}.dump());
@@ -94,7 +96,7 @@ TEST_CASE("reload: broker identity and state keys wait for a restart and are lis
     auto again = f.agent->reload(next);
     REQUIRE(again.ok());
     CHECK(again->applied.empty());
-    CHECK(again->restart_needed.size() == 5);
+    CHECK(again->restart_needed.size() == 6);
 }
 
 TEST_CASE("reload: an id_pattern that is no regex is refused and nothing changes") {
