@@ -139,9 +139,10 @@ TEST_CASE("discovery: nothing accessible is deviceList null") {
 
 TEST_CASE("discovery: on a link of its own it is asked and answered there, and the main link leaves it alone") {
     // Two loopback brokers stand for the agent's two connections, so what
-    // travels on which is seen apart.
-    AgentFixture f({}, false);
+    // travels on which is seen apart. The second outlives the fixture, which
+    // stops the agent.
     LoopbackBroker second;
+    AgentFixture f({}, false);
     f.agent = std::make_unique<Agent>(f.config);
     LoopbackOptions main_link, discovery_link;
     main_link.client_id = "agent-main";
