@@ -69,11 +69,12 @@ Result<void> Agent::Impl::start() {
     const bool own_links = !transport;
     if (own_links) {
         share_group = usable_share_group();
-        auto made = make_paho_transport(mqtt_options(), log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
+        const MqttOptions options = mqtt_options();
+        auto made = make_paho_transport(options, log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
         if (!made) return std::move(made).error();
         transport = std::move(made).value();
         if (config.discovery_link) {
-            MqttOptions o = mqtt_options();
+            MqttOptions o = options;
             o.client_id += "-discovery";
             auto link = make_paho_transport(o, log);
             if (!link) return std::move(link).error();
@@ -129,8 +130,10 @@ void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
         stopped = true;
     }
     housekeeping.stop();
-    if (transport) transport->stop(flush_timeout);  // no handler calls after this
+    // The Discovery link first: its handler may still announce an
+    // application online on the main one (no handler calls after stop()).
     if (discovery_transport) discovery_transport->stop(flush_timeout);
+    if (transport) transport->stop(flush_timeout);
     persist(true);
     log.info("agent {} stopped", config.agent_id);
 }
