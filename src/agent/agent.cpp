@@ -66,8 +66,7 @@ Result<void> Agent::Impl::start() {
     });
     if (!loaded) return loaded;
     share_group = config.share_group;
-    const bool own_links = !transport;
-    if (own_links) {
+    if (!transport) {
         share_group = usable_share_group();
         const MqttOptions options = mqtt_options();
         auto made = make_paho_transport(options, log);  // MQTT 5 $share, ws:// (paho_transport.hpp)
@@ -81,11 +80,7 @@ Result<void> Agent::Impl::start() {
             discovery_transport = std::move(link).value();
         }
     }
-    transport = transport_detail::count_dtus(std::move(transport), dtus);  // DTUs by kind (docs/metrics.md)
-    transport->set_message_handler([this](const Message& m) { on_message(m); });
-    transport->set_state_handler([this](LinkState s, std::string_view detail) {
-        log.info("agent {}: broker link {} ({})", config.agent_id, to_string(s), detail);
-    });
+    attach(transport, "broker link");
     if (auto r = transport->subscribe(answer_filters(), 1); !r) return r;
     if (auto r = transport->subscribe(observe_filters(), 1); !r) return r;
     // Sample DTUs only tell the agent that their terminal lives (3.22): at
@@ -114,13 +109,19 @@ Result<void> Agent::Impl::start() {
 // with that adapter's answer, on the one link.
 Result<void> Agent::Impl::start_discovery_link() {
     if (!discovery_transport) return ok_result();
-    discovery_transport = transport_detail::count_dtus(std::move(discovery_transport), dtus);
-    discovery_transport->set_message_handler([this](const Message& m) { on_message(m); });
-    discovery_transport->set_state_handler([this](LinkState s, std::string_view detail) {
-        log.info("agent {}: Discovery link {} ({})", config.agent_id, to_string(s), detail);
-    });
-    if (auto r = discovery_transport->subscribe(discovery_filters(), 1); !r) return r;
+    attach(discovery_transport, "Discovery link");
+    if (auto r = discovery_transport->subscribe({shared(topics::discovery_request("+"))}, 1); !r) return r;
     return discovery_transport->start();
+}
+
+// Both links: DTUs counted by kind (docs/metrics.md), every message to
+// on_message(), their state in the log.
+void Agent::Impl::attach(std::unique_ptr<Transport>& link, const char* name) {
+    link = transport_detail::count_dtus(std::move(link), dtus);
+    link->set_message_handler([this](const Message& m) { on_message(m); });
+    link->set_state_handler([this, name](LinkState s, std::string_view detail) {
+        log.info("agent {}: {} {} ({})", config.agent_id, name, to_string(s), detail);
+    });
 }
 
 void Agent::Impl::stop(std::chrono::milliseconds flush_timeout) {
@@ -245,15 +246,12 @@ std::vector<std::string> Agent::Impl::answer_filters() const {
             filters.push_back(build_topic(ParsedTopic{kind, "+", std::nullopt, std::nullopt, s}));
             filters.push_back(build_topic(ParsedTopic{kind, "+", "+", std::nullopt, s}));
         }
-    if (!share_group.empty())
-        for (auto& f : filters) f = "$share/" + share_group + "/" + f;
+    for (auto& f : filters) f = shared(f);
     return filters;
 }
 
-std::vector<std::string> Agent::Impl::discovery_filters() const {
-    std::string filter = topics::discovery_request("+");
-    if (!share_group.empty()) filter = "$share/" + share_group + "/" + filter;
-    return {filter};
+std::string Agent::Impl::shared(const std::string& filter) const {
+    return share_group.empty() ? filter : "$share/" + share_group + "/" + filter;
 }
 
 // What every agent instance must see to keep its own picture complete.

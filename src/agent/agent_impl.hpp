@@ -119,10 +119,12 @@ struct NCLINK_LOCAL Agent::Impl {
     // gets each (MQTT shared subscription), or all get each and one answers
     // (instances, without $share).
     std::vector<std::string> answer_filters() const;
-    // Discovery/Request, on the Discovery link when there is one.
-    std::vector<std::string> discovery_filters() const;
+    // `filter` through share_group, when there is one.
+    std::string shared(const std::string& filter) const;
     // Connects the Discovery link (start(), after the main one).
     Result<void> start_discovery_link();
+    // Counts a link's DTUs and hands its messages and states to the agent.
+    void attach(std::unique_ptr<Transport>& link, const char* name);
 
     // What every agent instance must see to keep its own picture complete.
     std::vector<std::string> observe_filters() const;
