@@ -30,10 +30,13 @@ void Agent::Impl::tick(State& p, Out& out) {
     for (const auto& tid : p.presence.expire(now)) {
         log.info("agent: {} {} is offline (no DTU for its liveness time)", to_string(p.presence.kind(tid)), tid);
         announce_state(p, tid, Status::offline, out);
+        p.announcements.cancel(tid);
         p.saves.registry_changed();
         unreachable_for(p, tid, out);
     }
     p.models.expire_fetches(now);
+    for (const auto& tid : p.announcements.take_due(now))
+        if (p.presence.status(tid) == Status::online) announce_state(p, tid, Status::online, out);
 }
 
 // Writes what changed; the text is built under the lock, written outside it.

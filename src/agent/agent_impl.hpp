@@ -156,6 +156,9 @@ struct NCLINK_LOCAL Agent::Impl {
 
     // A DTU from `tid`: a sign of life (3.22/3.23).
     void alive(State& p, const std::string& tid, Kind kind, Out& out);
+    // A Sample DTU from `tid` (QoS 0): the same, its announcement held back
+    // (pending_announcements.hpp).
+    void sample_seen(State& p, const std::string& tid, Out& out);
 
     // ---- 8.2.1 / 8.2.2 ----
     void on_register(State& p, const Message& m, Out& out);

@@ -68,7 +68,7 @@ void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m,
         case TopicKind::probe_version_response: return on_version_response(p, topic, m, out);
         case TopicKind::notify_state: return on_notify(p, topic, m, out);
         case TopicKind::sample:
-        case TopicKind::dynamic_sample:
+        case TopicKind::dynamic_sample: return sample_seen(p, topic.dev, out);
         case TopicKind::event: return alive(p, topic.dev, Kind::adapter, out);
         default: break;
     }
@@ -104,6 +104,20 @@ void Agent::Impl::alive(State& p, const std::string& tid, Kind kind, Out& out) {
         log.info("agent: {} {} is online (it sent a DTU)", to_string(p.presence.kind(tid)), tid);
         announce_state(p, tid, Status::online, out);
     }
+}
+
+// Online in the picture now; announced only if the terminal's own
+// Notify/State has not come within the grace (pending_announcements.hpp).
+// 30 s: a 10,000-machine start keeps QoS 1 messages to the agent waiting
+// that long (docs/performance.md), and an adapter that states its presence
+// itself needs no announcement at all.
+void Agent::Impl::sample_seen(State& p, const std::string& tid, Out&) {
+    constexpr std::chrono::seconds kAnnounceGrace{30};
+    if (tid.empty() || tid == config.agent_id) return;
+    if (!p.saw(tid, Kind::adapter, clock->now(), wall_s())) return;
+    log.info("agent: adapter {} is online (it sent a Sample DTU); announced in {} s unless it says so", tid,
+             kAnnounceGrace.count());
+    p.announcements.hold(tid, clock->now(), kAnnounceGrace);
 }
 
 }  // namespace nclink

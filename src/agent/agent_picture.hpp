@@ -14,6 +14,7 @@
 #pragma once
 
 #include "agent/model_cache.hpp"
+#include "agent/pending_announcements.hpp"
 #include "agent/pending_forwards.hpp"
 #include "agent/pending_saves.hpp"
 #include "agent/presence.hpp"
@@ -44,9 +45,10 @@ public:
         std::unique_ptr<Registrar> registrar;  // set by Agent::start (the id rule is checked there)
         ModelCache models;
         PendingForwards pending;
-        PendingSaves saves;                 // what the housekeeping thread writes next
-        std::set<std::string> kind_probes;  // online terminals of unknown kind asked with a Probe/Query
-        bool started_serving = false;       // the `initialized` row was taken (docs/state-machines.md)
+        PendingAnnouncements announcements;  // online by a Sample DTU, announced later
+        PendingSaves saves;                  // what the housekeeping thread writes next
+        std::set<std::string> kind_probes;   // online terminals of unknown kind asked with a Probe/Query
+        bool started_serving = false;        // the `initialized` row was taken (docs/state-machines.md)
 
         explicit State(Presence p) : presence(std::move(p)) {}
 

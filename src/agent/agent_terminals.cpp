@@ -181,6 +181,7 @@ void Agent::Impl::on_notify(State& p, const ParsedTopic& topic, const Message& m
     const std::string& tid = topic.dev;
     if (tid == config.agent_id) return;
     if (p.own_echo(tid, notify->state)) return;  // our own announcement coming back
+    p.announcements.cancel(tid);                 // it (or another agent) said it: nothing to announce
     const Status status = notify->state == "online" ? Status::online : Status::offline;
     if (p.presence.set_state(tid, status, clock->now(), wall_s())) {
         p.saves.registry_changed();

@@ -213,13 +213,49 @@ TEST_CASE("notify: no DTU for the liveness time is offline and announced retaine
         return Json::parse(seen.back().payload) == Json{{"tid", "mill-1"}, {"state", "offline"}} && kept &&
                Json::parse(kept->payload)["state"] == "offline";
     }));
-    // it speaks again: online, announced
+    // it speaks again: online, announced once its own Notify/State has not
+    // come within the grace (a Sample DTU may overtake it)
     a.side->send(topics::sample("mill-1", "ch"), R"({"id":"ch","beginTime":"1","data":[]})");
     REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online"; }));
+    f.advance(30s);
     REQUIRE(eventually([&] {
         const auto r = f.broker.retained(topics::notify_state("mill-1"));
         return r && r->payload.find("online") != std::string::npos;
     }));
+}
+
+// mosquitto hands a QoS 0 Sample DTU to the agent at once while the
+// machine's QoS 1 Notify/State may wait behind thousands of messages.
+TEST_CASE("notify: a Sample DTU makes an adapter online at once, announced only if it does not say so itself") {
+    AgentFixture f;
+    auto side = f.peer("mill-1");
+    auto other = f.peer("mill-2");
+    const auto online_states = [&](const std::string& tid) {  // whoever said it
+        std::size_t n = 0;
+        for (const auto& m : f.app->on(topics::notify_state(tid)))
+            if (Json::parse(m.payload)["state"] == "online") ++n;
+        return n;
+    };
+    side->send(topics::sample("mill-1", "ch"), R"({"id":"ch","beginTime":"1","data":[]})");
+    other->send(topics::sample("mill-2", "ch"), R"({"id":"ch","beginTime":"1","data":[]})");
+    REQUIRE(eventually([&] { return status_of(*f.agent, "mill-1") == "online" && status_of(*f.agent, "mill-2") == "online"; }));
+    CHECK(kind_of(*f.agent, "mill-1") == "adapter");
+    f.advance(10s);
+    f.announce(*side, "mill-1");  // its own state, late
+    REQUIRE(eventually([&] { return online_states("mill-1") == 1; }));
+    f.advance(19s);
+    std::this_thread::sleep_for(100ms);
+    CHECK(online_states("mill-2") == 0);  // not yet
+    f.advance(1s);                        // 30 s after its Sample DTU: mill-2 never said it
+    REQUIRE(eventually([&] { return online_states("mill-2") == 1; }));
+    REQUIRE(eventually([&] {
+        const auto kept = f.broker.retained(topics::notify_state("mill-2"));
+        return kept && Json::parse(kept->payload)["state"] == "online";
+    }));
+    f.advance(60s);
+    std::this_thread::sleep_for(100ms);
+    CHECK(online_states("mill-1") == 1);  // only its own
+    CHECK(online_states("mill-2") == 1);
 }
 
 TEST_CASE("notify: an application that goes silent is announced offline") {

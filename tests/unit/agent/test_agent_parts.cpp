@@ -5,6 +5,7 @@
 #include "agent/access.hpp"
 #include "agent/agent_mqtt_options.hpp"
 #include "agent/model_cache.hpp"
+#include "agent/pending_announcements.hpp"
 #include "agent/pending_forwards.hpp"
 #include "agent/presence.hpp"
 #include "agent/registrar.hpp"
@@ -313,6 +314,35 @@ TEST_CASE("pending forwards: answered by @id and kind or overdue or failed per a
     pending.add(q);
     CHECK(pending.take_for("other").empty());
     CHECK(pending.take_for("d").size() == 1);
+}
+
+TEST_CASE("pending announcements: due after the grace, in order, unless cancelled") {
+    PendingAnnouncements held;
+    ManualClock clock;
+    held.hold("a", clock.now(), 30s);
+    clock.advance(1s);
+    held.hold("b", clock.now(), 30s);
+    held.hold("a", clock.now(), 30s);  // already waiting: keeps its first time
+    held.hold("c", clock.now(), 30s);
+    CHECK(held.size() == 3);
+    clock.advance(28s);
+    CHECK(held.take_due(clock.now()).empty());
+    clock.advance(1s);  // 30 s after a
+    CHECK(held.take_due(clock.now()) == std::vector<std::string>{"a"});
+    held.cancel("b");  // its own Notify/State came
+    clock.advance(1s);
+    CHECK(held.take_due(clock.now()) == std::vector<std::string>{"c"});
+    CHECK(held.size() == 0);
+    // Cancelled and held again: the later time counts, once.
+    held.hold("d", clock.now(), 30s);
+    held.cancel("d");
+    clock.advance(10s);
+    held.hold("d", clock.now(), 30s);
+    clock.advance(20s);
+    CHECK(held.take_due(clock.now()).empty());
+    clock.advance(10s);
+    CHECK(held.take_due(clock.now()) == std::vector<std::string>{"d"});
+    CHECK(held.take_due(clock.now() + 1h).empty());
 }
 
 TEST_CASE("agent configuration: keys are read and typos refused") {
