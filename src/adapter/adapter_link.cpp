@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <functional>
+
 namespace nclink::adapter_detail {
 
 Message state_message(const std::string& dev, const char* state_text) {
@@ -26,7 +28,7 @@ AdapterLink::AdapterLink(const AdapterConfig& config, Transport& transport, cons
       instance_(std::move(instance)),
       msg_id_prefix_(fmt::format("{}-{}-", dev_, instance_)),
       wake_housekeeping_(std::move(wake_housekeeping)),
-      registration_(config.register_timeout, config.register_retry_max),
+      registration_(config.register_timeout, config.register_retry_max, std::hash<std::string>{}(msg_id_prefix_)),
       responses_(config.offline_buffer_bytes) {}
 
 AdapterState AdapterLink::state() const {

@@ -27,12 +27,14 @@ Registration::Tick Registration::tick(Clock::Steady now, bool connected) {
     std::lock_guard<std::mutex> lock(mutex_);
     Tick tick;
     if (pending_ && now >= deadline_) {
+        tick.first_give_up = backoff_.count() == 0;
         backoff_ = std::min(retry_max_, backoff_.count() == 0 ? timeout_ : backoff_ * 2);
-        tick.gave_up = backoff_;
-        tick.first_give_up = backoff_ == timeout_;
+        const auto half = backoff_ / 2;
+        const auto spread = std::uniform_int_distribution<std::int64_t>(0, (backoff_ - half).count())(random_);
+        tick.gave_up = std::max(std::chrono::milliseconds(1), half + std::chrono::milliseconds(spread));
         pending_ = false;
         retry_armed_ = true;
-        retry_at_ = now + backoff_;
+        retry_at_ = now + tick.gave_up;
     }
     if (retry_armed_ && now >= retry_at_) {
         retry_armed_ = false;

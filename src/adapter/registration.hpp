@@ -2,7 +2,11 @@
 // threads of its own: which answer belongs to the request out, whether the
 // adapter counts as registered, and when to ask again. An agent is optional
 // (docs/wire.md: an adapter serves whether or not one answers), so an
-// unanswered request is retried with a growing interval, for ever.
+// unanswered request is retried with a growing interval, for ever. Each wait
+// is drawn between half and all of that interval: the machines of a plant
+// that start (or reconnect after a broker restart) together time out
+// together, and without the spread their retries would reach the agent's
+// one connection together too, one wave per doubling.
 // Thread-safe: the link thread sends, the transport thread answers, the
 // housekeeping thread ticks.
 #pragma once
@@ -11,15 +15,19 @@
 #include <nclink/dtu.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <mutex>
+#include <random>
 #include <string>
 
 namespace nclink::adapter_detail {
 
 class Registration {
 public:
-    Registration(std::chrono::milliseconds timeout, std::chrono::milliseconds retry_max)
-        : timeout_(timeout), retry_max_(retry_max) {}
+    /// `seed`: this run's own (the terminal's id and run, hashed), so two
+    /// machines draw different waits.
+    Registration(std::chrono::milliseconds timeout, std::chrono::milliseconds retry_max, std::uint64_t seed)
+        : timeout_(timeout), retry_max_(retry_max), random_(static_cast<std::uint_fast32_t>(seed ^ (seed >> 32))) {}
 
     /// A Register/Request with @id `msg_id` went out at `now`.
     void sent(std::string msg_id, Clock::Steady now);
@@ -31,7 +39,7 @@ public:
 
     struct Tick {
         bool resend = false;                   ///< send Register/Request again now
-        std::chrono::milliseconds gave_up{0};  ///< >0: the request just timed out; next try after this
+        std::chrono::milliseconds gave_up{0};  ///< >0: the request just timed out; next try after this (jittered)
         bool first_give_up = false;            ///< the first time out since the last answer (log it louder)
     };
     /// Called by the housekeeping loop. `connected`: a resend can go out now.
@@ -46,7 +54,8 @@ private:
     bool pending_ = false;  // a request is out, unanswered
     std::string msg_id_;
     Clock::Steady deadline_{};
-    std::chrono::milliseconds backoff_{0};
+    std::chrono::milliseconds backoff_{0};  // the interval before its spread
+    std::minstd_rand random_;
     bool retry_armed_ = false;
     Clock::Steady retry_at_{};
     bool registered_ = false;
