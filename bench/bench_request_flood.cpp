@@ -128,6 +128,7 @@ struct RunResult {
     bool answered_within_1s = false;
     std::optional<double> answer_ms;  ///< none: no clean answer within the give-up time
     double null_share_flood = 0;
+    double flood_values = 0, flood_nulls = 0;  ///< the fast channel's values during the burst, and the null ones
 };
 
 // One look at the adapter's counters (and the broker's latest $SYS values).
@@ -290,6 +291,8 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
     }
     result.answered_within_1s = result.answer_ms && *result.answer_ms <= 1000.0;
     result.null_share_flood = null_row_share(flood_start, flood_end);
+    result.flood_values = static_cast<double>(flood_end.rows - flood_start.rows) * static_cast<double>(flood_end.points);
+    result.flood_nulls = static_cast<double>(flood_end.nulls - flood_start.nulls);
     // The backlog drained: everything counted.
     for (int i = 0; i < 100 && adapter.stats().pending_requests > 0; ++i) std::this_thread::sleep_for(100ms);
     sampling = false;
@@ -325,19 +328,22 @@ RunResult run(const std::string& label, std::size_t max_pending, const Options& 
 void summary(const std::string& label, const std::vector<RunResult>& results) {
     std::size_t within = 0;
     std::vector<double> nulls, answers;
+    double values = 0, null_values = 0;  // every run's burst together
     for (const auto& r : results) {
         within += r.answered_within_1s ? 1 : 0;
         nulls.push_back(100.0 * r.null_share_flood);
         if (r.answer_ms) answers.push_back(*r.answer_ms);
+        values += r.flood_values;
+        null_values += r.flood_nulls;
     }
     std::sort(nulls.begin(), nulls.end());
     std::sort(answers.begin(), answers.end());
     std::printf(
         "%s: %zu runs, clean Query answered within 1 s after the burst in %zu (%.0f %%); "
-        "never answered (15 s) in %zu; null rows during the burst median %.2f %% max %.2f %%; "
+        "never answered (15 s) in %zu; null rows during the burst median %.2f %% max %.2f %%, all runs together %.2f %%; "
         "first clean answer median %.0f ms max %.0f ms\n",
         label.c_str(), results.size(), within, 100.0 * static_cast<double>(within) / static_cast<double>(results.size()),
-        results.size() - answers.size(), nulls[nulls.size() / 2], nulls.back(),
+        results.size() - answers.size(), nulls[nulls.size() / 2], nulls.back(), values > 0 ? 100.0 * null_values / values : 0.0,
         answers.empty() ? -1.0 : answers[answers.size() / 2], answers.empty() ? -1.0 : answers.back());
 }
 
