@@ -29,9 +29,12 @@ Registration::Tick Registration::tick(Clock::Steady now, bool connected) {
     if (pending_ && now >= deadline_) {
         tick.first_give_up = backoff_.count() == 0;
         backoff_ = std::min(retry_max_, backoff_.count() == 0 ? timeout_ : backoff_ * 2);
-        const auto half = backoff_ / 2;
-        const auto spread = std::uniform_int_distribution<std::int64_t>(0, (backoff_ - half).count())(random_);
-        tick.gave_up = std::max(std::chrono::milliseconds(1), half + std::chrono::milliseconds(spread));
+        // A quarter either side keeps the mean wait, so the spread costs no
+        // extra requests; never above retry_max.
+        const auto low = backoff_ - backoff_ / 4;
+        const auto high = std::min(retry_max_, backoff_ + backoff_ / 4);
+        const auto drawn = std::uniform_int_distribution<std::int64_t>(low.count(), std::max(low, high).count())(random_);
+        tick.gave_up = std::max(std::chrono::milliseconds(1), std::chrono::milliseconds(drawn));
         pending_ = false;
         retry_armed_ = true;
         retry_at_ = now + tick.gave_up;

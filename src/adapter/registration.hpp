@@ -3,7 +3,7 @@
 // adapter counts as registered, and when to ask again. An agent is optional
 // (docs/wire.md: an adapter serves whether or not one answers), so an
 // unanswered request is retried with a growing interval, for ever. Each wait
-// is drawn between half and all of that interval: the machines of a plant
+// is drawn within a quarter of that interval either side: the machines of a plant
 // that start (or reconnect after a broker restart) together time out
 // together, and without the spread their retries would reach the agent's
 // one connection together too, one wave per doubling.
