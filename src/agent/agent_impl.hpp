@@ -158,7 +158,7 @@ struct NCLINK_LOCAL Agent::Impl {
     void alive(State& p, const std::string& tid, Kind kind, Out& out);
     // A Sample DTU from `tid` (QoS 0): the same, its announcement held back
     // (pending_announcements.hpp).
-    void sample_seen(State& p, const std::string& tid, Out& out);
+    void sample_seen(State& p, const std::string& tid);
 
     // ---- 8.2.1 / 8.2.2 ----
     void on_register(State& p, const Message& m, Out& out);

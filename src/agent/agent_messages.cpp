@@ -68,7 +68,7 @@ void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m,
         case TopicKind::probe_version_response: return on_version_response(p, topic, m, out);
         case TopicKind::notify_state: return on_notify(p, topic, m, out);
         case TopicKind::sample:
-        case TopicKind::dynamic_sample: return sample_seen(p, topic.dev, out);
+        case TopicKind::dynamic_sample: return sample_seen(p, topic.dev);
         case TopicKind::event: return alive(p, topic.dev, Kind::adapter, out);
         default: break;
     }
@@ -111,7 +111,7 @@ void Agent::Impl::alive(State& p, const std::string& tid, Kind kind, Out& out) {
 // 30 s: a 10,000-machine start keeps QoS 1 messages to the agent waiting
 // that long (docs/performance.md), and an adapter that states its presence
 // itself needs no announcement at all.
-void Agent::Impl::sample_seen(State& p, const std::string& tid, Out&) {
+void Agent::Impl::sample_seen(State& p, const std::string& tid) {
     constexpr std::chrono::seconds kAnnounceGrace{30};
     if (tid.empty() || tid == config.agent_id) return;
     if (!p.saw(tid, Kind::adapter, clock->now(), wall_s())) return;
