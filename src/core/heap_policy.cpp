@@ -1,4 +1,7 @@
-// keep_freed_heap() (include/nclink/heap.hpp says why).
+// keep_freed_heap() (include/nclink/heap.hpp says why) and
+// release_freed_heap() (core/heap_release.hpp).
+#include "core/heap_release.hpp"
+
 #include <nclink/heap.hpp>
 
 #include <algorithm>
@@ -31,5 +34,19 @@ bool keep_freed_heap(std::size_t bytes) {
     return false;
 #endif
 }
+
+namespace core_detail {
+
+bool release_freed_heap(std::size_t keep_top) {
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+    (void)malloc_trim(keep_top);  // its result says whether anything was given back, not whether it worked
+    return true;
+#else
+    (void)keep_top;
+    return false;
+#endif
+}
+
+}  // namespace core_detail
 
 }  // namespace nclink

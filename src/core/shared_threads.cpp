@@ -1,5 +1,9 @@
 #include "core/shared_threads_impl.hpp"
 
+#include "core/heap_release.hpp"
+
+#include <nclink/heap.hpp>
+
 #include <algorithm>
 #include <thread>
 
@@ -19,7 +23,12 @@ SharedThreads::Impl::Impl(const SharedThreadsOptions& options)
       drivers(sized_to_box(options.driver_threads), std::chrono::milliseconds(options.driver_stuck_ms), "nclink-driver"),
       request_threads(sized_to_box(options.request_threads)),
       multiplexed_mqtt(options.shared_mqtt_io),
-      mqtt_connect_max(options.mqtt_connect_max) {}
+      mqtt_connect_max(options.mqtt_connect_max) {
+    // The top of the main heap is kept as keep_freed_heap()'s default keeps it.
+    heap_release = work.add([release = core_detail::PeriodicHeapRelease([] {
+                                 (void)core_detail::release_freed_heap(max_heap_keep_bytes);
+                             })](core_detail::PollHost::Time now) mutable { return release.poll(now); });
+}
 
 SharedThreads::SharedThreads(SharedThreadsOptions options) : impl_(std::make_unique<Impl>(options)) {}
 

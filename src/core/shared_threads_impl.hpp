@@ -51,6 +51,10 @@ struct NCLINK_LOCAL SharedThreads::Impl {
     double next_sampling_phase();
     static constexpr std::uint32_t kSamplingPhases = 64;
     std::atomic<std::uint32_t> phases_given{0};
+
+    /// The gateway's freed memory, handed back every
+    /// PeriodicHeapRelease::kEvery on a work thread (core/heap_release.hpp).
+    core_detail::PollHost::Handle heap_release;
 };
 
 }  // namespace nclink

@@ -3,7 +3,14 @@
 // (ctest), so the process-wide policy of one never reaches another.
 #include <nclink/heap.hpp>
 
+#include "core/heap_release.hpp"
 #include "support/heap_cycle.hpp"
+
+#include <unistd.h>
+
+#include <fstream>
+#include <memory>
+#include <vector>
 
 #include <limits>
 
@@ -43,4 +50,51 @@ TEST_CASE("keep_freed_heap caps the size and does nothing for 0") {
         CHECK(keep_freed_heap(max_heap_keep_bytes));
         CHECK(test::faults_after_first_burst(5, test::kKeptBurstBlocks) < 40);
     }
+}
+
+namespace {
+// Resident bytes of this process (/proc/self/statm, second field).
+long long resident_bytes() {
+    std::ifstream statm("/proc/self/statm");
+    long long size = 0, resident = 0;
+    statm >> size >> resident;
+    return resident * ::sysconf(_SC_PAGESIZE);
+}
+}  // namespace
+
+TEST_CASE("release_freed_heap gives back freed memory inside the heap, which trimming never reaches") {
+    if (test::sanitized_allocator()) {
+        CHECK_FALSE(core_detail::release_freed_heap(0));
+        return;
+    }
+    REQUIRE(keep_freed_heap(max_heap_keep_bytes));  // as an adapter sets it: no trimming of its own
+    // 24 MB in 4 kB blocks, written, then all freed but the last: the free
+    // memory lies below a block in use, where a heap is never trimmed.
+    std::vector<std::unique_ptr<char[]>> blocks;
+    for (int i = 0; i < 6 * 1024; ++i) {
+        blocks.emplace_back(new char[4096]);
+        std::memset(blocks.back().get(), 1, 4096);
+    }
+    auto last = std::move(blocks.back());
+    blocks.pop_back();
+    blocks.clear();
+    const long long held = resident_bytes();
+    REQUIRE(core_detail::release_freed_heap(0));
+    const long long after = resident_bytes();
+    INFO("resident before " << held << " after " << after);
+    CHECK(held - after > (16LL << 20));
+}
+
+TEST_CASE("the periodic heap release waits one period, then releases once per period") {
+    int released = 0;
+    core_detail::PeriodicHeapRelease release([&] { ++released; }, std::chrono::seconds(10));
+    const auto t0 = core_detail::PeriodicHeapRelease::Time{} + std::chrono::hours(1);
+    auto next = release.poll(t0);  // added: the start is under way
+    CHECK(released == 0);
+    CHECK(next == t0 + std::chrono::seconds(10));
+    next = release.poll(next);
+    CHECK(released == 1);
+    CHECK(next == t0 + std::chrono::seconds(20));
+    release.poll(next);
+    CHECK(released == 2);
 }
