@@ -77,8 +77,10 @@ TEST_CASE("engines on shared timer threads start no threads and sample and uploa
         REQUIRE(e->engine->add_channel(spec).ok());
         e->engine->start();
     }
-    CHECK(threads_in_process() == before);  // with own threads: 40 more
-    CHECK(host.size() == 40);               // a scheduler and an uploader per engine
+    // With own threads: 40 more. Not "equal": a thread the fixtures started
+    // may end meanwhile (seen once under qemu-arm: 24 where 25 were counted).
+    CHECK(threads_in_process() <= before);
+    CHECK(host.size() == 40);  // a scheduler and an uploader per engine
     REQUIRE(eventually([&] {
         for (auto& e : engines)
             if (e->column("ch").size() < 10) return false;
