@@ -30,10 +30,11 @@ Registration::Tick Registration::tick(Clock::Steady now, bool connected) {
         tick.first_give_up = backoff_.count() == 0;
         backoff_ = std::min(retry_max_, backoff_.count() == 0 ? timeout_ : backoff_ * 2);
         // A quarter either side keeps the mean wait, so the spread costs no
-        // extra requests; never above retry_max.
+        // extra requests; never above retry_max (backoff_ is at most that, so
+        // high >= low).
         const auto low = backoff_ - backoff_ / 4;
         const auto high = std::min(retry_max_, backoff_ + backoff_ / 4);
-        const auto drawn = std::uniform_int_distribution<std::int64_t>(low.count(), std::max(low, high).count())(random_);
+        const auto drawn = std::uniform_int_distribution<std::int64_t>(low.count(), high.count())(random_);
         tick.gave_up = std::max(std::chrono::milliseconds(1), std::chrono::milliseconds(drawn));
         pending_ = false;
         retry_armed_ = true;

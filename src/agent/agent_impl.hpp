@@ -154,11 +154,11 @@ struct NCLINK_LOCAL Agent::Impl {
 
     void announce_state(State& p, const std::string& tid, Status status, Out& out);
 
-    // A DTU from `tid`: a sign of life (3.22/3.23).
-    void alive(State& p, const std::string& tid, Kind kind, Out& out);
-    // A Sample DTU from `tid` (QoS 0): the same, its announcement held back
-    // (pending_announcements.hpp).
-    void sample_seen(State& p, const std::string& tid);
+    // A DTU from `tid`: a sign of life (3.22/3.23). `may_overtake`: it came
+    // at QoS 0 (Sample DTUs), ahead of the terminal's QoS 1 Notify/State
+    // perhaps, so its announcement is held back (pending_announcements.hpp).
+    enum class Arrival { in_order, may_overtake };
+    void alive(State& p, const std::string& tid, Kind kind, Out& out, Arrival arrival = Arrival::in_order);
 
     // ---- 8.2.1 / 8.2.2 ----
     void on_register(State& p, const Message& m, Out& out);

@@ -68,7 +68,7 @@ void Agent::Impl::dispatch(State& p, const ParsedTopic& topic, const Message& m,
         case TopicKind::probe_version_response: return on_version_response(p, topic, m, out);
         case TopicKind::notify_state: return on_notify(p, topic, m, out);
         case TopicKind::sample:
-        case TopicKind::dynamic_sample: return sample_seen(p, topic.dev);
+        case TopicKind::dynamic_sample: return alive(p, topic.dev, Kind::adapter, out, Arrival::may_overtake);
         case TopicKind::event: return alive(p, topic.dev, Kind::adapter, out);
         default: break;
     }
@@ -97,27 +97,25 @@ void Agent::Impl::announce_state(State& p, const std::string& tid, Status status
     out.push_back(p.announce(tid, status));
 }
 
-// A DTU from `tid`: a sign of life (3.22/3.23).
-void Agent::Impl::alive(State& p, const std::string& tid, Kind kind, Out& out) {
-    if (tid.empty() || tid == config.agent_id) return;
-    if (p.saw(tid, kind, clock->now(), wall_s())) {
-        log.info("agent: {} {} is online (it sent a DTU)", to_string(p.presence.kind(tid)), tid);
-        announce_state(p, tid, Status::online, out);
-    }
-}
-
-// Online in the picture now; announced only if the terminal's own
-// Notify/State has not come within the grace (pending_announcements.hpp).
-// 30 s: a 10,000-machine start keeps QoS 1 messages to the agent waiting
-// that long (docs/performance.md), and an adapter that states its presence
-// itself needs no announcement at all.
-void Agent::Impl::sample_seen(State& p, const std::string& tid) {
+// A DTU from `tid`: a sign of life (3.22/3.23). One that may have
+// overtaken the terminal's own Notify/State (a Sample DTU, taken at QoS 0)
+// makes it online in the picture at once, but its announcement waits
+// kAnnounceGrace and is dropped when any Notify/State of it comes first
+// (pending_announcements.hpp). 30 s: a 10,000-machine start keeps QoS 1
+// messages to the agent waiting that long (docs/performance.md), and an
+// adapter that states its presence itself needs no announcement at all.
+void Agent::Impl::alive(State& p, const std::string& tid, Kind kind, Out& out, Arrival arrival) {
     constexpr std::chrono::seconds kAnnounceGrace{30};
     if (tid.empty() || tid == config.agent_id) return;
-    if (!p.saw(tid, Kind::adapter, clock->now(), wall_s())) return;
-    log.info("agent: adapter {} is online (it sent a Sample DTU); announced in {} s unless it says so", tid,
-             kAnnounceGrace.count());
-    p.announcements.hold(tid, clock->now(), kAnnounceGrace);
+    if (!p.saw(tid, kind, clock->now(), wall_s())) return;
+    if (arrival == Arrival::may_overtake) {
+        log.info("agent: {} {} is online (it sent a DTU); announced in {} s unless it says so", to_string(p.presence.kind(tid)),
+                 tid, kAnnounceGrace.count());
+        p.announcements.hold(tid, clock->now(), kAnnounceGrace);
+        return;
+    }
+    log.info("agent: {} {} is online (it sent a DTU)", to_string(p.presence.kind(tid)), tid);
+    announce_state(p, tid, Status::online, out);
 }
 
 }  // namespace nclink
